@@ -1,0 +1,78 @@
+// hullgrind outline core: the plate's outline (outer edges and cut-outs) from its 2-D points.
+// DSHI Delaunay triangulation (paper section 3.1) + alpha shape by circumradius (section 3.2) + loops.
+// No LCM dependency: used by hg-outline-service and by the command-line tool hg-outline.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace hg::outline {
+
+struct Vec2 {
+  double x = 0, y = 0;
+};
+
+// Point location scheme of the Bowyer-Watson insertion (paper section 3.1).
+enum class Mode { Ordinary, DS, DSHI };
+// Insertion order: as given (scan order), or sorted along a space-filling curve first.
+enum class Order { AsIs, Hilbert };
+
+const char* to_string(Mode);
+const char* to_string(Order);
+Mode parse_mode(const std::string&);    // "ordinary" | "ds" | "dshi"; throws OutlineError
+Order parse_order(const std::string&);  // "as-is" | "hilbert"; throws OutlineError
+
+// Bad input (NaN/Inf point, fewer than 3 distinct points, all collinear, bad option): message says what and where.
+struct OutlineError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Options {
+  double alpha_radius = 0;     // R in input units; <= 0: automatic, auto_factor x median nearest-neighbour spacing
+  double auto_factor = 0;      // <= 0: the documented default k
+  Mode mode = Mode::DSHI;
+  Order order = Order::AsIs;
+  bool outer_only = false;     // paper's BFS from outside only: big triangles inside are kept (no holes)
+  bool keep_triangles = false; // fill Result::triangles
+};
+
+struct Loop {
+  bool hole = false;                  // outer loops counter-clockwise, holes clockwise
+  double area = 0;                    // positive
+  double perimeter = 0;
+  std::vector<Vec2> points;           // closing edge last -> first implicit
+  std::vector<uint32_t> point_index;  // index of each point in the input as given
+};
+
+struct Timings {
+  double triangulate_ms = 0, alpha_ms = 0, loops_ms = 0, total_ms = 0;
+};
+
+struct Result {
+  std::size_t points_read = 0;        // as given
+  std::size_t points_used = 0;        // distinct points triangulated
+  std::size_t duplicates_merged = 0;
+  double alpha_radius = 0;            // R actually used
+  bool alpha_automatic = false;
+  double nn_spacing_median = 0;       // median nearest-neighbour distance (input units)
+  Mode mode = Mode::DSHI;
+  Order order = Order::AsIs;
+  std::size_t triangles = 0;          // finite Delaunay triangles
+  std::uint64_t search_cost = 0;      // triangles visited: point location + cavity search (the paper's measure)
+  std::uint64_t incircle_tests = 0;
+  std::uint64_t orient_tests = 0;
+  std::vector<Loop> loops;            // outer loops first, then holes
+  // Final Delaunay triangles (only with Options::keep_triangles), counter-clockwise, indices into the
+  // input as given; a merged duplicate is referred to by its first occurrence.
+  std::vector<std::array<uint32_t, 3>> delaunay_triangles;
+  Timings time;
+};
+
+Result compute_outline(std::span<const Vec2> points, const Options& options = {});
+
+}  // namespace hg::outline

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages hullgrind needs to build, run and test. Idempotent: when everything
+# is present it only checks (a fraction of a second) and installs nothing.
+# Not root: prints the exact apt-get line to run and exits 1.
+set -euo pipefail
+
+packages=(
+  # build
+  cmake ninja-build ccache g++ pkg-config
+  # runtime libraries
+  liblcm-dev liblcm-bin liblcm-java libopenni2-dev libeigen3-dev libopencv-dev
+  cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev
+  # lcm-spy, tools and tests
+  default-jdk-headless libjchart2d-java libgtest-dev iproute2 xvfb python3
+  # test-only oracle for the outline core (never needed to build or run the product)
+  libcgal-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$p")
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  exit 0
+fi
+
+cmd="apt-get install -y --no-install-recommends ${missing[*]}"
+if [[ $(id -u) -ne 0 ]]; then
+  echo "install-deps: missing Debian packages: ${missing[*]}" >&2
+  echo "install-deps: run as root:  apt-get update && $cmd" >&2
+  exit 1
+fi
+
+echo "install-deps: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+$cmd -qq
