@@ -1,0 +1,331 @@
+#include "runtime/node.hpp"
+
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
+#include <poll.h>
+#include <sstream>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include "hullgrind/heartbeat_t.hpp"
+#include "runtime/channels.hpp"
+
+namespace hg::runtime {
+namespace {
+
+int g_signal_pipe[2] = {-1, -1};
+
+void on_signal(int) {
+  const char c = 's';
+  [[maybe_unused]] ssize_t n = write(g_signal_pipe[1], &c, 1);
+}
+
+void install_signal_handlers() {
+  if (g_signal_pipe[0] >= 0) return;
+  if (pipe2(g_signal_pipe, O_NONBLOCK | O_CLOEXEC) != 0) {
+    perror("pipe2");
+    std::exit(1);
+  }
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);  // a peer closing a socket is an error to handle, not a reason to die
+}
+
+bool parse_bool(const std::string& v, bool& out) {
+  if (v == "true" || v == "1" || v == "yes" || v == "on") return out = true, true;
+  if (v == "false" || v == "0" || v == "no" || v == "off") return out = false, true;
+  return false;
+}
+
+}  // namespace
+
+std::string default_lcm_url() {
+  const char* env = std::getenv("LCM_DEFAULT_URL");
+  return env && *env ? env : kDefaultLcmUrl;
+}
+
+std::int64_t now_utime() {
+  timeval tv{};
+  gettimeofday(&tv, nullptr);
+  return std::int64_t(tv.tv_sec) * 1000000 + tv.tv_usec;
+}
+
+Node::Node(ProcessInfo info, int argc, char** argv) : info_(std::move(info)) {
+  start_ = std::chrono::steady_clock::now();
+  set_process_name(info_.name);
+  parse(argc, argv);
+  install_signal_handlers();
+  lcm_ = std::make_unique<lcm::LCM>(lcm_url_);
+  if (!lcm_->good()) {
+    logf(Level::Error, "cannot open LCM at '%s' (for udpm: is there a multicast route? "
+                       "`ip route add 224.0.0.0/4 dev lo`)", lcm_url_.c_str());
+    std::exit(1);
+  }
+  logf(Level::Info, "started, pid %d, LCM %s%s%s", int(getpid()), lcm_url_.c_str(),
+       config_.empty() ? "" : ", config ", config_.empty() ? "" : config_.source().c_str());
+}
+
+Node::~Node() = default;
+
+void Node::usage_and_exit(int code, const std::string& error) {
+  FILE* out = code == 0 ? stdout : stderr;
+  if (!error.empty()) fprintf(stderr, "%s: %s\n\n", info_.name.c_str(), error.c_str());
+  fprintf(out, "usage: %s [options]\n\n%s\n", info_.name.c_str(), info_.summary.c_str());
+  if (!info_.details.empty()) fprintf(out, "\n%s\n", info_.details.c_str());
+  fprintf(out, "\nOptions (each may also be set as a key in the --config file; the command line wins):\n");
+  if (info_.params.empty()) fprintf(out, "  (none)\n");
+  for (const Param& p : info_.params) {
+    std::string left = "  --" + p.name + (p.is_flag ? "" : " VALUE");
+    fprintf(out, "%-34s %s%s%s%s\n", left.c_str(), p.help.c_str(), p.default_value.empty() ? "" : " [default: ",
+            p.default_value.c_str(), p.default_value.empty() ? "" : "]");
+  }
+  fprintf(out, "\nCommon options:\n");
+  fprintf(out, "  --lcm-url URL                      LCM provider [default: $LCM_DEFAULT_URL, else %s]\n", kDefaultLcmUrl);
+  fprintf(out, "  --config FILE                      YAML config file (OpenCV FileStorage)\n");
+  fprintf(out, "  --log-level LEVEL                  debug|info|warn|error [default: info]\n");
+  fprintf(out, "  --help                             this text\n");
+  fprintf(out, "\nPublishes hullgrind.heartbeat_t on HG_HEARTBEAT at 1 Hz; exits cleanly on SIGINT/SIGTERM.\n");
+  std::exit(code);
+}
+
+const Param* Node::find_param(const std::string& name) const {
+  for (const Param& p : info_.params)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+void Node::parse(int argc, char** argv) {
+  std::string config_path, log_level;
+  lcm_url_ = default_lcm_url();
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") usage_and_exit(0);
+    if (arg.rfind("--", 0) != 0) {
+      positional_.push_back(arg);
+      continue;
+    }
+    std::string name = arg.substr(2), value;
+    bool has_value = false;
+    if (auto eq = name.find('='); eq != std::string::npos) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+      has_value = true;
+    }
+    const Param* p = find_param(name);
+    bool common = name == "lcm-url" || name == "config" || name == "log-level";
+    if (!p && !common) usage_and_exit(2, "unknown option --" + name);
+    if (p && p->is_flag) {
+      cli_[name] = has_value ? value : "true";
+      continue;
+    }
+    if (!has_value) {
+      if (i + 1 >= argc) usage_and_exit(2, "option --" + name + " needs a value");
+      value = argv[++i];
+    }
+    if (name == "lcm-url") lcm_url_ = value;
+    else if (name == "config") config_path = value;
+    else if (name == "log-level") log_level = value;
+    else cli_[name] = value;
+  }
+  try {
+    if (!log_level.empty()) set_log_level(parse_level(log_level));
+    if (!config_path.empty()) config_ = Config::load(config_path);
+    // Validate every parameter's type now, so a bad value stops the process at start, not mid-job.
+    for (const Param& p : info_.params) {
+      if (p.is_flag) param_bool(p.name);
+    }
+  } catch (const std::exception& e) {
+    usage_and_exit(2, e.what());
+  }
+}
+
+bool Node::param_given(const std::string& name) const { return cli_.count(name) || config_.has(name); }
+
+std::string Node::param(const std::string& name) const {
+  if (auto it = cli_.find(name); it != cli_.end()) return it->second;
+  if (auto v = config_.get_string(name)) return *v;
+  const Param* p = find_param(name);
+  if (!p) throw ConfigError("no such parameter '" + name + "'");
+  return p->is_flag && p->default_value.empty() ? "false" : p->default_value;
+}
+
+double Node::param_double(const std::string& name) const {
+  std::string v = param(name);
+  char* end = nullptr;
+  double d = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0') throw ConfigError("parameter '" + name + "': '" + v + "' is not a number");
+  return d;
+}
+
+std::int64_t Node::param_int(const std::string& name) const {
+  std::string v = param(name);
+  char* end = nullptr;
+  long long d = std::strtoll(v.c_str(), &end, 10);
+  if (v.empty() || *end != '\0') throw ConfigError("parameter '" + name + "': '" + v + "' is not an integer");
+  return d;
+}
+
+bool Node::param_bool(const std::string& name) const {
+  std::string v = param(name);
+  bool b = false;
+  if (!parse_bool(v, b)) throw ConfigError("parameter '" + name + "': '" + v + "' is not true/false");
+  return b;
+}
+
+std::vector<double> Node::param_doubles(const std::string& name) const {
+  if (!cli_.count(name)) {
+    if (auto list = config_.get_doubles(name)) return *list;
+  }
+  std::vector<double> out;
+  std::stringstream ss(param(name));
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    double d = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0') throw ConfigError("parameter '" + name + "': '" + item + "' is not a number");
+    out.push_back(d);
+  }
+  return out;
+}
+
+void Node::add_handler(const std::string& channel,
+                       std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn) {
+  handlers_.push_back(std::make_unique<Handler>(Handler{std::move(fn)}));
+  lcm_->subscribe(channel, &Handler::on, handlers_.back().get());
+}
+
+void Node::subscribe_raw(const std::string& channel,
+                         std::function<void(const lcm::ReceiveBuffer&, const Delivery&)> handler) {
+  add_handler(channel, [this, handler](const lcm::ReceiveBuffer* rbuf, const std::string& ch) {
+    ++counters_.received;
+    handler(*rbuf, Delivery{ch, rbuf->recv_utime, rbuf->data_size});
+  });
+}
+
+void Node::count_decode_error(const std::string& channel, const std::string& what) {
+  ++counters_.decode_errors;
+  std::uint64_t suppressed = 0;
+  if (decode_log_limit_.allow(suppressed))
+    logf(Level::Warn, "skipped a message on %s that does not decode: %s (%lld so far%s)", channel.c_str(),
+         what.c_str(), (long long)counters_.decode_errors.load(),
+         suppressed ? (", " + std::to_string(suppressed) + " not logged").c_str() : "");
+}
+
+void Node::fill_header(const std::string& channel, std::int64_t& seq, std::int64_t& utime) {
+  std::lock_guard lock(seq_mutex_);
+  seq = seq_[channel]++;
+  if (utime == 0) utime = now_utime();
+}
+
+void Node::every(std::chrono::milliseconds period, std::function<void()> fn) {
+  timers_.push_back(Timer{period, std::chrono::steady_clock::now() + period, std::move(fn)});
+}
+
+void Node::set_state(std::int8_t state, const std::string& text) {
+  std::lock_guard lock(state_mutex_);
+  if (state != state_ || text != state_text_) {
+    if (state == hullgrind::heartbeat_t::STATE_OK)
+      logf(Level::Info, "state OK");
+    else if (state == hullgrind::heartbeat_t::STATE_STOPPING)
+      logf(Level::Info, "stopping: %s", text.c_str());
+    else
+      logf(state >= hullgrind::heartbeat_t::STATE_ERROR ? Level::Error : Level::Warn, "state %d: %s", int(state),
+           text.c_str());
+  }
+  state_ = state;
+  state_text_ = text;
+}
+
+double Node::uptime() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void Node::publish_heartbeat() {
+  hullgrind::heartbeat_t hb{};
+  hb.header.seq = heartbeat_seq_++;
+  hb.header.utime = now_utime();
+  hb.header.frame_id = "";
+  hb.process = info_.name;
+  hb.pid = int32_t(getpid());
+  {
+    std::lock_guard lock(state_mutex_);
+    hb.state = state_;
+    hb.state_text = state_text_;
+  }
+  hb.uptime = uptime();
+  hb.received = counters_.received;
+  hb.published = counters_.published;
+  hb.dropped = counters_.dropped;
+  hb.decode_errors = counters_.decode_errors;
+  hb.last_latency = last_latency_;
+  lcm_->publish(channels::kHeartbeat, &hb);
+}
+
+void Node::stop() { on_signal(0); }
+
+int Node::run() {
+  using clock = std::chrono::steady_clock;
+  {
+    std::lock_guard lock(state_mutex_);
+    if (state_ == hullgrind::heartbeat_t::STATE_STARTING) state_ = hullgrind::heartbeat_t::STATE_OK;
+  }
+  publish_heartbeat();
+  auto next_heartbeat = clock::now() + std::chrono::seconds(1);
+  pollfd fds[2] = {{lcm_->getFileno(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}};
+  while (!stop_requested_) {
+    auto now = clock::now();
+    auto wake = next_heartbeat;
+    for (const Timer& t : timers_) wake = std::min(wake, t.next);
+    int timeout_ms = int(std::max<long long>(
+        0, std::chrono::duration_cast<std::chrono::milliseconds>(wake - now).count() + 1));
+    int n = poll(fds, 2, timeout_ms);
+    if (n < 0 && errno != EINTR) {
+      logf(Level::Error, "poll: %s", std::strerror(errno));
+      break;
+    }
+    if (n > 0 && (fds[1].revents & POLLIN)) {
+      char buf[16];
+      while (read(g_signal_pipe[0], buf, sizeof buf) > 0) {
+      }
+      stop_requested_ = true;
+      break;
+    }
+    if (n > 0 && (fds[0].revents & POLLIN)) {
+      try {
+        lcm_->handleTimeout(0);
+      } catch (const std::exception& e) {  // a handler must not take the process down with it
+        logf(Level::Error, "handler failed: %s", e.what());
+      }
+    }
+    now = clock::now();
+    for (Timer& t : timers_) {
+      if (now >= t.next) {
+        t.next = now + t.period;
+        try {
+          t.fn();
+        } catch (const std::exception& e) {
+          logf(Level::Error, "timer failed: %s", e.what());
+        }
+      }
+    }
+    if (now >= next_heartbeat) {
+      publish_heartbeat();
+      next_heartbeat += std::chrono::seconds(1);
+      if (next_heartbeat < now) next_heartbeat = now + std::chrono::seconds(1);  // after a long handler
+    }
+  }
+  set_state(hullgrind::heartbeat_t::STATE_STOPPING, "shutting down");
+  publish_heartbeat();
+  logf(Level::Info, "stopped cleanly after %.1f s", uptime());
+  return 0;
+}
+
+}  // namespace hg::runtime

@@ -1,0 +1,170 @@
+// A real process on the shared runtime (the hg-robot-bridge skeleton), observed over LCM from this test
+// process, inside a private network namespace: heartbeat rate and counters, garbage survived, clean
+// shutdown on SIGTERM.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "hullgrind/grind_path_t.hpp"
+#include "hullgrind/heartbeat_t.hpp"
+#include "hullgrind/job_request_t.hpp"
+#include "runtime/node.hpp"
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Beat {
+  hullgrind::heartbeat_t msg;
+  Clock::time_point at;
+};
+
+class Listener {
+ public:
+  explicit Listener(lcm::LCM& lcm) { lcm.subscribe("HG_HEARTBEAT", &Listener::on, this); }
+  void on(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* m) {
+    beats.push_back({*m, Clock::now()});
+  }
+  std::vector<Beat> beats;
+};
+
+pid_t spawn(const std::string& exe) {
+  pid_t pid = fork();
+  if (pid == 0) {
+    execl(exe.c_str(), exe.c_str(), "--log-level", "warn", (char*)nullptr);
+    _exit(127);
+  }
+  return pid;
+}
+
+void pump(lcm::LCM& lcm, std::chrono::milliseconds d) {
+  auto end = Clock::now() + d;
+  while (Clock::now() < end) lcm.handleTimeout(20);
+}
+
+// Waits until a heartbeat of `pid` satisfying pred arrives; returns it.
+template <class Pred>
+std::optional<hullgrind::heartbeat_t> wait_beat(lcm::LCM& lcm, Listener& l, pid_t pid, Pred pred,
+                                                std::chrono::milliseconds limit) {
+  auto end = Clock::now() + limit;
+  std::size_t seen = l.beats.size();
+  while (Clock::now() < end) {
+    lcm.handleTimeout(20);
+    for (; seen < l.beats.size(); ++seen)
+      if (l.beats[seen].msg.pid == pid && pred(l.beats[seen].msg)) return l.beats[seen].msg;
+  }
+  return std::nullopt;
+}
+
+class RuntimeProcess : public testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(lcm.good()) << "no LCM: the test must run inside tests/netns.sh";
+    pid = spawn(std::string(HG_BIN_DIR) + "/hg-robot-bridge");
+    ASSERT_GT(pid, 0);
+  }
+  void TearDown() override {
+    if (pid > 0) {
+      kill(pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+    }
+  }
+  lcm::LCM lcm{hg::runtime::default_lcm_url()};
+  Listener listener{lcm};
+  pid_t pid = -1;
+};
+
+TEST_F(RuntimeProcess, HeartbeatAtOneHertzWithIdentity) {
+  auto first = wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s);
+  ASSERT_TRUE(first) << "no heartbeat within 5 s";
+  pump(lcm, 4200ms);
+  std::vector<Beat> mine;
+  for (auto& b : listener.beats)
+    if (b.msg.pid == pid) mine.push_back(b);
+  ASSERT_GE(mine.size(), 4u);
+  ASSERT_LE(mine.size(), 7u);
+  for (std::size_t i = 1; i < mine.size(); ++i) {
+    double dt = std::chrono::duration<double>(mine[i].at - mine[i - 1].at).count();
+    EXPECT_GT(dt, 0.6) << "beat " << i;
+    EXPECT_LT(dt, 1.4) << "beat " << i;
+    EXPECT_EQ(mine[i].msg.header.seq, mine[i - 1].msg.header.seq + 1);
+    EXPECT_GE(mine[i].msg.uptime, mine[i - 1].msg.uptime);
+  }
+  EXPECT_EQ(mine.back().msg.process, "hg-robot-bridge");
+  EXPECT_EQ(mine.back().msg.state, hullgrind::heartbeat_t::STATE_OK);
+  EXPECT_EQ(mine.back().msg.decode_errors, 0);
+}
+
+TEST_F(RuntimeProcess, GarbageIsCountedAndSurvived) {
+  ASSERT_TRUE(wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s));
+  // Garbage of every kind on channels the process decodes.
+  const uint8_t junk[] = {1, 2, 3};
+  lcm.publish("HG_JOB_REQUEST", junk, sizeof junk);
+  std::vector<uint8_t> random(4000);
+  for (std::size_t i = 0; i < random.size(); ++i) random[i] = uint8_t(i * 37 + 11);
+  lcm.publish("HG_GRIND_PATH", random.data(), unsigned(random.size()));
+  hullgrind::grind_path_t path{};
+  path.n = 2;
+  path.position = {{1, 2, 3}, {4, 5, 6}};
+  path.orientation = {{1, 0, 0, 0}, {1, 0, 0, 0}};
+  path.speed = {0.1, 0.1};
+  path.kind = {2, 2};
+  path.loop_index = {0, 0};
+  std::vector<uint8_t> bytes(path.getEncodedSize());
+  path.encode(bytes.data(), 0, int(bytes.size()));
+  lcm.publish("HG_GRIND_PATH", bytes.data(), unsigned(bytes.size() / 2));  // truncated
+  hullgrind::heartbeat_t wrong_type{};
+  lcm.publish("HG_JOB_REQUEST", &wrong_type);                               // another type's fingerprint
+
+  auto after = wait_beat(lcm, listener, pid, [](auto& m) { return m.decode_errors >= 4; }, 4s);
+  ASSERT_TRUE(after) << "decode errors not reported in the heartbeat";
+  EXPECT_EQ(after->decode_errors, 4);
+  EXPECT_EQ(waitpid(pid, nullptr, WNOHANG), 0) << "the process died on garbage";
+
+  hullgrind::job_request_t good{};
+  good.job_id = "after-garbage";
+  lcm.publish("HG_JOB_REQUEST", &good);
+  auto later = wait_beat(lcm, listener, pid, [&](auto& m) { return m.received >= after->received + 1; }, 4s);
+  ASSERT_TRUE(later) << "a valid message after garbage was not received";
+  EXPECT_EQ(later->decode_errors, 4);
+}
+
+TEST_F(RuntimeProcess, SigtermStopsCleanlyWithinOneSecond) {
+  ASSERT_TRUE(wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s));
+  auto t0 = Clock::now();
+  kill(pid, SIGTERM);
+  int status = 0;
+  pid_t done = 0;
+  while (Clock::now() - t0 < 3s && (done = waitpid(pid, &status, WNOHANG)) == 0) std::this_thread::sleep_for(5ms);
+  double took = std::chrono::duration<double>(Clock::now() - t0).count();
+  ASSERT_EQ(done, pid) << "still running 3 s after SIGTERM";
+  EXPECT_LT(took, 1.0);
+  EXPECT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  auto last = wait_beat(lcm, listener, pid, [](auto& m) { return m.state == hullgrind::heartbeat_t::STATE_STOPPING; }, 500ms);
+  bool stopping_seen = last.has_value();
+  for (auto& b : listener.beats) stopping_seen |= b.msg.pid == pid && b.msg.state == hullgrind::heartbeat_t::STATE_STOPPING;
+  EXPECT_TRUE(stopping_seen) << "no STOPPING heartbeat before exit";
+  pid = -1;
+}
+
+TEST_F(RuntimeProcess, SigintStopsCleanlyToo) {
+  ASSERT_TRUE(wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s));
+  kill(pid, SIGINT);
+  int status = 0;
+  auto t0 = Clock::now();
+  pid_t done = 0;
+  while (Clock::now() - t0 < 3s && (done = waitpid(pid, &status, WNOHANG)) == 0) std::this_thread::sleep_for(5ms);
+  ASSERT_EQ(done, pid);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  pid = -1;
+}
+
+}  // namespace
