@@ -162,7 +162,7 @@ TEST(LcmTypes, GrindPath) {
   auto o = round_trip(m);
   EXPECT_EQ(o.job_id, "job-42");
   EXPECT_EQ(o.position[2][0], m.position[2][0]);
-  EXPECT_EQ(o.kind[2], hullgrind::grind_path_t::KIND_GRIND);
+  EXPECT_EQ(o.kind[2], +hullgrind::grind_path_t::KIND_GRIND);
   EXPECT_EQ(o.loop_index[0], -1);
   EXPECT_TRUE(o.flipped);
 }
@@ -179,7 +179,7 @@ TEST(LcmTypes, JobRequestAndStatus) {
   r.flipped = false;
   auto ro = round_trip(r);
   EXPECT_EQ(ro.part_id, "bracket");
-  EXPECT_EQ(ro.direction, hullgrind::job_request_t::DIRECTION_CONVENTIONAL);
+  EXPECT_EQ(ro.direction, +hullgrind::job_request_t::DIRECTION_CONVENTIONAL);
   EXPECT_EQ(ro.step, 0.002);
 
   hullgrind::job_status_t s;
@@ -191,7 +191,7 @@ TEST(LcmTypes, JobRequestAndStatus) {
   s.progress = 0.5;
   s.message = "waypoint 12 outside the workspace";
   auto so = round_trip(s);
-  EXPECT_EQ(so.state, hullgrind::job_status_t::STATE_FAILED);
+  EXPECT_EQ(so.state, +hullgrind::job_status_t::STATE_FAILED);
   EXPECT_EQ(so.message, s.message);
 }
 
@@ -206,7 +206,7 @@ TEST(LcmTypes, RobotStatusAndHeartbeat) {
   r.fault_code = hullgrind::robot_status_t::FAULT_PROTECTIVE_STOP;
   r.fault_text = "protective stop";
   auto ro = round_trip(r);
-  EXPECT_EQ(ro.fault_code, hullgrind::robot_status_t::FAULT_PROTECTIVE_STOP);
+  EXPECT_EQ(ro.fault_code, +hullgrind::robot_status_t::FAULT_PROTECTIVE_STOP);
   EXPECT_EQ(ro.path_index, 17);
 
   hullgrind::heartbeat_t h;

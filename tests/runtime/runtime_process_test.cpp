@@ -98,7 +98,7 @@ TEST_F(RuntimeProcess, HeartbeatAtOneHertzWithIdentity) {
     EXPECT_GE(mine[i].msg.uptime, mine[i - 1].msg.uptime);
   }
   EXPECT_EQ(mine.back().msg.process, "hg-robot-bridge");
-  EXPECT_EQ(mine.back().msg.state, hullgrind::heartbeat_t::STATE_OK);
+  EXPECT_EQ(mine.back().msg.state, +hullgrind::heartbeat_t::STATE_OK);
   EXPECT_EQ(mine.back().msg.decode_errors, 0);
 }
 
