@@ -1,0 +1,90 @@
+// Synthetic depth scenes: a grinding table (slightly tilted) with hull parts lying on it, seen from above
+// by a depth camera of a given profile. Used by the bridge's `synthetic` source, by the virtual OpenNI2
+// driver (camera_bridge/virtual_device) and by the tests, which compare segmentation to the ground truth
+// returned with each frame. No LCM here: library hg_camera_scene (hg_partgen + OpenCV + Eigen).
+//
+// Frames:
+//  - table frame: metres, x right, y up (partgen's plate frame), z up out of the table towards the camera;
+//    the table surface is z = 0, a part's top face is z = thickness.
+//  - camera frame: OpenCV/OpenNI pinhole convention, x right, y down, z along the optical axis.
+//    Untilted, the camera looks straight down at the table origin from mount_height, so image row 0 is the
+//    table's largest y (the scan-line order of partgen's clouds). The tilt turns the table about its own
+//    x axis (table_tilt_x) then y axis (table_tilt_y) at the point under the camera.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "camera_bridge/depth_source.hpp"
+#include "partgen/shapes.hpp"
+
+namespace hg::camera_bridge {
+
+struct CameraProfile {
+  std::string name;
+  int width = 0, height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels
+  double mount_height = 0;                // optical centre above the table origin, metres
+  double depth_unit = 0.001;              // metres per depth count
+  double noise_a = 0, noise_b = 0;        // depth noise sigma(z) = noise_a + noise_b * z^2 (metres, z in metres)
+  double dropout = 0;                     // fraction of pixels with no data (count 0), at random
+  double flying_pixel_prob = 0;           // chance that a pixel at a depth edge gets a mixed depth
+  Intrinsics intrinsics() const { return {width, height, fx, fy, cx, cy, depth_unit}; }
+};
+
+// "pm806": 1280x960, Percipio PM806-class (low density); "lsr-l": 2048x1536, Mech-Eye LSR-L-class (high
+// density). The numbers are assumptions of plausible values (scene.cpp says which and why), not vendor
+// data. Throws std::invalid_argument listing the known names.
+CameraProfile camera_profile(const std::string& name);
+std::vector<std::string> camera_profile_names();
+
+struct ScenePart {
+  std::string shape;                // partgen catalogue name; empty: use `polygon`
+  double scale = 1.0;               // of the catalogue shape
+  partgen::PolygonWithHoles polygon;  // in the part's own frame, used when shape is empty
+  double x = 0, y = 0, theta = 0;   // pose on the table: bounding-box centre at (x, y), rotated by theta (rad)
+  double thickness = 0.012;         // metres, 0.006 .. 0.030
+};
+
+struct SceneSpec {
+  std::string name;
+  std::vector<ScenePart> parts;     // must not overlap on the table
+  double table_tilt_x = 0, table_tilt_y = 0;  // radians
+  std::uint64_t seed = 1;           // noise, dropout and flying pixels are a function of (seed, frame index)
+};
+
+// "empty" (table only), "plate-hole-slot", "l-bracket", "knee-scallop", "collar-notch", "ring-flange",
+// "trapezoid-holes" (one catalogue part each, at its own thickness), "three-parts", "demo" (four parts).
+// Throws std::invalid_argument listing the known names.
+SceneSpec scene_preset(const std::string& name);
+std::vector<std::string> scene_preset_names();
+
+struct RenderedFrame {
+  cv::Mat depth;         // CV_16UC1, counts of intrinsics.depth_unit, 0 = no data
+  Intrinsics intrinsics;
+  // CV_8UC1 ground truth per pixel: 0 = table, k + 1 = the pixel's centre ray first hits part k (its top
+  // face or a side wall), before noise, dropout and flying pixels.
+  cv::Mat truth_labels;
+  cv::Mat truth_mask() const { return truth_labels > 0; }
+  // Ground truth geometry.
+  std::vector<partgen::PolygonWithHoles> part_polygons;  // top-face outlines in the table frame
+  std::vector<double> part_thickness;
+  Eigen::Isometry3d camera_from_table = Eigen::Isometry3d::Identity();  // p_cam = T * p_table
+  Eigen::Vector3d table_normal = Eigen::Vector3d::UnitZ();  // camera frame, pointing to the camera
+  double table_offset = 0;  // table plane in the camera frame: normal . p = offset (negative: camera above)
+};
+
+// Deterministic for (spec, profile, frame_index). Throws std::invalid_argument on a bad spec (unknown
+// shape, thickness outside 6..30 mm, overlapping parts, part outside the camera's view).
+RenderedFrame render(const SceneSpec& spec, const CameraProfile& profile, std::uint64_t frame_index);
+
+// Ground truth of a rendered frame as JSON (part polygons in the table frame, thicknesses, table plane and
+// camera pose, profile, scene) written atomically to path. Throws std::runtime_error naming the path.
+void write_truth(const SceneSpec& spec, const CameraProfile& profile, const RenderedFrame& frame,
+                 std::uint64_t frame_index, const std::string& path);
+
+}  // namespace hg::camera_bridge
