@@ -2,6 +2,11 @@
 
 int main(int argc, char** argv) {
   hg::runtime::Node node(hg::outline_service::process_info(), argc, argv);
-  hg::outline_service::attach(node);
-  return node.run();
+  try {
+    hg::outline_service::OutlineService service(node);
+    return node.run();
+  } catch (const hg::runtime::ConfigError& e) {
+    hg::runtime::logf(hg::runtime::Level::Error, "%s", e.what());
+    return 2;
+  }
 }

@@ -1,20 +1,172 @@
 #include "outline_service/outline_service.hpp"
 
-#include "hullgrind/plate_cloud_t.hpp"
+#include <chrono>
+#include <cmath>
+
+#include "hullgrind/heartbeat_t.hpp"
+#include "outline_service/part_pose.hpp"
 #include "runtime/channels.hpp"
 
 namespace hg::outline_service {
 
 runtime::ProcessInfo process_info() {
-  return {"hg-outline-service", "Plate points (HG_PLATE_CLOUD) -> outline (HG_OUTLINE) + part pose (HG_PART_POSE).",
-          "Not there yet (issue 5): running the outline core on received clouds. This skeleton runs the shared\nruntime only and counts the plate clouds it receives.",
-          {}};
+  return {"hg-outline-service",
+          "Plate points (HG_PLATE_CLOUD) -> outline (HG_OUTLINE) + part pose (HG_PART_POSE).",
+          "Runs the DSHI outline core on every plate cloud. If clouds arrive faster than it computes, the\n"
+          "newest wins: older ones are dropped and counted (heartbeat 'dropped'); the heartbeat's last_latency\n"
+          "is cloud received -> outline published. A cloud that gives no valid loop is answered by an outline\n"
+          "with status NO_LOOP or ERROR and the reason, never a made-up loop. One part_pose_t per part\n"
+          "(largest first): area centroid and principal axis with the holes subtracted.",
+          {{"alpha-radius", "0", "alpha radius R in metres (triangles with circumradius > R are outside); 0: automatic"},
+           {"auto-factor", "0", "automatic R = factor x median point spacing; 0: the outline core's default"},
+           {"mode", "dshi", "point location: ordinary|ds|dshi"},
+           {"order", "as-is", "insertion order: as-is (scan order, what DSHI expects)|hilbert"},
+           {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true}}};
 }
 
-void attach(runtime::Node& node) {
-  node.subscribe<hullgrind::plate_cloud_t>(channels::kPlateCloud, [](const hullgrind::plate_cloud_t&, const runtime::Delivery& d) {
-    runtime::logf(runtime::Level::Debug, "received plate_cloud_t on %s", d.channel.c_str());
+outline::Options options_from(const runtime::Node& node) {
+  outline::Options o;
+  o.alpha_radius = node.param_double("alpha-radius");
+  o.auto_factor = node.param_double("auto-factor");
+  try {
+    o.mode = outline::parse_mode(node.param("mode"));
+    o.order = outline::parse_order(node.param("order"));
+  } catch (const outline::OutlineError& e) {
+    throw runtime::ConfigError(e.what());
+  }
+  o.outer_only = node.param_bool("outer-only");
+  return o;
+}
+
+Computed compute(const hullgrind::plate_cloud_t& cloud, const outline::Options& options) {
+  Computed c;
+  hullgrind::outline_t& out = c.outline;
+  out.header.frame_id = cloud.header.frame_id;
+  out.header.utime = cloud.header.utime;
+  out.cloud_seq = cloud.header.seq;
+  for (int i = 0; i < 3; ++i) {
+    out.plane_origin[i] = cloud.plane_origin[i];
+    out.plane_normal[i] = cloud.plane_normal[i];
+    out.plane_u_axis[i] = cloud.plane_u_axis[i];
+    out.plane_v_axis[i] = cloud.plane_v_axis[i];
+  }
+  out.thickness = cloud.thickness;
+  out.num_loops = 0;
+  auto fail = [&](int8_t status, std::string why) {
+    out.status = status;
+    out.error_text = std::move(why);
+    out.loops.clear();
+    out.num_loops = 0;
+    return c;
+  };
+  if (cloud.status != hullgrind::plate_cloud_t::STATUS_OK)
+    return fail(hullgrind::outline_t::STATUS_NO_LOOP,
+                "the plate cloud has no part (status " + std::to_string(cloud.status) + ": " + cloud.status_text + ")");
+  if (cloud.n < 3) return fail(hullgrind::outline_t::STATUS_NO_LOOP, "the plate cloud has " + std::to_string(cloud.n) + " points; 3 are needed");
+
+  std::vector<outline::Vec2> pts(std::size_t(cloud.n));
+  for (int i = 0; i < cloud.n; ++i) pts[std::size_t(i)] = {cloud.u[std::size_t(i)], cloud.v[std::size_t(i)]};
+  auto t0 = std::chrono::steady_clock::now();
+  outline::Result r;
+  try {
+    r = outline::compute_outline(pts, options);
+  } catch (const outline::OutlineError& e) {
+    return fail(hullgrind::outline_t::STATUS_ERROR, e.what());
+  }
+  out.compute_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.alpha_radius = r.alpha_radius;
+  out.points_used = int32_t(r.points_used);
+  out.triangles = int32_t(r.triangles);
+  out.search_cost = int64_t(r.search_cost);
+  bool any_outer = false;
+  for (const outline::Loop& l : r.loops) {
+    hullgrind::outline_loop_t m;
+    m.hole = l.hole;
+    any_outer |= !l.hole;
+    m.n = int32_t(l.points.size());
+    for (const auto& p : l.points) {
+      m.u.push_back(p.x);
+      m.v.push_back(p.y);
+    }
+    m.area = l.area;
+    m.perimeter = l.perimeter;
+    out.loops.push_back(std::move(m));
+  }
+  if (!any_outer) return fail(hullgrind::outline_t::STATUS_NO_LOOP, "no outer loop found (alpha radius " +
+                                                                        std::to_string(r.alpha_radius) + " m too small for the point spacing?)");
+  out.num_loops = int32_t(out.loops.size());
+  out.status = hullgrind::outline_t::STATUS_OK;
+
+  std::vector<PartPose> poses = part_poses(r.loops);
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    const PartPose& p = poses[k];
+    hullgrind::part_pose_t m{};
+    m.header.frame_id = cloud.header.frame_id;
+    m.header.utime = cloud.header.utime;
+    m.cloud_seq = cloud.header.seq;
+    m.part_index = int16_t(k);
+    m.num_parts = int16_t(poses.size());
+    m.centroid_uv[0] = p.centroid.x;
+    m.centroid_uv[1] = p.centroid.y;
+    for (int i = 0; i < 3; ++i)
+      m.centroid_xyz[i] = cloud.plane_origin[i] + p.centroid.x * cloud.plane_u_axis[i] + p.centroid.y * cloud.plane_v_axis[i];
+    m.principal_axis_angle = p.principal_axis_angle;
+    m.area = p.area;
+    m.bbox_min_uv[0] = p.bbox_min.x, m.bbox_min_uv[1] = p.bbox_min.y;
+    m.bbox_max_uv[0] = p.bbox_max.x, m.bbox_max_uv[1] = p.bbox_max.y;
+    m.obb_size[0] = p.major_extent, m.obb_size[1] = p.minor_extent;
+    c.poses.push_back(m);
+  }
+  return c;
+}
+
+OutlineService::OutlineService(runtime::Node& node) : node_(node), options_(options_from(node)) {
+  node_.subscribe<hullgrind::plate_cloud_t>(channels::kPlateCloud, [this](const hullgrind::plate_cloud_t& cloud,
+                                                                          const runtime::Delivery& d) {
+    std::lock_guard lock(mutex_);
+    if (pending_) node_.count_dropped();  // superseded before the worker took it
+    pending_ = cloud;
+    pending_recv_utime_ = d.recv_utime;
+    wake_.notify_one();
   });
+  worker_ = std::thread([this] { work(); });
+}
+
+OutlineService::~OutlineService() {
+  {
+    std::lock_guard lock(mutex_);
+    quit_ = true;
+  }
+  wake_.notify_one();
+  worker_.join();
+}
+
+void OutlineService::work() {
+  while (true) {
+    hullgrind::plate_cloud_t cloud;
+    std::int64_t recv_utime = 0;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return quit_ || pending_; });
+      if (quit_) return;
+      cloud = std::move(*pending_);
+      pending_.reset();
+      recv_utime = pending_recv_utime_;
+    }
+    Computed c = compute(cloud, options_);
+    node_.publish(channels::kOutline, c.outline);
+    for (auto& pose : c.poses) node_.publish(channels::kPartPose, pose);
+    double latency = double(runtime::now_utime() - recv_utime) * 1e-6;
+    node_.set_latency(latency);
+    if (c.outline.status == hullgrind::outline_t::STATUS_OK) {
+      node_.set_state(hullgrind::heartbeat_t::STATE_OK);
+      runtime::logf(runtime::Level::Info, "cloud %lld: %d points -> %d loops in %.1f ms (R %.4f m)",
+                    (long long)cloud.header.seq, cloud.n, c.outline.num_loops, c.outline.compute_time * 1e3,
+                    c.outline.alpha_radius);
+    } else {
+      node_.set_state(hullgrind::heartbeat_t::STATE_DEGRADED, "last cloud: " + c.outline.error_text);
+    }
+  }
 }
 
 }  // namespace hg::outline_service

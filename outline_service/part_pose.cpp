@@ -1,0 +1,91 @@
+#include "outline_service/part_pose.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hg::outline_service {
+namespace {
+
+// Signed area moments of a closed polygon (Green's theorem): counter-clockwise adds, clockwise subtracts,
+// so an outer loop plus its (clockwise) holes sums to the part with the holes removed.
+struct Moments {
+  double a = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  void add(const std::vector<outline::Vec2>& p, outline::Vec2 o) {
+    for (std::size_t i = 0, n = p.size(); i < n; ++i) {
+      double x0 = p[i].x - o.x, y0 = p[i].y - o.y;
+      double x1 = p[(i + 1) % n].x - o.x, y1 = p[(i + 1) % n].y - o.y;
+      double c = x0 * y1 - x1 * y0;
+      a += c / 2;
+      sx += (x0 + x1) * c / 6;
+      sy += (y0 + y1) * c / 6;
+      sxx += (x0 * x0 + x0 * x1 + x1 * x1) * c / 12;
+      syy += (y0 * y0 + y0 * y1 + y1 * y1) * c / 12;
+      sxy += (x0 * y1 + 2 * x0 * y0 + 2 * x1 * y1 + x1 * y0) * c / 24;
+    }
+  }
+};
+
+bool inside(const std::vector<outline::Vec2>& poly, outline::Vec2 q) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const auto &a = poly[i], &b = poly[j];
+    if ((a.y > q.y) != (b.y > q.y) && q.x < (b.x - a.x) * (q.y - a.y) / (b.y - a.y) + a.x) in = !in;
+  }
+  return in;
+}
+
+}  // namespace
+
+std::vector<PartPose> part_poses(const std::vector<outline::Loop>& loops) {
+  std::vector<PartPose> out;
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    if (loops[i].hole || loops[i].points.size() < 3) continue;
+    PartPose pose;
+    pose.outer_loop = i;
+    const auto& outer = loops[i].points;
+    outline::Vec2 o = outer[0];  // moments about a nearby point keep the sums well conditioned
+    Moments m;
+    m.add(outer, o);
+    for (std::size_t j = 0; j < loops.size(); ++j) {
+      if (!loops[j].hole || loops[j].points.empty()) continue;
+      // A hole belongs to the smallest outer loop that contains it; holes of nested parts are rare on a
+      // grinding table, so "contains its first vertex" decides.
+      const auto& hole = loops[j].points;
+      if (!inside(outer, hole[0])) continue;
+      bool in_smaller = false;
+      for (std::size_t k = 0; k < loops.size(); ++k)
+        if (k != i && !loops[k].hole && loops[k].area < loops[i].area && inside(loops[k].points, hole[0]))
+          in_smaller = true;
+      if (in_smaller) continue;
+      pose.holes.push_back(j);
+      m.add(hole, o);
+    }
+    if (m.a <= 0) continue;
+    double cx = m.sx / m.a, cy = m.sy / m.a;
+    pose.area = m.a;
+    pose.centroid = {o.x + cx, o.y + cy};
+    double ixx = m.sxx - m.a * cx * cx, iyy = m.syy - m.a * cy * cy, ixy = m.sxy - m.a * cx * cy;
+    double angle = 0.5 * std::atan2(2 * ixy, ixx - iyy);  // major axis of the area's second moments
+    if (angle <= -M_PI / 2) angle += M_PI;
+    pose.principal_axis_angle = angle;
+    double c = std::cos(angle), s = std::sin(angle);
+    double lo1 = std::numeric_limits<double>::max(), hi1 = -lo1, lo2 = lo1, hi2 = -lo1;
+    pose.bbox_min = {lo1, lo1};
+    pose.bbox_max = {hi1, hi1};
+    for (const auto& p : outer) {
+      pose.bbox_min = {std::min(pose.bbox_min.x, p.x), std::min(pose.bbox_min.y, p.y)};
+      pose.bbox_max = {std::max(pose.bbox_max.x, p.x), std::max(pose.bbox_max.y, p.y)};
+      double a = (p.x - pose.centroid.x) * c + (p.y - pose.centroid.y) * s;
+      double b = -(p.x - pose.centroid.x) * s + (p.y - pose.centroid.y) * c;
+      lo1 = std::min(lo1, a), hi1 = std::max(hi1, a), lo2 = std::min(lo2, b), hi2 = std::max(hi2, b);
+    }
+    pose.major_extent = hi1 - lo1;
+    pose.minor_extent = hi2 - lo2;
+    out.push_back(pose);
+  }
+  std::sort(out.begin(), out.end(), [](const PartPose& a, const PartPose& b) { return a.area > b.area; });
+  return out;
+}
+
+}  // namespace hg::outline_service

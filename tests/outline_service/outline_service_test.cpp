@@ -1,0 +1,153 @@
+// The outline service's computation without LCM: outline and part pose from a plate cloud, and the error
+// statuses for clouds that give no valid loop.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "outline_service/outline_service.hpp"
+#include "outline_service/part_pose.hpp"
+#include "test_clouds.hpp"
+
+namespace os = hg::outline_service;
+using hg::outline::Loop;
+using hg::outline::Vec2;
+
+namespace {
+
+Loop polygon(std::vector<Vec2> pts, bool hole) {
+  Loop l;
+  l.hole = hole;
+  l.points = std::move(pts);
+  return l;
+}
+
+std::vector<Vec2> rect(double x0, double y0, double x1, double y1, bool clockwise, double angle = 0) {
+  std::vector<Vec2> p = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+  if (clockwise) std::reverse(p.begin(), p.end());
+  double c = std::cos(angle), s = std::sin(angle);
+  for (auto& q : p) q = {c * q.x - s * q.y, s * q.x + c * q.y};
+  return p;
+}
+
+TEST(OutlineServicePose, RotatedRectangleWithHole) {
+  const double a = 0.5;  // rotation of the whole part
+  // 0.4 x 0.2 plate, 0.1 x 0.1 hole centred at (0.3, 0.1) in the plate's own frame.
+  std::vector<Loop> loops = {polygon(rect(0, 0, 0.4, 0.2, false, a), false),
+                             polygon(rect(0.25, 0.05, 0.35, 0.15, true, a), true)};
+  loops[0].area = 0.08;
+  auto poses = os::part_poses(loops);
+  ASSERT_EQ(poses.size(), 1u);
+  const auto& p = poses[0];
+  EXPECT_NEAR(p.area, 0.08 - 0.01, 1e-12);
+  // Centroid in the plate frame: (0.08*(0.2,0.1) - 0.01*(0.3,0.1)) / 0.07, then rotated by a.
+  double lx = (0.08 * 0.2 - 0.01 * 0.3) / 0.07, ly = 0.1;
+  EXPECT_NEAR(p.centroid.x, std::cos(a) * lx - std::sin(a) * ly, 1e-12);
+  EXPECT_NEAR(p.centroid.y, std::sin(a) * lx + std::cos(a) * ly, 1e-12);
+  EXPECT_NEAR(p.principal_axis_angle, a, 1e-9);  // the long side
+  ASSERT_EQ(p.holes.size(), 1u);
+  EXPECT_EQ(p.holes[0], 1u);
+}
+
+TEST(OutlineServicePose, TwoPartsLargestFirstHoleAssignedToItsPart) {
+  std::vector<Loop> loops = {polygon(rect(0, 0, 0.1, 0.1, false), false),
+                             polygon(rect(1, 0, 1.3, 0.2, false), false),
+                             polygon(rect(1.1, 0.05, 1.2, 0.15, true), true)};
+  loops[0].area = 0.01;
+  loops[1].area = 0.06;
+  auto poses = os::part_poses(loops);
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_EQ(poses[0].outer_loop, 1u);
+  EXPECT_NEAR(poses[0].area, 0.05, 1e-12);
+  EXPECT_EQ(poses[0].holes, std::vector<std::size_t>{2});
+  EXPECT_NEAR(poses[1].area, 0.01, 1e-12);
+  EXPECT_TRUE(poses[1].holes.empty());
+  EXPECT_NEAR(poses[0].major_extent, 0.3, 1e-12);
+  EXPECT_NEAR(poses[0].minor_extent, 0.2, 1e-12);
+}
+
+TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
+  const double p = 0.005;
+  auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, p);
+  cloud.header.seq = 41;
+  hg::outline::Options opt;
+  opt.alpha_radius = 2 * p;
+  auto c = os::compute(cloud, opt);
+  ASSERT_EQ(c.outline.status, +hullgrind::outline_t::STATUS_OK) << c.outline.error_text;
+  EXPECT_EQ(c.outline.cloud_seq, 41);
+  ASSERT_EQ(c.outline.num_loops, 2);
+  int holes = 0;
+  for (const auto& l : c.outline.loops) {
+    holes += l.hole;
+    EXPECT_EQ(l.n, int(l.u.size()));
+  }
+  EXPECT_EQ(holes, 1);
+  EXPECT_EQ(c.outline.points_used, cloud.n);
+  EXPECT_GT(c.outline.search_cost, 0);
+  // The hole's boundary runs through the grid points next to it: (0.1..0.2) x (0.05..0.15) is exactly
+  // the hole, so the part's area is 0.4*0.2 - 0.1*0.1 up to float rounding of the coordinates.
+  ASSERT_EQ(c.poses.size(), 1u);
+  EXPECT_NEAR(c.poses[0].area, 0.08 - 0.01, 1e-6);
+  EXPECT_EQ(c.poses[0].num_parts, 1);
+  // Centroid: (0.08*(0.2,0.1) - 0.01*(0.15,0.1)) / 0.07; to the camera frame through the plane.
+  double cu = (0.08 * 0.2 - 0.01 * 0.15) / 0.07;
+  EXPECT_NEAR(c.poses[0].centroid_uv[0], cu, 1e-6);
+  EXPECT_NEAR(c.poses[0].centroid_uv[1], 0.1, 1e-6);
+  EXPECT_NEAR(c.poses[0].centroid_xyz[0], cu, 1e-6);
+  EXPECT_NEAR(c.poses[0].centroid_xyz[1], -0.1, 1e-6);
+  EXPECT_NEAR(c.poses[0].centroid_xyz[2], 1, 1e-12);
+  EXPECT_NEAR(c.poses[0].principal_axis_angle, 0, 1e-6);
+}
+
+TEST(OutlineServiceCompute, OuterOnlyFillsTheHole) {
+  auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, 0.005);
+  hg::outline::Options opt;
+  opt.alpha_radius = 0.01;
+  opt.outer_only = true;
+  auto c = os::compute(cloud, opt);
+  ASSERT_EQ(c.outline.status, +hullgrind::outline_t::STATUS_OK);
+  ASSERT_EQ(c.outline.num_loops, 1);
+  EXPECT_FALSE(c.outline.loops[0].hole);
+}
+
+TEST(OutlineServiceCompute, CloudWithoutPartIsNoLoopWithReason) {
+  auto cloud = hg::test::plate_with_hole(0.1, 0.1, 1, 1, 1, 1, 0.01);
+  cloud.status = hullgrind::plate_cloud_t::STATUS_NO_PART;
+  cloud.status_text = "nothing above the table";
+  auto c = os::compute(cloud, {});
+  EXPECT_EQ(c.outline.status, +hullgrind::outline_t::STATUS_NO_LOOP);
+  EXPECT_NE(c.outline.error_text.find("nothing above the table"), std::string::npos);
+  EXPECT_EQ(c.outline.num_loops, 0);
+  EXPECT_TRUE(c.outline.loops.empty());
+  EXPECT_TRUE(c.poses.empty());
+}
+
+TEST(OutlineServiceCompute, TooFewCollinearOrInvalidPointsAreErrorsNotLoops) {
+  hullgrind::plate_cloud_t two{};
+  two.status = hullgrind::plate_cloud_t::STATUS_OK;
+  two.n = 2;
+  two.u = {0, 1};
+  two.v = {0, 1};
+  two.part = {0, 0};
+  auto a = os::compute(two, {});
+  EXPECT_EQ(a.outline.status, +hullgrind::outline_t::STATUS_NO_LOOP);
+  EXPECT_EQ(a.outline.num_loops, 0);
+
+  hullgrind::plate_cloud_t line = two;
+  line.n = 50;
+  line.u.clear(), line.v.clear(), line.part.assign(50, 0);
+  for (int i = 0; i < 50; ++i) line.u.push_back(0.01f * i), line.v.push_back(0.02f * i);
+  auto b = os::compute(line, {});
+  EXPECT_NE(b.outline.status, +hullgrind::outline_t::STATUS_OK);
+  EXPECT_FALSE(b.outline.error_text.empty());
+  EXPECT_EQ(b.outline.num_loops, 0);
+
+  auto nan = hg::test::plate_with_hole(0.1, 0.1, 1, 1, 1, 1, 0.01);
+  nan.u[7] = std::numeric_limits<float>::quiet_NaN();
+  auto d = os::compute(nan, {});
+  EXPECT_EQ(d.outline.status, +hullgrind::outline_t::STATUS_ERROR);
+  EXPECT_NE(d.outline.error_text.find("7"), std::string::npos) << d.outline.error_text;
+  EXPECT_EQ(d.outline.num_loops, 0);
+}
+
+}  // namespace
