@@ -1,0 +1,260 @@
+// hg-gen: writes a synthetic hull-part cloud (as a top-down depth camera sees it) and its ground truth.
+#include "partgen/presets.hpp"
+#include "partgen/shapes.hpp"
+#include "partgen/synth.hpp"
+#include "partgen/writers.hpp"
+
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <numbers>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace hg::partgen;
+
+namespace {
+
+const char* kHelp = R"(hg-gen: synthetic hull-part point clouds as a top-down depth camera sees them.
+
+Usage:
+  hg-gen (--shape NAME | --preset NAME | --scene demo) [options] -o OUT
+  hg-gen --all DIR [--format xyz|pcd|pcd-ascii] [noise options]
+  hg-gen --list | --fit-presets | --help
+
+Writes OUT (the cloud) and OUT.truth.json (ground truth: every part's polygon with holes in the same
+frame and units as the cloud, exact area and perimeter, pixel grid, noise settings, point count).
+Points are in metres in the table frame (x right, y up, z = plate thickness above the table), in
+SCAN-LINE order: pixel rows from the top (largest y) down, left to right within a row.
+
+Source (exactly one):
+  --shape NAME      one part of the catalogue (see --list), bounding-box centre at the origin
+  --preset NAME     a paper-sized cloud: low-1..6 (Table 1), high-1..6 (Table 4), down-1..6 (Table 6);
+                    sets shape, rotation and pitch (options below override)
+  --scene demo      four different parts on one table
+Options:
+  --scale S         multiply every length of the shape (default 1; --shape and --scene only)
+  --pitch M         pixel spacing on the table in metres (default 0.002 for --shape/--scene)
+  --rotate DEG      rotation of the part against the pixel grid (--shape, --preset)
+  --thickness M     plate thickness, 0.006..0.030 m (default: the shape's own)
+  --noise M         Gaussian in-plane noise sigma added to x and y, metres (default 0)
+  --depth-noise M   Gaussian noise sigma added to z, metres (default 0)
+  --dropout F       fraction of pixels lost at random, 0..1 (default 0)
+  --jagged          edge pixels kept with probability equal to the pixel's covered fraction
+  --seed N          random seed (default 1); the same seed and options give the same file
+  --format F        xyz (text "x y z" lines, 7 decimals), pcd (binary float32), pcd-ascii;
+                    default: from OUT's extension (.pcd -> pcd), else xyz; --all defaults to pcd
+  -o OUT            output cloud file
+  --all DIR         write every preset into DIR as <preset>.<ext> plus <preset>.<ext>.truth.json
+  --list            list shapes (with exact area and perimeter) and presets
+  --fit-presets     fit every preset's pitch to the paper's point count and print the table
+  --help            this text
+Exit status: 0 on success, 2 on bad usage or input, 1 when a file cannot be written.
+)";
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+double parse_double(const std::string& opt, const std::string& s) {
+  double v = 0;
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (r.ec != std::errc() || r.ptr != s.data() + s.size() || !std::isfinite(v))
+    throw UsageError(opt + ": '" + s + "' is not a finite number");
+  return v;
+}
+
+std::uint64_t parse_u64(const std::string& opt, const std::string& s) {
+  std::uint64_t v = 0;
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (r.ec != std::errc() || r.ptr != s.data() + s.size())
+    throw UsageError(opt + ": '" + s + "' is not a non-negative integer");
+  return v;
+}
+
+struct Args {
+  std::optional<std::string> shape, preset, scene, out, all, format;
+  std::optional<double> scale, pitch, rotate, thickness;
+  double noise = 0, depth_noise = 0, dropout = 0;
+  bool jagged = false, list = false, fit = false, help = false;
+  std::uint64_t seed = 1;
+};
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string opt = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw UsageError(opt + " needs a value");
+      return argv[++i];
+    };
+    if (opt == "--shape") a.shape = value();
+    else if (opt == "--preset") a.preset = value();
+    else if (opt == "--scene") a.scene = value();
+    else if (opt == "--scale") a.scale = parse_double(opt, value());
+    else if (opt == "--pitch") a.pitch = parse_double(opt, value());
+    else if (opt == "--rotate") a.rotate = parse_double(opt, value());
+    else if (opt == "--thickness") a.thickness = parse_double(opt, value());
+    else if (opt == "--noise") a.noise = parse_double(opt, value());
+    else if (opt == "--depth-noise") a.depth_noise = parse_double(opt, value());
+    else if (opt == "--dropout") a.dropout = parse_double(opt, value());
+    else if (opt == "--jagged") a.jagged = true;
+    else if (opt == "--seed") a.seed = parse_u64(opt, value());
+    else if (opt == "--format") a.format = value();
+    else if (opt == "-o" || opt == "--output") a.out = value();
+    else if (opt == "--all") a.all = value();
+    else if (opt == "--list") a.list = true;
+    else if (opt == "--fit-presets") a.fit = true;
+    else if (opt == "--help" || opt == "-h") a.help = true;
+    else throw UsageError("unknown option '" + opt + "' (see --help)");
+  }
+  return a;
+}
+
+std::string format_for(const Args& a, const std::string& out, const char* fallback) {
+  if (a.format) {
+    if (*a.format != "xyz" && *a.format != "pcd" && *a.format != "pcd-ascii")
+      throw UsageError("--format: '" + *a.format + "' is not one of xyz, pcd, pcd-ascii");
+    return *a.format;
+  }
+  return std::filesystem::path(out).extension() == ".pcd" ? "pcd" : fallback;
+}
+
+CloudOptions noise_options(const Args& a, CloudOptions o) {
+  o.in_plane_sigma = a.noise;
+  o.depth_sigma = a.depth_noise;
+  o.dropout = a.dropout;
+  o.jagged = a.jagged;
+  o.seed = a.seed;
+  return o;
+}
+
+void apply_thickness(const Args& a, Scene& scene) {
+  if (!a.thickness) return;
+  if (!(*a.thickness >= 0.006 && *a.thickness <= 0.030))
+    throw UsageError("--thickness: " + std::to_string(*a.thickness) + " m is outside 0.006..0.030 m");
+  for (PlacedPart& p : scene.parts) p.shape.thickness = *a.thickness;
+}
+
+void generate(const Scene& scene, const CloudOptions& o, const std::string& out, const std::string& format,
+              const std::optional<Preset>& preset) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Cloud cloud = synthesize(scene, o);
+  const auto t1 = std::chrono::steady_clock::now();
+  if (format == "xyz") write_xyz(cloud, out);
+  else write_pcd(cloud, out, format == "pcd");
+  nlohmann::json truth = truth_json(scene, o, cloud);
+  truth["cloud_file"] = std::filesystem::path(out).filename().string();
+  truth["cloud_format"] = format;
+  if (preset) {
+    truth["preset"] = {{"name", preset->name}, {"table", preset->table}, {"piece", preset->piece},
+                       {"paper_points", preset->paper_points}};
+  }
+  write_json(truth, out + ".truth.json");
+  const auto t2 = std::chrono::steady_clock::now();
+  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  std::printf("%s: %zu points (pitch %.6g m, %d x %d grid), area %.6g m2, perimeter %.6g m; "
+              "synthesize %.1f ms, write %.1f ms\n",
+              out.c_str(), cloud.size(), o.pitch, cloud.grid.cols, cloud.grid.rows, scene.total_area(),
+              scene.total_perimeter(), ms(t1 - t0), ms(t2 - t1));
+}
+
+void list() {
+  std::printf("shapes (scale 1; area m2, perimeter m, holes, thickness m):\n");
+  for (const Shape& s : catalogue())
+    std::printf("  %-16s %9.6f %8.5f %d %.3f  %s\n", s.name.c_str(), s.exact_area, s.exact_perimeter,
+                s.exact_hole_count, s.thickness, s.description.c_str());
+  std::printf("scenes:\n  demo             plate-hole-slot, l-bracket, knee-scallop, ring-flange on one table\n");
+  std::printf("presets (name, paper table, piece, shape, rotation deg, pitch m, paper points):\n");
+  for (const Preset& p : presets())
+    std::printf("  %-8s %-8s %d %-16s %5.1f %.8f %zu\n", p.name.c_str(), p.table.c_str(), p.piece,
+                p.shape.c_str(), p.rotation_deg, p.pitch, p.paper_points);
+}
+
+void fit_presets() {
+  std::printf("preset    paper     fitted pitch (m)  points   deviation\n");
+  for (const Preset& p : presets()) {
+    const Scene scene = preset_scene(p);
+    const double pitch = fit_pitch(scene, p.paper_points);
+    const std::size_t n = count_pixel_centres(scene, pitch);
+    std::printf("%-8s %8zu  %.8e  %8zu  %+.3f%%\n", p.name.c_str(), p.paper_points, pitch, n,
+                100.0 * (double(n) - double(p.paper_points)) / double(p.paper_points));
+  }
+}
+
+int run(int argc, char** argv) {
+  const Args a = parse(argc, argv);
+  if (a.help || argc == 1) {
+    std::fputs(kHelp, a.help ? stdout : stderr);
+    return a.help ? 0 : 2;
+  }
+  if (a.list) {
+    list();
+    return 0;
+  }
+  if (a.fit) {
+    fit_presets();
+    return 0;
+  }
+  if (a.all) {
+    if (a.shape || a.preset || a.scene || a.out) throw UsageError("--all takes no --shape/--preset/--scene/-o");
+    std::filesystem::create_directories(*a.all);
+    const std::string fmt = format_for(a, "", "pcd");
+    const std::string ext = fmt == "xyz" ? ".xyz" : ".pcd";
+    for (const Preset& p : presets()) {
+      Scene scene = preset_scene(p);
+      apply_thickness(a, scene);
+      generate(scene, noise_options(a, preset_options(p)), (std::filesystem::path(*a.all) / (p.name + ext)).string(),
+               fmt, p);
+    }
+    return 0;
+  }
+  if ((a.shape ? 1 : 0) + (a.preset ? 1 : 0) + (a.scene ? 1 : 0) != 1)
+    throw UsageError("give exactly one of --shape, --preset, --scene (see --help)");
+  if (!a.out) throw UsageError("-o OUT is required");
+  Scene scene;
+  CloudOptions o;
+  std::optional<Preset> preset;
+  if (a.preset) {
+    preset = find_preset(*a.preset);
+    if (a.scale) throw UsageError("--scale does not apply to a preset (its size is the paper's)");
+    if (a.rotate) preset->rotation_deg = *a.rotate;
+    scene = preset_scene(*preset);
+    o = preset_options(*preset);
+  } else if (a.shape) {
+    scene = single_part_scene(make_shape(*a.shape, a.scale.value_or(1.0)),
+                              a.rotate.value_or(0.0) * std::numbers::pi / 180.0);
+    o.pitch = 0.002;
+  } else {
+    if (*a.scene != "demo") throw UsageError("--scene: unknown scene '" + *a.scene + "' (valid: demo)");
+    if (a.rotate) throw UsageError("--rotate does not apply to a scene (each part has its own pose)");
+    scene = demo_scene(a.scale.value_or(1.0));
+    o.pitch = 0.002;
+  }
+  if (a.pitch) o.pitch = *a.pitch;
+  apply_thickness(a, scene);
+  generate(scene, noise_options(a, o), *a.out, format_for(a, *a.out, "xyz"), preset);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "hg-gen: %s\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "hg-gen: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hg-gen: %s\n", e.what());
+    return 1;
+  }
+}
