@@ -1,0 +1,65 @@
+// hullgrind outline I/O: point-cloud readers (.xyz/.txt/.csv, .pcd, .ply) and the best-fit plane.
+// Every reader works on the whole file in memory, checks every count against the bytes present before
+// allocating, and throws ReadError "FILE: line N: ..." (text) or "FILE: byte N: ..." (binary) on any defect.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "outline_core/outline.hpp"
+
+namespace hg::outline::io {
+
+// A file that cannot be read: the message names the file and the line or byte offset, and what is wrong.
+struct ReadError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class Format { Text, Pcd, Ply };
+const char* format_name(Format);
+
+struct Cloud {
+  std::vector<double> xyz;  // x, y, z interleaved, one triple per point in file order (z = 0 without z)
+  bool has_z = false;       // the file gives a z coordinate
+  std::string format;       // e.g. "xyz", "pcd binary_compressed", "ply binary_little_endian"
+  std::size_t size() const { return xyz.size() / 3; }
+};
+
+// Chooses the reader by extension (case-insensitive): .xyz .txt .csv, .pcd, .ply.
+Format format_from_path(const std::string& path);  // throws ReadError for an unknown extension
+Cloud read_cloud_file(const std::string& path);
+
+// The readers proper; `name` is the file name used in messages. `data` is the whole file.
+Cloud parse_text_cloud(std::string_view data, const std::string& name);
+Cloud parse_pcd(std::string_view data, const std::string& name);
+Cloud parse_ply(std::string_view data, const std::string& name);
+
+// LZF (liblzf format, as used by PCD binary_compressed). Decodes exactly `out_size` bytes into `out`.
+// `base_offset` is the offset of `in` in the file, for messages. Throws ReadError on any malformed input.
+void lzf_decompress(std::string_view in, char* out, std::size_t out_size, const std::string& name,
+                    std::size_t base_offset);
+
+// Best-fit plane of a 3-D cloud. Right-handed (u, v, normal); u is the x axis projected onto the plane
+// when the plane is not nearly perpendicular to it, so a plate seen from above keeps its orientation.
+struct Plane {
+  std::array<double, 3> origin{}, normal{}, u{}, v{};
+};
+
+struct PlanarPoints {
+  std::vector<Vec2> points;  // in input order
+  bool projected = false;    // true: 3-D input, points are (u, v) plane coordinates
+  Plane plane;               // meaningful when projected
+  double rms_distance = 0;   // RMS distance of the input points from the plane (0 when not projected)
+  double max_distance = 0;
+};
+
+// Planar input (no z, or every z equal) keeps x, y as they are; otherwise least-squares plane (PCA),
+// points given as plane coordinates about the centroid.
+PlanarPoints to_plane(const Cloud& cloud);
+std::array<double, 3> plane_to_3d(const Plane& plane, Vec2 p);
+
+}  // namespace hg::outline::io

@@ -1,0 +1,16 @@
+// libFuzzer target: the ply reader on arbitrary bytes. A ReadError is the expected answer to garbage;
+// anything else (crash, sanitizer report, other exception, absurd allocation) is a bug.
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "outline_core/io/cloud_io.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  try {
+    auto cloud = hg::outline::io::parse_ply(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.ply");
+    if (cloud.size() == 0) __builtin_trap();  // readers promise at least one point or an error
+  } catch (const hg::outline::io::ReadError&) {
+  }
+  return 0;
+}

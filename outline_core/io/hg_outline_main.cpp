@@ -1,0 +1,224 @@
+// hg-outline: the plate's outline from a point-cloud file, as JSON (+ optional pictures and triangles).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <new>
+#include <string>
+#include <string_view>
+
+#include "outline_core/io/cloud_io.hpp"
+#include "outline_core/io/outline_writers.hpp"
+#include "outline_core/outline.hpp"
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: hg-outline INPUT [options]
+
+Finds the outline of a flat part (outer edges and cut-outs) in a point cloud: Delaunay triangulation
+(DSHI point location), alpha shape by circumradius, boundary loops with holes.
+
+INPUT  .xyz .txt .csv  one point per line: x y [z] (blanks or commas; '#' comments; an all-text
+                       header line is skipped; columns after the third are ignored)
+       .pcd            DATA ascii, binary or binary_compressed; fields x y [z] of any type
+       .ply            ascii or binary_little_endian; vertex x y [z]; other elements skipped
+       3-D input is projected onto its least-squares plane; loops are then in plane coordinates
+       (plus "points_3d" and "plane" in the JSON). Planar input (no z, or all z equal) keeps x, y.
+
+options
+  --alpha-radius R      triangles with circumradius > R are outside (input units; R > 0)
+                        default: automatic, K x median nearest-neighbour spacing
+  --auto-factor K       the K of the automatic radius (K > 0; default: the core's documented value)
+  --mode M              point location: ordinary | ds | dshi   (default dshi)
+  --order O             insertion order: as-is | hilbert       (default as-is)
+  --outer-only          remove only big triangles connected to the outside (no holes)
+  -o FILE               write the outline JSON to FILE (default: print it on stdout)
+  --svg FILE            write an SVG picture: points, outer loops blue, holes red
+  --png FILE            write a PNG picture of the same
+  --draw-triangles      also draw the Delaunay triangles in the SVG/PNG
+  --triangles FILE      write the Delaunay triangles, one "i j k" per line, 0-based indices into the
+                        points as read (a merged duplicate is its first occurrence)
+  -h, --help            show this text
+
+Every output file is written whole or not at all; on any error nothing is written.
+exit status: 0 done, 1 input or processing error (message names the file and line/byte), 2 bad options
+)";
+
+struct Args {
+  std::string input, json_out, svg_out, png_out, tri_out;
+  hg::outline::Options opt;
+  bool draw_triangles = false;
+  bool have_alpha = false, have_factor = false;
+};
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+double positive_number(std::string_view opt, const std::string& s) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || s.empty() || !std::isfinite(v) || v <= 0)
+    throw UsageError(std::string(opt) + " needs a positive number, got '" + s + "'");
+  return v;
+}
+
+Args parse_args(int argc, char** argv, bool& help) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    std::string value;
+    bool inline_value = false;
+    if (arg.rfind("--", 0) == 0) {
+      if (auto eq = arg.find('='); eq != std::string::npos) {
+        value = arg.substr(eq + 1);
+        arg = arg.substr(0, eq);
+        inline_value = true;
+      }
+    }
+    auto take = [&]() -> std::string {
+      if (inline_value) return value;
+      if (i + 1 >= argc) throw UsageError(arg + " needs a value");
+      return argv[++i];
+    };
+    auto flag = [&] {
+      if (inline_value) throw UsageError(arg + " takes no value");
+    };
+    if (arg == "-h" || arg == "--help") {
+      help = true;
+      return a;
+    } else if (arg == "--alpha-radius") {
+      a.opt.alpha_radius = positive_number(arg, take());
+      a.have_alpha = true;
+    } else if (arg == "--auto-factor") {
+      a.opt.auto_factor = positive_number(arg, take());
+      a.have_factor = true;
+    } else if (arg == "--mode") {
+      std::string m = take();
+      try {
+        a.opt.mode = hg::outline::parse_mode(m);
+      } catch (const std::exception&) {
+        throw UsageError("--mode must be ordinary, ds or dshi, got '" + m + "'");
+      }
+    } else if (arg == "--order") {
+      std::string o = take();
+      try {
+        a.opt.order = hg::outline::parse_order(o);
+      } catch (const std::exception&) {
+        throw UsageError("--order must be as-is or hilbert, got '" + o + "'");
+      }
+    } else if (arg == "--outer-only") {
+      flag();
+      a.opt.outer_only = true;
+    } else if (arg == "-o" || arg == "--output") {
+      a.json_out = take();
+    } else if (arg == "--svg") {
+      a.svg_out = take();
+    } else if (arg == "--png") {
+      a.png_out = take();
+    } else if (arg == "--triangles") {
+      a.tri_out = take();
+    } else if (arg == "--draw-triangles") {
+      flag();
+      a.draw_triangles = true;
+    } else if (arg.size() > 1 && arg[0] == '-') {
+      throw UsageError("unknown option '" + arg + "'");
+    } else {
+      if (!a.input.empty()) throw UsageError("more than one input file ('" + a.input + "', '" + arg + "')");
+      a.input = arg;
+    }
+  }
+  if (a.input.empty()) throw UsageError("no input file");
+  if (a.have_alpha && a.have_factor) throw UsageError("give --alpha-radius or --auto-factor, not both");
+  for (const std::string* out : {&a.json_out, &a.svg_out, &a.png_out, &a.tri_out})
+    if (!out->empty() && *out == a.input) throw UsageError("output file '" + *out + "' is the input file");
+  return a;
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace io = hg::outline::io;
+  Args args;
+  try {
+    bool help = false;
+    args = parse_args(argc, argv, help);
+    if (help) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "hg-outline: %s\n(hg-outline --help shows the options)\n", e.what());
+    return 2;
+  }
+
+  try {
+    auto t0 = std::chrono::steady_clock::now();
+    io::Cloud cloud = io::read_cloud_file(args.input);
+    io::RunInfo info;
+    info.input = args.input;
+    info.format = cloud.format;
+    info.has_z = cloud.has_z;
+    info.read_ms = ms_since(t0);
+
+    auto t1 = std::chrono::steady_clock::now();
+    io::PlanarPoints planar = io::to_plane(cloud);
+    cloud = io::Cloud{};  // the 3-D copy is no longer needed: give its memory back before triangulating
+    info.project_ms = ms_since(t1);
+
+    args.opt.keep_triangles = !args.tri_out.empty() || (args.draw_triangles && (!args.svg_out.empty() || !args.png_out.empty()));
+    hg::outline::Result result;
+    try {
+      result = hg::outline::compute_outline(planar.points, args.opt);
+    } catch (const hg::outline::OutlineError& e) {
+      throw io::ReadError(args.input + ": " + e.what());
+    }
+
+    // Everything is produced before anything is renamed into place.
+    io::StagedFiles files;
+    const std::string json = io::outline_json(result, planar, info).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+    if (!args.json_out.empty()) files.stage(args.json_out, json);
+    if (!args.tri_out.empty()) files.stage(args.tri_out, io::triangles_text(result));
+    if (!args.svg_out.empty()) files.stage(args.svg_out, io::render_svg(planar.points, result, args.draw_triangles));
+    if (!args.png_out.empty()) {
+      auto png = io::render_png(planar.points, result, args.draw_triangles);
+      files.stage(args.png_out, png.data(), png.size());
+    }
+    files.commit();
+
+    if (args.json_out.empty()) {
+      std::fwrite(json.data(), 1, json.size(), stdout);
+    } else {
+      std::size_t holes = 0;
+      for (auto& l : result.loops) holes += l.hole;
+      std::printf("hg-outline: %s: %zu points (%zu used), %zu outer loops, %zu holes, R = %g%s, %.1f ms -> %s\n",
+                  args.input.c_str(), result.points_read, result.points_used, result.loops.size() - holes, holes,
+                  result.alpha_radius, result.alpha_automatic ? " (automatic)" : "",
+                  info.project_ms + result.time.total_ms, args.json_out.c_str());
+    }
+    if (std::fflush(stdout) != 0) {
+      std::fprintf(stderr, "hg-outline: error: writing to stdout failed\n");
+      return 1;
+    }
+    return 0;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "hg-outline: error: %s: out of memory\n", args.input.c_str());
+  } catch (const io::ReadError& e) {  // names the file itself
+    std::fprintf(stderr, "hg-outline: error: %s\n", e.what());
+  } catch (const io::WriteError& e) {  // names the output file
+    std::fprintf(stderr, "hg-outline: error: %s\n", e.what());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hg-outline: error: %s: %s\n", args.input.c_str(), e.what());
+  }
+  return 1;
+}

@@ -1,0 +1,262 @@
+#include "outline_core/io/outline_writers.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace hg::outline::io {
+
+namespace {
+
+// Local names: the writers need only the core's types, not its library.
+const char* mode_name(Mode m) {
+  switch (m) {
+    case Mode::Ordinary: return "ordinary";
+    case Mode::DS: return "ds";
+    case Mode::DSHI: return "dshi";
+  }
+  return "?";
+}
+const char* order_name(Order o) { return o == Order::Hilbert ? "hilbert" : "as-is"; }
+
+nlohmann::ordered_json arr3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+
+// Page transform: world (x, y) -> picture (px, py), fitted to about 1200 px, y up.
+struct View {
+  double minx = 0, miny = 0, scale = 1;
+  int width = 1200, height = 1200;
+  static constexpr double margin = 40, target = 1120;
+  explicit View(std::span<const Vec2> pts) {
+    if (pts.empty()) return;
+    double maxx = pts[0].x, maxy = pts[0].y;
+    minx = pts[0].x, miny = pts[0].y;
+    for (auto& p : pts) {
+      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x);
+      miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
+    }
+    double ext = std::max(maxx - minx, maxy - miny);
+    scale = ext > 0 ? target / ext : 1;
+    width = static_cast<int>(std::ceil((maxx - minx) * scale + 2 * margin));
+    height = static_cast<int>(std::ceil((maxy - miny) * scale + 2 * margin)) + 30;  // legend strip
+  }
+  double px(const Vec2& p) const { return margin + (p.x - minx) * scale; }
+  double py(const Vec2& p) const { return height - margin - (p.y - miny) * scale; }
+};
+
+void append_num(std::string& s, double v) {
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, 1);
+  s.append(buf, r.ptr);
+}
+
+constexpr const char* kOuterColour = "#1f5fd0";
+constexpr const char* kHoleColour = "#d02020";
+
+}  // namespace
+
+nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar, const RunInfo& info) {
+  nlohmann::ordered_json j;
+  j["input"] = {{"file", info.input}, {"format", info.format}, {"has_z", info.has_z}, {"projected", planar.projected}};
+  j["points_read"] = r.points_read;
+  j["points_used"] = r.points_used;
+  j["duplicates_merged"] = r.duplicates_merged;
+  j["alpha_radius"] = r.alpha_radius;
+  j["alpha_automatic"] = r.alpha_automatic;
+  j["nn_spacing_median"] = r.nn_spacing_median;
+  j["mode"] = mode_name(r.mode);
+  j["order"] = order_name(r.order);
+  j["triangles"] = r.triangles;
+  j["search_cost"] = r.search_cost;
+  j["incircle_tests"] = r.incircle_tests;
+  j["orient_tests"] = r.orient_tests;
+  j["time_ms"] = {{"read", info.read_ms},
+                  {"project", info.project_ms},
+                  {"triangulate", r.time.triangulate_ms},
+                  {"alpha", r.time.alpha_ms},
+                  {"loops", r.time.loops_ms},
+                  {"total", info.project_ms + r.time.total_ms}};
+  if (planar.projected) {
+    j["plane"] = {{"origin", arr3(planar.plane.origin)}, {"normal", arr3(planar.plane.normal)},
+                  {"u", arr3(planar.plane.u)},           {"v", arr3(planar.plane.v)},
+                  {"rms_distance", planar.rms_distance}, {"max_distance", planar.max_distance}};
+  }
+  auto loops = nlohmann::ordered_json::array();
+  for (const Loop& l : r.loops) {
+    nlohmann::ordered_json jl;
+    jl["hole"] = l.hole;
+    jl["area"] = l.area;
+    jl["perimeter"] = l.perimeter;
+    auto pts = nlohmann::ordered_json::array();
+    for (auto& p : l.points) pts.push_back({p.x, p.y});
+    jl["points"] = std::move(pts);
+    if (planar.projected) {
+      auto p3 = nlohmann::ordered_json::array();
+      for (auto& p : l.points) p3.push_back(arr3(plane_to_3d(planar.plane, p)));
+      jl["points_3d"] = std::move(p3);
+    }
+    jl["point_index"] = l.point_index;
+    loops.push_back(std::move(jl));
+  }
+  j["loops"] = std::move(loops);
+  return j;
+}
+
+std::string triangles_text(const Result& r) {
+  std::string s;
+  s.reserve(r.delaunay_triangles.size() * 24);
+  char buf[16];
+  for (auto& t : r.delaunay_triangles) {
+    for (int k = 0; k < 3; ++k) {
+      auto res = std::to_chars(buf, buf + sizeof buf, t[k]);
+      s.append(buf, res.ptr);
+      s += k < 2 ? ' ' : '\n';
+    }
+  }
+  return s;
+}
+
+std::string render_svg(std::span<const Vec2> points, const Result& r, bool draw_triangles) {
+  View view(points);
+  std::string s;
+  s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(view.width) + "\" height=\"" +
+       std::to_string(view.height) + "\" viewBox=\"0 0 " + std::to_string(view.width) + " " +
+       std::to_string(view.height) + "\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  if (draw_triangles && !r.delaunay_triangles.empty()) {
+    s += "<path fill=\"none\" stroke=\"#c8c8c8\" stroke-width=\"0.5\" d=\"";
+    for (auto& t : r.delaunay_triangles) {
+      for (int k = 0; k < 3; ++k) {
+        if (t[k] >= points.size()) continue;
+        s += k == 0 ? 'M' : 'L';
+        append_num(s, view.px(points[t[k]]));
+        s += ' ';
+        append_num(s, view.py(points[t[k]]));
+      }
+      s += 'Z';
+    }
+    s += "\"/>\n";
+  }
+  // A picture for a person: beyond 250k dots only every k-th point is drawn (said in the legend).
+  const std::size_t step = std::max<std::size_t>(1, (points.size() + 249999) / 250000);
+  s += "<path fill=\"none\" stroke=\"#404040\" stroke-width=\"2\" stroke-linecap=\"round\" d=\"";
+  for (std::size_t i = 0; i < points.size(); i += step) {
+    s += 'M';
+    append_num(s, view.px(points[i]));
+    s += ' ';
+    append_num(s, view.py(points[i]));
+    s += "h0";
+  }
+  s += "\"/>\n";
+  for (const Loop& l : r.loops) {
+    s += "<polygon fill=\"none\" stroke=\"";
+    s += l.hole ? kHoleColour : kOuterColour;
+    s += "\" stroke-width=\"2\" points=\"";
+    for (auto& p : l.points) {
+      append_num(s, view.px(p));
+      s += ',';
+      append_num(s, view.py(p));
+      s += ' ';
+    }
+    s += "\"/>\n";
+  }
+  std::size_t holes = std::count_if(r.loops.begin(), r.loops.end(), [](const Loop& l) { return l.hole; });
+  s += "<text x=\"10\" y=\"" + std::to_string(view.height - 10) + "\" font-family=\"sans-serif\" font-size=\"14\">";
+  s += std::to_string(points.size()) + " points" + (step > 1 ? " (every " + std::to_string(step) + "th drawn)" : std::string()) + ", ";
+  s += "<tspan fill=\"" + std::string(kOuterColour) + "\">" + std::to_string(r.loops.size() - holes) + " outer</tspan>, ";
+  s += "<tspan fill=\"" + std::string(kHoleColour) + "\">" + std::to_string(holes) + " holes</tspan>, R = ";
+  append_num(s, r.alpha_radius);
+  s += "</text>\n</svg>\n";
+  return s;
+}
+
+std::vector<unsigned char> render_png(std::span<const Vec2> points, const Result& r, bool draw_triangles) {
+  View view(points);
+  cv::Mat img(view.height, view.width, CV_8UC3, cv::Scalar(255, 255, 255));
+  constexpr int shift = 4;  // sub-pixel coordinates for OpenCV's drawing
+  auto pt = [&](const Vec2& p) {
+    return cv::Point(static_cast<int>(std::lround(view.px(p) * (1 << shift))), static_cast<int>(std::lround(view.py(p) * (1 << shift))));
+  };
+  if (draw_triangles) {
+    for (auto& t : r.delaunay_triangles) {
+      if (t[0] >= points.size() || t[1] >= points.size() || t[2] >= points.size()) continue;
+      cv::Point q[3] = {pt(points[t[0]]), pt(points[t[1]]), pt(points[t[2]])};
+      const cv::Point* pp = q;
+      int n = 3;
+      cv::polylines(img, &pp, &n, 1, true, cv::Scalar(200, 200, 200), 1, cv::LINE_8, shift);
+    }
+  }
+  const bool big_dots = points.size() < 20000;
+  for (auto& p : points) {
+    if (big_dots) {
+      cv::circle(img, pt(p), 2 << shift, cv::Scalar(64, 64, 64), cv::FILLED, cv::LINE_AA, shift);
+    } else {
+      int x = static_cast<int>(view.px(p)), y = static_cast<int>(view.py(p));
+      if (x >= 0 && y >= 0 && x < img.cols && y < img.rows) img.at<cv::Vec3b>(y, x) = cv::Vec3b(64, 64, 64);
+    }
+  }
+  const cv::Scalar outer(208, 95, 31), hole(32, 32, 208);  // BGR of the SVG colours
+  for (const Loop& l : r.loops) {
+    std::vector<cv::Point> poly;
+    poly.reserve(l.points.size());
+    for (auto& p : l.points) poly.push_back(pt(p));
+    cv::polylines(img, poly, true, l.hole ? hole : outer, 2, cv::LINE_AA, shift);
+  }
+  std::size_t holes = std::count_if(r.loops.begin(), r.loops.end(), [](const Loop& l) { return l.hole; });
+  char legend[160];
+  std::snprintf(legend, sizeof legend, "%zu points, %zu outer (blue), %zu holes (red), R = %.4g", points.size(),
+                r.loops.size() - holes, holes, r.alpha_radius);
+  cv::putText(img, legend, cv::Point(10, view.height - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  std::vector<unsigned char> png;
+  if (!cv::imencode(".png", img, png)) throw WriteError("PNG encoding failed");
+  return png;
+}
+
+StagedFiles::~StagedFiles() {
+  for (auto& e : entries_)
+    if (!e.temp_path.empty()) ::unlink(e.temp_path.c_str());
+}
+
+void StagedFiles::stage(const std::string& path, const void* data, std::size_t size) {
+  std::string tmpl = path + ".tmp-XXXXXX";
+  int fd = ::mkstemp(tmpl.data());
+  if (fd < 0) throw WriteError(path + ": cannot create a file in its folder: " + std::strerror(errno));
+  entries_.push_back({path, tmpl});
+  const char* p = static_cast<const char*>(data);
+  std::size_t left = size;
+  while (left > 0) {
+    ssize_t w = ::write(fd, p, left);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      int err = errno;
+      ::close(fd);
+      throw WriteError(path + ": write failed: " + std::strerror(err));
+    }
+    p += w;
+    left -= static_cast<std::size_t>(w);
+  }
+  // mkstemp makes 0600; give the permissions an ordinary new file would get.
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  ::fchmod(fd, 0666 & ~mask);
+  if (::close(fd) != 0) throw WriteError(path + ": write failed: " + std::strerror(errno));
+}
+
+void StagedFiles::commit() {
+  for (auto& e : entries_) {
+    if (std::rename(e.temp_path.c_str(), e.final_path.c_str()) != 0)
+      throw WriteError(e.final_path + ": cannot rename the finished file into place: " + std::strerror(errno));
+    e.temp_path.clear();
+  }
+}
+
+}  // namespace hg::outline::io

@@ -1,0 +1,214 @@
+// hg-outline end to end: a 20 x 20 square with an 8 x 8 square hole as a grid of spacing 1 (fixtures of
+// make_fixtures.py) in every format; the loops must be 1 outer + 1 hole with the analytic areas.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBin = std::string(HG_BIN_DIR) + "/hg-outline";
+std::string data(const std::string& name) { return std::string(HG_TEST_DATA) + "/outline_io/" + name; }
+constexpr int kGridPoints = 21 * 21 - 7 * 7;  // grid 0..20 without the points strictly inside [6, 14]^2
+
+std::string read_all(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+struct Run {
+  int code = -1;
+  std::string out, err;
+};
+
+class OutlineIoCli : public ::testing::Test {
+ protected:
+  fs::path dir;
+  void SetUp() override {
+    dir = fs::temp_directory_path() / ("hg_outline_cli_" + std::to_string(::getpid()) + "_" +
+                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir);
+    fs::create_directories(dir / "out");
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  Run run(const std::string& args) {
+    std::string cmd = "'" + kBin + "' " + args + " > '" + (dir / "stdout").string() + "' 2> '" + (dir / "stderr").string() + "'";
+    int st = std::system(cmd.c_str());
+    Run r;
+    r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    r.out = read_all(dir / "stdout");
+    r.err = read_all(dir / "stderr");
+    return r;
+  }
+  std::string out(const std::string& name) { return (dir / "out" / name).string(); }
+};
+
+// One outer loop of area 400 and one hole of area 64; a boundary off by up to half a spacing would
+// change an area by at most half the perimeter x spacing.
+void expect_square_with_hole(const nlohmann::json& j) {
+  EXPECT_EQ(j["points_read"], kGridPoints);
+  ASSERT_EQ(j["loops"].size(), 2u) << j["loops"].dump();
+  const auto& outer = j["loops"][0];
+  const auto& hole = j["loops"][1];
+  EXPECT_FALSE(outer["hole"].get<bool>());
+  EXPECT_TRUE(hole["hole"].get<bool>());
+  EXPECT_NEAR(outer["area"].get<double>(), 400.0, 0.5 * 80);
+  EXPECT_NEAR(hole["area"].get<double>(), 64.0, 0.5 * 32);
+  EXPECT_NEAR(outer["perimeter"].get<double>(), 80.0, 8);
+  for (const char* key : {"points_used", "duplicates_merged", "alpha_radius", "mode", "order", "triangles", "search_cost"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  for (const char* key : {"read", "triangulate", "alpha", "loops", "total"}) EXPECT_TRUE(j["time_ms"].contains(key)) << key;
+}
+
+}  // namespace
+
+TEST_F(OutlineIoCli, EveryFormatGivesTheSquareWithItsHole) {
+  for (const char* f : {"grid_hole.xyz", "grid_hole.csv", "grid_hole_ascii.pcd", "grid_hole_binary.pcd",
+                        "grid_hole_compressed.pcd", "grid_hole_ascii.ply", "grid_hole_binary.ply"}) {
+    SCOPED_TRACE(f);
+    fs::remove(out("o.json"));
+    Run r = run("'" + data(f) + "' --alpha-radius 1.5 -o '" + out("o.json") + "'");
+    ASSERT_EQ(r.code, 0) << r.err;
+    auto j = nlohmann::json::parse(read_all(out("o.json")));
+    expect_square_with_hole(j);
+    EXPECT_EQ(j["alpha_radius"], 1.5);
+    EXPECT_FALSE(j.contains("plane"));  // planar input (no z, or z all equal)
+    // Planar input keeps the input's units and axes: the outer loop spans exactly [0, 20]^2.
+    double minx = 1e9, maxx = -1e9, miny = 1e9, maxy = -1e9;
+    for (auto& p : j["loops"][0]["points"]) {
+      minx = std::min(minx, p[0].get<double>()), maxx = std::max(maxx, p[0].get<double>());
+      miny = std::min(miny, p[1].get<double>()), maxy = std::max(maxy, p[1].get<double>());
+    }
+    EXPECT_EQ(minx, 0.0);
+    EXPECT_EQ(maxx, 20.0);
+    EXPECT_EQ(miny, 0.0);
+    EXPECT_EQ(maxy, 20.0);
+  }
+}
+
+TEST_F(OutlineIoCli, JsonOnStdoutAndAutomaticRadiusFindsTheHole) {
+  Run r = run("'" + data("grid_hole.xyz") + "' --mode ds --order hilbert");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  expect_square_with_hole(j);
+  EXPECT_EQ(j["mode"], "ds");
+  EXPECT_EQ(j["order"], "hilbert");
+  EXPECT_GT(j["alpha_radius"].get<double>(), 0.70);  // must exceed a grid triangle's circumradius, sqrt(2)/2
+}
+
+TEST_F(OutlineIoCli, TiltedCloudIsProjectedOntoItsPlane) {
+  Run r = run("'" + data("grid_hole_tilted.xyz") + "' --alpha-radius 1.5 -o '" + out("t.json") + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(read_all(out("t.json")));
+  expect_square_with_hole(j);
+  ASSERT_TRUE(j.contains("plane"));
+  // make_fixtures.py: rotation 30 deg about x, then 20 deg about z: normal = Rz * (0, -sin 30, cos 30).
+  const double a = 30 * M_PI / 180, b = 20 * M_PI / 180;
+  const double n[3] = {std::sin(b) * std::sin(a), -std::cos(b) * std::sin(a), std::cos(a)};
+  double dot = 0;
+  for (int k = 0; k < 3; ++k) dot += n[k] * j["plane"]["normal"][k].get<double>();
+  EXPECT_NEAR(dot, 1.0, 1e-9);
+  // points_3d: same count as points; consecutive 3-D distances equal the plane distances.
+  for (auto& loop : j["loops"]) {
+    const auto& p2 = loop["points"];
+    const auto& p3 = loop["points_3d"];
+    ASSERT_EQ(p2.size(), p3.size());
+    for (std::size_t i = 0; i + 1 < p2.size(); ++i) {
+      double d2 = std::hypot(p2[i + 1][0].get<double>() - p2[i][0].get<double>(), p2[i + 1][1].get<double>() - p2[i][1].get<double>());
+      double d3 = std::sqrt(std::pow(p3[i + 1][0].get<double>() - p3[i][0].get<double>(), 2) +
+                            std::pow(p3[i + 1][1].get<double>() - p3[i][1].get<double>(), 2) +
+                            std::pow(p3[i + 1][2].get<double>() - p3[i][2].get<double>(), 2));
+      EXPECT_NEAR(d2, d3, 1e-9);
+      EXPECT_NEAR(std::round(d2 * 1e6) / 1e6, std::round(d2), 1e-6) << "grid steps are whole spacings";
+    }
+  }
+}
+
+TEST_F(OutlineIoCli, PicturesAndTriangles) {
+  Run r = run("'" + data("grid_hole_binary.pcd") + "' --alpha-radius 1.5 -o '" + out("o.json") + "' --svg '" + out("o.svg") +
+              "' --png '" + out("o.png") + "' --triangles '" + out("o.tri") + "' --draw-triangles");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(read_all(out("o.json")));
+  const std::string svg = read_all(out("o.svg"));
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  const std::string png = read_all(out("o.png"));
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  // Triangles: one "i j k" per line, as many as the JSON says, indices into the points as read.
+  std::istringstream tri(read_all(out("o.tri")));
+  std::string line;
+  std::size_t lines = 0;
+  while (std::getline(tri, line)) {
+    std::istringstream ls(line);
+    long a = -1, b = -1, c = -1;
+    std::string rest;
+    ASSERT_TRUE(ls >> a >> b >> c) << line;
+    EXPECT_FALSE(ls >> rest);
+    for (long v : {a, b, c}) EXPECT_TRUE(v >= 0 && v < kGridPoints) << line;
+    ++lines;
+  }
+  EXPECT_EQ(lines, j["triangles"].get<std::size_t>());
+  // Euler for a triangulated square with one hole: triangles = 2 n - h - 2 + 2 * holes (no holes in a DT):
+  // a Delaunay triangulation of n points with h on the hull has 2 n - h - 2 triangles; hull = 80 grid points.
+  EXPECT_EQ(lines, static_cast<std::size_t>(2 * kGridPoints - 80 - 2));
+}
+
+TEST_F(OutlineIoCli, CorruptFileFailsNamesTheFileAndWritesNothing) {
+  const std::string bad = data("grid_hole_truncated.pcd");
+  Run r = run("'" + bad + "' -o '" + out("o.json") + "' --svg '" + out("o.svg") + "' --png '" + out("o.png") + "' --triangles '" +
+              out("o.tri") + "'");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find(bad + ": byte "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("truncated data"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  EXPECT_TRUE(fs::is_empty(dir / "out")) << "no output, not even a temp file";
+  // Same for a text file with a bad number, and for a file that does not exist.
+  std::ofstream(dir / "bad.xyz") << "0 0\n1 0\n0 one\n";
+  r = run("'" + (dir / "bad.xyz").string() + "' -o '" + out("o.json") + "'");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find((dir / "bad.xyz").string() + ": line 3: bad number 'one'"), std::string::npos) << r.err;
+  r = run("'" + (dir / "missing.ply").string() + "'");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("missing.ply"), std::string::npos) << r.err;
+  // Collinear points are rejected by the core: the message names the file too.
+  std::ofstream(dir / "line.xyz") << "0 0\n1 1\n2 2\n3 3\n";
+  r = run("'" + (dir / "line.xyz").string() + "' -o '" + out("o.json") + "'");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find((dir / "line.xyz").string()), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(dir / "out"));
+}
+
+TEST_F(OutlineIoCli, BadOptionsExitTwoAndHelpTellsTheOptions) {
+  const std::string in = "'" + data("grid_hole.xyz") + "'";
+  for (const std::string& args : {in + " --mode fast", in + " --order random", in + " --alpha-radius -1", in + " --alpha-radius x",
+                                  in + " --bogus", std::string(""), in + " " + in, in + " --alpha-radius 1 --auto-factor 2",
+                                  in + " -o"}) {
+    Run r = run(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_NE(r.err.find("hg-outline: "), std::string::npos) << args;
+    EXPECT_TRUE(r.out.empty()) << args;
+  }
+  Run h = run("--help");
+  EXPECT_EQ(h.code, 0);
+  for (const char* opt : {"--alpha-radius", "--auto-factor", "--mode", "ordinary", "ds", "dshi", "--order", "as-is", "hilbert",
+                          "--outer-only", "-o FILE", "--svg", "--png", "--triangles", "--draw-triangles", ".pcd", ".ply", ".csv"})
+    EXPECT_NE(h.out.find(opt), std::string::npos) << opt;
+}
+
+TEST_F(OutlineIoCli, OuterOnlyKeepsTheHoleFilled) {
+  Run r = run("'" + data("grid_hole.xyz") + "' --alpha-radius 1.5 --outer-only");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["loops"].size(), 1u);
+  EXPECT_NEAR(j["loops"][0]["area"].get<double>(), 400.0, 40);
+}
