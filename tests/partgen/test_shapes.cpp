@@ -162,6 +162,18 @@ TEST(PartgenShapes, ContainsKnownProbes) {
   }
 }
 
+TEST(PartgenShapes, ContainsBoundaryRuleIsHalfOpen) {
+  // Documented tie rule (shared with the rasteriser, so parts sharing an edge never both claim a pixel):
+  // left and bottom edges are inside, right and top edges outside. Plate outer edge: 0..0.4 x 0..0.25.
+  const Shape s = make_shape("plate-hole-slot");
+  EXPECT_TRUE(contains(s, 0.0, 0.1));
+  EXPECT_FALSE(contains(s, 0.4, 0.1));
+  EXPECT_TRUE(contains(s, 0.2, 0.0));
+  EXPECT_FALSE(contains(s, 0.2, 0.25));
+  EXPECT_TRUE(contains(s, 0.0, 0.0));
+  EXPECT_FALSE(contains(s, 0.4, 0.25));
+}
+
 TEST(PartgenShapes, ContainsAgreesWithAnalyticPartsAwayFromTheBoundary) {
   std::mt19937_64 rng(42);
   for (const Shape& s : catalogue()) {
