@@ -1,0 +1,482 @@
+// libhg-virtual.so.0: the project's own OpenNI2 driver. It serves depth frames rendered from the
+// synthetic scenes (virtual_config.hpp), so the bridge's real OpenNI2 code path runs without hardware.
+// Devices are named by hg-virtual:// URIs; the driver announces one at start-up (from the environment)
+// and any other valid URI on demand (tryDevice), so Device::open("hg-virtual://...") just works.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+// OniDriverAPI.h's ONI_EXPORT_DRIVER uses XnLib's allocation macros, which Debian does not ship.
+#define XN_NEW(type, ...) new type(__VA_ARGS__)
+#define XN_DELETE(p) delete (p)
+#include <Driver/OniDriverAPI.h>
+
+#include "camera_bridge/virtual_device/virtual_config.hpp"
+#include "camera_bridge/virtual_device/virtual_properties.hpp"
+
+namespace hg::camera_bridge::virtual_device {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Largest depth count the stream reports (ONI_STREAM_PROPERTY_MAX_VALUE). OpenNI's recorder sizes its
+// 16z value table by it and indexes a 65535-entry static table, so 65535 itself must never be claimed.
+constexpr int kMaxDepthCount = 65534;
+
+OniPixelFormat pixel_format_for_unit(double unit) {
+  if (std::abs(unit - 0.001) < 1e-12) return ONI_PIXEL_FORMAT_DEPTH_1_MM;
+  if (std::abs(unit - 0.0001) < 1e-12) return ONI_PIXEL_FORMAT_DEPTH_100_UM;
+  throw std::invalid_argument("depth unit " + std::to_string(unit) + " m has no OpenNI2 pixel format");
+}
+double unit_of(OniPixelFormat f) { return f == ONI_PIXEL_FORMAT_DEPTH_100_UM ? 0.0001 : 0.001; }
+
+class VirtualDriver;
+
+// One hg-virtual:// URI known to the driver. Lives as long as the driver (OpenNI keeps pointers to info).
+struct DeviceEntry {
+  std::string uri;
+  VirtualDeviceConfig config;
+  OniDeviceInfo info{};
+  bool connected = false;                      // guarded by the driver's mutex
+  std::optional<Clock::time_point> reconnect_at;  // when a lost device comes back
+};
+
+class VirtualDevice;
+
+class DepthStream : public oni::driver::StreamBase {
+ public:
+  DepthStream(VirtualDevice& device, std::shared_ptr<const FrameRenderer> renderer, OniVideoMode mode,
+              const std::vector<OniVideoMode>& modes, bool cropping_property)
+      : device_(device), renderer_(std::move(renderer)), mode_(mode), modes_(modes),
+        cropping_property_(cropping_property) {}
+  ~DepthStream() override { stop(); }
+
+  OniStatus start() override {
+    std::lock_guard lock(mutex_);
+    if (running_) return ONI_STATUS_OK;
+    running_ = true;
+    thread_ = std::thread([this] { run(); });
+    return ONI_STATUS_OK;
+  }
+
+  void stop() override {
+    {
+      std::lock_guard lock(mutex_);
+      running_ = false;
+    }
+    wake_.notify_all();
+    if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
+  }
+
+  int getRequiredFrameSize() override { return mode_.resolutionX * mode_.resolutionY * 2; }
+
+  OniBool isPropertySupported(int id) override {
+    switch (id) {
+      case ONI_STREAM_PROPERTY_VIDEO_MODE:
+      case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
+      case ONI_STREAM_PROPERTY_VERTICAL_FOV:
+      case ONI_STREAM_PROPERTY_MAX_VALUE:
+      case ONI_STREAM_PROPERTY_MIN_VALUE:
+      case ONI_STREAM_PROPERTY_MIRRORING:
+      case ONI_STREAM_PROPERTY_STRIDE:
+      case kStreamPropertyPrincipalPoint:
+        return TRUE;
+      case ONI_STREAM_PROPERTY_CROPPING:
+        return cropping_property_ ? TRUE : FALSE;
+      default:
+        return FALSE;
+    }
+  }
+
+  OniStatus getProperty(int id, void* data, int* size) override {
+    const Intrinsics& in = renderer_->intrinsics();
+    switch (id) {
+      case ONI_STREAM_PROPERTY_VIDEO_MODE:
+        return put(data, size, mode_);
+      // OpenNI's pinhole model: tan(fov/2) = (resolution/2) / focal length.
+      case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
+        return put(data, size, static_cast<float>(2.0 * std::atan(in.width / (2.0 * in.fx))));
+      case ONI_STREAM_PROPERTY_VERTICAL_FOV:
+        return put(data, size, static_cast<float>(2.0 * std::atan(in.height / (2.0 * in.fy))));
+      case ONI_STREAM_PROPERTY_MAX_VALUE:
+        return put(data, size, kMaxDepthCount);
+      case ONI_STREAM_PROPERTY_MIN_VALUE:
+        return put(data, size, 0);
+      case ONI_STREAM_PROPERTY_MIRRORING:
+        return put(data, size, OniBool(FALSE));
+      case ONI_STREAM_PROPERTY_STRIDE:
+        return put(data, size, mode_.resolutionX * 2);
+      case ONI_STREAM_PROPERTY_CROPPING:
+        if (!cropping_property_) return ONI_STATUS_NOT_SUPPORTED;
+        return put(data, size, OniCropping{FALSE, 0, 0, mode_.resolutionX, mode_.resolutionY});
+      case kStreamPropertyPrincipalPoint: {
+        const double pp[2] = {in.cx, in.cy};
+        if (*size != static_cast<int>(sizeof pp)) return ONI_STATUS_BAD_PARAMETER;
+        std::memcpy(data, pp, sizeof pp);
+        return ONI_STATUS_OK;
+      }
+      default:
+        return ONI_STATUS_NOT_SUPPORTED;
+    }
+  }
+
+  OniStatus setProperty(int id, const void* data, int size) override {
+    switch (id) {
+      case ONI_STREAM_PROPERTY_VIDEO_MODE: {
+        if (size != static_cast<int>(sizeof(OniVideoMode))) return ONI_STATUS_BAD_PARAMETER;
+        OniVideoMode wanted;
+        std::memcpy(&wanted, data, sizeof wanted);
+        const bool known = std::any_of(modes_.begin(), modes_.end(), [&](const OniVideoMode& m) {
+          return m.pixelFormat == wanted.pixelFormat && m.resolutionX == wanted.resolutionX &&
+                 m.resolutionY == wanted.resolutionY && m.fps == wanted.fps;
+        });
+        if (!known) return ONI_STATUS_NOT_SUPPORTED;
+        std::lock_guard lock(mutex_);
+        if (running_) return ONI_STATUS_OUT_OF_FLOW;  // the frame size would change under OpenNI's feet
+        mode_ = wanted;
+        return ONI_STATUS_OK;
+      }
+      case ONI_STREAM_PROPERTY_MIRRORING: {
+        if (size != static_cast<int>(sizeof(OniBool))) return ONI_STATUS_BAD_PARAMETER;
+        return *static_cast<const OniBool*>(data) ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
+      }
+      case ONI_STREAM_PROPERTY_CROPPING: {
+        if (!cropping_property_) return ONI_STATUS_NOT_SUPPORTED;
+        if (size != static_cast<int>(sizeof(OniCropping))) return ONI_STATUS_BAD_PARAMETER;
+        return static_cast<const OniCropping*>(data)->enabled ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
+      }
+      default:
+        return ONI_STATUS_NOT_SUPPORTED;
+    }
+  }
+
+ private:
+  template <class T>
+  static OniStatus put(void* data, int* size, const T& value) {
+    if (*size != static_cast<int>(sizeof(T))) return ONI_STATUS_BAD_PARAMETER;
+    std::memcpy(data, &value, sizeof(T));
+    return ONI_STATUS_OK;
+  }
+
+  void run();
+
+  VirtualDevice& device_;
+  std::shared_ptr<const FrameRenderer> renderer_;
+  OniVideoMode mode_;
+  std::vector<OniVideoMode> modes_;
+  bool cropping_property_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool running_ = false;
+  std::thread thread_;
+};
+
+class VirtualDevice : public oni::driver::DeviceBase {
+ public:
+  VirtualDevice(VirtualDriver& driver, DeviceEntry& entry, std::shared_ptr<const FrameRenderer> renderer)
+      : driver_(driver), entry_(entry), renderer_(std::move(renderer)) {
+    const Intrinsics& in = renderer_->intrinsics();
+    const int fps = std::max(1, static_cast<int>(std::lround(entry.config.fps)));
+    const OniPixelFormat native = pixel_format_for_unit(in.depth_unit);
+    const OniPixelFormat other =
+        native == ONI_PIXEL_FORMAT_DEPTH_1_MM ? ONI_PIXEL_FORMAT_DEPTH_100_UM : ONI_PIXEL_FORMAT_DEPTH_1_MM;
+    modes_ = {{native, in.width, in.height, fps}, {other, in.width, in.height, fps}};  // native first: default
+    sensor_.sensorType = ONI_SENSOR_DEPTH;
+    sensor_.numSupportedVideoModes = static_cast<int>(modes_.size());
+    sensor_.pSupportedVideoModes = modes_.data();
+  }
+  ~VirtualDevice() override {
+    for (auto* s : streams_) delete s;
+  }
+
+  OniStatus getSensorInfoList(OniSensorInfo** sensors, int* count) override {
+    *sensors = &sensor_;
+    *count = 1;
+    return ONI_STATUS_OK;
+  }
+
+  oni::driver::StreamBase* createStream(OniSensorType type) override {
+    if (type != ONI_SENSOR_DEPTH) return nullptr;
+    auto* s = new DepthStream(*this, renderer_, modes_.front(), modes_, entry_.config.cropping_property);
+    std::lock_guard lock(mutex_);
+    streams_.push_back(s);
+    return s;
+  }
+
+  void destroyStream(oni::driver::StreamBase* stream) override {
+    {
+      std::lock_guard lock(mutex_);
+      streams_.erase(std::remove(streams_.begin(), streams_.end(), stream), streams_.end());
+    }
+    delete stream;
+  }
+
+  OniStatus getProperty(int id, void* data, int* size) override {
+    if (id == ONI_DEVICE_PROPERTY_DRIVER_VERSION) {
+      if (*size != static_cast<int>(sizeof(OniVersion))) return ONI_STATUS_BAD_PARAMETER;
+      *static_cast<OniVersion*>(data) = OniVersion{0, 1, 0, 0};
+      return ONI_STATUS_OK;
+    }
+    if (id == ONI_DEVICE_PROPERTY_SERIAL_NUMBER) {
+      const std::string serial = "hg-virtual-" + entry_.config.profile;
+      if (*size < static_cast<int>(serial.size() + 1)) return ONI_STATUS_BAD_PARAMETER;
+      std::memcpy(data, serial.c_str(), serial.size() + 1);
+      *size = static_cast<int>(serial.size() + 1);
+      return ONI_STATUS_OK;
+    }
+    return ONI_STATUS_NOT_SUPPORTED;
+  }
+  OniBool isPropertySupported(int id) override {
+    return id == ONI_DEVICE_PROPERTY_DRIVER_VERSION || id == ONI_DEVICE_PROPERTY_SERIAL_NUMBER;
+  }
+
+  const DeviceEntry& entry() const { return entry_; }
+  VirtualDriver& driver() { return driver_; }
+
+  // Counts a served frame; false once the fault injection says the device is gone.
+  bool may_serve_frame() {
+    if (lost_.load()) return false;
+    if (entry_.config.disconnect_after && served_.load() >= *entry_.config.disconnect_after) {
+      if (!lost_.exchange(true)) report_lost();
+      return false;
+    }
+    return true;
+  }
+  void frame_served() { ++served_; }
+
+ private:
+  void report_lost();
+
+  VirtualDriver& driver_;
+  DeviceEntry& entry_;
+  std::shared_ptr<const FrameRenderer> renderer_;
+  std::vector<OniVideoMode> modes_;
+  OniSensorInfo sensor_{};
+  std::mutex mutex_;
+  std::vector<oni::driver::StreamBase*> streams_;
+  std::atomic<std::uint64_t> served_{0};
+  std::atomic<bool> lost_{false};
+};
+
+class VirtualDriver : public oni::driver::DriverBase {
+ public:
+  explicit VirtualDriver(OniDriverServices* services) : DriverBase(services) {}
+  ~VirtualDriver() override { shutdown(); }
+
+  OniStatus initialize(oni::driver::DeviceConnectedCallback connected,
+                       oni::driver::DeviceDisconnectedCallback disconnected,
+                       oni::driver::DeviceStateChangedCallback state_changed, void* cookie) override {
+    OniStatus rc = DriverBase::initialize(connected, disconnected, state_changed, cookie);
+    if (rc != ONI_STATUS_OK) return rc;
+    events_ = std::thread([this] { event_loop(); });
+    try {
+      announce(announced_uri_from_environment());
+    } catch (const std::exception& e) {
+      // A bad environment must not take OpenNI down: the driver loads, announces nothing, and says why.
+      getServices().errorLoggerAppend("hg-virtual: %s", e.what());
+      log_error(e.what());
+    }
+    return ONI_STATUS_OK;
+  }
+
+  OniStatus tryDevice(const char* uri) override {
+    if (std::strncmp(uri, kUriScheme, std::strlen(kUriScheme)) != 0) return ONI_STATUS_ERROR;
+    try {
+      return announce(uri) ? ONI_STATUS_OK : ONI_STATUS_ERROR;
+    } catch (const std::exception& e) {
+      getServices().errorLoggerAppend("hg-virtual: %s", e.what());
+      return ONI_STATUS_ERROR;
+    }
+  }
+
+  oni::driver::DeviceBase* deviceOpen(const char* uri, const char* /*mode*/) override {
+    DeviceEntry* entry = nullptr;
+    {
+      std::lock_guard lock(mutex_);
+      auto it = entries_.find(uri);
+      if (it == entries_.end() || !it->second->connected) {
+        getServices().errorLoggerAppend("hg-virtual: device '%s' is not connected", uri);
+        return nullptr;
+      }
+      entry = it->second.get();
+    }
+    try {
+      auto renderer = std::make_shared<const FrameRenderer>(entry->config);
+      return new VirtualDevice(*this, *entry, std::move(renderer));
+    } catch (const std::exception& e) {
+      getServices().errorLoggerAppend("hg-virtual: cannot open '%s': %s", uri, e.what());
+      return nullptr;
+    }
+  }
+
+  void deviceClose(oni::driver::DeviceBase* device) override { delete device; }
+
+  void shutdown() override {
+    {
+      std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    wake_.notify_all();
+    if (events_.joinable()) events_.join();
+  }
+
+  // Called from a stream thread: the device is gone. OpenNI is told from the event thread, so that a
+  // stream's stop() (which joins the stream thread) never waits on OpenNI's own locks.
+  void device_lost(DeviceEntry& entry) {
+    {
+      std::lock_guard lock(mutex_);
+      entry.connected = false;
+      if (entry.config.reconnect_after)
+        entry.reconnect_at = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                std::chrono::duration<double>(*entry.config.reconnect_after));
+      pending_.push_back({&entry, false});
+    }
+    wake_.notify_all();
+  }
+
+  void log_error(const std::string& message) {
+    getServices().log(3 /* error */, __FILE__, __LINE__, "hg-virtual", message.c_str());
+  }
+
+ private:
+  struct Event {
+    DeviceEntry* entry;
+    bool connected;
+  };
+
+  // Registers the URI (validating it) and announces it as connected. False while it is lost.
+  bool announce(const std::string& uri) {
+    DeviceEntry* to_announce = nullptr;
+    {
+      std::lock_guard lock(mutex_);
+      auto it = entries_.find(uri);
+      if (it != entries_.end()) return it->second->connected;  // already known to OpenNI
+      if (uri.size() >= ONI_MAX_STR) throw std::invalid_argument("URI longer than OpenNI's 255 bytes: " + uri);
+      auto entry = std::make_unique<DeviceEntry>();
+      entry->uri = uri;
+      entry->config = parse_virtual_uri(uri);
+      FrameRenderer check(entry->config);  // unknown scene or profile: refuse now, not at open
+      std::snprintf(entry->info.uri, ONI_MAX_STR, "%s", uri.c_str());
+      std::snprintf(entry->info.vendor, ONI_MAX_STR, "%s", "hullgrind");
+      std::snprintf(entry->info.name, ONI_MAX_STR, "virtual %s / %s", entry->config.profile.c_str(),
+                    entry->config.scene.c_str());
+      entry->connected = true;
+      to_announce = entry.get();
+      entries_.emplace(uri, std::move(entry));
+    }
+    deviceConnected(&to_announce->info);
+    return true;
+  }
+
+  void event_loop() {
+    std::unique_lock lock(mutex_);
+    while (!stopping_) {
+      // Due reconnections become events.
+      std::optional<Clock::time_point> next;
+      const auto now = Clock::now();
+      for (auto& [uri, entry] : entries_) {
+        if (!entry->reconnect_at) continue;
+        if (*entry->reconnect_at <= now) {
+          entry->reconnect_at.reset();
+          entry->connected = true;
+          pending_.push_back({entry.get(), true});
+        } else if (!next || *entry->reconnect_at < *next) {
+          next = entry->reconnect_at;
+        }
+      }
+      while (!pending_.empty() && !stopping_) {
+        const Event e = pending_.front();
+        pending_.erase(pending_.begin());
+        lock.unlock();
+        if (e.connected)
+          deviceConnected(&e.entry->info);
+        else
+          deviceDisconnected(&e.entry->info);
+        lock.lock();
+      }
+      if (stopping_) break;
+      if (next)
+        wake_.wait_until(lock, *next);
+      else
+        wake_.wait(lock);
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::map<std::string, std::unique_ptr<DeviceEntry>> entries_;
+  std::vector<Event> pending_;
+  std::thread events_;
+};
+
+void VirtualDevice::report_lost() { driver_.device_lost(entry_); }
+
+void DepthStream::run() {
+  const double fps = device_.entry().config.fps;
+  const auto period = std::chrono::duration<double>(1.0 / fps);
+  const auto t0 = Clock::now();
+  const Intrinsics& in = renderer_->intrinsics();
+  for (std::uint64_t n = 1;; ++n) {
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait_until(lock, t0 + std::chrono::duration_cast<Clock::duration>(period * double(n - 1)),
+                       [this] { return !running_; });
+      if (!running_) return;
+    }
+    if (!device_.may_serve_frame()) return;
+
+    cv::Mat counts;
+    try {
+      counts = renderer_->render(n);
+    } catch (const std::exception& e) {
+      device_.driver().log_error(std::string("render failed: ") + e.what());
+      return;
+    }
+    const OniVideoMode mode = mode_;
+    if (pixel_format_for_unit(in.depth_unit) != mode.pixelFormat) {
+      // The other unit: same metres, re-counted (x10 or /10), rounded, clamped to the reported range.
+      cv::Mat converted;
+      counts.convertTo(converted, CV_64F, in.depth_unit / unit_of(mode.pixelFormat));
+      cv::min(converted, kMaxDepthCount, converted);
+      converted.convertTo(counts, CV_16U);  // saturate_cast rounds to nearest
+    }
+
+    OniFrame* frame = getServices().acquireFrame();
+    if (frame == nullptr) continue;
+    frame->sensorType = ONI_SENSOR_DEPTH;
+    frame->frameIndex = static_cast<int>(n);
+    // Device clock: microseconds since stream start at the nominal rate (deterministic, like a camera's
+    // hardware timestamp; OpenNI timestamps are not wall-clock times).
+    frame->timestamp = static_cast<uint64_t>(std::llround((n - 1) * 1e6 / fps));
+    frame->videoMode = mode;
+    frame->width = mode.resolutionX;
+    frame->height = mode.resolutionY;
+    frame->croppingEnabled = FALSE;
+    frame->cropOriginX = frame->cropOriginY = 0;
+    frame->stride = mode.resolutionX * 2;
+    frame->dataSize = mode.resolutionX * mode.resolutionY * 2;
+    for (int y = 0; y < counts.rows; ++y)
+      std::memcpy(static_cast<char*>(frame->data) + y * frame->stride, counts.ptr(y), frame->stride);
+    raiseNewFrame(frame);
+    getServices().releaseFrame(frame);
+    device_.frame_served();
+  }
+}
+
+}  // namespace
+}  // namespace hg::camera_bridge::virtual_device
+
+using HgVirtualDriver = hg::camera_bridge::virtual_device::VirtualDriver;
+ONI_EXPORT_DRIVER(HgVirtualDriver)
