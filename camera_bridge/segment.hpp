@@ -1,0 +1,80 @@
+// From one depth frame to the plate's points: table plane, part mask, plate top plane, points in scan order.
+// Library hg_camera_segment: OpenCV + Eigen only (no LCM), so tests call it directly.
+//
+// Plate-plane axes (what plate_cloud_t carries): normal n points from the plate towards the camera;
+// u is the camera's x axis projected into the plane and normalised; v = n x u. Then (u, v, n) is
+// right-handed (u x v = n), and for a camera looking straight down u runs along image columns (right)
+// and v against image rows (up in the image), so a plate seen from above keeps its handedness: an
+// outline that is counter-clockwise on the table is counter-clockwise in (u, v).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "camera_bridge/depth_source.hpp"
+
+namespace hg::camera_bridge {
+
+struct SegmentParams {
+  // Table plane: RANSAC over the frame, or a calibrated plane (camera frame, n . p = offset, n towards the
+  // camera) refined by least squares on the points within ransac_threshold of it.
+  bool calibrated_plane = false;
+  Eigen::Vector3d plane_normal = Eigen::Vector3d(0, 0, -1);
+  double plane_offset = -1.5;
+  int ransac_iterations = 150;
+  double ransac_threshold = 0.004;  // metres: table inlier distance
+  int sample_stride = 4;            // RANSAC and refit use every stride-th pixel in both directions
+  double min_table_fraction = 0.2;  // of the sampled valid points; fewer table inliers: BAD_FRAME
+  // Part mask: height above the table within [min_height, max_height].
+  double min_height = 0.003;
+  double max_height = 0.040;
+  int morph_size = 3;               // square kernel of the opening (specks) and closing (pin holes); 0: none
+  double min_area = 0.002;          // m^2 on the table; smaller components are ignored
+  bool all_parts = false;           // false: the largest part only
+  // A mask pixel becomes a cloud point only when its height is within this of the fitted top plane
+  // (drops mixed pixels half way down an edge and side-wall pixels). 0: automatic, 4 sigma of the
+  // top-plane residuals but at least 1 mm.
+  double top_tolerance = 0;
+  std::uint64_t ransac_seed = 12345;
+};
+
+enum class SegmentStatus { Ok, NoPart, BadFrame };
+
+struct Segmentation {
+  SegmentStatus status = SegmentStatus::BadFrame;
+  std::string text;  // why, when not Ok
+  // Table plane in the camera frame: table_normal . p = table_offset, normal towards the camera.
+  Eigen::Vector3d table_normal = Eigen::Vector3d::Zero();
+  double table_offset = 0;
+  double table_rms = 0;  // metres, RMS distance of the table inliers used in the refit
+  // Plate top plane: p = origin + u * u_axis + v * v_axis, normal = u_axis x v_axis (towards the camera).
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
+  Eigen::Vector3d u_axis = Eigen::Vector3d::Zero(), v_axis = Eigen::Vector3d::Zero();
+  double thickness = 0;      // metres: top plane above the table (at the origin)
+  int num_parts = 0;
+  cv::Mat labels;            // CV_8UC1: 0 none, k + 1 part k (the cleaned mask, before the top tolerance)
+  // Points in scan-line (row-major image) order.
+  std::vector<float> u, v;
+  std::vector<std::int16_t> part;
+  std::vector<std::int32_t> pixel;  // source pixel index row * width + col
+  std::size_t size() const { return u.size(); }
+};
+
+// Empty when the frame is usable; otherwise why not (wrong size or type, no valid pixel, bad intrinsics).
+std::string frame_defect(const cv::Mat& depth, const Intrinsics& in);
+
+// Throws std::invalid_argument on bad parameters; never throws on frame content (a defective frame gives
+// status BadFrame with the reason).
+Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentParams& params);
+
+// Deprojection used by segment(): camera-frame point of pixel (col, row) at depth z (metres).
+inline Eigen::Vector3d deproject(const Intrinsics& in, double col, double row, double z) {
+  return {(col - in.cx) / in.fx * z, (row - in.cy) / in.fy * z, z};
+}
+
+}  // namespace hg::camera_bridge
