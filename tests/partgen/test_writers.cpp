@@ -211,8 +211,12 @@ TEST(PartgenWriters, HgGenRejectsBadInputWithoutWriting) {
   EXPECT_EQ(run("--shape ring-flange --thickness 0.5 -o " + out), 2);
   EXPECT_EQ(run("--preset low-1 --shape ring-flange -o " + out), 2);
   EXPECT_EQ(run("--frobnicate"), 2);
+  EXPECT_EQ(run("--all " + (d / "all").string() + " --pitch 0.001"), 2);
+  EXPECT_EQ(run("--all " + (d / "all").string() + " --format ply"), 2);
+  EXPECT_EQ(run("--preset low-1"), 2);  // no -o
   EXPECT_EQ(run("--shape ring-flange -o " + (d / "no-such-dir" / "x.xyz").string()), 1);
   EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(d / "all"));
   EXPECT_EQ(run("--help"), 0);
   EXPECT_EQ(run("--list"), 0);
   fs::remove_all(d);

@@ -203,8 +203,11 @@ int run(int argc, char** argv) {
   }
   if (a.all) {
     if (a.shape || a.preset || a.scene || a.out) throw UsageError("--all takes no --shape/--preset/--scene/-o");
-    std::filesystem::create_directories(*a.all);
+    if (a.pitch || a.rotate || a.scale) throw UsageError("--all keeps every preset's own pitch, rotation and size");
     const std::string fmt = format_for(a, "", "pcd");
+    Scene probe = preset_scene(presets().front());
+    apply_thickness(a, probe);  // bad options are refused before anything is created
+    std::filesystem::create_directories(*a.all);
     const std::string ext = fmt == "xyz" ? ".xyz" : ".pcd";
     for (const Preset& p : presets()) {
       Scene scene = preset_scene(p);
