@@ -1,20 +1,368 @@
 #include "camera_bridge/camera_bridge.hpp"
 
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "camera_bridge/scene.hpp"
+#include "camera_bridge/sources.hpp"
+#include "hullgrind/depth_frame_t.hpp"
+#include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/job_request_t.hpp"
 #include "runtime/channels.hpp"
 
+#if HG_HAVE_OPENNI2
+#include "camera_bridge/openni2/openni2_source.hpp"
+#endif
+
 namespace hg::camera_bridge {
 
+using hullgrind::heartbeat_t;
+using hullgrind::plate_cloud_t;
+using runtime::Level;
+using runtime::logf;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : "|") + x;
+  return s;
+}
+}  // namespace
+
 runtime::ProcessInfo process_info() {
-  return {"hg-camera-bridge", "Depth camera -> plate points (HG_PLATE_CLOUD).",
-          "Not there yet (issue 4): capture (OpenNI2, .oni, virtual device, files, synthetic) and plate\nsegmentation. This skeleton runs the shared runtime only: heartbeat, config, clean shutdown, and it\nlistens to HG_JOB_REQUEST (counted in the heartbeat).",
-          {}};
+  std::string details =
+      "Captures depth frames, finds the table plane (RANSAC, or a calibrated plane refined by least squares),\n"
+      "takes the pixels standing min-height..max-height above it as parts (cleaned by morphology, connected\n"
+      "components, min-area), fits the plate's top plane and publishes the part pixels projected onto it as\n"
+      "plate_cloud_t on HG_PLATE_CLOUD in scan-line (row-major image) order, with part labels. A frame with no\n"
+      "part is published with status NO_PART, an unusable one (no table plane) with BAD_FRAME, each with the\n"
+      "reason. Corrupt frames (wrong size or type, all zero) are counted as dropped in the heartbeat and\n"
+      "skipped. A decimated PNG depth image goes to HG_DEPTH (depth_frame_t) at most --depth-rate per second.\n"
+      "A device that is missing or lost sets the heartbeat to ERROR with the reason and is retried with\n"
+      "back-off (--retry-min doubling up to --retry-max) until it comes back.\n"
+      "Plate-plane axes: normal towards the camera, u = camera x projected into the plane, v = normal x u.\n"
+      "Sources: synthetic (scene renderer), files (16-bit PNG directory + intrinsics YAML";
+  details += can_read_clouds() ? ", or one .pcd/.ply cloud)" : "; .pcd/.ply not in this build)";
+#if HG_HAVE_OPENNI2
+  details += ", openni2 (device, hg-virtual:// URI or .oni recording).";
+#else
+  details += ". openni2 is NOT in this build (camera_bridge/openni2 missing at configure time).";
+#endif
+  return {"hg-camera-bridge", "Depth camera -> plate points (HG_PLATE_CLOUD) and monitoring depth (HG_DEPTH).",
+          details,
+          {
+              {"source", "synthetic", "synthetic | files | openni2"},
+              {"scene", "three-parts", "synthetic: scene preset (" + joined(scene_preset_names()) + ")"},
+              {"profile", "pm806", "synthetic: camera profile (" + joined(camera_profile_names()) + ")"},
+              {"seed", "", "synthetic: noise seed (default: the scene's)"},
+              {"write-truth", "", "synthetic: write the scene's ground truth JSON to this file at start"},
+              {"files", "", "files: directory of 16-bit depth PNGs, or one .png/.pcd/.ply file"},
+              {"intrinsics", "", "files: intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
+              {"loop", "", "files, .oni: start again after the last frame", true},
+              {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
+              {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame"},
+              {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)"},
+              {"trigger", "continuous", "continuous | job (one capture per job_request_t ACTION_START on HG_JOB_REQUEST)"},
+              {"parts", "largest", "largest | all: publish the largest part or every part (labelled)"},
+              {"plane", "ransac", "ransac | calibrated (then --plane-normal and --plane-offset)"},
+              {"plane-normal", "0,0,-1", "calibrated table normal in the camera frame, towards the camera"},
+              {"plane-offset", "-1.5", "calibrated plane: normal . p = offset (metres, negative)"},
+              {"ransac-iterations", "150", "RANSAC hypotheses"},
+              {"ransac-threshold", "0.004", "table inlier distance, metres"},
+              {"min-height", "0.003", "part pixels: at least this high above the table, metres"},
+              {"max-height", "0.040", "part pixels: at most this high above the table, metres"},
+              {"morph-size", "3", "opening/closing kernel size in pixels (0: none)"},
+              {"min-area", "0.002", "smallest part, m^2"},
+              {"top-tolerance", "0", "cloud points: within this of the top plane, metres (0: 4 sigma, >= 1 mm)"},
+              {"depth-rate", "1", "HG_DEPTH messages per second at most (0: none)"},
+              {"depth-decimation", "4", "HG_DEPTH keeps every n-th pixel of every n-th row"},
+              {"retry-min", "0.5", "seconds before the first re-open of a failed device"},
+              {"retry-max", "8", "back-off limit, seconds"},
+              {"frame-id", "camera", "header.frame_id of the published messages"},
+          }};
 }
 
-void attach(runtime::Node& node) {
-  node.subscribe<hullgrind::job_request_t>(channels::kJobRequest, [](const hullgrind::job_request_t&, const runtime::Delivery& d) {
-    runtime::logf(runtime::Level::Debug, "received job_request_t on %s", d.channel.c_str());
-  });
+BridgeOptions options_from(const runtime::Node& node) {
+  BridgeOptions o;
+  const std::string trigger = node.param("trigger");
+  if (trigger != "continuous" && trigger != "job")
+    throw runtime::ConfigError("--trigger must be continuous or job, not '" + trigger + "'");
+  o.job_trigger = trigger == "job";
+  o.rate = node.param_double("rate");
+  const std::string parts = node.param("parts");
+  if (parts != "largest" && parts != "all") throw runtime::ConfigError("--parts must be largest or all, not '" + parts + "'");
+  SegmentParams& s = o.segment;
+  s.all_parts = parts == "all";
+  const std::string plane = node.param("plane");
+  if (plane != "ransac" && plane != "calibrated")
+    throw runtime::ConfigError("--plane must be ransac or calibrated, not '" + plane + "'");
+  s.calibrated_plane = plane == "calibrated";
+  const auto nrm = node.param_doubles("plane-normal");
+  if (nrm.size() != 3) throw runtime::ConfigError("--plane-normal needs three numbers nx,ny,nz");
+  s.plane_normal = Eigen::Vector3d(nrm[0], nrm[1], nrm[2]);
+  if (!(s.plane_normal.norm() > 0)) throw runtime::ConfigError("--plane-normal must not be zero");
+  s.plane_normal.normalize();
+  s.plane_offset = node.param_double("plane-offset");
+  s.ransac_iterations = static_cast<int>(node.param_int("ransac-iterations"));
+  s.ransac_threshold = node.param_double("ransac-threshold");
+  s.min_height = node.param_double("min-height");
+  s.max_height = node.param_double("max-height");
+  s.morph_size = static_cast<int>(node.param_int("morph-size"));
+  s.min_area = node.param_double("min-area");
+  s.top_tolerance = node.param_double("top-tolerance");
+  o.depth_rate = node.param_double("depth-rate");
+  o.depth_decimation = static_cast<int>(node.param_int("depth-decimation"));
+  if (o.depth_decimation < 1 || o.depth_decimation > 64) throw runtime::ConfigError("--depth-decimation must be in 1..64");
+  o.retry_min = node.param_double("retry-min");
+  o.retry_max = node.param_double("retry-max");
+  if (!(o.retry_min > 0) || !(o.retry_max >= o.retry_min))
+    throw runtime::ConfigError("need 0 < --retry-min <= --retry-max");
+  o.frame_id = node.param("frame-id");
+  try {
+    // Let segment()'s own checks speak for the segmentation parameters before anything runs.
+    segment(cv::Mat(), Intrinsics{}, s);
+  } catch (const std::invalid_argument& e) {
+    throw runtime::ConfigError(e.what());
+  }
+  return o;
+}
+
+std::unique_ptr<DepthSource> source_from(const runtime::Node& node) {
+  const std::string kind = node.param("source");
+  if (kind == "synthetic") {
+    SceneSpec spec = scene_preset(node.param("scene"));
+    const CameraProfile prof = camera_profile(node.param("profile"));
+    if (!node.param("seed").empty()) spec.seed = static_cast<std::uint64_t>(node.param_int("seed"));
+    if (const std::string truth = node.param("write-truth"); !truth.empty()) {
+      write_truth(spec, prof, render(spec, prof, 0), 0, truth);
+      logf(Level::Info, "wrote the ground truth of scene '%s' to %s", spec.name.c_str(), truth.c_str());
+    }
+    // In job mode frames are rendered when asked for; otherwise at the processing rate.
+    const double rate = node.param("trigger") == "job" ? 0.0 : node.param_double("rate");
+    return std::make_unique<SyntheticSource>(std::move(spec), prof, rate);
+  }
+  if (kind == "files") {
+    const std::string path = node.param("files");
+    if (path.empty()) throw runtime::ConfigError("--source files needs --files DIR|FILE");
+    const double rate = node.param("trigger") == "job" ? 0.0 : node.param_double("rate");
+    return std::make_unique<FilesSource>(path, node.param("intrinsics"), rate, node.param_bool("loop"));
+  }
+  if (kind == "openni2") {
+#if HG_HAVE_OPENNI2
+    OpenNI2Options o;
+    o.uri = node.param("uri");
+    o.playback_speed = node.param_double("playback-speed");
+    o.loop = node.param_bool("loop");
+    return make_openni2_source(o);
+#else
+    throw runtime::ConfigError(
+        "--source openni2 is not available in this build: camera_bridge/openni2 (the OpenNI2 backend) was not "
+        "there when the project was configured");
+#endif
+  }
+  throw runtime::ConfigError("--source must be synthetic, files or openni2, not '" + kind + "'");
+}
+
+void fill_plate_cloud(const Segmentation& s, plate_cloud_t& m) {
+  m.status = s.status == SegmentStatus::Ok       ? plate_cloud_t::STATUS_OK
+             : s.status == SegmentStatus::NoPart ? plate_cloud_t::STATUS_NO_PART
+                                                 : plate_cloud_t::STATUS_BAD_FRAME;
+  m.status_text = s.text;
+  const bool ok = s.status == SegmentStatus::Ok;
+  for (int i = 0; i < 3; ++i) {
+    m.plane_origin[i] = ok ? s.origin[i] : 0.0;
+    m.plane_normal[i] = ok ? s.normal[i] : 0.0;
+    m.plane_u_axis[i] = ok ? s.u_axis[i] : 0.0;
+    m.plane_v_axis[i] = ok ? s.v_axis[i] : 0.0;
+  }
+  m.thickness = ok ? s.thickness : 0.0;
+  m.n = ok ? static_cast<std::int32_t>(s.size()) : 0;
+  m.u = ok ? s.u : std::vector<float>{};
+  m.v = ok ? s.v : std::vector<float>{};
+  m.part = ok ? s.part : std::vector<std::int16_t>{};
+  m.num_parts = static_cast<std::int16_t>(ok ? s.num_parts : 0);
+}
+
+Bridge::Bridge(runtime::Node& node, std::unique_ptr<DepthSource> source, BridgeOptions options)
+    : node_(node), source_(std::move(source)), opt_(std::move(options)) {
+  if (opt_.job_trigger) {
+    node_.subscribe<hullgrind::job_request_t>(
+        channels::kJobRequest, [this](const hullgrind::job_request_t& m, const runtime::Delivery&) {
+          if (m.action == hullgrind::job_request_t::ACTION_START) on_job(m.job_id);
+        });
+  }
+}
+
+Bridge::~Bridge() {
+  stop();
+  try {
+    if (source_ && source_->is_open()) source_->close();
+  } catch (...) {
+  }
+}
+
+void Bridge::start() {
+  if (!thread_.joinable()) thread_ = std::thread([this] { run(); });
+}
+
+void Bridge::stop() {
+  stop_ = true;
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void Bridge::on_job(const std::string& job_id) {
+  {
+    std::lock_guard lock(mutex_);
+    jobs_.push_back(job_id);
+  }
+  logf(Level::Info, "job '%s': capture requested", job_id.c_str());
+  wake_.notify_all();
+}
+
+bool Bridge::sleep_for(double seconds) {
+  std::unique_lock lock(mutex_);
+  wake_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return stop_ || node_.stopping(); });
+  return !(stop_ || node_.stopping());
+}
+
+void Bridge::run() {
+  double backoff = opt_.retry_min;
+  auto fail = [&](const std::string& why) {
+    node_.set_state(heartbeat_t::STATE_ERROR, why + "; retrying in " + std::to_string(backoff).substr(0, 4) + " s");
+    try {
+      source_->close();
+    } catch (...) {
+    }
+    sleep_for(backoff);
+    backoff = std::min(backoff * 2, opt_.retry_max);
+  };
+  while (!stop_ && !node_.stopping()) {
+    try {
+      if (!source_->is_open()) {
+        source_->open();
+        logf(Level::Info, "opened %s", source_->describe().c_str());
+        node_.set_state(heartbeat_t::STATE_OK);
+        backoff = opt_.retry_min;
+      }
+      if (opt_.job_trigger) {
+        std::unique_lock lock(mutex_);
+        if (!wake_.wait_for(lock, std::chrono::milliseconds(200),
+                            [this] { return stop_ || node_.stopping() || !jobs_.empty(); }) ||
+            jobs_.empty())
+          continue;
+      }
+      std::optional<DepthFrame> frame = source_->grab(opt_.grab_timeout);
+      if (!frame) continue;
+      if (!opt_.job_trigger && opt_.rate > 0 && last_processed_ != Clock::time_point{} &&
+          Clock::now() - last_processed_ < std::chrono::duration<double>(0.95 / opt_.rate))
+        continue;  // a device faster than --rate: take the next one in time
+      process(*frame);
+    } catch (const SourceError& e) {
+      fail(source_->describe() + ": " + e.what());
+    } catch (const std::exception& e) {  // a backend bug must not take the process down either
+      fail(source_->describe() + ": unexpected error: " + e.what());
+    }
+  }
+}
+
+void Bridge::process(DepthFrame& frame) {
+  const auto t0 = Clock::now();
+  if (const std::string why = frame_defect(frame.depth, frame.intrinsics); !why.empty()) {
+    ++corrupt_;
+    node_.count_dropped();
+    std::uint64_t suppressed = 0;
+    if (corrupt_log_.allow(suppressed))
+      logf(Level::Warn, "skipped corrupt frame %lld: %s (%lld so far%s)", (long long)frame.seq, why.c_str(),
+           (long long)corrupt_.load(), suppressed ? (", " + std::to_string(suppressed) + " not logged").c_str() : "");
+    if (++corrupt_in_a_row_ == opt_.degraded_after)
+      node_.set_state(heartbeat_t::STATE_DEGRADED, std::to_string(corrupt_in_a_row_) + " corrupt frames in a row: " + why);
+    return;
+  }
+  if (corrupt_in_a_row_ >= opt_.degraded_after) node_.set_state(heartbeat_t::STATE_OK);
+  corrupt_in_a_row_ = 0;
+  last_processed_ = t0;
+
+  const Segmentation s = segment(frame.depth, frame.intrinsics, opt_.segment);
+  plate_cloud_t msg{};
+  msg.header.utime = frame.utime;
+  msg.header.frame_id = opt_.frame_id;
+  msg.source_frame_seq = frame.seq;
+  fill_plate_cloud(s, msg);
+  std::string job;
+  if (opt_.job_trigger) {
+    std::lock_guard lock(mutex_);
+    if (!jobs_.empty()) {
+      job = jobs_.front();
+      jobs_.pop_front();
+    }
+  }
+  node_.publish(channels::kPlateCloud, msg);
+  node_.set_latency(std::chrono::duration<double>(Clock::now() - t0).count());
+  ++processed_;
+  if (!job.empty())
+    logf(Level::Info, "job '%s': frame %lld -> %s, %d points, %d part(s)%s%s", job.c_str(), (long long)frame.seq,
+         s.status == SegmentStatus::Ok ? "OK" : s.status == SegmentStatus::NoPart ? "NO_PART" : "BAD_FRAME",
+         msg.n, int(msg.num_parts), s.text.empty() ? "" : ": ", s.text.c_str());
+  else if (s.status != SegmentStatus::Ok)
+    logf(Level::Debug, "frame %lld: %s", (long long)frame.seq, s.text.c_str());
+  publish_depth(frame);
+}
+
+void Bridge::publish_depth(const DepthFrame& frame) {
+  if (!(opt_.depth_rate > 0)) return;
+  const auto now = Clock::now();
+  if (last_depth_ != Clock::time_point{} && now - last_depth_ < std::chrono::duration<double>(1.0 / opt_.depth_rate))
+    return;
+  last_depth_ = now;
+  // Every k-th pixel of every k-th row, no interpolation (a mean of table and plate depths is no depth):
+  // new pixel j is old pixel k j, so fx' = fx / k and cx' = cx / k.
+  const int k = opt_.depth_decimation;
+  const Intrinsics& in = frame.intrinsics;
+  cv::Mat small((frame.depth.rows + k - 1) / k, (frame.depth.cols + k - 1) / k, CV_16UC1);
+  for (int r = 0; r < small.rows; ++r) {
+    const std::uint16_t* src = frame.depth.ptr<std::uint16_t>(r * k);
+    std::uint16_t* dst = small.ptr<std::uint16_t>(r);
+    for (int c = 0; c < small.cols; ++c) dst[c] = src[c * k];
+  }
+  std::vector<std::uint8_t> png;
+  if (!cv::imencode(".png", small, png, {cv::IMWRITE_PNG_COMPRESSION, 1})) return;
+  hullgrind::depth_frame_t m{};
+  m.header.utime = frame.utime;
+  m.header.frame_id = opt_.frame_id;
+  m.width = small.cols;
+  m.height = small.rows;
+  m.fx = in.fx / k;
+  m.fy = in.fy / k;
+  m.cx = in.cx / k;
+  m.cy = in.cy / k;
+  m.depth_unit = in.depth_unit;
+  m.encoding = hullgrind::depth_frame_t::ENCODING_PNG16;
+  m.data_size = static_cast<std::int32_t>(png.size());
+  m.data.assign(png.begin(), png.end());
+  node_.publish(channels::kDepth, m);
+}
+
+int run_main(int argc, char** argv) {
+  runtime::Node node(process_info(), argc, argv);
+  std::unique_ptr<DepthSource> source;
+  BridgeOptions options;
+  try {
+    options = options_from(node);
+    source = source_from(node);
+  } catch (const std::exception& e) {  // bad parameters: say why, like a bad command line
+    logf(Level::Error, "%s", e.what());
+    return 2;
+  }
+  logf(Level::Info, "source: %s; trigger: %s", source->describe().c_str(), options.job_trigger ? "job" : "continuous");
+  Bridge bridge(node, std::move(source), options);
+  bridge.start();
+  const int rc = node.run();
+  bridge.stop();
+  return rc;
 }
 
 }  // namespace hg::camera_bridge

@@ -1,12 +1,83 @@
-// hg-camera-bridge: Depth camera -> plate points (HG_PLATE_CLOUD).
+// hg-camera-bridge: depth frames -> the plate's points on HG_PLATE_CLOUD (plate_cloud_t, scan-line order),
+// plus a decimated PNG depth image on HG_DEPTH for monitoring.
+//
+// Capture runs on its own thread (a device read may block); the runtime's main loop keeps the heartbeat
+// and the job subscription going meanwhile. The capture thread never lets an exception out: a source that
+// cannot be opened or is lost sets the heartbeat to ERROR with the reason, is closed, and re-opened after a
+// back-off that doubles up to a limit; a corrupt frame (wrong size or type, all zero) is counted as dropped
+// and skipped.
 #pragma once
 
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "camera_bridge/depth_source.hpp"
+#include "camera_bridge/segment.hpp"
+#include "hullgrind/plate_cloud_t.hpp"
 #include "runtime/node.hpp"
+
 
 namespace hg::camera_bridge {
 
 runtime::ProcessInfo process_info();
-// Wires the process's subscriptions and timers onto a node.
-void attach(runtime::Node& node);
+
+struct BridgeOptions {
+  bool job_trigger = false;        // true: one capture per job_request_t ACTION_START; false: continuous
+  double rate = 2.0;               // continuous: at most this many frames processed per second (<= 0: all)
+  SegmentParams segment;
+  double depth_rate = 1.0;         // HG_DEPTH messages per second at most (0: none)
+  int depth_decimation = 4;        // HG_DEPTH keeps every n-th pixel of every n-th row
+  double retry_min = 0.5, retry_max = 8.0;  // seconds, back-off after a device failure
+  std::chrono::milliseconds grab_timeout{500};
+  std::string frame_id = "camera";
+  int degraded_after = 10;         // this many corrupt frames in a row: heartbeat DEGRADED
+};
+
+// Reads the options from the node's parameters (see process_info()). Throws runtime::ConfigError.
+BridgeOptions options_from(const runtime::Node& node);
+// Builds the source named by --source. Throws runtime::ConfigError (bad values) or std::invalid_argument.
+std::unique_ptr<DepthSource> source_from(const runtime::Node& node);
+
+// plate_cloud_t from a segmentation (status, plane, points). Exposed for tests.
+void fill_plate_cloud(const Segmentation& s, hullgrind::plate_cloud_t& msg);
+
+class Bridge {
+ public:
+  Bridge(runtime::Node& node, std::unique_ptr<DepthSource> source, BridgeOptions options);
+  ~Bridge();  // stops the capture thread and closes the source
+  void start();
+  void stop();
+
+  std::int64_t frames_processed() const { return processed_; }
+  std::int64_t frames_corrupt() const { return corrupt_; }
+
+ private:
+  void run();
+  bool sleep_for(double seconds);  // false when stopping
+  void on_job(const std::string& job_id);
+  void process(DepthFrame& frame);
+  void publish_depth(const DepthFrame& frame);
+
+  runtime::Node& node_;
+  std::unique_ptr<DepthSource> source_;
+  BridgeOptions opt_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<std::string> jobs_;  // pending job ids (job trigger)
+  std::atomic<std::int64_t> processed_{0}, corrupt_{0};
+  std::chrono::steady_clock::time_point last_processed_{}, last_depth_{};
+  int corrupt_in_a_row_ = 0;
+  runtime::RateLimiter corrupt_log_{5, std::chrono::seconds(10)};
+};
+
+// The whole process (main() calls this).
+int run_main(int argc, char** argv);
 
 }  // namespace hg::camera_bridge
