@@ -1,0 +1,35 @@
+// Alpha shape by circumradius (paper section 3.2) and the chaining of its free edges into loops.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "delaunay.hpp"
+#include "outline.hpp"
+
+namespace hg::outline {
+
+// Default k of the automatic radius R = k x median nearest-neighbour spacing (docs/outline-auto-radius.md).
+inline constexpr double kDefaultAutoFactor = 1.5;
+
+// Median over the triangulated points of the distance to the nearest other point (read off the Delaunay
+// edges: the nearest neighbour is always a Delaunay neighbour). Translated units = input units.
+double median_nn_spacing(const Triangulation& T);
+
+// inside[t] = 1 for a finite triangle kept in the shape. A finite triangle is "big" when its circumradius
+// r > R, decided exactly (r == R is kept, as CGAL's Alpha_shape_2 does with alpha = R^2: a face is
+// interior when its squared radius <= alpha). Default: every big triangle is outside (cut-outs become
+// holes; equals CGAL's REGULARIZED alpha shape). outer_only: the paper's BFS from the ghost triangles
+// through big triangles only, so big triangles not connected to the outside stay inside.
+std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only);
+
+// Chains the free half-edges (inside triangle on the left, outside or ghost on the right) into closed
+// loops. At a pinch vertex the outgoing edge paired with an incoming one is the next free edge of the
+// same fan of inside triangles; a closed chain that still visits a vertex twice is split there, so every
+// loop is a simple polygon with >= 3 vertices. Outer loops (counter-clockwise) first, then holes
+// (clockwise), each group by decreasing area; each loop starts at its smallest point index.
+std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::uint8_t>& inside,
+                                std::span<const Vec2> input);
+
+}  // namespace hg::outline

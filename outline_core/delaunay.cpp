@@ -1,0 +1,405 @@
+// Bowyer-Watson insertion with ghost triangles; see delaunay.hpp for the conventions.
+#include "delaunay.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "predicates.hpp"
+
+namespace hg::outline {
+namespace {
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+
+std::string fmt(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+// Hilbert index of (x, y) on a 2^16 x 2^16 grid.
+std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y) {
+  std::uint32_t d = 0;
+  for (std::uint32_t s = 1u << 15; s > 0; s >>= 1) {
+    const std::uint32_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
+    d += s * s * ((3 * rx) ^ ry);
+    if (ry == 0) {
+      if (rx == 1) {
+        x = 0xffffu - x;
+        y = 0xffffu - y;
+      }
+      std::swap(x, y);
+    }
+  }
+  return d;
+}
+
+class Builder {
+ public:
+  Builder(Triangulation& T, Mode mode) : T_(T), mode_(mode), P_(T.xy.data()), G_(T.ghost) {}
+
+  void run(const std::vector<std::uint32_t>& order);
+
+ private:
+  Triangulation& T_;
+  Mode mode_;
+  const Vec2* P_;
+  std::uint32_t G_;
+  std::vector<std::uint32_t> mark_;  // per slot: 2*stamp = in this cavity, 2*stamp+1 = tested, not in it
+  std::uint32_t in_ = 0, out_ = 1;
+  std::vector<std::uint32_t> cavity_, boundary_, stack_, start_at_, ba_, bb_, bo_, newt_;
+  std::uint32_t last_ = 0;                    // DSHI: a triangle made by the previous insertion
+  std::uint32_t ds_vertex_ = 0, ds_tri_ = 0;  // DS: fixed start, a triangle incident to the first vertex
+  std::uint32_t dup_ = kNone;
+
+  double orient(std::uint32_t u, std::uint32_t v, const Vec2& p) {
+    ++T_.stats.orient_tests;
+    return pred::orient2d(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
+  }
+  // p strictly between u and v, given that the three are collinear.
+  bool strictly_between(std::uint32_t u, std::uint32_t v, const Vec2& p) const {
+    const Vec2 &a = P_[u], &b = P_[v];
+    if (a.x != b.x) return (a.x < p.x && p.x < b.x) || (b.x < p.x && p.x < a.x);
+    return (a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y);
+  }
+  // Ghost triangle with finite half-edge u -> v (outside on its left): in conflict when p is strictly
+  // outside that hull edge, or on the edge's open segment (CGAL's rule; keeps the cavity star-shaped).
+  bool ghost_conflict(std::uint32_t u, std::uint32_t v, const Vec2& p) {
+    const double o = orient(u, v, p);
+    return o > 0 || (o == 0 && strictly_between(u, v, p));
+  }
+  // Index (0..2) of the finite half-edge of a ghost triangle, kNone for a finite triangle.
+  std::uint32_t ghost_edge(std::uint32_t t) const {
+    const std::uint32_t* v = &T_.tri[3 * t];
+    if (v[0] == G_) return 1;
+    if (v[1] == G_) return 2;
+    if (v[2] == G_) return 0;
+    return kNone;
+  }
+  bool conflict(std::uint32_t t, const Vec2& p) {
+    const std::uint32_t* v = &T_.tri[3 * t];
+    const std::uint32_t ge = ghost_edge(t);
+    if (ge != kNone) return ghost_conflict(v[ge], v[(ge + 1) % 3], p);
+    ++T_.stats.incircle_tests;
+    return pred::incircle(P_[v[0]].x, P_[v[0]].y, P_[v[1]].x, P_[v[1]].y, P_[v[2]].x, P_[v[2]].y, p.x, p.y) > 0;
+  }
+
+  std::uint32_t walk(std::uint32_t start, const Vec2& p);
+  std::uint32_t scan_for_conflict(const Vec2& p);
+  void find_duplicate_by_scan(const Vec2& p);
+  void cavity_bfs(std::uint32_t t0, const Vec2& p);
+  void cavity_scan(const Vec2& p);
+  void insert(std::uint32_t v);
+};
+
+// Directive search: from the current triangle, cross the edge through which the ray from its centroid
+// to p leaves. Every crossed edge has p strictly on its far side, so this is a visibility walk, which
+// terminates in a Delaunay triangulation; the step cap is a guard only. Returns a triangle in conflict
+// with p (the finite triangle containing p, or a ghost triangle whose hull edge sees p); dup_ is set
+// when p equals a vertex.
+std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
+  std::uint32_t from = kNone;  // half-edge of t we entered through (p strictly on its inner side)
+  const std::uint64_t cap = T_.slots() + 16;
+  const std::uint32_t* tri = T_.tri.data();
+  const std::uint32_t* twin = T_.twin.data();
+  for (std::uint64_t steps = 0; steps < cap; ++steps) {
+    ++T_.stats.locate_visits;
+    const std::uint32_t* v = tri + 3 * t;
+    const std::uint32_t ge = ghost_edge(t);
+    if (ge != kNone) {
+      if (ghost_conflict(v[ge], v[(ge + 1) % 3], p)) return t;
+      from = kNone;  // p may be collinear with that hull edge: test all three edges of the next one
+      t = twin[3 * t + ge] / 3;
+      continue;
+    }
+    double o[3];
+    int negatives = 0, first_neg = -1, second_neg = -1;
+    bool zero = false;
+    for (int i = 0; i < 3; ++i) {
+      if (3 * t + i == from) {
+        o[i] = 1;
+        continue;
+      }
+      o[i] = orient(v[i], v[(i + 1) % 3], p);
+      if (o[i] < 0) {
+        (negatives++ == 0 ? first_neg : second_neg) = i;
+      } else if (o[i] == 0) {
+        zero = true;
+      }
+    }
+    if (negatives == 0) {
+      if (zero) {
+        for (int i = 0; i < 3; ++i)
+          if (P_[v[i]].x == p.x && P_[v[i]].y == p.y) dup_ = v[i];
+      }
+      return t;
+    }
+    int cross = first_neg;
+    if (negatives == 2) {
+      // Both edges around their shared vertex s see p: the centroid ray decides.
+      int incoming = first_neg, outgoing = second_neg;  // edge ending at s, edge starting at s
+      if ((first_neg + 1) % 3 != second_neg) std::swap(incoming, outgoing);
+      const std::uint32_t s = v[outgoing];
+      const double cx = (P_[v[0]].x + P_[v[1]].x + P_[v[2]].x) / 3.0;
+      const double cy = (P_[v[0]].y + P_[v[1]].y + P_[v[2]].y) / 3.0;
+      ++T_.stats.orient_tests;
+      cross = pred::orient2d(cx, cy, P_[s].x, P_[s].y, p.x, p.y) < 0 ? incoming : outgoing;
+    }
+    from = twin[3 * t + cross];
+    t = from / 3;
+  }
+  ++T_.stats.walk_fallbacks;
+  return scan_for_conflict(p);
+}
+
+std::uint32_t Builder::scan_for_conflict(const Vec2& p) {
+  const std::uint32_t n = static_cast<std::uint32_t>(T_.slots());
+  for (std::uint32_t t = 0; t < n; ++t) {
+    ++T_.stats.locate_visits;
+    if (conflict(t, p)) return t;
+  }
+  find_duplicate_by_scan(p);
+  return kNone;
+}
+
+void Builder::find_duplicate_by_scan(const Vec2& p) {
+  for (std::uint32_t v : T_.tri)
+    if (v != G_ && P_[v].x == p.x && P_[v].y == p.y) {
+      dup_ = v;
+      return;
+    }
+}
+
+// Conflict region by breadth-first search from a triangle known to be in conflict. The region is
+// connected, so this finds all of it; every neighbour tested counts in the search cost.
+void Builder::cavity_bfs(std::uint32_t t0, const Vec2& p) {
+  cavity_.clear();
+  boundary_.clear();
+  mark_[t0] = in_;
+  cavity_.push_back(t0);
+  const std::uint32_t* twin = T_.twin.data();
+  for (std::size_t k = 0; k < cavity_.size(); ++k) {
+    const std::uint32_t t = cavity_[k];
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const std::uint32_t h = 3 * t + i;
+      const std::uint32_t n = twin[h] / 3;
+      if (mark_[n] == in_) continue;
+      if (mark_[n] != out_) {
+        ++T_.stats.cavity_visits;
+        if (conflict(n, p)) {
+          mark_[n] = in_;
+          cavity_.push_back(n);
+          continue;
+        }
+        mark_[n] = out_;
+      }
+      boundary_.push_back(h);
+    }
+  }
+}
+
+// The paper's ordinary scheme: every live triangle is tested.
+void Builder::cavity_scan(const Vec2& p) {
+  cavity_.clear();
+  boundary_.clear();
+  const std::uint32_t n = static_cast<std::uint32_t>(T_.slots());
+  for (std::uint32_t t = 0; t < n; ++t) {
+    ++T_.stats.locate_visits;
+    if (conflict(t, p)) {
+      mark_[t] = in_;
+      cavity_.push_back(t);
+    }
+  }
+  for (std::uint32_t t : cavity_)
+    for (std::uint32_t i = 0; i < 3; ++i)
+      if (mark_[T_.twin[3 * t + i] / 3] != in_) boundary_.push_back(3 * t + i);
+}
+
+void Builder::insert(std::uint32_t v) {
+  const Vec2 p = P_[v];
+  in_ += 2;
+  out_ += 2;
+  dup_ = kNone;
+  if (mode_ == Mode::Ordinary) {
+    cavity_scan(p);
+    if (cavity_.empty()) find_duplicate_by_scan(p);
+  } else {
+    const std::uint32_t t0 = walk(mode_ == Mode::DS ? ds_tri_ : last_, p);
+    if (dup_ == kNone && t0 != kNone) cavity_bfs(t0, p);
+  }
+  if (dup_ != kNone) {
+    T_.rep[v] = dup_;
+    ++T_.duplicates;
+    return;
+  }
+  T_.stats.cavity_triangles += cavity_.size();
+
+  // Star the cavity from p: one new triangle (a, b, p) per boundary half-edge a -> b; the cavity's slots
+  // are reused and two are appended (a disk of k triangles has k + 2 boundary edges).
+  std::uint32_t* tri = T_.tri.data();
+  std::uint32_t* twin = T_.twin.data();
+  const std::size_t m = boundary_.size();
+  ba_.resize(m);
+  bb_.resize(m);
+  bo_.resize(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::uint32_t h = boundary_[j];
+    ba_[j] = tri[h];
+    bb_[j] = tri[Triangulation::next(h)];
+    bo_[j] = twin[h];
+  }
+  newt_.assign(cavity_.begin(), cavity_.end());
+  while (newt_.size() < m) {
+    newt_.push_back(static_cast<std::uint32_t>(T_.slots()));
+    T_.tri.resize(T_.tri.size() + 3);
+    T_.twin.resize(T_.twin.size() + 3);
+    mark_.push_back(0);
+  }
+  tri = T_.tri.data();
+  twin = T_.twin.data();
+  std::uint32_t finite_new = kNone;
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::uint32_t t = newt_[j];
+    tri[3 * t] = ba_[j];
+    tri[3 * t + 1] = bb_[j];
+    tri[3 * t + 2] = v;
+    twin[3 * t] = bo_[j];
+    twin[bo_[j]] = 3 * t;
+    start_at_[ba_[j]] = t;
+    if (finite_new == kNone && ba_[j] != G_ && bb_[j] != G_) finite_new = t;
+  }
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::uint32_t t = newt_[j];
+    const std::uint32_t tb = start_at_[bb_[j]];
+    twin[3 * t + 1] = 3 * tb + 2;
+    twin[3 * tb + 2] = 3 * t + 1;
+  }
+  last_ = finite_new;
+  if (mode_ == Mode::DS && mark_[ds_tri_] == in_) {
+    for (std::size_t j = 0; j < m; ++j)
+      if ((ba_[j] == ds_vertex_ || bb_[j] == ds_vertex_) && ba_[j] != G_ && bb_[j] != G_) ds_tri_ = newt_[j];
+  }
+  ++T_.inserted;
+}
+
+void Builder::run(const std::vector<std::uint32_t>& order) {
+  const std::size_t n = order.size();
+  // Initial triangle: the first point, the first point different from it, the first point not collinear
+  // with both. Points skipped on the way are inserted right after, in their order.
+  const std::uint32_t p0 = order[0];
+  std::size_t k1 = 1;
+  while (k1 < n && P_[order[k1]].x == P_[p0].x && P_[order[k1]].y == P_[p0].y) ++k1;
+  std::size_t k2 = k1 + 1;
+  if (k1 < n) {
+    const std::uint32_t p1 = order[k1];
+    while (k2 < n && pred::orient2d(P_[p0].x, P_[p0].y, P_[p1].x, P_[p1].y, P_[order[k2]].x, P_[order[k2]].y) == 0) ++k2;
+  }
+  if (k1 >= n || k2 >= n) {
+    std::vector<Vec2> distinct(P_, P_ + n);
+    std::sort(distinct.begin(), distinct.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    const auto e = std::unique(distinct.begin(), distinct.end(), [](const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; });
+    const std::size_t count = static_cast<std::size_t>(e - distinct.begin());
+    if (count < 3) throw OutlineError("need at least 3 distinct points, got " + std::to_string(count));
+    throw OutlineError("all " + std::to_string(count) + " distinct points are collinear");
+  }
+  std::uint32_t a = p0, b = order[k1], c = order[k2];
+  if (pred::orient2d(P_[a].x, P_[a].y, P_[b].x, P_[b].y, P_[c].x, P_[c].y) < 0) std::swap(b, c);
+
+  const std::size_t max_slots = 2 * n + 8;
+  T_.tri.reserve(3 * max_slots);
+  T_.twin.reserve(3 * max_slots);
+  mark_.reserve(max_slots);
+  T_.tri = {a, b, c, b, a, G_, c, b, G_, a, c, G_};
+  T_.twin = {3, 6, 9, 0, 11, 7, 1, 5, 10, 2, 8, 4};
+  mark_.assign(4, 0);
+  start_at_.assign(n + 1, 0);
+  T_.inserted = 3;
+  last_ = 0;
+  ds_vertex_ = a;
+  ds_tri_ = 0;
+
+  for (std::size_t k = 1; k < k2; ++k)
+    if (k != k1) insert(order[k]);
+  for (std::size_t k = k2 + 1; k < n; ++k) insert(order[k]);
+}
+
+}  // namespace
+
+std::size_t Triangulation::finite_count() const {
+  std::size_t c = 0;
+  for (std::size_t t = 0; t < slots(); ++t) c += !is_ghost(t);
+  return c;
+}
+
+std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order) {
+  const std::size_t n = xy.size();
+  std::vector<std::uint32_t> idx(n);
+  for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<std::uint32_t>(i);
+  if (order == Order::AsIs || n < 3) return idx;
+  double minx = xy[0].x, maxx = minx, miny = xy[0].y, maxy = miny;
+  for (const Vec2& p : xy) {
+    minx = std::min(minx, p.x);
+    maxx = std::max(maxx, p.x);
+    miny = std::min(miny, p.y);
+    maxy = std::max(maxy, p.y);
+  }
+  const double extent = std::max(maxx - minx, maxy - miny);
+  const double scale = extent > 0 ? 65535.0 / extent : 0.0;
+  std::vector<std::uint32_t> key(n), key2(n), idx2(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto gx = static_cast<std::uint32_t>(std::min(65535.0, (xy[i].x - minx) * scale));
+    const auto gy = static_cast<std::uint32_t>(std::min(65535.0, (xy[i].y - miny) * scale));
+    key[i] = hilbert_index(gx, gy);
+  }
+  // Stable LSD radix sort on the 32-bit key, two 16-bit passes: equal points keep their input order.
+  std::vector<std::uint32_t> count(65537);
+  for (int pass = 0; pass < 2; ++pass) {
+    const int shift = 16 * pass;
+    std::fill(count.begin(), count.end(), 0);
+    for (std::size_t i = 0; i < n; ++i) ++count[((key[i] >> shift) & 0xffff) + 1];
+    for (std::size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t pos = count[(key[i] >> shift) & 0xffff]++;
+      key2[pos] = key[i];
+      idx2[pos] = idx[i];
+    }
+    key.swap(key2);
+    idx.swap(idx2);
+  }
+  return idx;
+}
+
+Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) {
+  const std::size_t n = points.size();
+  if (n > 500'000'000) throw OutlineError("too many points: " + std::to_string(n));
+  double sx = 0, sy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(points[i].x) || !std::isfinite(points[i].y))
+      throw OutlineError("point " + std::to_string(i) + " is not finite (x=" + fmt(points[i].x) + ", y=" + fmt(points[i].y) + ")");
+    sx += points[i].x;
+    sy += points[i].y;
+  }
+  if (n < 3) throw OutlineError("need at least 3 distinct points, got " + std::to_string(n) + " points");
+  Triangulation T;
+  T.origin = {sx / static_cast<double>(n), sy / static_cast<double>(n)};
+  if (!std::isfinite(T.origin.x) || !std::isfinite(T.origin.y)) {
+    // The sum overflowed (coordinates near the double range): fall back to the midpoint of the box.
+    double minx = points[0].x, maxx = minx, miny = points[0].y, maxy = miny;
+    for (const Vec2& p : points) {
+      minx = std::min(minx, p.x); maxx = std::max(maxx, p.x);
+      miny = std::min(miny, p.y); maxy = std::max(maxy, p.y);
+    }
+    T.origin = {minx / 2 + maxx / 2, miny / 2 + maxy / 2};
+  }
+  T.xy.resize(n);
+  for (std::size_t i = 0; i < n; ++i) T.xy[i] = {points[i].x - T.origin.x, points[i].y - T.origin.y};
+  T.ghost = static_cast<std::uint32_t>(n);
+  T.rep.resize(n);
+  for (std::size_t i = 0; i < n; ++i) T.rep[i] = static_cast<std::uint32_t>(i);
+  const std::vector<std::uint32_t> ord = insertion_order(T.xy, order);
+  Builder(T, mode).run(ord);
+  return T;
+}
+
+}  // namespace hg::outline

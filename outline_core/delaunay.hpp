@@ -1,0 +1,64 @@
+// Bowyer-Watson Delaunay triangulation over flat arrays, with the paper's three point-location schemes
+// (section 3.1): Ordinary (test every triangle), DS (directive walk from a fixed triangle), DSHI
+// (directive walk from a triangle made by the previous insertion).
+//
+// Exactness: coordinates are first translated to their centroid (xy[i] = fl(p[i] - origin); this
+// subtraction rounds). The triangulation is exactly Delaunay for the translated coordinates `xy`: every
+// orientation and incircle decision is exact on them. Points equal after translation are merged.
+//
+// The vertex at infinity: instead of a finite super triangle, every convex-hull edge (u, v) has a "ghost"
+// triangle (v, u, ghost) whose third vertex is the symbolic vertex `ghost` (= number of input points,
+// so it is never an input index and has no coordinates). The finite triangles are then exactly the
+// Delaunay triangulation of the points, hull included.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "outline.hpp"
+
+namespace hg::outline {
+
+struct DelaunayStats {
+  std::uint64_t locate_visits = 0;  // triangles visited by point location (Ordinary: every live triangle)
+  std::uint64_t cavity_visits = 0;  // triangles tested during the cavity search, excluding the located one
+  std::uint64_t incircle_tests = 0;
+  std::uint64_t orient_tests = 0;
+  std::uint64_t cavity_triangles = 0;  // triangles deleted (sum of cavity sizes)
+  std::uint64_t walk_fallbacks = 0;    // walks that hit the step cap and fell back to a scan (expected 0)
+  std::uint64_t search_cost() const { return locate_visits + cavity_visits; }
+};
+
+struct Triangulation {
+  Vec2 origin;                    // the translation: xy[i] = fl(input[i] - origin)
+  std::vector<Vec2> xy;           // translated coordinates, indexed like the input
+  std::uint32_t ghost = 0;        // the vertex at infinity (= xy.size())
+  // Triangle t has vertices tri[3t], tri[3t+1], tri[3t+2], counter-clockwise for finite triangles.
+  // Half-edge h = 3t+i runs from tri[h] to tri[next(h)]; twin[h] is the same edge in the neighbour.
+  std::vector<std::uint32_t> tri;
+  std::vector<std::uint32_t> twin;
+  // rep[i] = i for an inserted point; for a merged duplicate, the first occurrence in input order.
+  std::vector<std::uint32_t> rep;
+  std::size_t inserted = 0;
+  std::size_t duplicates = 0;
+  DelaunayStats stats;
+
+  static std::uint32_t next(std::uint32_t h) { return h % 3 == 2 ? h - 2 : h + 1; }
+  static std::uint32_t prev(std::uint32_t h) { return h % 3 == 0 ? h + 2 : h - 1; }
+  std::size_t slots() const { return tri.size() / 3; }
+  bool is_ghost(std::size_t t) const {
+    return tri[3 * t] == ghost || tri[3 * t + 1] == ghost || tri[3 * t + 2] == ghost;
+  }
+  std::size_t finite_count() const;
+};
+
+// The insertion order: a permutation of 0..n-1 (AsIs: identity; Hilbert: sorted along a Hilbert curve
+// over the bounding box, stable, so equal points keep their input order).
+std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order);
+
+// Validates (finite coordinates, >= 3 distinct points, not all collinear; throws OutlineError naming the
+// index) and triangulates.
+Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order);
+
+}  // namespace hg::outline

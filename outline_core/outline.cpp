@@ -1,0 +1,89 @@
+// compute_outline: triangulate, classify by circumradius, chain loops; plus the option names.
+#include "outline.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "alpha.hpp"
+#include "delaunay.hpp"
+
+namespace hg::outline {
+
+const char* to_string(Mode m) {
+  switch (m) {
+    case Mode::Ordinary: return "ordinary";
+    case Mode::DS: return "ds";
+    case Mode::DSHI: return "dshi";
+  }
+  return "?";
+}
+
+const char* to_string(Order o) {
+  switch (o) {
+    case Order::AsIs: return "as-is";
+    case Order::Hilbert: return "hilbert";
+  }
+  return "?";
+}
+
+Mode parse_mode(const std::string& s) {
+  if (s == "ordinary") return Mode::Ordinary;
+  if (s == "ds") return Mode::DS;
+  if (s == "dshi") return Mode::DSHI;
+  throw OutlineError("unknown mode '" + s + "' (expected ordinary, ds or dshi)");
+}
+
+Order parse_order(const std::string& s) {
+  if (s == "as-is") return Order::AsIs;
+  if (s == "hilbert") return Order::Hilbert;
+  throw OutlineError("unknown order '" + s + "' (expected as-is or hilbert)");
+}
+
+Result compute_outline(std::span<const Vec2> points, const Options& options) {
+  using Clock = std::chrono::steady_clock;
+  auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  if (!std::isfinite(options.alpha_radius))
+    throw OutlineError("alpha radius must be a finite number");
+  if (std::isnan(options.auto_factor) || std::isinf(options.auto_factor))
+    throw OutlineError("auto factor must be a finite number");
+
+  const auto t0 = Clock::now();
+  Result res;
+  res.points_read = points.size();
+  res.mode = options.mode;
+  res.order = options.order;
+  const Triangulation T = triangulate(points, options.mode, options.order);
+  const auto t1 = Clock::now();
+
+  res.points_used = T.inserted;
+  res.duplicates_merged = T.duplicates;
+  res.search_cost = T.stats.search_cost();
+  res.incircle_tests = T.stats.incircle_tests;
+  res.orient_tests = T.stats.orient_tests;
+  res.nn_spacing_median = median_nn_spacing(T);
+  if (options.alpha_radius > 0) {
+    res.alpha_radius = options.alpha_radius;
+  } else {
+    const double k = options.auto_factor > 0 ? options.auto_factor : kDefaultAutoFactor;
+    res.alpha_radius = k * res.nn_spacing_median;
+    res.alpha_automatic = true;
+  }
+  const std::vector<std::uint8_t> inside = classify_alpha(T, res.alpha_radius, options.outer_only);
+  const auto t2 = Clock::now();
+
+  res.loops = extract_loops(T, inside, points);
+  const std::size_t slots = T.slots();
+  for (std::size_t t = 0; t < slots; ++t) {
+    if (T.is_ghost(t)) continue;
+    ++res.triangles;
+    if (options.keep_triangles) res.delaunay_triangles.push_back({T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2]});
+  }
+  const auto t3 = Clock::now();
+  res.time.triangulate_ms = ms(t0, t1);
+  res.time.alpha_ms = ms(t1, t2);
+  res.time.loops_ms = ms(t2, t3);
+  res.time.total_ms = ms(t0, t3);
+  return res;
+}
+
+}  // namespace hg::outline
