@@ -1,24 +1,214 @@
 #include "robot_bridge/robot_bridge.hpp"
 
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
 #include "hullgrind/grind_path_t.hpp"
 #include "hullgrind/job_request_t.hpp"
+#include "hullgrind/job_status_t.hpp"
+#include "robot_bridge/sim_driver.hpp"
+#include "robot_bridge/ur_driver.hpp"
 #include "runtime/channels.hpp"
 
 namespace hg::robot_bridge {
 
-runtime::ProcessInfo process_info() {
-  return {"hg-robot-bridge", "Grind paths (HG_GRIND_PATH) -> robot (sim or Universal Robots) -> HG_ROBOT_STATUS, HG_JOB_STATUS.",
-          "Not there yet (issue 6): the simulated robot and the UR driver. This skeleton runs the shared\nruntime only and counts the paths and job requests it receives.",
-          {}};
+using runtime::Level;
+using runtime::logf;
+
+namespace {
+
+std::atomic<int> g_sim_signal{0};  // SIGUSR1: protective stop, SIGUSR2: connection loss (sim driver only)
+void on_sim_signal(int sig) { g_sim_signal = sig; }
+
+double mono_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-void attach(runtime::Node& node) {
-  node.subscribe<hullgrind::grind_path_t>(channels::kGrindPath, [](const hullgrind::grind_path_t&, const runtime::Delivery& d) {
-    runtime::logf(runtime::Level::Debug, "received grind_path_t on %s", d.channel.c_str());
-  });
-  node.subscribe<hullgrind::job_request_t>(channels::kJobRequest, [](const hullgrind::job_request_t&, const runtime::Delivery& d) {
-    runtime::logf(runtime::Level::Debug, "received job_request_t on %s", d.channel.c_str());
-  });
+Vec3 vec3_param(runtime::Node& node, const std::string& name) {
+  auto v = node.param_doubles(name);
+  if (v.size() != 3) throw std::invalid_argument("parameter '" + name + "' needs 3 numbers");
+  return Vec3(v[0], v[1], v[2]);
+}
+
+Limits limits_from(runtime::Node& node) {
+  Limits l;
+  l.workspace_min = vec3_param(node, "workspace-min");
+  l.workspace_max = vec3_param(node, "workspace-max");
+  l.table_z = node.param_double("table-z");
+  l.max_speed = node.param_double("max-speed");
+  l.max_accel = node.param_double("max-accel");
+  for (int a = 0; a < 3; ++a)
+    if (!(l.workspace_min[a] < l.workspace_max[a])) throw std::invalid_argument("workspace-min must be below workspace-max on every axis");
+  return l;
+}
+
+ScriptOptions script_from(runtime::Node& node) {
+  ScriptOptions s;
+  s.accel = node.param_double("accel");
+  s.blend_radius = node.param_double("blend-radius");
+  s.progress_register = int(node.param_int("ur-register"));
+  if (s.progress_register < 0 || s.progress_register > 47) throw std::invalid_argument("ur-register must be 0..47");
+  return s;
+}
+
+}  // namespace
+
+runtime::ProcessInfo process_info() {
+  return {"hg-robot-bridge",
+          "Accepted jobs' grind paths (HG_GRIND_PATH) -> robot (simulated or Universal Robots) -> HG_ROBOT_STATUS (100 Hz), HG_JOB_STATUS.",
+          "Job protocol: a START job_request_t is ACCEPTED (or REFUSED: busy, FAULT, robot not ready); the grind_path_t\n"
+          "with that job id is checked (workspace box, table height, speed, corner acceleration) and run: RUNNING with\n"
+          "progress, then DONE, or FAILED/ABORTED with the reason. A fault (protective/emergency stop, lost connection,\n"
+          "unexpected robot mode) puts the bridge in FAULT until a RESET request. ABORT stops the job.\n"
+          "Sim faults on demand: SIGUSR1 = protective stop, SIGUSR2 = connection loss.\n"
+          "One-shot: --export FILE.script --path PATH.json writes the URScript of a path file and exits.\n"
+          "Details: docs/robot_bridge.md.",
+          {
+              {"driver", "sim", "robot driver: sim | ur"},
+              {"export", "", "also write the URScript of every path run to this file (with --path: one-shot export)"},
+              {"path", "", "path JSON file (issue 8's path.json) for the one-shot --export"},
+              {"workspace-min", "-1.5,-1.5,-0.5", "workspace box minimum corner x,y,z in the robot base frame, m"},
+              {"workspace-max", "1.5,1.5,1.5", "workspace box maximum corner x,y,z, m"},
+              {"table-z", "-0.5", "table top height in the base frame: every point must be strictly above, m"},
+              {"max-speed", "0.25", "highest TCP speed a path may ask for, m/s"},
+              {"max-accel", "2.0", "highest TCP acceleration (corners: v^2/r), m/s^2"},
+              {"accel", "0.5", "tool acceleration commanded (UR a=, sim speed ramps), m/s^2; <= max-accel"},
+              {"blend-radius", "0.001", "UR blend radius between moves (capped at 40% of the shorter segment), m"},
+              {"path-timeout", "60", "an accepted job FAILS if its path does not arrive within this, s"},
+              {"progress-period", "0.2", "RUNNING progress reports at most this often, s"},
+              {"state-file", "", "file remembering the running job across a crash (a restart then reports it FAILED, FAULT)"},
+              {"frame", "robot_base", "robot base frame name (robot_status_t header.frame_id)"},
+              {"sim-time-scale", "1", "sim: simulated seconds per real second"},
+              {"sim-home", "0.5,0,0.3", "sim: TCP position at start-up, m"},
+              {"sim-home-orientation", "0,1,0,0", "sim: TCP orientation at start-up, quaternion w,x,y,z (default: tool down)"},
+              {"sim-fault", "none", "sim: fault to inject during a job: none|protective|estop|connection"},
+              {"sim-fault-index", "-1", "sim: inject when the robot starts towards this waypoint (-1: off)"},
+              {"sim-fault-time", "-1", "sim: inject this many simulated seconds into the job (-1: off)"},
+              {"sim-fault-every-job", "", "sim: inject in every job, not only the first", true},
+              {"sim-outage", "2", "sim: a simulated connection loss lasts this long, s"},
+              {"ur-host", "127.0.0.1", "UR controller IPv4 address"},
+              {"ur-allow-remote", "", "allow a non-loopback ur_host (a real robot)", true},
+              {"ur-script-port", "30002", "UR script port (secondary/primary interface)"},
+              {"ur-rtde-port", "30004", "UR RTDE port"},
+              {"ur-frequency", "125", "RTDE output frequency requested, Hz"},
+              {"ur-register", "24", "output integer register the program writes the waypoint index to"},
+              {"ur-data-timeout", "0.5", "no RTDE data for this long: connection lost, s"},
+              {"ur-backoff-initial", "0.2", "first reconnect delay, s (doubles per failure)"},
+              {"ur-backoff-max", "5", "longest reconnect delay, s"},
+          }};
+}
+
+class Process {
+ public:
+  explicit Process(runtime::Node& node) : node_(node) {
+    BridgeConfig cfg;
+    cfg.limits = limits_from(node);
+    cfg.path_timeout = node.param_double("path-timeout");
+    cfg.progress_period = node.param_double("progress-period");
+    cfg.state_file = node.param("state-file");
+    cfg.export_file = node.param("export");
+    cfg.frame = node.param("frame");
+    cfg.source = node.name();
+    cfg.script = script_from(node);
+    if (cfg.script.accel <= 0 || cfg.script.accel > cfg.limits.max_accel)
+      throw std::invalid_argument("accel must be in (0, max-accel]");
+    const std::string driver = node.param("driver");
+    std::unique_ptr<Driver> d;
+    if (driver == "sim") {
+      SimOptions so;
+      so.home.position = vec3_param(node, "sim-home");
+      auto q = node.param_doubles("sim-home-orientation");
+      if (q.size() != 4) throw std::invalid_argument("sim-home-orientation needs 4 numbers w,x,y,z");
+      so.home.orientation = Quat(q[0], q[1], q[2], q[3]).normalized();
+      so.accel = cfg.script.accel;
+      so.time_scale = node.param_double("sim-time-scale");
+      so.fault = parse_sim_fault(node.param("sim-fault"));
+      so.fault_at_index = int(node.param_int("sim-fault-index"));
+      so.fault_at_time = node.param_double("sim-fault-time");
+      so.fault_every_job = node.param_bool("sim-fault-every-job");
+      so.outage = node.param_double("sim-outage");
+      if (!(so.time_scale > 0)) throw std::invalid_argument("sim-time-scale must be positive");
+      d = std::make_unique<SimDriver>(so);
+      struct sigaction sa {};
+      sa.sa_handler = on_sim_signal;
+      sigemptyset(&sa.sa_mask);
+      sa.sa_flags = SA_RESTART;
+      sigaction(SIGUSR1, &sa, nullptr);
+      sigaction(SIGUSR2, &sa, nullptr);
+    } else if (driver == "ur") {
+      UrOptions uo;
+      uo.host = node.param("ur-host");
+      uo.allow_remote = node.param_bool("ur-allow-remote");
+      uo.script_port = int(node.param_int("ur-script-port"));
+      uo.rtde_port = int(node.param_int("ur-rtde-port"));
+      uo.frequency = node.param_double("ur-frequency");
+      uo.script = cfg.script;
+      uo.data_timeout = node.param_double("ur-data-timeout");
+      uo.backoff_initial = node.param_double("ur-backoff-initial");
+      uo.backoff_max = node.param_double("ur-backoff-max");
+      d = std::make_unique<UrDriver>(uo);
+    } else {
+      throw std::invalid_argument("unknown driver '" + driver + "' (sim|ur)");
+    }
+    d->on_decode_error = [&node](const std::string& what) { node.count_decode_error("robot controller", what); };
+    BridgeOutputs out;
+    out.job_status = [&node](hullgrind::job_status_t& s) { node.publish(channels::kJobStatus, s); };
+    out.robot_status = [&node](hullgrind::robot_status_t& s) { node.publish(channels::kRobotStatus, s); };
+    out.health = [&node](std::int8_t state, const std::string& text) { node.set_state(state, text); };
+    bridge_ = std::make_unique<Bridge>(cfg, std::move(d), out, mono_now());
+
+    node.subscribe<hullgrind::job_request_t>(channels::kJobRequest, [this](const hullgrind::job_request_t& m, const runtime::Delivery&) {
+      bridge_->on_job_request(m, mono_now());
+    });
+    node.subscribe<hullgrind::grind_path_t>(channels::kGrindPath, [this](const hullgrind::grind_path_t& m, const runtime::Delivery& d) {
+      bridge_->on_grind_path(m, mono_now());
+      node_.set_latency(double(runtime::now_utime() - d.recv_utime) * 1e-6);
+    });
+    node.subscribe<hullgrind::job_status_t>(channels::kJobStatus, [this](const hullgrind::job_status_t& m, const runtime::Delivery&) {
+      bridge_->on_job_status(m, mono_now());
+    });
+    node.every(std::chrono::milliseconds(10), [this] {
+      if (int sig = g_sim_signal.exchange(0)) {
+        if (auto* sim = dynamic_cast<SimDriver*>(&bridge_->driver()))
+          sim->inject(sig == SIGUSR1 ? SimFault::ProtectiveStop : SimFault::ConnectionLoss, mono_now());
+      }
+      bridge_->tick(mono_now());
+    });
+    logf(Level::Info, "driver %s; workspace (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f), table z %.3f, max %.3f m/s, %.2f m/s^2",
+         driver.c_str(), cfg.limits.workspace_min.x(), cfg.limits.workspace_min.y(), cfg.limits.workspace_min.z(),
+         cfg.limits.workspace_max.x(), cfg.limits.workspace_max.y(), cfg.limits.workspace_max.z(), cfg.limits.table_z,
+         cfg.limits.max_speed, cfg.limits.max_accel);
+  }
+
+ private:
+  runtime::Node& node_;
+  std::unique_ptr<Bridge> bridge_;
+};
+
+void ProcessDeleter::operator()(Process* p) const { delete p; }
+
+ProcessHandle attach(runtime::Node& node) { return ProcessHandle(new Process(node)); }
+
+int export_script(runtime::Node& node) {
+  const std::string out_file = node.param("export");
+  if (out_file.empty()) throw std::invalid_argument("--path needs --export FILE.script");
+  const Path path = read_path_json(node.param("path"));
+  if (path.size() == 0) throw std::invalid_argument(node.param("path") + ": no waypoints");
+  // Offline the robot's pose is unknown: check from the first waypoint.
+  const Pose start{path.position[0], path.orientation[0]};
+  if (std::string why = check_path(path, start, limits_from(node)); !why.empty()) {
+    logf(Level::Error, "%s: refused: %s", node.param("path").c_str(), why.c_str());
+    return 1;
+  }
+  std::ofstream out(out_file, std::ios::trunc);
+  out << make_script(path, script_from(node));
+  if (!out) throw std::runtime_error("cannot write " + out_file);
+  logf(Level::Info, "wrote %s: %zu waypoints of job %s", out_file.c_str(), path.size(), path.job_id.c_str());
+  return 0;
 }
 
 }  // namespace hg::robot_bridge

@@ -1,12 +1,28 @@
-// hg-robot-bridge: Grind paths (HG_GRIND_PATH) -> robot (sim or Universal Robots) -> HG_ROBOT_STATUS, HG_JOB_STATUS.
+// hg-robot-bridge: accepted jobs' grind paths (HG_GRIND_PATH) -> robot (sim or Universal Robots) ->
+// HG_ROBOT_STATUS (100 Hz), HG_JOB_STATUS. See docs/robot_bridge.md.
 #pragma once
 
+#include <memory>
+
+#include "robot_bridge/bridge.hpp"
 #include "runtime/node.hpp"
 
 namespace hg::robot_bridge {
 
 runtime::ProcessInfo process_info();
-// Wires the process's subscriptions and timers onto a node.
-void attach(runtime::Node& node);
+
+// The running process: the bridge plus its wiring. Lives as long as the node runs.
+class Process;
+struct ProcessDeleter {
+  void operator()(Process* p) const;
+};
+using ProcessHandle = std::unique_ptr<Process, ProcessDeleter>;
+
+// Wires the process's subscriptions and timers onto a node. Throws std::exception on a bad configuration.
+ProcessHandle attach(runtime::Node& node);
+
+// --export FILE --path PATH.json: writes the URScript of a path file and returns the exit code (0 when the
+// path passes the configured checks, 1 otherwise; the script is written only when it passes).
+int export_script(runtime::Node& node);
 
 }  // namespace hg::robot_bridge

@@ -1,0 +1,234 @@
+#include "robot_bridge/bridge.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+#include "hullgrind/heartbeat_t.hpp"
+#include "runtime/log.hpp"
+
+namespace hg::robot_bridge {
+
+using hullgrind::job_request_t;
+using hullgrind::job_status_t;
+using hullgrind::robot_status_t;
+using runtime::Level;
+using runtime::logf;
+
+const char* state_name(Bridge::State s) {
+  switch (s) {
+    case Bridge::State::Idle: return "idle";
+    case Bridge::State::Accepted: return "accepted";
+    case Bridge::State::Running: return "running";
+    case Bridge::State::Fault: return "FAULT";
+  }
+  return "?";
+}
+
+Bridge::Bridge(BridgeConfig config, std::unique_ptr<Driver> driver, BridgeOutputs outputs, double now)
+    : cfg_(std::move(config)), driver_(std::move(driver)), out_(std::move(outputs)) {
+  // A job that was running when a previous bridge died: the robot may have stopped anywhere. Report the job
+  // and hold in FAULT until an operator checked the cell and sent RESET.
+  if (!cfg_.state_file.empty()) {
+    std::ifstream in(cfg_.state_file);
+    std::string job;
+    if (in && std::getline(in, job) && !job.empty()) {
+      job_id_ = job;
+      state_ = State::Running;
+      enter_fault(robot_status_t::FAULT_UNEXPECTED_MODE,
+                  "hg-robot-bridge restarted while job " + job + " was running; robot stopped", now);
+    }
+  }
+  update_health();
+}
+
+void Bridge::report(const std::string& job_id, std::int8_t state, double progress, const std::string& message) {
+  job_status_t s{};
+  s.header.frame_id = "";
+  s.job_id = job_id;
+  s.part_id = job_id == job_id_ ? part_id_ : "";
+  s.source = cfg_.source;
+  s.state = state;
+  s.progress = progress;
+  s.message = message;
+  if (state != job_status_t::STATE_RUNNING)
+    logf(state == job_status_t::STATE_DONE || state == job_status_t::STATE_ACCEPTED ? Level::Info : Level::Warn,
+         "job %s: state %d: %s", job_id.c_str(), int(state), message.c_str());
+  out_.job_status(s);
+}
+
+void Bridge::save_state() {
+  if (cfg_.state_file.empty()) return;
+  if (state_ == State::Running) {
+    std::ofstream out(cfg_.state_file, std::ios::trunc);
+    out << job_id_ << "\n";
+    if (!out) logf(Level::Warn, "cannot write state file %s", cfg_.state_file.c_str());
+  } else {
+    std::remove(cfg_.state_file.c_str());
+  }
+}
+
+void Bridge::update_health() {
+  const RobotState& st = driver_->state();
+  if (state_ == State::Fault) out_.health(hullgrind::heartbeat_t::STATE_DEGRADED, "FAULT: " + fault_text_ + " (RESET to clear)");
+  else if (!st.connected) out_.health(hullgrind::heartbeat_t::STATE_DEGRADED, "robot controller not connected");
+  else out_.health(hullgrind::heartbeat_t::STATE_OK, "");
+}
+
+void Bridge::finish(std::int8_t state, const std::string& message, double) {
+  report(job_id_, state, state == job_status_t::STATE_DONE ? 1.0 : progress_, message);
+  state_ = State::Idle;
+  job_id_.clear();
+  part_id_.clear();
+  save_state();
+}
+
+void Bridge::enter_fault(std::int32_t code, const std::string& text, double now) {
+  driver_->stop(now);
+  fault_code_ = code;
+  fault_text_ = text;
+  if (state_ == State::Accepted || state_ == State::Running) {
+    const int idx = driver_->state().path_index;
+    report(job_id_, job_status_t::STATE_ABORTED, progress_,
+           "FAULT: " + text + (state_ == State::Running && idx >= 0 ? " (at waypoint " + std::to_string(idx) + ")" : ""));
+  }
+  logf(Level::Error, "FAULT: %s; nothing runs until a RESET request", text.c_str());
+  state_ = State::Fault;
+  job_id_.clear();
+  part_id_.clear();
+  save_state();
+}
+
+void Bridge::on_job_request(const job_request_t& req, double now) {
+  driver_->update(now);
+  const RobotState& st = driver_->state();
+  switch (req.action) {
+    case job_request_t::ACTION_START: {
+      if (req.job_id.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: empty job id");
+      if ((state_ == State::Accepted || state_ == State::Running) && req.job_id == job_id_) return;  // repeated START
+      if (state_ == State::Fault)
+        return report(req.job_id, job_status_t::STATE_REFUSED, 0,
+                      "refused: robot bridge in FAULT (" + fault_text_ + "); check the cell and send RESET");
+      if (state_ != State::Idle)
+        return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: busy with job " + job_id_);
+      if (!st.ready) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: robot not ready: " + st.not_ready);
+      state_ = State::Accepted;
+      job_id_ = req.job_id;
+      part_id_ = req.part_id;
+      accepted_at_ = now;
+      progress_ = 0;
+      return report(job_id_, job_status_t::STATE_ACCEPTED, 0, "accepted; waiting for the grind path");
+    }
+    case job_request_t::ACTION_ABORT:
+      if ((state_ == State::Accepted || state_ == State::Running) && req.job_id == job_id_) {
+        driver_->stop(now);
+        finish(job_status_t::STATE_ABORTED,
+               state_ == State::Running ? "aborted by request; robot stopped" : "aborted by request before the path arrived", now);
+      }
+      return;  // an abort for a job we do not hold is someone else's
+    case job_request_t::ACTION_RESET: {
+      if (state_ == State::Accepted || state_ == State::Running)
+        return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: job " + job_id_ + " is running (ABORT it)");
+      if (state_ != State::Fault) return report(req.job_id, job_status_t::STATE_DONE, 1, "reset: nothing to clear");
+      const std::string why = driver_->reset(now);
+      if (!why.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: " + why);
+      const std::string was = fault_text_;
+      state_ = State::Idle;
+      fault_code_ = 0;
+      fault_text_.clear();
+      update_health();
+      return report(req.job_id, job_status_t::STATE_DONE, 1, "reset: FAULT cleared (was: " + was + ")");
+    }
+    default:
+      return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: unknown action " + std::to_string(int(req.action)));
+  }
+}
+
+void Bridge::on_grind_path(const hullgrind::grind_path_t& msg, double now) {
+  driver_->update(now);
+  if (state_ != State::Accepted || msg.job_id != job_id_) {
+    if (state_ == State::Running && msg.job_id == job_id_) {
+      logf(Level::Warn, "job %s: another path while running; ignored", msg.job_id.c_str());
+      return;
+    }
+    return report(msg.job_id, job_status_t::STATE_REFUSED, 0,
+                  "path refused: job " + msg.job_id + " was not accepted by the robot bridge (" + state_name(state_) +
+                      (job_id_.empty() ? "" : ", holding job " + job_id_) + ")");
+  }
+  const Path path = from_lcm(msg);
+  const RobotState& st = driver_->state();
+  std::string why;
+  if (!st.pose_valid) why = "the robot's TCP pose is unknown";
+  if (why.empty()) why = check_path(path, st.tcp, cfg_.limits);
+  if (why.empty() && !cfg_.export_file.empty()) {
+    std::ofstream out(cfg_.export_file, std::ios::trunc);
+    out << make_script(path, cfg_.script);
+    if (!out) logf(Level::Warn, "cannot write %s", cfg_.export_file.c_str());
+  }
+  if (why.empty()) why = driver_->start(path, now);
+  if (!why.empty()) {
+    progress_ = 0;
+    return finish(job_status_t::STATE_REFUSED, "path refused, nothing moved: " + why, now);
+  }
+  state_ = State::Running;
+  save_state();
+  last_progress_report_ = now;
+  char buf[160];
+  snprintf(buf, sizeof buf, "running %zu waypoints on the %s robot", path.size(), driver_->name());
+  report(job_id_, job_status_t::STATE_RUNNING, 0, buf);
+}
+
+void Bridge::on_job_status(const job_status_t& s, double) {
+  if (s.source == cfg_.source || state_ != State::Accepted || s.job_id != job_id_) return;
+  if (s.state == job_status_t::STATE_FAILED || s.state == job_status_t::STATE_ABORTED || s.state == job_status_t::STATE_REFUSED) {
+    logf(Level::Warn, "job %s ended upstream (%s: %s); no longer waiting for its path", s.job_id.c_str(), s.source.c_str(),
+         s.message.c_str());
+    state_ = State::Idle;
+    job_id_.clear();
+    part_id_.clear();
+  }
+}
+
+void Bridge::tick(double now) {
+  driver_->update(now);
+  const RobotState& st = driver_->state();
+  if (state_ != State::Fault && st.fault_code != 0) enter_fault(st.fault_code, st.fault_text, now);
+  if (state_ == State::Accepted && now - accepted_at_ > cfg_.path_timeout) {
+    char buf[128];
+    snprintf(buf, sizeof buf, "no grind path for the job within %.0f s", cfg_.path_timeout);
+    finish(job_status_t::STATE_FAILED, buf, now);
+  } else if (state_ == State::Running) {
+    if (st.finished) {
+      finish(job_status_t::STATE_DONE, "path complete", now);
+    } else if (!st.failure.empty()) {
+      finish(job_status_t::STATE_FAILED, st.failure, now);
+    } else {
+      progress_ = std::max(progress_, std::clamp(st.progress, 0.0, 1.0));  // reported progress never goes back
+      if (now - last_progress_report_ >= cfg_.progress_period) {
+        last_progress_report_ = now;
+        char buf[96];
+        snprintf(buf, sizeof buf, "waypoint %d", st.path_index);
+        report(job_id_, job_status_t::STATE_RUNNING, progress_, buf);
+      }
+    }
+  }
+  robot_status_t rs{};
+  rs.header.frame_id = cfg_.frame;
+  // LCM 1.3 constants have no definition: take them by value (unary +), never as references.
+  rs.mode = std::int8_t(state_ == State::Fault       ? +robot_status_t::MODE_FAULT
+                        : !st.connected              ? +robot_status_t::MODE_DISCONNECTED
+                        : state_ == State::Running   ? +robot_status_t::MODE_RUNNING
+                                                     : +robot_status_t::MODE_IDLE);
+  const Vec3& p = st.tcp.position;
+  const Quat& q = st.tcp.orientation;
+  rs.tcp_position[0] = p.x(), rs.tcp_position[1] = p.y(), rs.tcp_position[2] = p.z();
+  rs.tcp_orientation[0] = q.w(), rs.tcp_orientation[1] = q.x(), rs.tcp_orientation[2] = q.y(), rs.tcp_orientation[3] = q.z();
+  rs.job_id = state_ == State::Running ? job_id_ : "";
+  rs.path_index = state_ == State::Running ? st.path_index : -1;
+  rs.fault_code = state_ == State::Fault ? fault_code_ : 0;
+  rs.fault_text = state_ == State::Fault ? fault_text_ : "";
+  out_.robot_status(rs);
+  update_health();
+}
+
+}  // namespace hg::robot_bridge

@@ -1,0 +1,78 @@
+// The job protocol of the robot bridge (no LCM here: the process wires it to the bus, tests call it).
+//
+//   START(job)  idle  -> ACCEPTED "waiting for the grind path"   (REFUSED when busy, in FAULT or not ready)
+//   path(job)   accepted job -> checked -> RUNNING ... DONE      (REFUSED with the reason if the check fails;
+//                                                                  a path for a job not accepted: REFUSED)
+//   ABORT(job)  the accepted or running job -> ABORTED
+//   fault       -> FAULT: the job ABORTED with the reason; nothing runs until RESET clears it
+//   RESET       FAULT -> idle when the driver says the robot is fit again (DONE "reset"), else REFUSED
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "hullgrind/grind_path_t.hpp"
+#include "hullgrind/job_request_t.hpp"
+#include "hullgrind/job_status_t.hpp"
+#include "hullgrind/robot_status_t.hpp"
+#include "robot_bridge/driver.hpp"
+#include "robot_bridge/urscript.hpp"
+
+namespace hg::robot_bridge {
+
+struct BridgeConfig {
+  Limits limits;
+  std::string source = "hg-robot-bridge";  // job_status_t.source
+  std::string frame = "robot_base";        // robot_status_t header.frame_id
+  double path_timeout = 60;       // seconds an accepted job waits for its path before it FAILS
+  double progress_period = 0.2;   // RUNNING reports at most this often (seconds)
+  std::string state_file;         // remembers the running job across a crash; "" = off
+  std::string export_file;        // the URScript of every path run is also written here; "" = off
+  ScriptOptions script;           // for export_file
+};
+
+struct BridgeOutputs {
+  std::function<void(hullgrind::job_status_t&)> job_status = [](hullgrind::job_status_t&) {};
+  std::function<void(hullgrind::robot_status_t&)> robot_status = [](hullgrind::robot_status_t&) {};
+  std::function<void(std::int8_t, const std::string&)> health = [](std::int8_t, const std::string&) {};  // heartbeat_t::STATE_*
+};
+
+class Bridge {
+ public:
+  enum class State { Idle, Accepted, Running, Fault };
+
+  Bridge(BridgeConfig config, std::unique_ptr<Driver> driver, BridgeOutputs outputs, double now);
+
+  void on_job_request(const hullgrind::job_request_t& req, double now);
+  void on_grind_path(const hullgrind::grind_path_t& path, double now);
+  void on_job_status(const hullgrind::job_status_t& status, double now);  // other processes' reports
+  // Polls the driver, advances the job, publishes robot_status_t. Call at 100 Hz.
+  void tick(double now);
+
+  State state() const { return state_; }
+  const std::string& job_id() const { return job_id_; }
+  const std::string& fault_text() const { return fault_text_; }
+  Driver& driver() { return *driver_; }
+
+ private:
+  void report(const std::string& job_id, std::int8_t state, double progress, const std::string& message);
+  void enter_fault(std::int32_t code, const std::string& text, double now);
+  void finish(std::int8_t state, const std::string& message, double now);
+  void save_state();
+  void update_health();
+
+  BridgeConfig cfg_;
+  std::unique_ptr<Driver> driver_;
+  BridgeOutputs out_;
+  State state_ = State::Idle;
+  std::string job_id_, part_id_;
+  double accepted_at_ = 0, last_progress_report_ = -1e9, progress_ = 0;
+  std::int32_t fault_code_ = 0;
+  std::string fault_text_;
+  std::int64_t seq_ = 0;
+};
+
+const char* state_name(Bridge::State s);
+
+}  // namespace hg::robot_bridge
