@@ -26,7 +26,7 @@ double median_nn_spacing(const Triangulation& T) {
   std::vector<double> used;
   used.reserve(T.inserted);
   for (std::size_t i = 0; i < n; ++i)
-    if (T.rep[i] == i && std::isfinite(nn2[i])) used.push_back(nn2[i]);
+    if (T.vrep[i] == i && std::isfinite(nn2[i])) used.push_back(nn2[i]);
   if (used.empty()) return 0;
   auto mid = used.begin() + static_cast<std::ptrdiff_t>(used.size() / 2);
   std::nth_element(used.begin(), mid, used.end());
@@ -79,14 +79,20 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
   std::vector<Loop> loops;
   auto emit = [&](const std::uint32_t* v, std::size_t m) {
     Loop L;
-    std::size_t start = static_cast<std::size_t>(std::min_element(v, v + m) - v);
+    std::size_t start = 0;
+    for (std::size_t k = 1; k < m; ++k)
+      if (T.ids[v[k]] < T.ids[v[start]]) start = k;
+    // Area and length in input coordinates relative to the loop's first point: exact for integer-valued
+    // inputs, and no cancellation against a far origin.
+    const Vec2 o = input[T.ids[v[start]]];
     double twice_area = 0;
     for (std::size_t k = 0; k < m; ++k) {
-      const std::uint32_t i = v[(start + k) % m], j = v[(start + k + 1) % m];
+      const std::uint32_t i = T.ids[v[(start + k) % m]], j = T.ids[v[(start + k + 1) % m]];
       L.point_index.push_back(i);
       L.points.push_back(input[i]);
-      twice_area += T.xy[i].x * T.xy[j].y - T.xy[j].x * T.xy[i].y;
-      L.perimeter += std::hypot(T.xy[j].x - T.xy[i].x, T.xy[j].y - T.xy[i].y);
+      const double xi = input[i].x - o.x, yi = input[i].y - o.y, xj = input[j].x - o.x, yj = input[j].y - o.y;
+      twice_area += xi * yj - xj * yi;
+      L.perimeter += std::hypot(xj - xi, yj - yi);
     }
     L.hole = twice_area < 0;
     L.area = std::fabs(twice_area) / 2;

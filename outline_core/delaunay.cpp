@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include "predicates.hpp"
@@ -229,7 +230,7 @@ void Builder::insert(std::uint32_t v) {
     if (dup_ == kNone && t0 != kNone) cavity_bfs(t0, p);
   }
   if (dup_ != kNone) {
-    T_.rep[v] = dup_;
+    T_.vrep[v] = dup_;
     ++T_.duplicates;
     return;
   }
@@ -367,10 +368,35 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
     key.swap(key2);
     idx.swap(idx2);
   }
-  return idx;
+  if (order != Order::Brio) return idx;
+  // BRIO rounds: the last round holds about half the points, the one before half of the rest, ... The
+  // round is a hash of the coordinates (not of the index), so equal points share a round and keep their
+  // input order. A stable counting sort by round keeps the Hilbert order within each round.
+  int rounds = 0;
+  while ((n >> rounds) > 256 && rounds < 30) ++rounds;
+  std::vector<std::uint8_t> round(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = xy[i].x + 0.0, y = xy[i].y + 0.0;  // -0.0 becomes +0.0: equal values, equal bits
+    std::uint64_t bx, by;
+    std::memcpy(&bx, &x, 8);
+    std::memcpy(&by, &y, 8);
+    std::uint64_t h = bx * 0x9e3779b97f4a7c15ull ^ (by + 0x632be59bd9b4e019ull + (bx << 6) + (bx >> 2));
+    h ^= h >> 31; h *= 0xbf58476d1ce4e5b9ull; h ^= h >> 27; h *= 0x94d049bb133111ebull; h ^= h >> 31;
+    const int tz = h == 0 ? 63 : __builtin_ctzll(h);
+    round[i] = static_cast<std::uint8_t>(rounds - std::min(rounds, tz));
+  }
+  std::vector<std::uint32_t> rc(static_cast<std::size_t>(rounds) + 2, 0);
+  for (std::size_t i = 0; i < n; ++i) ++rc[round[i] + 1u];
+  for (std::size_t r = 1; r < rc.size(); ++r) rc[r] += rc[r - 1];
+  for (std::size_t k = 0; k < n; ++k) idx2[rc[round[idx[k]]]++] = idx[k];
+  return idx2;
 }
 
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) {
+  return triangulate(points, mode, order, {});
+}
+
+Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom) {
   const std::size_t n = points.size();
   if (n > 500'000'000) throw OutlineError("too many points: " + std::to_string(n));
   double sx = 0, sy = 0;
@@ -392,13 +418,19 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) 
     }
     T.origin = {minx / 2 + maxx / 2, miny / 2 + maxy / 2};
   }
+  std::vector<Vec2> translated(n);
+  for (std::size_t i = 0; i < n; ++i) translated[i] = {points[i].x - T.origin.x, points[i].y - T.origin.y};
+  if (!custom.empty() && custom.size() != n) throw OutlineError("custom insertion order has the wrong size");
+  T.ids = custom.empty() ? insertion_order(translated, order) : std::move(custom);
   T.xy.resize(n);
-  for (std::size_t i = 0; i < n; ++i) T.xy[i] = {points[i].x - T.origin.x, points[i].y - T.origin.y};
+  for (std::size_t v = 0; v < n; ++v) T.xy[v] = translated[T.ids[v]];
+  std::vector<Vec2>().swap(translated);
   T.ghost = static_cast<std::uint32_t>(n);
-  T.rep.resize(n);
-  for (std::size_t i = 0; i < n; ++i) T.rep[i] = static_cast<std::uint32_t>(i);
-  const std::vector<std::uint32_t> ord = insertion_order(T.xy, order);
-  Builder(T, mode).run(ord);
+  T.vrep.resize(n);
+  for (std::size_t v = 0; v < n; ++v) T.vrep[v] = static_cast<std::uint32_t>(v);
+  std::vector<std::uint32_t> identity(n);
+  for (std::size_t v = 0; v < n; ++v) identity[v] = static_cast<std::uint32_t>(v);
+  Builder(T, mode).run(identity);
   return T;
 }
 

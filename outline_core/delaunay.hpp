@@ -2,9 +2,13 @@
 // (section 3.1): Ordinary (test every triangle), DS (directive walk from a fixed triangle), DSHI
 // (directive walk from a triangle made by the previous insertion).
 //
-// Exactness: coordinates are first translated to their centroid (xy[i] = fl(p[i] - origin); this
-// subtraction rounds). The triangulation is exactly Delaunay for the translated coordinates `xy`: every
-// orientation and incircle decision is exact on them. Points equal after translation are merged.
+// Exactness: coordinates are first translated to their centroid (fl(p[i] - origin); this subtraction
+// rounds). The triangulation is exactly Delaunay for the translated coordinates `xy`: every orientation
+// and incircle decision is exact on them. Points equal after translation are merged.
+//
+// Vertex ids are positions in the insertion order (xy is stored in that order, so points near in the
+// order are near in memory: a shuffled cloud sorted along a Hilbert curve keeps its cache locality);
+// ids[v] maps a vertex back to the input.
 //
 // The vertex at infinity: instead of a finite super triangle, every convex-hull edge (u, v) has a "ghost"
 // triangle (v, u, ghost) whose third vertex is the symbolic vertex `ghost` (= number of input points,
@@ -31,15 +35,17 @@ struct DelaunayStats {
 };
 
 struct Triangulation {
-  Vec2 origin;                    // the translation: xy[i] = fl(input[i] - origin)
-  std::vector<Vec2> xy;           // translated coordinates, indexed like the input
+  Vec2 origin;                    // the translation: xy[v] = fl(input[ids[v]] - origin)
+  std::vector<Vec2> xy;           // translated coordinates, by vertex id (insertion order)
+  std::vector<std::uint32_t> ids; // vertex id -> index in the input
   std::uint32_t ghost = 0;        // the vertex at infinity (= xy.size())
   // Triangle t has vertices tri[3t], tri[3t+1], tri[3t+2], counter-clockwise for finite triangles.
   // Half-edge h = 3t+i runs from tri[h] to tri[next(h)]; twin[h] is the same edge in the neighbour.
   std::vector<std::uint32_t> tri;
   std::vector<std::uint32_t> twin;
-  // rep[i] = i for an inserted point; for a merged duplicate, the first occurrence in input order.
-  std::vector<std::uint32_t> rep;
+  // vrep[v] = v for an inserted vertex; for a merged duplicate, the vertex it was merged into (whose
+  // input index is the smallest of the equal points: the order is stable).
+  std::vector<std::uint32_t> vrep;
   std::size_t inserted = 0;
   std::size_t duplicates = 0;
   DelaunayStats stats;
@@ -60,5 +66,7 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
 // Validates (finite coordinates, >= 3 distinct points, not all collinear; throws OutlineError naming the
 // index) and triangulates.
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order);
+// Same with an explicit insertion order (a permutation of 0..n-1; for experiments and benchmarks).
+Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom);
 
 }  // namespace hg::outline

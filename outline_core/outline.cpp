@@ -22,6 +22,7 @@ const char* to_string(Order o) {
   switch (o) {
     case Order::AsIs: return "as-is";
     case Order::Hilbert: return "hilbert";
+    case Order::Brio: return "brio";
   }
   return "?";
 }
@@ -36,7 +37,8 @@ Mode parse_mode(const std::string& s) {
 Order parse_order(const std::string& s) {
   if (s == "as-is") return Order::AsIs;
   if (s == "hilbert") return Order::Hilbert;
-  throw OutlineError("unknown order '" + s + "' (expected as-is or hilbert)");
+  if (s == "brio") return Order::Brio;
+  throw OutlineError("unknown order '" + s + "' (expected as-is, hilbert or brio)");
 }
 
 Result compute_outline(std::span<const Vec2> points, const Options& options) {
@@ -76,7 +78,7 @@ Result compute_outline(std::span<const Vec2> points, const Options& options) {
   for (std::size_t t = 0; t < slots; ++t) {
     if (T.is_ghost(t)) continue;
     ++res.triangles;
-    if (options.keep_triangles) res.delaunay_triangles.push_back({T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2]});
+    if (options.keep_triangles) res.delaunay_triangles.push_back({T.ids[T.tri[3 * t]], T.ids[T.tri[3 * t + 1]], T.ids[T.tri[3 * t + 2]]});
   }
   const auto t3 = Clock::now();
   res.time.triangulate_ms = ms(t0, t1);

@@ -19,13 +19,15 @@ struct Vec2 {
 
 // Point location scheme of the Bowyer-Watson insertion (paper section 3.1).
 enum class Mode { Ordinary, DS, DSHI };
-// Insertion order: as given (scan order), or sorted along a space-filling curve first.
-enum class Order { AsIs, Hilbert };
+// Insertion order: as given (scan order), or sorted along a space-filling curve first. Brio: biased
+// randomized insertion order (rounds of doubling size, each round along the Hilbert curve): points land
+// inside the current mesh, so cavities stay small (about 4 triangles instead of 7 on camera grids).
+enum class Order { AsIs, Hilbert, Brio };
 
 const char* to_string(Mode);
 const char* to_string(Order);
 Mode parse_mode(const std::string&);    // "ordinary" | "ds" | "dshi"; throws OutlineError
-Order parse_order(const std::string&);  // "as-is" | "hilbert"; throws OutlineError
+Order parse_order(const std::string&);  // "as-is" | "hilbert" | "brio"; throws OutlineError
 
 // Bad input (NaN/Inf point, fewer than 3 distinct points, all collinear, bad option): message says what and where.
 struct OutlineError : std::runtime_error {
