@@ -1,0 +1,248 @@
+// Delaunay triangulation: exactness proven by an independent GMP checker on many clouds, for every
+// point-location mode and insertion order; predicates against GMP; errors; search cost.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <set>
+
+#include "clouds.hpp"
+#include "exact_checker.hpp"
+#include "outline_core/delaunay.hpp"
+#include "outline_core/predicates.hpp"
+
+using namespace hg::outline;
+using namespace hg::outline::testing;
+
+namespace {
+
+void check_all_modes(const std::vector<Vec2>& pts, std::size_t ordinary_limit = 2500) {
+  for (Mode m : {Mode::Ordinary, Mode::DS, Mode::DSHI}) {
+    if (m == Mode::Ordinary && pts.size() > ordinary_limit) continue;
+    for (Order o : {Order::AsIs, Order::Hilbert, Order::Brio}) {
+      SCOPED_TRACE(std::string(to_string(m)) + " " + to_string(o));
+      const Triangulation T = triangulate(pts, m, o);
+      EXPECT_EQ(check_delaunay(pts, T), "");
+      EXPECT_EQ(T.stats.walk_fallbacks, 0u);
+    }
+  }
+}
+
+// Triangles as sorted index triples of the input (canonical, for comparing triangulations).
+std::set<std::array<std::uint32_t, 3>> triangle_set(const Triangulation& T) {
+  std::set<std::array<std::uint32_t, 3>> s;
+  for (std::size_t t = 0; t < T.slots(); ++t) {
+    if (T.is_ghost(t)) continue;
+    std::array<std::uint32_t, 3> a{T.ids[T.tri[3 * t]], T.ids[T.tri[3 * t + 1]], T.ids[T.tri[3 * t + 2]]};
+    std::sort(a.begin(), a.end());
+    s.insert(a);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(OutlineDelaunay, RandomClouds) {
+  check_all_modes(random_cloud(2000, 7));
+  check_all_modes(random_cloud(3, 8));
+  check_all_modes(random_cloud(10, 9));
+}
+
+TEST(OutlineDelaunay, RandomCloudSameTriangulationInEveryModeAndOrder) {
+  // No four points cocircular (almost surely): the Delaunay triangulation is unique.
+  const auto pts = random_cloud(1500, 11);
+  const auto ref = triangle_set(triangulate(pts, Mode::Ordinary, Order::AsIs));
+  EXPECT_EQ(ref.size(), triangulate(pts, Mode::DSHI, Order::AsIs).finite_count());
+  for (Mode m : {Mode::DS, Mode::DSHI})
+    for (Order o : {Order::AsIs, Order::Hilbert, Order::Brio}) EXPECT_TRUE(triangle_set(triangulate(pts, m, o)) == ref);
+}
+
+TEST(OutlineDelaunay, ExactGridsAreCocircularEverywhere) {
+  check_all_modes(grid_cloud(40, 35));
+  check_all_modes(grid_cloud(1, 50, 1, {}, 0).size() ? grid_cloud(3, 60) : grid_cloud(3, 60));  // thin strip
+  check_all_modes(grid_cloud(45, 45, 0.1));  // 0.1 is not exact: rounded rows
+}
+
+TEST(OutlineDelaunay, JitteredScanGrid) { check_all_modes(grid_cloud(60, 50, 1, {}, 0.2)); }
+
+TEST(OutlineDelaunay, CollinearHeavy) { check_all_modes(collinear_heavy(3)); }
+
+TEST(OutlineDelaunay, Cocircular) {
+  const auto pts = cocircular_cloud();
+  ASSERT_GT(pts.size(), 30u);
+  check_all_modes(pts);
+}
+
+TEST(OutlineDelaunay, DuplicateHeavy) {
+  const auto pts = duplicate_heavy(5);
+  check_all_modes(pts);
+  const Triangulation T = triangulate(pts, Mode::DSHI, Order::Hilbert);
+  EXPECT_EQ(T.inserted, 12u * 12u + 200u);
+  EXPECT_EQ(T.duplicates, pts.size() - T.inserted);
+}
+
+TEST(OutlineDelaunay, HugeAndTinyCoordinates) {
+  check_all_modes(grid_cloud(30, 30, 1e9));
+  check_all_modes(grid_cloud(30, 30, 1, {1e9, -3e9}, 0.3));       // far from the origin, unit spacing
+  check_all_modes(random_cloud(800, 21, 1e3, {1e9, 1e9}));
+  check_all_modes(grid_cloud(30, 30, 1e-9, {}, 0.2));
+  check_all_modes(random_cloud(800, 22, 1e-9, {1.0, 2.0}));        // tiny spread far away: translation rounds
+  check_all_modes(grid_cloud(25, 25, 1e-9, {1.0, 1.0}));          // and rows/columns collapse or not
+}
+
+TEST(OutlineDelaunay, PredicatesAgreeWithRationalArithmetic) {
+  // Points near the line y = x, a few ulps apart: the floating determinant is mostly noise.
+  std::mt19937_64 rng(4);
+  std::uniform_int_distribution<int> k(0, 60);
+  const double base = 0.5, ulp = std::nextafter(0.5, 1.0) - 0.5;
+  int exact_zero = 0;
+  for (int it = 0; it < 20000; ++it) {
+    const Vec2 a{base + k(rng) * ulp, base + k(rng) * ulp}, b{12, 12}, c{24, 24};
+    const double s = pred::orient2d(a.x, a.y, b.x, b.y, c.x, c.y);
+    const int want = sgn(orient_q(exact(a), exact(b), exact(c)));
+    ASSERT_EQ((s > 0) - (s < 0), want) << it;
+    exact_zero += want == 0;
+  }
+  EXPECT_GT(exact_zero, 0);
+  // Near-cocircular: rounded points on the unit circle, and a fourth point nudged by ulps.
+  std::uniform_real_distribution<double> ang(0, 2 * M_PI);
+  for (int it = 0; it < 20000; ++it) {
+    Vec2 p[4];
+    for (auto& q : p) {
+      const double t = ang(rng);
+      q = {std::cos(t) * 1e3 + 5e5, std::sin(t) * 1e3 - 7e5};
+    }
+    if (pred::orient2d(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y) < 0) std::swap(p[1], p[2]);
+    const double s = pred::incircle(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y);
+    const int want = sgn(incircle_q(exact(p[0]), exact(p[1]), exact(p[2]), exact(p[3])));
+    ASSERT_EQ((s > 0) - (s < 0), want) << it;
+  }
+  // Exactly cocircular integer points.
+  const auto c = cocircular_cloud();
+  for (std::size_t i = 3; i + 3 < c.size(); ++i) {
+    const Vec2 &a = c[i], &b = c[i + 1], &d = c[i + 2], &e = c[i + 3];
+    EXPECT_EQ(pred::incircle(a.x, a.y, b.x, b.y, d.x, d.y, e.x, e.y), 0.0);
+  }
+}
+
+TEST(OutlineDelaunay, CircumradiusComparisonIsExact) {
+  // r = 5 exactly for the 6-8-10 right triangle (and scaled copies): r == R must give 0.
+  for (double s : {1.0, 0.125, 3.0, 1e-7, 1e7}) {
+    EXPECT_EQ(pred::circumradius_vs(0, 0, 6 * s, 0, 0, 8 * s, 5 * s), 0);
+    EXPECT_EQ(pred::circumradius_vs(0, 0, 6 * s, 0, 0, 8 * s, std::nextafter(5 * s, 0.0)), 1);
+    EXPECT_EQ(pred::circumradius_vs(0, 0, 6 * s, 0, 0, 8 * s, std::nextafter(5 * s, 1e300)), -1);
+  }
+  std::mt19937_64 rng(6);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int it = 0; it < 5000; ++it) {
+    Vec2 p[3];
+    for (auto& q : p) q = {u(rng), u(rng)};
+    if (pred::orient2d(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y) == 0) continue;
+    const Q2 a = exact(p[0]), b = exact(p[1]), c = exact(p[2]);
+    const mpq_class r2 = circumradius2_q(a, b, c);
+    // R: the rounded circumradius and its neighbours, so r^2 - R^2 is tiny and of either sign.
+    double R = std::sqrt(r2.get_d());
+    for (double cand : {std::nextafter(R, 0.0), R, std::nextafter(R, 1e300), R * 0.5, R * 2}) {
+      const mpq_class R2 = mpq_class(cand) * mpq_class(cand);
+      const int want = r2 > R2 ? 1 : (r2 < R2 ? -1 : 0);
+      ASSERT_EQ(pred::circumradius_vs(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, cand), want) << it;
+    }
+  }
+}
+
+TEST(OutlineDelaunay, BadInputIsRejectedWithTheIndex) {
+  auto pts = random_cloud(20, 1);
+  pts[7].y = std::nan("");
+  try {
+    triangulate(pts, Mode::DSHI, Order::AsIs);
+    FAIL() << "no error";
+  } catch (const OutlineError& e) {
+    EXPECT_NE(std::string(e.what()).find("point 7 "), std::string::npos) << e.what();
+  }
+  pts[7].y = 0;
+  pts[13].x = -INFINITY;
+  try {
+    triangulate(pts, Mode::DSHI, Order::AsIs);
+    FAIL() << "no error";
+  } catch (const OutlineError& e) {
+    EXPECT_NE(std::string(e.what()).find("point 13 "), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(triangulate(std::vector<Vec2>{}, Mode::DSHI, Order::AsIs), OutlineError);
+  EXPECT_THROW(triangulate(std::vector<Vec2>{{1, 2}, {3, 4}}, Mode::DSHI, Order::AsIs), OutlineError);
+  // Many points, two distinct.
+  std::vector<Vec2> two(50, Vec2{1, 1});
+  two[30] = {2, 5};
+  try {
+    triangulate(two, Mode::DS, Order::Hilbert);
+    FAIL() << "no error";
+  } catch (const OutlineError& e) {
+    EXPECT_NE(std::string(e.what()).find("3 distinct points, got 2"), std::string::npos) << e.what();
+  }
+  // All collinear (with duplicates).
+  std::vector<Vec2> line;
+  for (int i = 0; i < 100; ++i) line.push_back({i * 0.5, 3.0 * i * 0.5 - 2});
+  line.push_back(line[4]);
+  try {
+    triangulate(line, Mode::DSHI, Order::AsIs);
+    FAIL() << "no error";
+  } catch (const OutlineError& e) {
+    EXPECT_NE(std::string(e.what()).find("collinear"), std::string::npos) << e.what();
+  }
+  // compute_outline reports the same errors.
+  EXPECT_THROW(compute_outline(line), OutlineError);
+}
+
+TEST(OutlineDelaunay, SearchCostDshiBelowDsBelowOrdinaryOnScanGrid) {
+  const auto pts = grid_cloud(50, 40, 1, {}, 0.2);
+  const auto ord = triangulate(pts, Mode::Ordinary, Order::AsIs).stats;
+  const auto ds = triangulate(pts, Mode::DS, Order::AsIs).stats;
+  const auto dshi = triangulate(pts, Mode::DSHI, Order::AsIs).stats;
+  EXPECT_LT(dshi.search_cost(), ds.search_cost());
+  EXPECT_LT(ds.search_cost(), ord.search_cost());
+  // Ordinary tests every live triangle at each insertion: triangles (with ghosts) grow by 2 per point,
+  // starting at 4, so the total is sum over insertions k of (4 + 2k).
+  const std::uint64_t n = pts.size(), inserts = n - 3;
+  EXPECT_EQ(ord.locate_visits, 4 * inserts + inserts * (inserts - 1));
+  EXPECT_EQ(ord.cavity_visits, 0u);
+  // The same cavities in every mode (same order, same Delaunay test): same cavity sizes.
+  EXPECT_EQ(ord.cavity_triangles, dshi.cavity_triangles);
+  EXPECT_EQ(ds.cavity_triangles, dshi.cavity_triangles);
+  // DSHI walks a few triangles per insertion on scan order.
+  EXPECT_LT(static_cast<double>(dshi.locate_visits) / n, 20.0);
+}
+
+TEST(OutlineDelaunay, OptionNames) {
+  for (Mode m : {Mode::Ordinary, Mode::DS, Mode::DSHI}) EXPECT_EQ(parse_mode(to_string(m)), m);
+  for (Order o : {Order::AsIs, Order::Hilbert, Order::Brio}) EXPECT_EQ(parse_order(to_string(o)), o);
+  EXPECT_THROW(parse_mode("fast"), OutlineError);
+  EXPECT_THROW(parse_order("random"), OutlineError);
+}
+
+TEST(OutlineDelaunay, CheckerRejectsAFlippedEdge) {
+  // The checker must not pass everything: flip one interior edge of a valid triangulation (keeping the
+  // mesh consistent) and it must report the non-Delaunay edge.
+  const auto pts = random_cloud(300, 3);
+  Triangulation T = triangulate(pts, Mode::DSHI, Order::AsIs);
+  ASSERT_EQ(check_delaunay(pts, T), "");
+  bool flipped = false;
+  for (std::uint32_t h = 0; h < T.tri.size() && !flipped; ++h) {
+    const std::uint32_t t = h / 3, o = T.twin[h], t2 = o / 3;
+    if (T.is_ghost(t) || T.is_ghost(t2)) continue;
+    const std::uint32_t a = T.tri[h], b = T.tri[Triangulation::next(h)], c = T.tri[Triangulation::prev(h)];
+    const std::uint32_t d = T.tri[Triangulation::prev(o)];
+    const Q2 qa = exact(T.xy[a]), qb = exact(T.xy[b]), qc = exact(T.xy[c]), qd = exact(T.xy[d]);
+    if (sgn(orient_q(qc, qa, qd)) <= 0 || sgn(orient_q(qd, qb, qc)) <= 0) continue;  // quad not convex
+    const std::uint32_t ei1 = T.twin[Triangulation::next(h)], ei2 = T.twin[Triangulation::prev(h)];
+    const std::uint32_t eo1 = T.twin[Triangulation::next(o)], eo2 = T.twin[Triangulation::prev(o)];
+    auto link = [&](std::uint32_t x, std::uint32_t y) { T.twin[x] = y; T.twin[y] = x; };
+    T.tri[3 * t] = c, T.tri[3 * t + 1] = a, T.tri[3 * t + 2] = d;
+    T.tri[3 * t2] = d, T.tri[3 * t2 + 1] = b, T.tri[3 * t2 + 2] = c;
+    link(3 * t, ei2);
+    link(3 * t + 1, eo1);
+    link(3 * t2, eo2);
+    link(3 * t2 + 1, ei1);
+    link(3 * t + 2, 3 * t2 + 2);
+    flipped = true;
+  }
+  ASSERT_TRUE(flipped);
+  EXPECT_NE(check_delaunay(pts, T).find("not locally Delaunay"), std::string::npos) << check_delaunay(pts, T);
+}
