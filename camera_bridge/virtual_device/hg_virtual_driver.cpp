@@ -30,9 +30,21 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Largest depth count the stream reports (ONI_STREAM_PROPERTY_MAX_VALUE). OpenNI's recorder sizes its
-// 16z value table by it and indexes a 65535-entry static table, so 65535 itself must never be claimed.
-constexpr int kMaxDepthCount = 65534;
+// Largest depth count the stream reports (ONI_STREAM_PROPERTY_MAX_VALUE). OpenNI's recorder builds its 16z
+// value table for values below it and indexes a static 65535-entry table by pixel value, so counts must
+// stay <= 65534 (the driver clamps) and 65535 is the right claim.
+constexpr int kMaxDepthCount = 65535;
+constexpr std::uint16_t kLargestCount = 65534;
+
+// OpenNI 2.2's 16z encoders (XnStreamCompressDepth16Z[WithEmbTable]) flush a trailing half byte before a
+// pending run of unchanged pairs, so when a frame ends with such a run and one odd value, the run decodes
+// as that last value: up to 29 pixels at the end of a recorded frame come back wrong. Every frame
+// therefore carries these guard counts after its last row (OpenNI frames may be larger than
+// width x height; readers use width, height and stride). The last step, from 0 to the largest count, is
+// more than 6 apart in the encoder's value ranks (>= 9 distinct values), which flushes the run and
+// leaves nothing pending, so the image itself is always recorded losslessly.
+constexpr std::uint16_t kGuardTail[] = {1, 2, 3, 4, 5, 6, 7, 0, kLargestCount};
+constexpr int kGuardBytes = sizeof kGuardTail;
 
 OniPixelFormat pixel_format_for_unit(double unit) {
   if (std::abs(unit - 0.001) < 1e-12) return ONI_PIXEL_FORMAT_DEPTH_1_MM;
@@ -79,7 +91,7 @@ class DepthStream : public oni::driver::StreamBase {
     if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
   }
 
-  int getRequiredFrameSize() override { return mode_.resolutionX * mode_.resolutionY * 2; }
+  int getRequiredFrameSize() override { return mode_.resolutionX * mode_.resolutionY * 2 + kGuardBytes; }
 
   OniBool isPropertySupported(int id) override {
     switch (id) {
@@ -446,11 +458,18 @@ void DepthStream::run() {
     }
     const OniVideoMode mode = mode_;
     if (pixel_format_for_unit(in.depth_unit) != mode.pixelFormat) {
-      // The other unit: same metres, re-counted (x10 or /10), rounded, clamped to the reported range.
-      cv::Mat converted;
-      counts.convertTo(converted, CV_64F, in.depth_unit / unit_of(mode.pixelFormat));
-      cv::min(converted, kMaxDepthCount, converted);
-      converted.convertTo(counts, CV_16U);  // saturate_cast rounds to nearest
+      // The other unit: same metres re-counted, x10 or /10 rounded half up, clamped to the reported range.
+      const bool finer = unit_of(mode.pixelFormat) < in.depth_unit;
+      cv::Mat converted(counts.size(), CV_16UC1);
+      for (int y = 0; y < counts.rows; ++y) {
+        const auto* src = counts.ptr<std::uint16_t>(y);
+        auto* dst = converted.ptr<std::uint16_t>(y);
+        for (int x = 0; x < counts.cols; ++x) {
+          const std::uint32_t v = finer ? std::uint32_t(src[x]) * 10u : (std::uint32_t(src[x]) + 5u) / 10u;
+          dst[x] = static_cast<std::uint16_t>(std::min<std::uint32_t>(v, kLargestCount));
+        }
+      }
+      counts = converted;
     }
 
     OniFrame* frame = getServices().acquireFrame();
@@ -466,9 +485,14 @@ void DepthStream::run() {
     frame->croppingEnabled = FALSE;
     frame->cropOriginX = frame->cropOriginY = 0;
     frame->stride = mode.resolutionX * 2;
-    frame->dataSize = mode.resolutionX * mode.resolutionY * 2;
-    for (int y = 0; y < counts.rows; ++y)
-      std::memcpy(static_cast<char*>(frame->data) + y * frame->stride, counts.ptr(y), frame->stride);
+    frame->dataSize = mode.resolutionX * mode.resolutionY * 2 + kGuardBytes;
+    char* out = static_cast<char*>(frame->data);
+    for (int y = 0; y < counts.rows; ++y) {
+      auto* row = reinterpret_cast<std::uint16_t*>(out + y * frame->stride);
+      std::memcpy(row, counts.ptr(y), frame->stride);
+      for (int x = 0; x < counts.cols; ++x) row[x] = std::min(row[x], kLargestCount);  // 65535: see above
+    }
+    std::memcpy(out + counts.rows * frame->stride, kGuardTail, kGuardBytes);
     raiseNewFrame(frame);
     getServices().releaseFrame(frame);
     device_.frame_served();
