@@ -1,24 +1,169 @@
 #include "path_planner/path_planner.hpp"
 
-#include "hullgrind/outline_t.hpp"
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include "hullgrind/grind_path_t.hpp"
+#include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/job_request_t.hpp"
+#include "hullgrind/job_status_t.hpp"
+#include "hullgrind/outline_t.hpp"
+#include "hullgrind/robot_status_t.hpp"
+#include "path_planner/io.hpp"
 #include "runtime/channels.hpp"
 
 namespace hg::path_planner {
 
+using runtime::Level;
+using runtime::logf;
+
 runtime::ProcessInfo process_info() {
-  return {"hg-path-planner", "Outline (HG_OUTLINE) + job request -> grind path in the robot's frame (HG_GRIND_PATH).",
-          "Not there yet (issue 5): the planning pipeline. This skeleton runs the shared runtime only and counts\nthe outlines and job requests it receives.",
-          {}};
+  std::vector<runtime::Param> params = planner_params();
+  params.push_back({"outline_max_age", "2.0",
+                    "s: a job starts on the latest outline if it arrived at most this long ago, else on the next"});
+  params.push_back({"outline_timeout", "10.0", "s: a job with no outline after this long fails"});
+  return {"hg-path-planner",
+          "Outline (HG_OUTLINE) + job request (HG_JOB_REQUEST) -> grind path in the robot's base frame (HG_GRIND_PATH).",
+          "Subscribes HG_OUTLINE, HG_JOB_REQUEST and HG_ROBOT_STATUS. On a job request with action START it\n"
+          "reports PLANNING on HG_JOB_STATUS, plans on the latest outline if it is fresh (outline_max_age) or else\n"
+          "on the next one, publishes grind_path_t on HG_GRIND_PATH and then PLANNED, or FAILED with the reason\n"
+          "(outline with an error status, bad outline, hole too small for the tool, validation). Zero-valued job\n"
+          "parameters take the configured defaults below. The path starts at the loop point nearest to the\n"
+          "robot's TCP (HG_ROBOT_STATUS) or to `home` until the robot has been heard. See docs/path_planner.md.",
+          params};
 }
 
+namespace {
+
+class Planner {
+ public:
+  Planner(runtime::Node& node) : node_(node), cfg_(config_from(lookup_from(node))) {
+    max_age_ = node.param_double("outline_max_age");
+    timeout_ = node.param_double("outline_timeout");
+  }
+
+  void on_outline(const hullgrind::outline_t& m, const runtime::Delivery& d) {
+    latest_ = m;
+    latest_utime_ = d.recv_utime;
+    if (m.status != hullgrind::outline_t::STATUS_OK)
+      logf(Level::Info, "outline %lld has error status %d: %s", (long long)m.header.seq, int(m.status), m.error_text.c_str());
+    if (pending_) plan_now();
+  }
+
+  void on_request(const hullgrind::job_request_t& r, const runtime::Delivery&) {
+    if (r.action == hullgrind::job_request_t::ACTION_ABORT) {
+      if (pending_ && pending_->job_id == r.job_id) {
+        status(*pending_, hullgrind::job_status_t::STATE_ABORTED, 0, "aborted before planning finished");
+        pending_.reset();
+      }
+      return;
+    }
+    if (r.action != hullgrind::job_request_t::ACTION_START) return;  // RESET is the robot bridge's business
+    if (pending_) {
+      status(r, hullgrind::job_status_t::STATE_REFUSED, 0, "planner busy with job '" + pending_->job_id + "'");
+      return;
+    }
+    pending_ = r;
+    pending_since_ = runtime::now_utime();
+    status(r, hullgrind::job_status_t::STATE_PLANNING, 0,
+           latest_fresh() ? "planning on the latest outline" : "waiting for an outline");
+    if (latest_fresh()) plan_now();
+  }
+
+  void on_robot(const hullgrind::robot_status_t& s, const runtime::Delivery&) {
+    if (s.mode == hullgrind::robot_status_t::MODE_DISCONNECTED) return;
+    const Vec3 p(s.tcp_position[0], s.tcp_position[1], s.tcp_position[2]);
+    if (p.allFinite()) robot_ = p;
+  }
+
+  void tick() {
+    if (pending_ && double(runtime::now_utime() - pending_since_) * 1e-6 > timeout_) {
+      status(*pending_, hullgrind::job_status_t::STATE_FAILED, 0,
+             "no outline received within " + std::to_string(timeout_) + " s");
+      pending_.reset();
+    }
+  }
+
+ private:
+  bool latest_fresh() const {
+    return latest_ && double(runtime::now_utime() - latest_utime_) * 1e-6 <= max_age_;
+  }
+
+  void status(const hullgrind::job_request_t& r, std::int8_t state, double progress, const std::string& msg) {
+    hullgrind::job_status_t s{};
+    s.job_id = r.job_id;
+    s.part_id = r.part_id;
+    s.source = node_.name();
+    s.state = state;
+    s.progress = progress;
+    s.message = msg;
+    node_.publish(channels::kJobStatus, s);
+    if (state == hullgrind::job_status_t::STATE_FAILED || state == hullgrind::job_status_t::STATE_REFUSED)
+      logf(Level::Warn, "job '%s': %s", r.job_id.c_str(), msg.c_str());
+  }
+
+  void plan_now() {
+    const hullgrind::job_request_t req = *pending_;
+    pending_.reset();
+    const hullgrind::outline_t& m = *latest_;
+    if (m.status != hullgrind::outline_t::STATUS_OK) {
+      status(req, hullgrind::job_status_t::STATE_FAILED, 0,
+             "outline " + std::to_string(m.header.seq) + " has error status " + std::to_string(int(m.status)) + ": " +
+                 (m.error_text.empty() ? std::string("(no reason given)") : m.error_text));
+      return;
+    }
+    JobParams jp;
+    jp.tool_radius = req.tool_radius;
+    jp.chamfer_angle = req.chamfer_angle;
+    jp.grind_speed = req.grind_speed;
+    jp.travel_speed = req.travel_speed;
+    jp.step = req.step;
+    jp.safe_height = req.safe_height;
+    jp.direction = Direction(req.direction);
+    jp.flipped = req.flipped;
+    PlanResult r;
+    try {
+      r = plan(from_lcm(m), jp, cfg_, robot_);
+    } catch (const std::exception& e) {  // never let one job's input take the process down
+      r.ok = false;
+      r.reason = std::string("internal error: ") + e.what();
+    }
+    node_.set_latency(r.seconds);
+    if (!r.ok) {
+      status(req, hullgrind::job_status_t::STATE_FAILED, 0, r.reason);
+      return;
+    }
+    hullgrind::grind_path_t g = to_lcm(r, req.job_id, m.header.seq, cfg_.base_frame, m.header.utime);
+    node_.publish(channels::kGrindPath, g);
+    std::string msg = std::to_string(r.path.size()) + " waypoints, " + std::to_string(r.loops_planned) +
+                      " loops, planned in " + std::to_string(r.seconds * 1e3) + " ms";
+    for (const std::string& w : r.warnings) msg += "; warning: " + w;
+    status(req, hullgrind::job_status_t::STATE_PLANNED, 1, msg);
+    logf(Level::Info, "job '%s': %s", req.job_id.c_str(), msg.c_str());
+  }
+
+  runtime::Node& node_;
+  PlannerConfig cfg_;
+  double max_age_ = 2, timeout_ = 10;
+  std::optional<hullgrind::outline_t> latest_;
+  std::int64_t latest_utime_ = 0;
+  std::optional<hullgrind::job_request_t> pending_;
+  std::int64_t pending_since_ = 0;
+  std::optional<Vec3> robot_;
+};
+
+}  // namespace
+
 void attach(runtime::Node& node) {
-  node.subscribe<hullgrind::outline_t>(channels::kOutline, [](const hullgrind::outline_t&, const runtime::Delivery& d) {
-    runtime::logf(runtime::Level::Debug, "received outline_t on %s", d.channel.c_str());
-  });
-  node.subscribe<hullgrind::job_request_t>(channels::kJobRequest, [](const hullgrind::job_request_t&, const runtime::Delivery& d) {
-    runtime::logf(runtime::Level::Debug, "received job_request_t on %s", d.channel.c_str());
-  });
+  auto p = std::make_shared<Planner>(node);
+  node.subscribe<hullgrind::outline_t>(channels::kOutline,
+                                       [p](const hullgrind::outline_t& m, const runtime::Delivery& d) { p->on_outline(m, d); });
+  node.subscribe<hullgrind::job_request_t>(
+      channels::kJobRequest, [p](const hullgrind::job_request_t& m, const runtime::Delivery& d) { p->on_request(m, d); });
+  node.subscribe<hullgrind::robot_status_t>(
+      channels::kRobotStatus, [p](const hullgrind::robot_status_t& m, const runtime::Delivery& d) { p->on_robot(m, d); });
+  node.every(std::chrono::milliseconds(100), [p] { p->tick(); });
 }
 
 }  // namespace hg::path_planner

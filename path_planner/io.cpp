@@ -1,0 +1,266 @@
+#include "path_planner/io.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace hg::path_planner {
+
+using runtime::ConfigError;
+using runtime::Param;
+
+std::vector<Param> planner_params() {
+  return {
+      {"tool_radius", "0.01", "effective tool radius, m (job default)"},
+      {"chamfer_angle", "0.7853981633974483", "tool tilt toward the edge normal, rad (job default; 45 deg)"},
+      {"grind_speed", "0.02", "TCP speed along the edge, m/s (job default)"},
+      {"travel_speed", "0.2", "air-move speed, m/s (job default)"},
+      {"step", "0.002", "resampling step along the path, m (job default)"},
+      {"safe_height", "0.05", "approach/retract height above the plate, m (job default)"},
+      {"direction", "climb", "climb | conventional (hg-plan; a job request carries its own)"},
+      {"flipped", "", "plan for the flipped part (hg-plan; a job request carries its own)", true},
+      {"spindle_clockwise", "true", "spindle turns clockwise seen from above (decides what climb means)"},
+      {"approach_speed", "0.05", "speed of the vertical approach and retract, m/s (capped by travel_speed)"},
+      {"lead_radius", "0.01", "radius of the lead-in/lead-out arcs, m (smaller in small holes)"},
+      {"lead_angle", "1.5707963267948966", "sweep of the lead arcs, rad"},
+      {"z_offset", "0", "height of the grind points above the plate's top surface, m"},
+      {"pixel_pitch", "0", "pixel pitch of the outline, m; 0: estimated from the loops' staircase"},
+      {"smooth_window", "4", "half-window of the smoothing fits, in pixel pitches"},
+      {"corner_scale", "5", "length of the corner detector's line fits, in pixel pitches"},
+      {"corner_angle", "0.5235987755982988", "smallest turn treated as a corner, rad (30 deg)"},
+      {"edge_compensation", "true", "move loops from the outermost pixel centres to the edge (half a pitch)"},
+      {"arc_tolerance", "1e-5", "Clipper round-join tolerance, m"},
+      {"resample_corner_angle", "0.17453292519943295", "turn kept as a waypoint when resampling, rad"},
+      {"small_hole", "fail", "a hole too small for the tool: fail (job FAILED) | skip (warning)"},
+      {"camera_to_base", "", "hand-eye calibration as 16 numbers, row-major 4x4; overrides camera_xyz/rpy"},
+      {"camera_xyz", "0.5,0,1.2", "camera origin in the robot base frame, m"},
+      {"camera_rpy", "3.141592653589793,0,0", "camera roll, pitch, yaw in the base frame, rad (Rz Ry Rx)"},
+      {"plane_origin", "0,0,1.19", "plate plane in the camera frame for outline files without one: origin"},
+      {"plane_u", "1,0,0", "... u axis"},
+      {"plane_v", "0,-1,0", "... v axis"},
+      {"plane_normal", "0,0,-1", "... normal (u, v, normal right-handed)"},
+      {"base_frame", "robot_base", "name of the robot base frame in the path"},
+      {"home", "0.5,0,0.3", "robot position (base frame) used as the start reference until HG_ROBOT_STATUS is heard"},
+      {"workspace_min", "-1,-1,0", "workspace box, base frame, m: lower corner"},
+      {"workspace_max", "1.5,1,1", "workspace box, base frame, m: upper corner"},
+      {"table_z", "0", "table top height in the base frame; every waypoint must be above it, m"},
+      {"max_speed", "0.5", "largest TCP speed allowed, m/s"},
+  };
+}
+
+ParamLookup lookup_from(const runtime::Node& node) {
+  return {[&node](const std::string& k) { return node.param(k); },
+          [&node](const std::string& k) { return node.param_doubles(k); }};
+}
+
+namespace {
+
+double num(const ParamLookup& L, const std::string& key) {
+  const std::string v = L.text(key);
+  char* end = nullptr;
+  const double d = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || !std::isfinite(d)) throw ConfigError("parameter '" + key + "': '" + v + "' is not a number");
+  return d;
+}
+bool boolean(const ParamLookup& L, const std::string& key) {
+  const std::string v = L.text(key);
+  if (v == "true" || v == "1") return true;
+  if (v == "false" || v == "0" || v.empty()) return false;
+  throw ConfigError("parameter '" + key + "': '" + v + "' is not true or false");
+}
+Vec3 vec3(const ParamLookup& L, const std::string& key) {
+  const std::vector<double> v = L.list(key);
+  if (v.size() != 3) throw ConfigError("parameter '" + key + "': expected 3 numbers");
+  return Vec3(v[0], v[1], v[2]);
+}
+
+}  // namespace
+
+PlannerConfig config_from(const ParamLookup& L) {
+  PlannerConfig c;
+  JobParams& d = c.defaults;
+  d.tool_radius = num(L, "tool_radius");
+  d.chamfer_angle = num(L, "chamfer_angle");
+  d.grind_speed = num(L, "grind_speed");
+  d.travel_speed = num(L, "travel_speed");
+  d.step = num(L, "step");
+  d.safe_height = num(L, "safe_height");
+  const std::string dir = L.text("direction");
+  if (dir == "climb") d.direction = Direction::Climb;
+  else if (dir == "conventional") d.direction = Direction::Conventional;
+  else throw ConfigError("parameter 'direction': '" + dir + "' is not climb or conventional");
+  d.flipped = boolean(L, "flipped");
+  JobParams checked;
+  if (std::string why = resolve_params(d, d, checked); !why.empty()) throw ConfigError("parameters: " + why);
+  c.spindle_clockwise = boolean(L, "spindle_clockwise");
+  c.approach_speed = num(L, "approach_speed");
+  c.lead_radius = num(L, "lead_radius");
+  c.lead_angle = num(L, "lead_angle");
+  c.z_offset = num(L, "z_offset");
+  c.smooth.pitch = num(L, "pixel_pitch");
+  c.smooth.window_pitches = num(L, "smooth_window");
+  c.smooth.corner_scale_pitches = num(L, "corner_scale");
+  c.smooth.corner_angle = num(L, "corner_angle");
+  c.smooth.edge_compensation = boolean(L, "edge_compensation");
+  c.arc_tolerance = num(L, "arc_tolerance");
+  c.resample_corner_angle = num(L, "resample_corner_angle");
+  if (!(c.approach_speed > 0) || !(c.lead_radius > 0) || !(c.lead_angle > 0) || !(c.arc_tolerance > 0) ||
+      !(c.smooth.window_pitches > 0) || !(c.smooth.corner_scale_pitches > 0))
+    throw ConfigError("approach_speed, lead_radius, lead_angle, arc_tolerance, smooth_window and corner_scale must be > 0");
+  const std::string sh = L.text("small_hole");
+  if (sh == "fail") c.small_hole = SmallHolePolicy::Fail;
+  else if (sh == "skip") c.small_hole = SmallHolePolicy::Skip;
+  else throw ConfigError("parameter 'small_hole': '" + sh + "' is not fail or skip");
+  if (!L.text("camera_to_base").empty() || !L.list("camera_to_base").empty()) {
+    const std::vector<double> m = L.list("camera_to_base");
+    if (m.size() != 16) throw ConfigError("parameter 'camera_to_base': expected 16 numbers (row-major 4x4)");
+    Eigen::Matrix4d M;
+    for (int r = 0; r < 4; ++r)
+      for (int k = 0; k < 4; ++k) M(r, k) = m[r * 4 + k];
+    const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
+    if ((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0 ||
+        M.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
+      throw ConfigError("parameter 'camera_to_base': not a rigid transform");
+    c.camera_to_base.matrix() = M;
+  } else {
+    c.camera_to_base = pose_from_xyz_rpy(vec3(L, "camera_xyz"), vec3(L, "camera_rpy"));
+  }
+  c.default_plane = {vec3(L, "plane_origin"), vec3(L, "plane_u"), vec3(L, "plane_v"), vec3(L, "plane_normal")};
+  c.base_frame = L.text("base_frame");
+  c.home = vec3(L, "home");
+  c.limits.workspace_min = vec3(L, "workspace_min");
+  c.limits.workspace_max = vec3(L, "workspace_max");
+  c.limits.table_z = num(L, "table_z");
+  c.limits.max_speed = num(L, "max_speed");
+  return c;
+}
+
+OutlineInput read_outline_json(const std::string& text, const Plane& default_plane) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::runtime_error("not JSON (byte " + std::to_string(e.byte) + "): " + e.what());
+  }
+  OutlineInput in;
+  in.plane = default_plane;
+  if (!j.is_object() || !j.contains("loops") || !j["loops"].is_array())
+    throw std::runtime_error("no \"loops\" array at the top level");
+  auto vec = [](const nlohmann::json& a, const std::string& where) {
+    if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
+      throw std::runtime_error(where + ": expected [x, y, z] numbers");
+    return Vec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
+  };
+  if (j.contains("plane")) {
+    const auto& p = j["plane"];
+    if (!p.is_object()) throw std::runtime_error("plane: expected an object");
+    for (const char* k : {"origin", "normal", "u", "v"})
+      if (!p.contains(k)) throw std::runtime_error(std::string("plane: no \"") + k + "\"");
+    in.plane = {vec(p["origin"], "plane.origin"), vec(p["u"], "plane.u"), vec(p["v"], "plane.v"),
+                vec(p["normal"], "plane.normal")};
+  }
+  const auto& loops = j["loops"];
+  for (std::size_t k = 0; k < loops.size(); ++k) {
+    const auto& jl = loops[k];
+    const std::string where = "loops[" + std::to_string(k) + "]";
+    if (!jl.is_object() || !jl.contains("points") || !jl["points"].is_array())
+      throw std::runtime_error(where + ": no \"points\" array");
+    Loop l;
+    if (jl.contains("hole")) {
+      if (!jl["hole"].is_boolean()) throw std::runtime_error(where + ".hole: expected true or false");
+      l.hole = jl["hole"].get<bool>();
+    }
+    const auto& pts = jl["points"];
+    l.points.reserve(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const auto& p = pts[i];
+      if (!p.is_array() || p.size() < 2 || !p[0].is_number() || !p[1].is_number())
+        throw std::runtime_error(where + ".points[" + std::to_string(i) + "]: expected [x, y] numbers");
+      l.points.emplace_back(p[0].get<double>(), p[1].get<double>());
+    }
+    in.loops.push_back(std::move(l));
+  }
+  return in;
+}
+
+const char* kind_name(std::int8_t kind) {
+  switch (kind) {
+    case kApproach: return "approach";
+    case kLeadIn: return "lead_in";
+    case kGrind: return "grind";
+    case kLeadOut: return "lead_out";
+    case kRetract: return "retract";
+    case kTravel: return "travel";
+  }
+  return "unknown";
+}
+
+nlohmann::ordered_json path_json(const std::string& job_id, const std::string& frame, const PlanResult& r) {
+  nlohmann::ordered_json j;
+  j["job_id"] = job_id;
+  j["frame"] = frame;
+  auto wps = nlohmann::ordered_json::array();
+  for (const Waypoint& w : r.path) {
+    nlohmann::ordered_json jw;
+    jw["position"] = {w.position.x(), w.position.y(), w.position.z()};
+    jw["orientation"] = {w.orientation.w(), w.orientation.x(), w.orientation.y(), w.orientation.z()};
+    jw["speed"] = w.speed;
+    jw["kind"] = kind_name(w.kind);
+    jw["loop"] = w.loop;
+    wps.push_back(std::move(jw));
+  }
+  j["waypoints"] = std::move(wps);
+  j["tool_radius"] = r.params.tool_radius;
+  j["tilt"] = r.params.chamfer_angle;
+  j["flipped"] = r.params.flipped;
+  return j;
+}
+
+OutlineInput from_lcm(const hullgrind::outline_t& m) {
+  OutlineInput in;
+  in.seq = m.header.seq;
+  in.plane = {Vec3(m.plane_origin[0], m.plane_origin[1], m.plane_origin[2]),
+              Vec3(m.plane_u_axis[0], m.plane_u_axis[1], m.plane_u_axis[2]),
+              Vec3(m.plane_v_axis[0], m.plane_v_axis[1], m.plane_v_axis[2]),
+              Vec3(m.plane_normal[0], m.plane_normal[1], m.plane_normal[2])};
+  in.loops.reserve(m.loops.size());
+  for (const auto& l : m.loops) {
+    Loop loop;
+    loop.hole = l.hole;
+    const std::size_t n = std::min(l.u.size(), l.v.size());
+    loop.points.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) loop.points.emplace_back(l.u[i], l.v[i]);
+    in.loops.push_back(std::move(loop));
+  }
+  return in;
+}
+
+hullgrind::grind_path_t to_lcm(const PlanResult& r, const std::string& job_id, std::int64_t outline_seq,
+                               const std::string& frame, std::int64_t utime) {
+  hullgrind::grind_path_t g;
+  g.header.utime = utime;
+  g.header.frame_id = frame;
+  g.job_id = job_id;
+  g.outline_seq = outline_seq;
+  g.frame = frame;
+  g.n = std::int32_t(r.path.size());
+  g.position.resize(r.path.size());
+  g.orientation.resize(r.path.size());
+  g.speed.resize(r.path.size());
+  g.kind.resize(r.path.size());
+  g.loop_index.resize(r.path.size());
+  for (std::size_t i = 0; i < r.path.size(); ++i) {
+    const Waypoint& w = r.path[i];
+    g.position[i] = {w.position.x(), w.position.y(), w.position.z()};
+    g.orientation[i] = {w.orientation.w(), w.orientation.x(), w.orientation.y(), w.orientation.z()};
+    g.speed[i] = w.speed;
+    g.kind[i] = w.kind;
+    g.loop_index[i] = w.loop;
+  }
+  g.tool_radius = r.params.tool_radius;
+  g.tilt = r.params.chamfer_angle;
+  g.flipped = r.params.flipped;
+  return g;
+}
+
+}  // namespace hg::path_planner

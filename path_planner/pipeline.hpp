@@ -1,0 +1,226 @@
+// The grind-path planning pipeline: small pure steps over plain structs (Eigen), composed the way
+// ROS-Industrial's noether composes tool-path modifiers:
+//   (mirror if flipped) -> smooth -> offset -> resample -> order/start -> orient + leads + approach/retract
+//   -> robot base frame -> validate.
+// No LCM here: the process (path_planner.cpp) and the CLI (hg_plan.cpp) both call plan().
+//
+// Conventions (see docs/path_planner.md):
+//  - 2-D work happens in the PLATE frame: x, y in the plate plane, z up (away from the table, toward the
+//    camera). normalize_up() makes the outline's plane satisfy this before anything else.
+//  - Rings are open (closing edge implicit). Canonical orientation: material on the LEFT of travel, i.e.
+//    outer loops counter-clockwise and holes clockwise seen from above (what the outline core produces).
+//  - SI units: metres, radians, m/s.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hg::path_planner {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using Ring = std::vector<Vec2>;
+
+struct Loop {
+  bool hole = false;
+  Ring points;  // canonical orientation: material on the left
+};
+
+// The plate plane in the camera frame: p = origin + x u + y v (+ z normal).
+struct Plane {
+  Vec3 origin = Vec3::Zero();
+  Vec3 u = Vec3::UnitX(), v = Vec3::UnitY(), normal = Vec3::UnitZ();
+};
+
+struct OutlineInput {
+  Plane plane;              // camera frame
+  std::vector<Loop> loops;
+  std::int64_t seq = -1;    // outline header.seq, copied into the path
+};
+
+// ---- geometry helpers ----
+double signed_area(const Ring& ring);
+double ring_length(const Ring& ring);
+// Makes every ring canonical (outer CCW, holes CW) by reversing those that are not.
+void make_canonical(std::vector<Loop>& loops);
+// Area centroid and principal (major) axis direction of the outer loops minus the holes.
+struct AreaMoments {
+  double area = 0;
+  Vec2 centroid = Vec2::Zero();
+  Vec2 major_axis = Vec2::UnitX();
+};
+AreaMoments area_moments(const std::vector<Loop>& loops);
+
+// ---- input checks and frame normalisation ----
+// Empty string when usable; otherwise why not (names the loop and point index).
+std::string check_outline(const OutlineInput& in);
+// If the plane normal points down in the robot base frame (base z up), flips normal and v and mirrors the
+// loops (y -> -y, rings reversed) so that the plate frame has z up and loops stay canonical.
+void normalize_up(OutlineInput& in, const Eigen::Isometry3d& camera_to_base);
+// Double-sided grinding: the part is turned over about its principal axis through its area centroid (the
+// axis part_pose_t reports and the handling robot flips it about), so the second side's edges are the
+// mirror image of the first side's across that line. Rings are reversed to stay canonical.
+std::vector<Loop> mirror_for_flip(const std::vector<Loop>& loops);
+
+// ---- 1. de-noise the pixel staircase, keeping corners ----
+struct SmoothOptions {
+  double pitch = 0;                  // pixel pitch on the plate; <= 0: estimate from the outline
+  double window_pitches = 4;         // half-window of the local fits, in pitches
+  double corner_scale_pitches = 5;   // length of the one-sided line fits of the corner detector
+  double corner_angle = 0.5235987755982988;  // 30 deg: smaller turns are treated as curves
+  bool edge_compensation = true;     // move the loop from the outermost pixel centres to the edge
+};
+struct SmoothedRing {
+  Ring points;
+  std::vector<std::uint8_t> corner;  // 1 where points[i] is a detected corner
+};
+// Pixel pitch estimate: median length of the loop edges within 10 deg of the x or y axis (the staircase
+// steps); 0 when the loops do not look like a staircase (fewer than 16 such edges, under a quarter of all
+// edges, or a median longer than 1/200 of the longest loop).
+double estimate_pitch(const std::vector<Loop>& loops);
+SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& options);
+
+// ---- 2. offset by the tool radius (Clipper) ----
+// Outer loops grow by `distance`, holes shrink. Returns zero rings for a hole too small for the tool, and
+// possibly several rings when the offset splits a loop. Output canonical (material on the left).
+std::vector<Ring> offset_ring(const Ring& ring, bool hole, double distance, double arc_tolerance);
+
+// ---- 3. resample at a fixed step, keeping corners ----
+// Vertices whose turning angle exceeds corner_angle are kept exactly; every piece between them is divided
+// into equal sub-steps no longer than `step`.
+struct SampledRing {
+  Ring points;
+  std::vector<std::uint8_t> corner;
+};
+SampledRing resample_ring(const Ring& ring, double step, double corner_angle);
+
+// ---- 4. orientation ----
+enum class Direction : std::int8_t { Climb = 0, Conventional = 1 };
+// True when the loop is travelled against its canonical direction (material on the right). Climb with a
+// spindle turning clockwise seen from above puts the material on the right of travel (G41): outer loops
+// clockwise, holes counter-clockwise; conventional is the reverse.
+bool travel_reversed(Direction direction, bool spindle_clockwise);
+// Tool frame in the plate frame for a waypoint with travel tangent t and away-from-material normal m
+// (both in-plane unit vectors): x along travel, z (the tool axis, pointing from the flange to the work)
+// = cos(tilt) * (-up) - sin(tilt) * m, i.e. tilted by `tilt` away from the vertical, the tool leaning out
+// over the air side with its tip toward the edge; y = z x x.
+Eigen::Quaterniond tool_orientation(const Vec2& tangent, const Vec2& away_normal, double tilt);
+
+// ---- 5. sequencing: ordering, start points, leads, approach/retract ----
+enum Kind : std::int8_t { kApproach = 0, kLeadIn = 1, kGrind = 2, kLeadOut = 3, kRetract = 4, kTravel = 5 };
+struct PlateWaypoint {
+  Vec3 position;            // plate frame
+  Eigen::Quaterniond orientation;
+  double speed;
+  std::int8_t kind;
+  std::int16_t loop;        // index into the outline's loops; -1 for air moves
+};
+struct GrindLoop {
+  SampledRing ring;         // canonical orientation
+  bool hole = false;
+  int loop_index = 0;       // outline loop it came from
+};
+struct SequenceOptions {
+  double tilt = 0;
+  double grind_speed = 0.02, travel_speed = 0.2, approach_speed = 0.05;
+  double step = 0.002;
+  double safe_height = 0.05;
+  double z = 0;             // height of the grind points above the plate top surface
+  double lead_radius = 0.01;
+  double lead_angle = 1.5707963267948966;
+  Direction direction = Direction::Climb;
+  bool spindle_clockwise = true;
+};
+// Greedy nearest-neighbour order: from `start` (plate frame, x, y), the loop with the nearest eligible
+// start vertex (not a corner) next, and so on. Returns the loop order and each loop's start vertex.
+struct Ordering {
+  std::vector<int> order;
+  std::vector<int> start_vertex;  // per entry of order
+};
+Ordering order_loops(const std::vector<GrindLoop>& loops, const Vec2& start);
+// Lead-in arc: ends at p0 tangent to `tangent`, lies on the `away` side; returns points from its start to
+// p0 inclusive. Lead-out is the mirror image: starts at p0, leaves tangentially.
+std::vector<Vec2> lead_in_arc(const Vec2& p0, const Vec2& tangent, const Vec2& away, double radius, double sweep,
+                              double step);
+std::vector<Vec2> lead_out_arc(const Vec2& p0, const Vec2& tangent, const Vec2& away, double radius,
+                               double sweep, double step);
+std::vector<PlateWaypoint> sequence(const std::vector<GrindLoop>& loops, const Vec2& start,
+                                    const SequenceOptions& options);
+
+// ---- 6. into the robot base frame ----
+struct Waypoint {
+  Vec3 position;            // robot base frame
+  Eigen::Quaterniond orientation;
+  double speed;
+  std::int8_t kind;
+  std::int16_t loop;
+};
+// Plate frame -> camera frame (plane) -> base frame (hand-eye calibration).
+Eigen::Isometry3d plate_to_base(const Plane& plane, const Eigen::Isometry3d& camera_to_base);
+std::vector<Waypoint> to_base(const std::vector<PlateWaypoint>& path, const Eigen::Isometry3d& plate_to_base);
+// Camera -> base from x, y, z (m) and roll, pitch, yaw (rad, R = Rz(yaw) Ry(pitch) Rx(roll)).
+Eigen::Isometry3d pose_from_xyz_rpy(const Vec3& xyz, const Vec3& rpy);
+
+// ---- 7. validation ----
+struct Limits {
+  Vec3 workspace_min = Vec3(-1, -1, -0.5), workspace_max = Vec3(1, 1, 1);
+  double table_z = -1e9;    // base-frame height of the table top; every waypoint must be strictly above
+  double max_speed = 0.5;
+};
+// Empty string when the path is fit to run; otherwise the first reason found (names the waypoint).
+// Self-intersection is checked per grind loop (lead-in end + grind waypoints of one loop) in the plane
+// perpendicular to `up` (base frame).
+std::string validate(const std::vector<Waypoint>& path, const Limits& limits, const Vec3& up);
+// True when the closed polyline has two non-adjacent segments that touch or cross (grid-bucketed).
+bool self_intersects(const std::vector<Vec2>& closed_polyline);
+
+// ---- composition ----
+struct JobParams {
+  double tool_radius = 0.01;
+  double chamfer_angle = 0.7853981633974483;  // 45 deg
+  double grind_speed = 0.02;
+  double travel_speed = 0.2;
+  double step = 0.002;
+  double safe_height = 0.05;
+  Direction direction = Direction::Climb;
+  bool flipped = false;
+};
+enum class SmallHolePolicy { Fail, Skip };
+struct PlannerConfig {
+  JobParams defaults;
+  SmoothOptions smooth;
+  double arc_tolerance = 1e-5;         // Clipper round-join tolerance, metres
+  double resample_corner_angle = 0.17453292519943295;  // 10 deg
+  double approach_speed = 0.05;
+  double lead_radius = 0.01;
+  double lead_angle = 1.5707963267948966;
+  double z_offset = 0;
+  bool spindle_clockwise = true;
+  SmallHolePolicy small_hole = SmallHolePolicy::Fail;
+  Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();
+  Plane default_plane;                 // used when an outline file has no plane
+  Vec3 home = Vec3(0.5, 0, 0.3);       // base frame; start reference when the robot's position is unknown
+  std::string base_frame = "robot_base";
+  Limits limits;
+};
+struct PlanResult {
+  bool ok = false;
+  std::string reason;                  // why not, when !ok
+  std::vector<std::string> warnings;
+  std::vector<Waypoint> path;
+  JobParams params;                    // as used
+  double pitch = 0;                    // pixel pitch used by the smoothing
+  int loops_planned = 0;
+  double seconds = 0;                  // planning time
+};
+// Fills zero-valued job parameters from the defaults; returns a reason when a parameter is unusable.
+std::string resolve_params(const JobParams& requested, const JobParams& defaults, JobParams& out);
+PlanResult plan(OutlineInput outline, const JobParams& params, const PlannerConfig& config,
+                const std::optional<Vec3>& robot_position_base);
+
+}  // namespace hg::path_planner

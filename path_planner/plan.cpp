@@ -1,0 +1,98 @@
+// The composition of the steps: one pure function from an outline + job parameters to a validated path.
+#include "path_planner/pipeline.hpp"
+
+#include <chrono>
+#include <cmath>
+
+namespace hg::path_planner {
+
+std::string resolve_params(const JobParams& req, const JobParams& def, JobParams& out) {
+  auto pick = [](double r, double d) { return r == 0 ? d : r; };
+  out.tool_radius = pick(req.tool_radius, def.tool_radius);
+  out.chamfer_angle = pick(req.chamfer_angle, def.chamfer_angle);
+  out.grind_speed = pick(req.grind_speed, def.grind_speed);
+  out.travel_speed = pick(req.travel_speed, def.travel_speed);
+  out.step = pick(req.step, def.step);
+  out.safe_height = pick(req.safe_height, def.safe_height);
+  out.direction = req.direction;
+  out.flipped = req.flipped;
+  auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  if (!positive(out.tool_radius)) return "tool_radius must be > 0 m";
+  if (!std::isfinite(out.chamfer_angle) || out.chamfer_angle < 0 || out.chamfer_angle > 80 * M_PI / 180)
+    return "chamfer_angle must be within [0, 80] degrees (given in radians)";
+  if (!positive(out.grind_speed)) return "grind_speed must be > 0 m/s";
+  if (!positive(out.travel_speed)) return "travel_speed must be > 0 m/s";
+  if (!positive(out.step)) return "step must be > 0 m";
+  if (!positive(out.safe_height)) return "safe_height must be > 0 m";
+  if (out.direction != Direction::Climb && out.direction != Direction::Conventional)
+    return "direction must be 0 (climb) or 1 (conventional)";
+  return "";
+}
+
+PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig& cfg,
+                const std::optional<Vec3>& robot_position_base) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanResult res;
+  auto fail = [&](std::string why) {
+    res.ok = false;
+    res.reason = std::move(why);
+    res.path.clear();
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  };
+  if (std::string why = resolve_params(requested, cfg.defaults, res.params); !why.empty()) return fail(why);
+  const JobParams& P = res.params;
+  if (std::string why = check_outline(in); !why.empty()) return fail("bad outline: " + why);
+
+  normalize_up(in, cfg.camera_to_base);
+  make_canonical(in.loops);
+  if (P.flipped) in.loops = mirror_for_flip(in.loops);
+
+  res.pitch = cfg.smooth.pitch > 0 ? cfg.smooth.pitch : estimate_pitch(in.loops);
+  if (!(res.pitch > 0)) res.warnings.push_back("no pixel pitch found in the outline: loops used without smoothing");
+
+  std::vector<GrindLoop> grind;
+  for (std::size_t k = 0; k < in.loops.size(); ++k) {
+    const Loop& l = in.loops[k];
+    const SmoothedRing sm = smooth_ring(l.points, res.pitch, cfg.smooth);
+    const std::vector<Ring> off = offset_ring(sm.points, l.hole, P.tool_radius, cfg.arc_tolerance);
+    if (off.empty()) {
+      const std::string why = std::string(l.hole ? "hole" : "outer loop") + " " + std::to_string(k) +
+                              " is too small for a tool of radius " + std::to_string(P.tool_radius * 1000) + " mm";
+      if (cfg.small_hole == SmallHolePolicy::Fail || !l.hole) return fail("not grindable: " + why);
+      res.warnings.push_back("skipped: " + why);
+      continue;
+    }
+    if (off.size() > 1)
+      res.warnings.push_back("loop " + std::to_string(k) + " splits into " + std::to_string(off.size()) +
+                             " pieces at this tool radius; each is ground, the narrow parts between are not");
+    for (const Ring& r : off) grind.push_back({resample_ring(r, P.step, cfg.resample_corner_angle), l.hole, int(k)});
+  }
+  res.loops_planned = int(grind.size());
+
+  const Eigen::Isometry3d T = plate_to_base(in.plane, cfg.camera_to_base);
+  const Vec3 start_base = robot_position_base ? *robot_position_base : cfg.home;
+  const Vec3 start_plate = T.inverse() * start_base;
+
+  SequenceOptions so;
+  so.tilt = P.chamfer_angle;
+  so.grind_speed = P.grind_speed;
+  so.travel_speed = P.travel_speed;
+  so.approach_speed = std::min(cfg.approach_speed, P.travel_speed);
+  so.step = P.step;
+  so.safe_height = P.safe_height;
+  so.z = cfg.z_offset;
+  so.lead_radius = cfg.lead_radius;
+  so.lead_angle = cfg.lead_angle;
+  so.direction = P.direction;
+  so.spindle_clockwise = cfg.spindle_clockwise;
+  res.path = to_base(sequence(grind, start_plate.head<2>(), so), T);
+
+  if (std::string why = validate(res.path, cfg.limits, T.linear().col(2)); !why.empty())
+    return fail("validation: " + why);
+  res.ok = true;
+  res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace hg::path_planner

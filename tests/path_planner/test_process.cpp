@@ -1,0 +1,208 @@
+// hg-path-planner on the bus (inside a private network namespace): outline + job request -> grind path
+// and PLANNED; an error-status outline, a bad outline and garbage give error statuses and the process
+// keeps running.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <optional>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "hullgrind/grind_path_t.hpp"
+#include "hullgrind/heartbeat_t.hpp"
+#include "hullgrind/job_request_t.hpp"
+#include "hullgrind/job_status_t.hpp"
+#include "hullgrind/outline_t.hpp"
+#include "runtime/node.hpp"
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Bus {
+  explicit Bus(lcm::LCM& lcm) {
+    lcm.subscribe("HG_HEARTBEAT", &Bus::on_beat, this);
+    lcm.subscribe("HG_GRIND_PATH", &Bus::on_path, this);
+    lcm.subscribe("HG_JOB_STATUS", &Bus::on_status, this);
+  }
+  void on_beat(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* m) { beats.push_back(*m); }
+  void on_path(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::grind_path_t* m) { paths.push_back(*m); }
+  void on_status(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_status_t* m) { statuses.push_back(*m); }
+  std::vector<hullgrind::heartbeat_t> beats;
+  std::vector<hullgrind::grind_path_t> paths;
+  std::vector<hullgrind::job_status_t> statuses;
+};
+
+hullgrind::outline_loop_t loop(bool hole, std::vector<std::pair<double, double>> pts) {
+  hullgrind::outline_loop_t l{};
+  l.hole = hole;
+  l.n = int32_t(pts.size());
+  for (auto [u, v] : pts) l.u.push_back(u), l.v.push_back(v);
+  return l;
+}
+
+// 0.3 x 0.2 plate seen from a camera looking down (normal toward the camera), 1.19 m away, with a
+// 60 x 40 mm cut-out.
+hullgrind::outline_t plate_outline(std::int64_t seq) {
+  hullgrind::outline_t o{};
+  o.header.seq = seq;
+  o.header.frame_id = "camera";
+  const double origin[3] = {0, 0, 1.19}, n[3] = {0, 0, -1}, u[3] = {1, 0, 0}, v[3] = {0, -1, 0};
+  for (int k = 0; k < 3; ++k) o.plane_origin[k] = origin[k], o.plane_normal[k] = n[k], o.plane_u_axis[k] = u[k], o.plane_v_axis[k] = v[k];
+  o.status = hullgrind::outline_t::STATUS_OK;
+  o.loops.push_back(loop(false, {{0, 0}, {0.3, 0}, {0.3, 0.2}, {0, 0.2}}));
+  o.loops.push_back(loop(true, {{0.1, 0.08}, {0.1, 0.12}, {0.16, 0.12}, {0.16, 0.08}}));
+  o.num_loops = 2;
+  return o;
+}
+
+hullgrind::job_request_t start(const std::string& id) {
+  hullgrind::job_request_t r{};
+  r.job_id = id;
+  r.part_id = "plate";
+  r.action = +hullgrind::job_request_t::ACTION_START;
+  r.tool_radius = 0.005;  // the rest zero: configured defaults
+  return r;
+}
+
+class PathPlannerProcess : public testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(lcm.good()) << "no LCM: the test must run inside tests/netns.sh";
+    pid = fork();
+    if (pid == 0) {
+      const std::string exe = std::string(HG_BIN_DIR) + "/hg-path-planner";
+      execl(exe.c_str(), exe.c_str(), "--log-level", "warn", "--outline_max_age", "30", (char*)nullptr);
+      _exit(127);
+    }
+    ASSERT_GT(pid, 0);
+    // Subscribed once it beats.
+    ASSERT_TRUE(wait_for([&] { return !bus.beats.empty(); }, 5s)) << "no heartbeat from hg-path-planner";
+  }
+  void TearDown() override {
+    if (pid > 0) {
+      kill(pid, SIGTERM);
+      int st = 0;
+      waitpid(pid, &st, 0);
+      EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << "unclean exit";
+    }
+  }
+  template <class Pred>
+  bool wait_for(Pred pred, std::chrono::milliseconds limit) {
+    const auto end = Clock::now() + limit;
+    while (Clock::now() < end) {
+      if (pred()) return true;
+      lcm.handleTimeout(20);
+    }
+    return pred();
+  }
+  std::optional<hullgrind::job_status_t> final_status(const std::string& id) {
+    std::optional<hullgrind::job_status_t> s;
+    wait_for([&] {
+      for (const auto& m : bus.statuses)
+        if (m.job_id == id && m.state != hullgrind::job_status_t::STATE_PLANNING) {
+          s = m;
+          return true;
+        }
+      return false;
+    }, 5s);
+    return s;
+  }
+  lcm::LCM lcm{hg::runtime::default_lcm_url()};
+  Bus bus{lcm};
+  pid_t pid = -1;
+};
+
+}  // namespace
+
+TEST_F(PathPlannerProcess, OutlineAndJobGivePathAndPlanned) {
+  auto o = plate_outline(7);
+  lcm.publish("HG_OUTLINE", &o);
+  auto r = start("job-1");
+  lcm.publish("HG_JOB_REQUEST", &r);
+  const auto s = final_status("job-1");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_PLANNED) << s->message;
+  EXPECT_EQ(s->source, "hg-path-planner");
+  ASSERT_TRUE(wait_for([&] { return !bus.paths.empty(); }, 2s));
+  const auto& p = bus.paths.front();
+  EXPECT_EQ(p.job_id, "job-1");
+  EXPECT_EQ(p.outline_seq, 7);
+  EXPECT_EQ(p.frame, "robot_base");
+  EXPECT_DOUBLE_EQ(p.tool_radius, 0.005);
+  ASSERT_EQ(std::size_t(p.n), p.position.size());
+  ASSERT_GT(p.n, 50);
+  bool hole_ground = false, outer_ground = false;
+  for (int i = 0; i < p.n; ++i) {
+    double q = 0;
+    for (double c : p.orientation[i]) q += c * c;
+    EXPECT_NEAR(q, 1, 1e-9);
+    if (p.kind[i] == hullgrind::grind_path_t::KIND_GRIND) {
+      (p.loop_index[i] == 1 ? hole_ground : outer_ground) = true;
+      // Plate (x, y) -> base (0.5 + x, y, 0.01) with the default hand-eye calibration.
+      EXPECT_NEAR(p.position[i][2], 0.01, 1e-9);
+    }
+  }
+  EXPECT_TRUE(hole_ground);
+  EXPECT_TRUE(outer_ground);
+  // PLANNING came before PLANNED.
+  ASSERT_GE(bus.statuses.size(), 2u);
+  EXPECT_EQ(bus.statuses.front().state, +hullgrind::job_status_t::STATE_PLANNING);
+}
+
+TEST_F(PathPlannerProcess, ErrorOutlineBadOutlineAndGarbageGiveErrorStatuses) {
+  // Garbage on both input channels: counted, skipped.
+  const char junk[] = "not an lcm message at all";
+  lcm.publish("HG_OUTLINE", junk, sizeof junk);
+  lcm.publish("HG_JOB_REQUEST", junk, 5);
+
+  auto bad = plate_outline(1);
+  bad.status = +hullgrind::outline_t::STATUS_NO_LOOP;
+  bad.error_text = "too few points on the plate";
+  bad.loops.clear();
+  bad.num_loops = 0;
+  lcm.publish("HG_OUTLINE", &bad);
+  auto r = start("job-err");
+  lcm.publish("HG_JOB_REQUEST", &r);
+  auto s = final_status("job-err");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_FAILED);
+  EXPECT_NE(s->message.find("too few points on the plate"), std::string::npos) << s->message;
+
+  auto nan = plate_outline(2);
+  nan.loops[1].u[2] = std::nan("");
+  lcm.publish("HG_OUTLINE", &nan);
+  r = start("job-nan");
+  lcm.publish("HG_JOB_REQUEST", &r);
+  s = final_status("job-nan");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_FAILED);
+  EXPECT_NE(s->message.find("loop 1 point 2 is not finite"), std::string::npos) << s->message;
+
+  // Out of range job parameters.
+  auto good = plate_outline(3);
+  lcm.publish("HG_OUTLINE", &good);
+  r = start("job-neg");
+  r.grind_speed = -1;
+  lcm.publish("HG_JOB_REQUEST", &r);
+  s = final_status("job-neg");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_FAILED);
+  EXPECT_NE(s->message.find("grind_speed"), std::string::npos) << s->message;
+
+  // Still alive, still planning, and the garbage was counted.
+  r = start("job-ok");
+  lcm.publish("HG_JOB_REQUEST", &r);
+  s = final_status("job-ok");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_PLANNED) << s->message;
+  bus.beats.clear();
+  ASSERT_TRUE(wait_for([&] { return !bus.beats.empty(); }, 3s));
+  EXPECT_GE(bus.beats.back().decode_errors, 2);
+  EXPECT_EQ(waitpid(pid, nullptr, WNOHANG), 0);
+}

@@ -1,0 +1,645 @@
+// Unit tests of each planning step against independent (analytic) expectations.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "path_planner/io.hpp"
+#include "path_planner/pipeline.hpp"
+
+using namespace hg::path_planner;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+double deg(double d) { return d * kPi / 180; }
+
+double seg_dist(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (a + t * ab - p).norm();
+}
+double ring_dist(const Vec2& p, const Ring& r) {
+  double d = 1e300;
+  for (std::size_t i = 0; i < r.size(); ++i) d = std::min(d, seg_dist(p, r[i], r[(i + 1) % r.size()]));
+  return d;
+}
+// Distance from p to the nearest vertex of `r` among `idx`.
+double vertex_dist(const Vec2& p, const Ring& r) {
+  double d = 1e300;
+  for (const Vec2& v : r) d = std::min(d, (p - v).norm());
+  return d;
+}
+
+Ring rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+Ring rotated(const Ring& r, double a, const Vec2& c) {
+  const Eigen::Rotation2Dd R(a);
+  Ring o;
+  for (const Vec2& p : r) o.push_back(c + R * (p - c));
+  return o;
+}
+Ring circle(const Vec2& c, double R, int n, bool cw = false) {
+  Ring o;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * kPi * k / n * (cw ? -1 : 1);
+    o.emplace_back(c.x() + R * std::cos(t), c.y() + R * std::sin(t));
+  }
+  return o;
+}
+
+// A pixel staircase of a polygon: its boundary sampled densely and snapped to the nearest pixel centre
+// (lattice (k + 0.5) pitch), consecutive repeats and back-and-forth spikes removed. Symmetric +-pitch/2
+// error, no inward bias (so tests of it turn edge compensation off).
+Ring staircase(const Ring& poly, double pitch) {
+  Ring out;
+  auto snap = [&](const Vec2& p) {
+    return Vec2((std::floor(p.x() / pitch) + 0.5) * pitch, (std::floor(p.y() / pitch) + 0.5) * pitch);
+  };
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+    const int m = int(std::ceil((b - a).norm() / (pitch / 8)));
+    for (int k = 0; k < m; ++k) {
+      const Vec2 q = snap(a + (b - a) * (double(k) / m));
+      if (out.empty() || (q - out.back()).norm() > 1e-12) out.push_back(q);
+    }
+  }
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    if (out.size() > 2 && (out.front() - out.back()).norm() < 1e-12) out.pop_back(), changed = true;
+    for (std::size_t i = 0; out.size() > 3 && i < out.size(); ++i) {
+      const std::size_t n = out.size();
+      if ((out[(i + n - 1) % n] - out[(i + 1) % n]).norm() < 1e-12) {
+        out.erase(out.begin() + long(i));
+        changed = true;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+double turn(const Vec2& a, const Vec2& b) { return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)); }
+
+// Turn at each detected corner of a smoothed ring, measured from the corner to the ring points `reach`
+// away on both sides (the fitted straight runs).
+std::vector<std::pair<Vec2, double>> corner_turns(const SmoothedRing& s, double reach) {
+  std::vector<std::pair<Vec2, double>> out;
+  const long n = long(s.points.size());
+  for (long i = 0; i < n; ++i) {
+    if (!s.corner[i]) continue;
+    const Vec2 c = s.points[i];
+    long b = i - 1, f = i + 1;
+    while ((s.points[((b % n) + n) % n] - c).norm() < reach && i - b < n) --b;
+    while ((s.points[f % n] - c).norm() < reach && f - i < n) ++f;
+    out.push_back({c, turn(c - s.points[((b % n) + n) % n], s.points[f % n] - c)});
+  }
+  return out;
+}
+
+SmoothOptions no_compensation() {
+  SmoothOptions o;
+  o.edge_compensation = false;
+  return o;
+}
+
+}  // namespace
+
+// ---- 1. smoothing ----
+
+TEST(PathPlannerSmooth, PitchEstimateOfAStaircase) {
+  const double p = 0.001;
+  const Ring s = staircase(rotated(rect(0, 0, 0.3, 0.2), 0.2, {0.15, 0.1}), p);
+  EXPECT_NEAR(estimate_pitch({{false, s}}), p, 0.05 * p);
+  // A drawn polygon with a few long edges has no pitch: nothing to de-noise.
+  EXPECT_EQ(estimate_pitch({{false, rect(0, 0, 0.3, 0.2)}}), 0.0);
+}
+
+TEST(PathPlannerSmooth, RotatedRectangleStaysOnTheEdgeAndKeepsItsCorners) {
+  const double p = 0.001;
+  for (double angle : {0.13, 0.35, 0.61}) {
+    const Ring truth = rotated(rect(0.02, 0.03, 0.32, 0.21), angle, {0.17, 0.12});
+    const Ring stairs = staircase(truth, p);
+    const SmoothedRing s = smooth_ring(stairs, p, no_compensation());
+    int far = 0;
+    double worst = 0;
+    for (const Vec2& q : s.points) {
+      if (vertex_dist(q, truth) < 0.005) continue;  // away from corners
+      worst = std::max(worst, ring_dist(q, truth));
+      ++far;
+    }
+    EXPECT_GT(far, 500);
+    EXPECT_LT(worst, 0.0005) << "angle " << angle;
+    // Raw staircase for comparison: its error reaches ~pitch/sqrt(2).
+    const auto turns = corner_turns(s, 0.006);
+    ASSERT_EQ(turns.size(), 4u) << "angle " << angle;
+    for (const auto& [c, t] : turns) {
+      EXPECT_LT(vertex_dist(c, truth), 0.0015);
+      EXPECT_NEAR(t, deg(90), deg(5)) << "angle " << angle;
+    }
+  }
+}
+
+TEST(PathPlannerSmooth, AcuteAndObtuseCornersKeepTheirAngle) {
+  const double p = 0.001;
+  // Trapezoid with 60 and 120 degree turns, rotated against the grid.
+  const double h = 0.15, inset = h / std::tan(deg(60));
+  const Ring truth = rotated({{0, 0}, {0.4, 0}, {0.4 - inset, h}, {inset, h}}, 0.21, {0.2, 0.07});
+  const SmoothedRing s = smooth_ring(staircase(truth, p), p, no_compensation());
+  const auto turns = corner_turns(s, 0.006);
+  ASSERT_EQ(turns.size(), 4u);
+  for (const auto& [c, t] : turns) {
+    // The true turn at the nearest true vertex.
+    std::size_t k = 0;
+    for (std::size_t i = 1; i < truth.size(); ++i)
+      if ((truth[i] - c).norm() < (truth[k] - c).norm()) k = i;
+    const std::size_t n = truth.size();
+    const double expected = turn(truth[k] - truth[(k + n - 1) % n], truth[(k + 1) % n] - truth[k]);
+    EXPECT_NEAR(t, expected, deg(5));
+  }
+}
+
+TEST(PathPlannerSmooth, CircleHasNoCornersAndKeepsItsRadius) {
+  const double p = 0.001;
+  for (double R : {0.015, 0.05}) {
+    const Ring truth = circle({0.1, 0.1}, R, 2000);
+    const SmoothedRing s = smooth_ring(staircase(truth, p), p, no_compensation());
+    int corners = 0;
+    for (auto c : s.corner) corners += c;
+    EXPECT_EQ(corners, 0) << "R " << R;
+    for (const Vec2& q : s.points) EXPECT_NEAR((q - Vec2(0.1, 0.1)).norm(), R, 0.0005) << "R " << R;
+  }
+}
+
+TEST(PathPlannerSmooth, EdgeCompensationMovesOutwardByHalfAPitch) {
+  // A staircase whose points are the outermost pixel centres of a square at 0..0.1: pixel centres lie at
+  // half a pitch inside the edge. Compensation must bring the straight runs back onto the edge.
+  const double p = 0.001;
+  const Ring inner = staircase(rect(0.0005, 0.0005, 0.0995, 0.0995), p);
+  const SmoothedRing s = smooth_ring(inner, p, SmoothOptions{});
+  const Ring truth = rect(0, 0, 0.1, 0.1);
+  for (const Vec2& q : s.points) {
+    if (vertex_dist(q, truth) < 0.005) continue;
+    EXPECT_LT(ring_dist(q, truth), 1e-4);
+  }
+}
+
+// ---- 2. offset ----
+
+TEST(PathPlannerOffset, SquareGrowsByTheRadius) {
+  const double r = 0.01;
+  const Ring sq = rect(0, 0, 0.1, 0.1);
+  const auto off = offset_ring(sq, false, r, 1e-5);
+  ASSERT_EQ(off.size(), 1u);
+  EXPECT_GT(signed_area(off[0]), 0);  // canonical: counter-clockwise
+  for (const Vec2& q : off[0]) EXPECT_NEAR(ring_dist(q, sq), r, 2e-5);
+  // Straight parts lie exactly on the lines x = -r, x = 0.1 + r, ...
+  int on_lines = 0;
+  for (const Vec2& q : off[0])
+    on_lines += std::abs(q.x() + r) < 2e-6 || std::abs(q.x() - 0.1 - r) < 2e-6 || std::abs(q.y() + r) < 2e-6 ||
+                std::abs(q.y() - 0.1 - r) < 2e-6;
+  EXPECT_GE(on_lines, 8);
+  // Area of the rounded square: s^2 + 4 s r + pi r^2.
+  EXPECT_NEAR(signed_area(off[0]), 0.01 + 4 * 0.1 * r + kPi * r * r, 2e-6);
+}
+
+TEST(PathPlannerOffset, HoleShrinksByTheRadiusAndStaysClockwise) {
+  const double r = 0.01;
+  Ring hole = rect(0, 0, 0.06, 0.04);
+  std::reverse(hole.begin(), hole.end());  // canonical hole: clockwise
+  const auto off = offset_ring(hole, true, r, 1e-5);
+  ASSERT_EQ(off.size(), 1u);
+  EXPECT_LT(signed_area(off[0]), 0);
+  EXPECT_NEAR(std::abs(signed_area(off[0])), (0.06 - 2 * r) * (0.04 - 2 * r), 1e-7);
+  for (const Vec2& q : off[0]) EXPECT_NEAR(ring_dist(q, hole), r, 2e-6);
+}
+
+TEST(PathPlannerOffset, HoleTooSmallForTheToolGivesNothing) {
+  EXPECT_TRUE(offset_ring(circle({0, 0}, 0.009, 400, true), true, 0.01, 1e-5).empty());
+  EXPECT_EQ(offset_ring(circle({0, 0}, 0.011, 400, true), true, 0.01, 1e-5).size(), 1u);
+}
+
+// ---- 3. resample ----
+
+TEST(PathPlannerResample, FixedStepAndCornersKept) {
+  const Ring sq = rect(0, 0, 0.1, 0.05);
+  const double step = 0.003;
+  const SampledRing s = resample_ring(sq, step, deg(10));
+  // Every corner is a waypoint; each side of length L has ceil(L/step) equal steps.
+  for (const Vec2& c : sq) EXPECT_LT(vertex_dist(c, s.points), 1e-12);
+  const std::size_t expected = 2 * std::size_t(std::ceil(0.1 / step)) + 2 * std::size_t(std::ceil(0.05 / step));
+  EXPECT_EQ(s.points.size(), expected);
+  for (std::size_t i = 0; i < s.points.size(); ++i) {
+    const double d = (s.points[(i + 1) % s.points.size()] - s.points[i]).norm();
+    EXPECT_LE(d, step + 1e-12);
+    EXPECT_GT(d, 0.9 * step);  // 0.1 / 34 and 0.05 / 17 are both close to the step
+    EXPECT_LT(ring_dist(s.points[i], sq), 1e-12);
+  }
+  int corners = 0;
+  for (auto c : s.corner) corners += c;
+  EXPECT_EQ(corners, 4);
+}
+
+TEST(PathPlannerResample, CircleSpacingAlongTheArc) {
+  const Ring c = circle({0, 0}, 0.05, 3000);
+  const SampledRing s = resample_ring(c, 0.002, deg(10));
+  const double L = ring_length(c);
+  EXPECT_EQ(s.points.size(), std::size_t(std::ceil(L / 0.002 - 1e-9)));
+  for (std::size_t i = 0; i < s.points.size(); ++i)
+    EXPECT_NEAR((s.points[(i + 1) % s.points.size()] - s.points[i]).norm(), L / double(s.points.size()), 1e-6);
+}
+
+// ---- 4. orientation and direction ----
+
+TEST(PathPlannerOrient, ToolAxisTiltEqualsTheChamferAngle) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-kPi, kPi);
+  for (double tilt : {0.0, deg(15), deg(30), deg(45), deg(60)}) {
+    for (int k = 0; k < 20; ++k) {
+      const double a = U(rng);
+      const Vec2 t(std::cos(a), std::sin(a)), m(t.y(), -t.x());
+      const Eigen::Quaterniond q = tool_orientation(t, m, tilt);
+      EXPECT_NEAR(q.norm(), 1, 1e-12);
+      const Eigen::Matrix3d R = q.toRotationMatrix();
+      const Vec3 z = R.col(2), x = R.col(0);
+      EXPECT_NEAR(std::acos(std::clamp(z.dot(Vec3(0, 0, -1)), -1.0, 1.0)), tilt, 1e-9);
+      if (tilt > 0) {
+        EXPECT_LT(z.head<2>().dot(m), 0);  // axis points toward the material, tool leans out
+      }
+      EXPECT_NEAR(z.head<2>().dot(t), 0, 1e-12);      // tilt is in the plane of the edge normal
+      EXPECT_NEAR((x - Vec3(t.x(), t.y(), 0)).norm(), 0, 1e-9);
+      EXPECT_NEAR(R.determinant(), 1, 1e-12);
+    }
+  }
+}
+
+TEST(PathPlannerOrient, ClimbGoesClockwiseOutsideAndCounterClockwiseInHoles) {
+  EXPECT_TRUE(travel_reversed(Direction::Climb, true));
+  EXPECT_FALSE(travel_reversed(Direction::Conventional, true));
+  EXPECT_FALSE(travel_reversed(Direction::Climb, false));
+  Ring hole = rect(0.03, 0.03, 0.05, 0.05);
+  std::reverse(hole.begin(), hole.end());
+  std::vector<GrindLoop> loops = {{resample_ring(rect(0, 0, 0.1, 0.1), 0.005, deg(10)), false, 0},
+                                  {resample_ring(hole, 0.005, deg(10)), true, 1}};
+  for (Direction d : {Direction::Climb, Direction::Conventional}) {
+    SequenceOptions o;
+    o.direction = d;
+    const auto path = sequence(loops, Vec2(-1, -1), o);
+    for (int loop : {0, 1}) {
+      Ring g;
+      for (const auto& w : path)
+        if (w.kind == kGrind && w.loop == loop) g.push_back(w.position.head<2>());
+      g.pop_back();  // the closing repeat of the start point
+      const bool cw = signed_area(g) < 0;
+      const bool outer_cw = d == Direction::Climb;
+      EXPECT_EQ(cw, loop == 0 ? outer_cw : !outer_cw) << "direction " << int(d) << " loop " << loop;
+    }
+  }
+}
+
+// ---- 5. leads, approach, order ----
+
+TEST(PathPlannerSequence, LeadInArcIsTangentAndOnTheAirSide) {
+  const Vec2 p0(0.2, 0.1), t(0, 1), m(1, 0);
+  const double rho = 0.01;
+  const auto arc = lead_in_arc(p0, t, m, rho, deg(90), 0.001);
+  ASSERT_GE(arc.size(), 4u);
+  EXPECT_LT((arc.back() - p0).norm(), 1e-15);
+  const Vec2 c = p0 + rho * m;
+  for (const Vec2& q : arc) {
+    EXPECT_NEAR((q - c).norm(), rho, 1e-12);
+    EXPECT_GE((q - p0).dot(m), -1e-15);
+  }
+  // The arc's tangent at p0 is perpendicular to the radius there, i.e. along t; the last chord deviates
+  // by half its angle.
+  const Vec2 last = (arc.back() - arc[arc.size() - 2]).normalized();
+  const double chord_angle = deg(90) / double(arc.size() - 1);
+  EXPECT_NEAR(std::acos(last.dot(t)), chord_angle / 2, 1e-9);
+  EXPECT_NEAR((arc.front() - (p0 + rho * m - rho * t)).norm(), 0, 1e-12);  // starts a quarter turn back
+  const auto out = lead_out_arc(p0, t, m, rho, deg(90), 0.001);
+  EXPECT_LT((out.front() - p0).norm(), 1e-15);
+  EXPECT_NEAR((out.back() - (p0 + rho * m + rho * t)).norm(), 0, 1e-12);
+  const Vec2 first = (out[1] - out[0]).normalized();
+  EXPECT_NEAR(std::acos(first.dot(t)), chord_angle / 2, 1e-9);
+}
+
+TEST(PathPlannerSequence, GreedyOrderFromTheRobotAndNearestStart) {
+  std::vector<GrindLoop> loops;
+  for (int k = 0; k < 3; ++k) loops.push_back({resample_ring(rect(k * 0.3, 0, k * 0.3 + 0.1, 0.1), 0.01, deg(10)), false, k});
+  Ordering a = order_loops(loops, Vec2(-0.5, 0.05));
+  EXPECT_EQ(a.order, (std::vector<int>{0, 1, 2}));
+  Ordering b = order_loops(loops, Vec2(1.5, 0.05));
+  EXPECT_EQ(b.order, (std::vector<int>{2, 1, 0}));
+  // Start vertex of the first loop: nearest non-corner point to the robot: on the left edge x = 0 at y
+  // 0.05 (a sample point there, since 0.1 / 0.01 = 10 equal steps).
+  const Vec2 s = loops[0].ring.points[a.start_vertex[0]];
+  EXPECT_NEAR(s.x(), 0, 1e-12);
+  EXPECT_NEAR(s.y(), 0.05, 1e-12);
+}
+
+TEST(PathPlannerSequence, ApproachAndRetractAtSafeHeight) {
+  std::vector<GrindLoop> loops = {{resample_ring(rect(0, 0, 0.1, 0.1), 0.005, deg(10)), false, 0},
+                                  {resample_ring(rect(0.3, 0, 0.4, 0.1), 0.005, deg(10)), false, 1}};
+  SequenceOptions o;
+  o.safe_height = 0.07;
+  o.z = 0.001;
+  const auto path = sequence(loops, Vec2(0, 0), o);
+  ASSERT_FALSE(path.empty());
+  EXPECT_EQ(path.front().kind, kApproach);
+  EXPECT_NEAR(path.front().position.z(), 0.071, 1e-12);
+  EXPECT_EQ(path.back().kind, kRetract);
+  EXPECT_NEAR(path.back().position.z(), 0.071, 1e-12);
+  int travel = 0;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const auto& w = path[i];
+    if (w.kind == kTravel) {
+      ++travel;
+      EXPECT_NEAR(w.position.z(), 0.071, 1e-12);
+      EXPECT_EQ(path[i - 1].kind, kRetract);
+      EXPECT_DOUBLE_EQ(w.speed, o.travel_speed);
+    }
+    if (w.kind == kGrind || w.kind == kLeadIn || w.kind == kLeadOut) {
+      EXPECT_NEAR(w.position.z(), 0.001, 1e-12);
+      EXPECT_DOUBLE_EQ(w.speed, o.grind_speed);
+    }
+  }
+  EXPECT_EQ(travel, 1);
+}
+
+// ---- 6. frames ----
+
+TEST(PathPlannerFrame, KnownPointsIntoTheBaseFrame) {
+  // Camera 1.2 m above the base at x = 0.5, looking down (roll = pi): camera x = base x, camera y = -base y.
+  const Eigen::Isometry3d cam = pose_from_xyz_rpy(Vec3(0.5, 0, 1.2), Vec3(kPi, 0, 0));
+  // Plate 1 m in front of the camera, u = camera x, v = camera -y, normal toward the camera.
+  const Plane plane{Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, -1)};
+  const Eigen::Isometry3d T = plate_to_base(plane, cam);
+  // plate (0.1, 0.2, 0) -> camera (0.1, -0.2, 1) -> base (0.6, 0.2, 0.2)
+  EXPECT_LT((T * Vec3(0.1, 0.2, 0) - Vec3(0.6, 0.2, 0.2)).norm(), 1e-12);
+  EXPECT_LT((T * Vec3(0, 0, 0.05) - Vec3(0.5, 0, 0.25)).norm(), 1e-12);  // plate up = base up
+  const std::vector<PlateWaypoint> p = {{Vec3(0.1, 0.2, 0), tool_orientation(Vec2(1, 0), Vec2(0, -1), 0), 0.1, kGrind, 0}};
+  const auto b = to_base(p, T);
+  EXPECT_LT((b[0].orientation.toRotationMatrix().col(2) - Vec3(0, 0, -1)).norm(), 1e-12);  // tool points down
+  EXPECT_LT((b[0].orientation.toRotationMatrix().col(0) - Vec3(1, 0, 0)).norm(), 1e-12);
+}
+
+TEST(PathPlannerFrame, MatrixAndXyzRpyConfigAgree) {
+  const Eigen::Isometry3d ref = pose_from_xyz_rpy(Vec3(0.3, -0.2, 1.1), Vec3(3.0, 0.1, -0.4));
+  std::string m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m += (m.empty() ? "" : ",") + std::to_string(ref.matrix()(r, c));
+  auto defaults = planner_params();
+  auto lookup = [&](std::map<std::string, std::string> over) {
+    return ParamLookup{[=](const std::string& k) {
+                         if (over.count(k)) return over.at(k);
+                         for (auto& p : defaults)
+                           if (p.name == k) return p.default_value;
+                         return std::string();
+                       },
+                       [=](const std::string& k) {
+                         std::string text = over.count(k) ? over.at(k) : "";
+                         if (text.empty())
+                           for (auto& p : defaults)
+                             if (p.name == k) text = p.default_value;
+                         std::vector<double> v;
+                         std::stringstream ss(text);
+                         std::string item;
+                         while (std::getline(ss, item, ',')) v.push_back(std::stod(item));
+                         return v;
+                       }};
+  };
+  const PlannerConfig a = config_from(lookup({{"camera_to_base", m}}));
+  const PlannerConfig b = config_from(lookup({{"camera_xyz", "0.3,-0.2,1.1"}, {"camera_rpy", "3.0,0.1,-0.4"}}));
+  EXPECT_LT((a.camera_to_base.matrix() - b.camera_to_base.matrix()).norm(), 1e-5);  // to_string keeps 6 digits
+  EXPECT_THROW(config_from(lookup({{"camera_to_base", "1,0,0,0, 0,2,0,0, 0,0,1,0, 0,0,0,1"}})), hg::runtime::ConfigError);
+  EXPECT_THROW(config_from(lookup({{"tool_radius", "-1"}})), hg::runtime::ConfigError);
+}
+
+TEST(PathPlannerFrame, NormalPointingDownIsTurnedUpWithoutMovingThePlate) {
+  const Eigen::Isometry3d cam = pose_from_xyz_rpy(Vec3(0.5, 0, 1.2), Vec3(kPi, 0, 0));
+  OutlineInput in;
+  in.plane = {Vec3(0.01, 0.02, 1), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};  // normal away from the camera
+  in.loops = {{false, rect(0, 0, 0.2, 0.1)}};
+  auto to3 = [](const Plane& pl, const Vec2& p) { return Vec3(pl.origin + p.x() * pl.u + p.y() * pl.v); };
+  std::vector<Vec3> before;
+  for (const Vec2& p : in.loops[0].points) before.push_back(to3(in.plane, p));
+  normalize_up(in, cam);
+  EXPECT_GT((cam.linear() * in.plane.normal).z(), 0);
+  EXPECT_GT(in.plane.u.cross(in.plane.v).dot(in.plane.normal), 0);
+  EXPECT_GT(signed_area(in.loops[0].points), 0);  // still canonical
+  for (const Vec2& p : in.loops[0].points) {
+    double best = 1e9;
+    for (const Vec3& q : before) best = std::min(best, (to3(in.plane, p) - q).norm());
+    EXPECT_LT(best, 1e-15);
+  }
+}
+
+TEST(PathPlannerFrame, FlipMirrorsAcrossThePrincipalAxisThroughTheCentroid) {
+  // 0.4 x 0.2 plate with a 0.04 x 0.04 hole centred at (0.1, 0.05): long axis along x.
+  Ring hole = rect(0.08, 0.03, 0.12, 0.07);
+  std::reverse(hole.begin(), hole.end());
+  const std::vector<Loop> loops = {{false, rect(0, 0, 0.4, 0.2)}, {true, hole}};
+  const double A = 0.08 - 0.0016;
+  const double cx = (0.08 * 0.2 - 0.0016 * 0.1) / A, cy = (0.08 * 0.1 - 0.0016 * 0.05) / A;
+  const AreaMoments m = area_moments(loops);
+  EXPECT_NEAR(m.area, A, 1e-15);
+  EXPECT_NEAR(m.centroid.x(), cx, 1e-12);
+  EXPECT_NEAR(m.centroid.y(), cy, 1e-12);
+  EXPECT_NEAR(std::abs(m.major_axis.x()), 1, 1e-3);  // nearly x; the hole tilts it slightly
+  const auto f = mirror_for_flip(loops);
+  EXPECT_LT(signed_area(f[1].points), 0);  // holes stay clockwise
+  EXPECT_GT(signed_area(f[0].points), 0);
+  Vec2 hc = Vec2::Zero();
+  for (const Vec2& p : f[1].points) hc += p / 4;
+  // Mirror of (0.1, 0.05) across the axis through the centroid.
+  const Eigen::Matrix2d Rf = 2 * m.major_axis * m.major_axis.transpose() - Eigen::Matrix2d::Identity();
+  EXPECT_LT((hc - (m.centroid + Rf * (Vec2(0.1, 0.05) - m.centroid))).norm(), 1e-12);
+  EXPECT_NEAR(hc.y(), 2 * cy - 0.05, 2e-4);
+  EXPECT_NEAR(area_moments(f).area, A, 1e-12);
+}
+
+// ---- 7. validation ----
+
+namespace {
+std::vector<Waypoint> square_path(double z) {
+  std::vector<Waypoint> p;
+  const Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  p.push_back({Vec3(0, 0, z + 0.05), q, 0.1, kApproach, -1});
+  p.push_back({Vec3(0, 0, z), q, 0.05, kApproach, 0});
+  p.push_back({Vec3(0.01, 0, z), q, 0.02, kLeadIn, 0});
+  for (Vec2 c : {Vec2(0.1, 0), Vec2(0.1, 0.1), Vec2(0.01, 0.1), Vec2(0.01, 0)}) p.push_back({Vec3(c.x(), c.y(), z), q, 0.02, kGrind, 0});
+  p.push_back({Vec3(0.01, 0, z + 0.05), q, 0.05, kRetract, 0});
+  return p;
+}
+}  // namespace
+
+TEST(PathPlannerValidate, AcceptsAGoodPathAndRejectsEachFault) {
+  Limits L;
+  L.workspace_min = Vec3(-0.5, -0.5, 0);
+  L.workspace_max = Vec3(0.5, 0.5, 0.5);
+  L.table_z = 0.005;
+  L.max_speed = 0.2;
+  const Vec3 up(0, 0, 1);
+  EXPECT_EQ(validate(square_path(0.01), L, up), "");
+  auto p = square_path(0.01);
+  p[4].position.x() = 0.6;
+  EXPECT_NE(validate(p, L, up).find("waypoint 4: position (0.6000, 0.1000, 0.0100) m is outside the workspace"), std::string::npos);
+  EXPECT_NE(validate(square_path(0.004), L, up).find("not above the table"), std::string::npos);
+  p = square_path(0.01);
+  p[3].speed = 0.3;
+  EXPECT_NE(validate(p, L, up).find("speed"), std::string::npos);
+  p = square_path(0.01);
+  std::swap(p[4].position, p[5].position);  // bow tie
+  EXPECT_NE(validate(p, L, up).find("intersects itself"), std::string::npos);
+}
+
+TEST(PathPlannerValidate, SelfIntersection) {
+  EXPECT_FALSE(self_intersects(rect(0, 0, 1, 1)));
+  EXPECT_TRUE(self_intersects({{0, 0}, {1, 1}, {1, 0}, {0, 1}}));
+  const Ring big = circle({0, 0}, 1, 20000);
+  EXPECT_FALSE(self_intersects(big));
+  Ring spiked = big;
+  spiked[5000] = Vec2(0, -0.5);  // a spike into the circle's inside crosses nothing
+  EXPECT_FALSE(self_intersects(spiked));
+  spiked[15000] = Vec2(0, -0.4);  // a second spike from the far side crosses the first
+  EXPECT_TRUE(self_intersects(spiked));
+  Ring crossing = big;
+  crossing[100] = Vec2(-2, 0);  // a spike out through the far side of the circle
+  EXPECT_TRUE(self_intersects(crossing));
+  // Touching (a vertex on another segment) counts as an intersection.
+  EXPECT_TRUE(self_intersects({{0, 0}, {2, 0}, {2, 2}, {1, 0}, {0, 2}}));
+}
+
+// ---- composition ----
+
+namespace {
+PlannerConfig simple_config() {
+  PlannerConfig c;
+  c.camera_to_base = pose_from_xyz_rpy(Vec3(0.5, 0, 1.2), Vec3(kPi, 0, 0));
+  c.limits.workspace_min = Vec3(-1, -1, 0);
+  c.limits.workspace_max = Vec3(2, 1, 1);
+  c.limits.table_z = 0;
+  return c;
+}
+OutlineInput plate_with_hole(double hole_half) {
+  OutlineInput in;
+  in.plane = {Vec3(0, 0, 1.19), Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, -1)};
+  Ring hole = rect(0.1 - hole_half, 0.05 - hole_half, 0.1 + hole_half, 0.05 + hole_half);
+  std::reverse(hole.begin(), hole.end());
+  in.loops = {{false, rect(0, 0, 0.3, 0.1)}, {true, hole}};
+  return in;
+}
+}  // namespace
+
+TEST(PathPlannerPlan, EveryLoopGroundAtTheToolRadius) {
+  const PlannerConfig cfg = simple_config();
+  const OutlineInput in = plate_with_hole(0.02);
+  JobParams jp;  // zero: defaults
+  jp.tool_radius = 0;
+  jp.chamfer_angle = 0;
+  jp.grind_speed = 0;
+  jp.travel_speed = 0;
+  jp.step = 0;
+  jp.safe_height = 0;
+  const PlanResult r = plan(in, jp, cfg, std::nullopt);
+  ASSERT_TRUE(r.ok) << r.reason;
+  EXPECT_EQ(r.loops_planned, 2);
+  EXPECT_DOUBLE_EQ(r.params.tool_radius, cfg.defaults.tool_radius);
+  const Eigen::Isometry3d Tinv = plate_to_base(in.plane, cfg.camera_to_base).inverse();
+  int grind[2] = {0, 0};
+  for (const Waypoint& w : r.path) {
+    EXPECT_NEAR(w.orientation.norm(), 1, 1e-12);
+    if (w.kind != kGrind) continue;
+    ASSERT_GE(w.loop, 0);
+    ++grind[w.loop];
+    const Vec3 p = Tinv * w.position;
+    EXPECT_NEAR(p.z(), 0, 1e-12);
+    EXPECT_NEAR(ring_dist(p.head<2>(), in.loops[w.loop].points), cfg.defaults.tool_radius, 2e-5);
+    const double tilt = std::acos(std::clamp(w.orientation.toRotationMatrix().col(2).dot(Vec3(0, 0, -1)), -1.0, 1.0));
+    EXPECT_NEAR(tilt, cfg.defaults.chamfer_angle, 1e-9);
+  }
+  EXPECT_GT(grind[0], 100);
+  EXPECT_GT(grind[1], 10);
+}
+
+TEST(PathPlannerPlan, StartsNearTheRobot) {
+  const PlannerConfig cfg = simple_config();
+  const OutlineInput in = plate_with_hole(0.02);
+  // Plate (x, y) maps to base (0.5 + x, y, 0.01). Robot above the far right end of the plate.
+  const PlanResult r = plan(in, JobParams{}, cfg, Vec3(0.5 + 0.35, 0.05, 0.3));
+  ASSERT_TRUE(r.ok) << r.reason;
+  const Waypoint& first = r.path[1];  // the lead-in start at grind height
+  EXPECT_EQ(first.loop, 0);
+  EXPECT_GT(first.position.x(), 0.5 + 0.3);
+}
+
+TEST(PathPlannerPlan, HoleTooSmallFailsOrIsSkippedPerConfig) {
+  PlannerConfig cfg = simple_config();
+  const OutlineInput in = plate_with_hole(0.008);  // 16 mm hole, 20 mm tool
+  PlanResult r = plan(in, JobParams{}, cfg, std::nullopt);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("hole 1 is too small"), std::string::npos) << r.reason;
+  cfg.small_hole = SmallHolePolicy::Skip;
+  r = plan(in, JobParams{}, cfg, std::nullopt);
+  ASSERT_TRUE(r.ok) << r.reason;
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("hole 1"), std::string::npos);
+  EXPECT_EQ(r.loops_planned, 1);
+}
+
+TEST(PathPlannerPlan, OutOfWorkspaceAndBadInputFail) {
+  PlannerConfig cfg = simple_config();
+  cfg.limits.workspace_max = Vec3(0.7, 1, 1);  // the plate reaches x = 0.8 (+ tool)
+  PlanResult r = plan(plate_with_hole(0.02), JobParams{}, cfg, std::nullopt);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("validation: waypoint"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("outside the workspace box"), std::string::npos) << r.reason;
+  OutlineInput bad = plate_with_hole(0.02);
+  bad.loops[1].points[2].x() = std::nan("");
+  r = plan(bad, JobParams{}, simple_config(), std::nullopt);
+  EXPECT_EQ(r.reason, "bad outline: loop 1 point 2 is not finite");
+  JobParams neg;
+  neg.tool_radius = -0.01;
+  r = plan(plate_with_hole(0.02), neg, simple_config(), std::nullopt);
+  EXPECT_EQ(r.reason, "tool_radius must be > 0 m");
+}
+
+TEST(PathPlannerPlan, FlippedPathIsTheMirrorImage) {
+  const PlannerConfig cfg = simple_config();
+  OutlineInput in = plate_with_hole(0.02);
+  JobParams jp;
+  jp.flipped = true;
+  const PlanResult r = plan(in, jp, cfg, std::nullopt);
+  ASSERT_TRUE(r.ok) << r.reason;
+  const std::vector<Loop> mirrored = mirror_for_flip(in.loops);
+  const Eigen::Isometry3d Tinv = plate_to_base(in.plane, cfg.camera_to_base).inverse();
+  for (const Waypoint& w : r.path) {
+    if (w.kind == kGrind)
+      EXPECT_NEAR(ring_dist((Tinv * w.position).head<2>(), mirrored[w.loop].points), cfg.defaults.tool_radius, 2e-5);
+  }
+}
+
+TEST(PathPlannerIo, OutlineJsonErrorsNameThePlace) {
+  const Plane pl;
+  try {
+    read_outline_json("{\"loops\": [", pl);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("byte 11"), std::string::npos) << e.what();
+  }
+  try {
+    read_outline_json(R"({"loops": [{"hole": false, "points": [[0,0],[1,0],["x",1]]}]})", pl);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("loops[0].points[2]"), std::string::npos) << e.what();
+  }
+  const OutlineInput in = read_outline_json(
+      R"({"plane": {"origin": [1,2,3], "normal": [0,0,1], "u": [1,0,0], "v": [0,1,0]},
+          "loops": [{"hole": true, "area": 1, "perimeter": 4, "points": [[0,0],[0,1],[1,1],[1,0]]}]})", pl);
+  ASSERT_EQ(in.loops.size(), 1u);
+  EXPECT_TRUE(in.loops[0].hole);
+  EXPECT_EQ(in.plane.origin, Vec3(1, 2, 3));
+  EXPECT_EQ(in.loops[0].points[2], Vec2(1, 1));
+}
