@@ -343,6 +343,9 @@ struct Decoder {
       const char* p = reinterpret_cast<const char*>(r.d + r.pos);
       if (p[len - 1] != '\0')
         throw DecodeError("string '" + path + "' at byte " + std::to_string(r.pos) + " is not NUL-terminated");
+      // LCM encoders write strlen() bytes, so a NUL inside means the length is wrong.
+      if (std::memchr(p, '\0', static_cast<std::size_t>(len - 1)))
+        throw DecodeError("string '" + path + "' at byte " + std::to_string(r.pos) + " has a NUL byte inside");
       r.pos += static_cast<std::size_t>(len);
       return build ? Json(std::string(p, static_cast<std::size_t>(len - 1))) : Json();
     }
