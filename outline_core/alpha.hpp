@@ -11,7 +11,7 @@
 namespace hg::outline {
 
 // Default k of the automatic radius R = k x median nearest-neighbour spacing (docs/outline-auto-radius.md).
-inline constexpr double kDefaultAutoFactor = 1.5;
+inline constexpr double kDefaultAutoFactor = 1.7;
 
 // Median over the triangulated points of the distance to the nearest other point (read off the Delaunay
 // edges: the nearest neighbour is always a Delaunay neighbour). Translated units = input units.

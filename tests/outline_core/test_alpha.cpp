@@ -1,0 +1,296 @@
+// Alpha shape and loops: known shapes with analytic loops, pinches, outer-only, and on random clouds an
+// independent reconstruction of the free edges from an exact (GMP) circumradius classification.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "clouds.hpp"
+#include "exact_checker.hpp"
+#include "outline_core/alpha.hpp"
+#include "outline_core/delaunay.hpp"
+
+using namespace hg::outline;
+using namespace hg::outline::testing;
+
+namespace {
+
+double signed_area(const Loop& L) {
+  double a = 0;
+  for (std::size_t i = 0; i < L.points.size(); ++i) {
+    const Vec2 &p = L.points[i], &q = L.points[(i + 1) % L.points.size()];
+    a += p.x * q.y - q.x * p.y;
+  }
+  return a / 2;
+}
+
+// Square [0,20]^2 of unit grid points without the points strictly inside (5,15)^2.
+std::vector<Vec2> square_with_hole() {
+  std::vector<Vec2> p;
+  for (int y = 0; y <= 20; ++y)
+    for (int x = 0; x <= 20; ++x)
+      if (!(x > 5 && x < 15 && y > 5 && y < 15)) p.push_back({double(x), double(y)});
+  return p;
+}
+
+std::vector<Vec2> square(int x0, int y0, int size) {
+  std::vector<Vec2> p;
+  for (int y = 0; y <= size; ++y)
+    for (int x = 0; x <= size; ++x) p.push_back({double(x0 + x), double(y0 + y)});
+  return p;
+}
+
+// Circular plate holes, uniform in-plane noise of +-amp spacings, dropout (docs/outline-auto-radius.md).
+std::vector<Vec2> noisy_plate(int W, int H, const std::vector<double>& diam, double amp, double drop, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1), v(0, 1);
+  std::vector<Vec2> p;
+  const int nh = static_cast<int>(diam.size());
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      bool in_hole = false;
+      for (int k = 0; k < nh; ++k) {
+        const double cx = (k + 1.0) * W / (nh + 1), cy = H / 2.0 + 0.37 * k, r = diam[k] / 2;
+        if ((x - cx) * (x - cx) + (y - cy) * (y - cy) < r * r) in_hole = true;
+      }
+      if (in_hole || v(rng) < drop) continue;
+      p.push_back({x + amp * u(rng), y + amp * u(rng)});
+    }
+  return p;
+}
+
+}  // namespace
+
+TEST(OutlineAlpha, SquareWithSquareHole) {
+  const auto pts = square_with_hole();
+  for (Mode m : {Mode::Ordinary, Mode::DS, Mode::DSHI})
+    for (Order o : {Order::AsIs, Order::Hilbert, Order::Brio}) {
+      SCOPED_TRACE(std::string(to_string(m)) + " " + to_string(o));
+      Options opt;
+      opt.alpha_radius = 1;  // grid cells: r = 0.707; inside the hole every triangle spans >= sqrt(5)
+      opt.mode = m;
+      opt.order = o;
+      const Result r = compute_outline(pts, opt);
+      ASSERT_EQ(r.loops.size(), 2u);
+      const Loop &outer = r.loops[0], &hole = r.loops[1];
+      EXPECT_FALSE(outer.hole);
+      EXPECT_TRUE(hole.hole);
+      EXPECT_EQ(outer.area, 400.0);
+      EXPECT_GT(signed_area(outer), 0);  // counter-clockwise
+      EXPECT_EQ(outer.points.size(), 80u);
+      EXPECT_DOUBLE_EQ(outer.perimeter, 80.0);
+      // The hole is the 10 x 10 square with its four corner cells cut diagonally (the half-cell at each
+      // corner, e.g. (5,5)-(6,5)-(5,6), has r = 0.707 and is inside).
+      EXPECT_EQ(hole.area, 98.0);
+      EXPECT_LT(signed_area(hole), 0);  // clockwise
+      EXPECT_EQ(hole.points.size(), 36u);
+      EXPECT_NEAR(hole.perimeter, 32 + 4 * std::sqrt(2.0), 1e-12);
+      for (std::size_t i = 0; i < hole.points.size(); ++i) {
+        const Vec2 p = hole.points[i];
+        EXPECT_EQ(pts[hole.point_index[i]].x, p.x);
+        EXPECT_EQ(pts[hole.point_index[i]].y, p.y);
+        EXPECT_TRUE(p.x == 5 || p.x == 15 || p.y == 5 || p.y == 15);
+      }
+      EXPECT_EQ(r.points_read, pts.size());
+      EXPECT_EQ(r.points_used, pts.size());
+      EXPECT_EQ(r.duplicates_merged, 0u);
+      EXPECT_FALSE(r.alpha_automatic);
+      EXPECT_EQ(r.alpha_radius, 1.0);
+    }
+}
+
+TEST(OutlineAlpha, OuterOnlyKeepsTheHoleFilled) {
+  Options opt;
+  opt.alpha_radius = 1;
+  opt.outer_only = true;
+  const Result r = compute_outline(square_with_hole(), opt);
+  ASSERT_EQ(r.loops.size(), 1u);
+  EXPECT_FALSE(r.loops[0].hole);
+  EXPECT_EQ(r.loops[0].area, 400.0);
+}
+
+TEST(OutlineAlpha, OuterOnlyStillCutsNotchesOpenToTheOutside) {
+  // A U shape: the notch's big triangles connect to the outside, so the paper's BFS removes them.
+  std::vector<Vec2> p;
+  for (int y = 0; y <= 20; ++y)
+    for (int x = 0; x <= 20; ++x)
+      if (!(x > 6 && x < 14 && y > 6)) p.push_back({double(x), double(y)});
+  Options opt;
+  opt.alpha_radius = 1;
+  opt.outer_only = true;
+  const Result r = compute_outline(p, opt);
+  ASSERT_EQ(r.loops.size(), 1u);
+  // Area of the U: 400 minus the notch (x in (6,14), y in (6,20]) with its two bottom corner half-cells kept.
+  EXPECT_EQ(r.loops[0].area, 400.0 - 8 * 14 + 1.0);
+}
+
+TEST(OutlineAlpha, TwoSeparateSquaresGiveTwoOuterLoops) {
+  auto p = square(0, 0, 5);
+  const auto q = square(10, 3, 5);
+  p.insert(p.end(), q.begin(), q.end());
+  Options opt;
+  opt.alpha_radius = 1;
+  const Result r = compute_outline(p, opt);
+  ASSERT_EQ(r.loops.size(), 2u);
+  for (const Loop& L : r.loops) {
+    EXPECT_FALSE(L.hole);
+    EXPECT_EQ(L.area, 25.0);
+    EXPECT_EQ(L.points.size(), 20u);
+  }
+}
+
+TEST(OutlineAlpha, BowtiePinchGivesTwoSimpleTriangles) {
+  // Delaunay: 4 triangles around P; left/right have r = 1.25, top/bottom r = 2.5. R = 2 keeps left and
+  // right, which touch only at P.
+  const std::vector<Vec2> p{{0, 0}, {-2, 1}, {-2, -1}, {2, 1}, {2, -1}};
+  Options opt;
+  opt.alpha_radius = 2;
+  const Result r = compute_outline(p, opt);
+  ASSERT_EQ(r.loops.size(), 2u);
+  for (const Loop& L : r.loops) {
+    EXPECT_FALSE(L.hole);
+    EXPECT_EQ(L.points.size(), 3u);
+    EXPECT_EQ(L.area, 2.0);
+    EXPECT_EQ(L.point_index[0], 0u);  // each loop starts at its smallest index: the pinch P
+  }
+  EXPECT_EQ(std::set<std::uint32_t>(r.loops[0].point_index.begin(), r.loops[0].point_index.end()),
+            (std::set<std::uint32_t>{0, 1, 2}));
+}
+
+TEST(OutlineAlpha, HoleTouchingTheOuterBoundaryIsSplitIntoSimpleLoops) {
+  // Square plate whose diamond-shaped hole touches the bottom edge at one vertex (10, 0): the free edges
+  // form one closed chain through (10, 0) twice; it must come out as an outer loop and a hole.
+  std::vector<Vec2> p;
+  for (int y = 0; y <= 20; ++y)
+    for (int x = 0; x <= 20; ++x)
+      if (!(std::abs(x - 10) + std::abs(y - 6) < 6 && y > 0)) p.push_back({double(x), double(y)});
+  // R = 0.9: grid cells (r = 0.707) stay, the triangles across the diamond's corners (r = 1) go.
+  Options opt;
+  opt.alpha_radius = 0.9;
+  const Result r = compute_outline(p, opt);
+  ASSERT_EQ(r.loops.size(), 2u);
+  EXPECT_FALSE(r.loops[0].hole);
+  EXPECT_TRUE(r.loops[1].hole);
+  EXPECT_EQ(r.loops[1].area, 72.0);  // the diamond (10,0) (16,6) (10,12) (4,6)
+  for (const Loop& L : r.loops) {
+    EXPECT_EQ(std::set<std::uint32_t>(L.point_index.begin(), L.point_index.end()).size(), L.point_index.size());
+    EXPECT_NE(std::find_if(L.points.begin(), L.points.end(), [](const Vec2& q) { return q.x == 10 && q.y == 0; }), L.points.end());
+  }
+  EXPECT_EQ(r.loops[0].area, 400.0);
+}
+
+TEST(OutlineAlpha, LoopsAreExactlyTheFreeEdgesOfAnExactClassification) {
+  // Independent reconstruction: classify every Delaunay triangle with GMP (r^2 <= R^2 inside), collect
+  // directed edges with inside on the left and outside/hull on the right; the loops' edges must be
+  // exactly those, each loop a simple polygon (no repeated vertex, >= 3 vertices), and the signed loop
+  // areas must add up to the inside area.
+  std::size_t pinches = 0, loops_seen = 0;
+  for (std::uint64_t seed : {1, 2, 3, 4}) {
+    auto pts = random_cloud(1500, 100 + seed, 100);
+    const auto extra = grid_cloud(20, 20, 2.5, {10, 10});  // some cocircular structure too
+    pts.insert(pts.end(), extra.begin(), extra.end());
+    for (double R : {1.6, 2.0, 2.6, 3.5, 6.0})
+      for (bool outer_only : {false, true}) {
+        SCOPED_TRACE("seed " + std::to_string(seed) + " R " + std::to_string(R) + (outer_only ? " outer-only" : ""));
+        Options opt;
+        opt.alpha_radius = R;
+        opt.outer_only = outer_only;
+        opt.keep_triangles = true;
+        const Result r = compute_outline(pts, opt);
+        const Triangulation T = triangulate(pts, Mode::DSHI, Order::AsIs);
+        // Independent classification on the same translated coordinates.
+        std::vector<Q2> q(T.xy.size());
+        for (std::size_t v = 0; v < q.size(); ++v) q[v] = exact(T.xy[v]);
+        const mpq_class R2 = mpq_class(R) * mpq_class(R);
+        std::vector<char> in(T.slots(), 0);
+        for (std::size_t t = 0; t < T.slots(); ++t)
+          if (!T.is_ghost(t)) in[t] = circumradius2_q(q[T.tri[3 * t]], q[T.tri[3 * t + 1]], q[T.tri[3 * t + 2]]) <= R2;
+        if (outer_only) {  // flood from the ghosts through big triangles; big ones not reached are inside
+          std::vector<char> out(T.slots(), 0);
+          std::vector<std::size_t> st;
+          for (std::size_t t = 0; t < T.slots(); ++t)
+            if (T.is_ghost(t)) st.push_back(t), out[t] = 1;
+          while (!st.empty()) {
+            const std::size_t t = st.back();
+            st.pop_back();
+            for (int i = 0; i < 3; ++i) {
+              const std::size_t nb = T.twin[3 * t + i] / 3;
+              if (!out[nb] && !in[nb]) out[nb] = 1, st.push_back(nb);
+            }
+          }
+          for (std::size_t t = 0; t < T.slots(); ++t) in[t] = !T.is_ghost(t) && !out[t];
+        }
+        std::multiset<std::pair<std::uint32_t, std::uint32_t>> want, got;
+        double inside_area = 0;
+        for (std::size_t t = 0; t < T.slots(); ++t) {
+          if (!in[t]) continue;
+          const Vec2 &a = T.xy[T.tri[3 * t]], &b = T.xy[T.tri[3 * t + 1]], &c = T.xy[T.tri[3 * t + 2]];
+          inside_area += ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) / 2;
+          for (int i = 0; i < 3; ++i)
+            if (!in[T.twin[3 * t + i] / 3]) want.insert({T.ids[T.tri[3 * t + i]], T.ids[T.tri[3 * t + (i + 1) % 3]]});
+        }
+        double loop_area = 0;
+        std::map<std::uint32_t, int> uses;
+        bool holes_started = false;
+        for (const Loop& L : r.loops) {
+          ASSERT_GE(L.point_index.size(), 3u);
+          EXPECT_EQ(std::set<std::uint32_t>(L.point_index.begin(), L.point_index.end()).size(), L.point_index.size());
+          EXPECT_EQ(L.hole, signed_area(L) < 0);
+          if (L.hole) holes_started = true;
+          else EXPECT_FALSE(holes_started) << "outer loops come first";
+          loop_area += L.hole ? -L.area : L.area;
+          for (std::size_t i = 0; i < L.point_index.size(); ++i) {
+            got.insert({L.point_index[i], L.point_index[(i + 1) % L.point_index.size()]});
+            ++uses[L.point_index[i]];
+          }
+        }
+        EXPECT_TRUE(got == want) << got.size() << " vs " << want.size();
+        EXPECT_NEAR(loop_area, inside_area, 1e-9 * 1e4);
+        for (const auto& [v, k] : uses) pinches += k > 1;
+        loops_seen += r.loops.size();
+        // The kept Delaunay triangles are the triangulation's, in input indices.
+        EXPECT_EQ(r.delaunay_triangles.size(), T.finite_count());
+        EXPECT_EQ(r.triangles, T.finite_count());
+      }
+  }
+  EXPECT_GT(pinches, 0u) << "the clouds should exercise pinch vertices";
+  EXPECT_GT(loops_seen, 40u);
+}
+
+TEST(OutlineAlpha, AutomaticRadiusFindsRealHolesAndNoSpuriousOnes) {
+  // Noisy scan grids with 2 % dropout (seeds differ from those used to choose k): every hole wider than
+  // 3 spacings is found, dropout makes no hole, the plate is one outer loop.
+  for (double amp : {0.0, 0.1, 0.2})
+    for (std::uint64_t seed : {11, 12}) {
+      SCOPED_TRACE("amp " + std::to_string(amp) + " seed " + std::to_string(seed));
+      const auto pts = noisy_plate(240, 160, {3.2, 4.0, 6.0, 12.0}, amp, 0.02, seed);
+      const Result r = compute_outline(pts);
+      EXPECT_TRUE(r.alpha_automatic);
+      EXPECT_NEAR(r.alpha_radius, kDefaultAutoFactor * r.nn_spacing_median, 1e-12);
+      EXPECT_GT(r.nn_spacing_median, 1 - 2 * amp - 0.05);
+      EXPECT_LE(r.nn_spacing_median, 1.0 + 1e-12);
+      std::size_t outers = 0, holes = 0;
+      for (const Loop& L : r.loops) (L.hole ? holes : outers)++;
+      EXPECT_EQ(outers, 1u);
+      EXPECT_EQ(holes, 4u);
+    }
+}
+
+TEST(OutlineAlpha, DuplicatesAreMergedAndTrianglesReferToFirstOccurrences) {
+  auto pts = square(0, 0, 6);
+  const std::size_t distinct = pts.size();
+  for (std::size_t i = 0; i < distinct; i += 3) pts.push_back(pts[i]);
+  Options opt;
+  opt.alpha_radius = 1;
+  opt.keep_triangles = true;
+  opt.order = Order::Hilbert;
+  const Result r = compute_outline(pts, opt);
+  EXPECT_EQ(r.points_read, pts.size());
+  EXPECT_EQ(r.points_used, distinct);
+  EXPECT_EQ(r.duplicates_merged, pts.size() - distinct);
+  for (const auto& t : r.delaunay_triangles)
+    for (std::uint32_t i : t) EXPECT_LT(i, distinct);
+  ASSERT_EQ(r.loops.size(), 1u);
+  EXPECT_EQ(r.loops[0].area, 36.0);
+  for (std::uint32_t i : r.loops[0].point_index) EXPECT_LT(i, distinct);
+}
