@@ -333,3 +333,24 @@ TEST(ToolsBus, CommittedLogReplaysAndDecodes) {
   }
   EXPECT_EQ(replayed, in_log);
 }
+
+TEST(ToolsBus, JsonCommandPublishesWhatDumpPrints) {
+  TempDir dir("json");
+  const Struct* t = schema().find("grind_path_t");
+  Json msg = sample_message(schema(), *t, 11, 123456);
+  Proc dump = start_dump({"--full", "--count", "1", "--timeout", "60", "--channels", "HG_X"}, dir.path, "dump");
+  EXPECT_EQ(run({kBin + "/hg-lcm-send", "json", "--type", "grind_path_t", "--channel", "HG_X", msg.dump()}, dir.path,
+                "send"),
+            0);
+  EXPECT_EQ(wait_exit(dump), 0) << slurp(dump.err);
+  std::vector<Json> lines = json_lines(dump.out);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0]["type"], "hullgrind.grind_path_t");
+  EXPECT_EQ(lines[0]["msg"], msg);
+  // A field of the wrong kind is refused with its name, nothing is published.
+  msg["n"] = "three";
+  EXPECT_EQ(run({kBin + "/hg-lcm-send", "json", "--type", "grind_path_t", "--channel", "HG_X", msg.dump()}, dir.path,
+                "bad"),
+            2);
+  EXPECT_NE(slurp(dir.path / "bad.err").find("field 'n'"), std::string::npos) << slurp(dir.path / "bad.err");
+}
