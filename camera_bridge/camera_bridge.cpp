@@ -58,6 +58,7 @@ runtime::ProcessInfo process_info() {
               {"scene", "three-parts", "synthetic: scene preset (" + joined(scene_preset_names()) + ")"},
               {"profile", "pm806", "synthetic: camera profile (" + joined(camera_profile_names()) + ")"},
               {"seed", "", "synthetic: noise seed (default: the scene's)"},
+              {"noise-scale", "1", "synthetic: multiplies the profile's depth noise, dropout and mixed-pixel rate (0: clean)"},
               {"write-truth", "", "synthetic: write the scene's ground truth JSON to this file at start"},
               {"files", "", "files: directory of 16-bit depth PNGs, or one .png/.pcd/.ply file"},
               {"intrinsics", "", "files: intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
@@ -134,7 +135,13 @@ std::unique_ptr<DepthSource> source_from(const runtime::Node& node) {
   const std::string kind = node.param("source");
   if (kind == "synthetic") {
     SceneSpec spec = scene_preset(node.param("scene"));
-    const CameraProfile prof = camera_profile(node.param("profile"));
+    CameraProfile prof = camera_profile(node.param("profile"));
+    const double k = node.param_double("noise-scale");
+    if (!(k >= 0)) throw runtime::ConfigError("--noise-scale must be >= 0");
+    prof.noise_a *= k;
+    prof.noise_b *= k;
+    prof.dropout = std::min(1.0, prof.dropout * k);
+    prof.flying_pixel_prob = std::min(1.0, prof.flying_pixel_prob * k);
     if (!node.param("seed").empty()) spec.seed = static_cast<std::uint64_t>(node.param_int("seed"));
     if (const std::string truth = node.param("write-truth"); !truth.empty()) {
       write_truth(spec, prof, render(spec, prof, 0), 0, truth);

@@ -75,6 +75,8 @@ std::optional<DepthFrame> SyntheticSource::grab(std::chrono::milliseconds timeou
 // ---- intrinsics files ----
 
 Intrinsics read_intrinsics(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw SourceError("cannot open intrinsics file '" + path + "': no such file");
   cv::FileStorage fsr;
   try {
     if (!fsr.open(path, cv::FileStorage::READ)) throw SourceError("cannot open intrinsics file '" + path + "'");
