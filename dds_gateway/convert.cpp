@@ -1,0 +1,232 @@
+#include "dds_gateway/convert.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+namespace hg::dds_gateway {
+
+namespace {
+
+// dds_write only reads a sample, so borrowed pointers into const LCM data are never written through.
+char* str(const std::string& s) { return const_cast<char*>(s.c_str()); }
+
+template <class Seq, class T>
+void borrow(Seq& seq, const std::vector<T>& v) {
+  seq._maximum = seq._length = static_cast<uint32_t>(v.size());
+  seq._buffer = const_cast<T*>(v.data());
+  seq._release = false;
+}
+
+hgdds_Header header(const hullgrind::header_t& h) { return {h.seq, h.utime, str(h.frame_id)}; }
+
+template <std::size_t N>
+void copy(double (&to)[N], const double (&from)[N]) {
+  std::memcpy(to, from, sizeof to);
+}
+
+}  // namespace
+
+void to_dds(const hullgrind::outline_t& m, OutlineSample& out) {
+  hgdds_Outline& s = out.s;
+  s = {};
+  s.header = header(m.header);
+  s.cloud_seq = m.cloud_seq;
+  copy(s.plane_origin, m.plane_origin);
+  copy(s.plane_normal, m.plane_normal);
+  copy(s.plane_u_axis, m.plane_u_axis);
+  copy(s.plane_v_axis, m.plane_v_axis);
+  s.thickness = m.thickness;
+  s.status = m.status;
+  s.error_text = str(m.error_text);
+  s.alpha_radius = m.alpha_radius;
+  out.loops.resize(m.loops.size());
+  for (std::size_t i = 0; i < m.loops.size(); ++i) {
+    const hullgrind::outline_loop_t& l = m.loops[i];
+    hgdds_OutlineLoop& d = out.loops[i];
+    d.hole = l.hole;
+    borrow(d.u, l.u);
+    borrow(d.v, l.v);
+    d.area = l.area;
+    d.perimeter = l.perimeter;
+  }
+  s.loops._maximum = s.loops._length = static_cast<uint32_t>(out.loops.size());
+  s.loops._buffer = out.loops.data();
+  s.loops._release = false;
+  s.points_used = m.points_used;
+  s.triangles = m.triangles;
+  s.search_cost = m.search_cost;
+  s.compute_time = m.compute_time;
+}
+
+void to_dds(const hullgrind::grind_path_t& m, GrindPathSample& out) {
+  hgdds_GrindPath& s = out.s;
+  s = {};
+  s.header = header(m.header);
+  s.job_id = str(m.job_id);
+  s.outline_seq = m.outline_seq;
+  s.frame = str(m.frame);
+  out.position.clear();
+  out.orientation.clear();
+  for (const auto& p : m.position) out.position.insert(out.position.end(), p.begin(), p.end());
+  for (const auto& q : m.orientation) out.orientation.insert(out.orientation.end(), q.begin(), q.end());
+  borrow(s.position, out.position);
+  borrow(s.orientation, out.orientation);
+  borrow(s.speed, m.speed);
+  borrow(s.kind, m.kind);
+  borrow(s.loop_index, m.loop_index);
+  s.tool_radius = m.tool_radius;
+  s.tilt = m.tilt;
+  s.flipped = m.flipped;
+}
+
+hgdds_PartPose to_dds(const hullgrind::part_pose_t& m) {
+  hgdds_PartPose s{};
+  s.header = header(m.header);
+  s.cloud_seq = m.cloud_seq;
+  s.part_index = m.part_index;
+  s.num_parts = m.num_parts;
+  copy(s.centroid_uv, m.centroid_uv);
+  copy(s.centroid_xyz, m.centroid_xyz);
+  s.principal_axis_angle = m.principal_axis_angle;
+  s.area = m.area;
+  copy(s.bbox_min_uv, m.bbox_min_uv);
+  copy(s.bbox_max_uv, m.bbox_max_uv);
+  copy(s.obb_size, m.obb_size);
+  return s;
+}
+
+hgdds_JobStatus to_dds(const hullgrind::job_status_t& m) {
+  hgdds_JobStatus s{};
+  s.header = header(m.header);
+  s.job_id = str(m.job_id);
+  s.part_id = str(m.part_id);
+  s.source = str(m.source);
+  s.state = m.state;
+  s.progress = m.progress;
+  s.message = str(m.message);
+  return s;
+}
+
+hgdds_RobotStatus to_dds(const hullgrind::robot_status_t& m) {
+  hgdds_RobotStatus s{};
+  s.header = header(m.header);
+  s.mode = m.mode;
+  copy(s.tcp_position, m.tcp_position);
+  copy(s.tcp_orientation, m.tcp_orientation);
+  s.job_id = str(m.job_id);
+  s.path_index = m.path_index;
+  s.fault_code = m.fault_code;
+  s.fault_text = str(m.fault_text);
+  return s;
+}
+
+hgdds_Health to_dds(const hullgrind::heartbeat_t& m) {
+  hgdds_Health s{};
+  s.header = header(m.header);
+  s.process = str(m.process);
+  s.pid = m.pid;
+  s.state = m.state;
+  s.state_text = str(m.state_text);
+  s.uptime = m.uptime;
+  s.received = m.received;
+  s.published = m.published;
+  s.dropped = m.dropped;
+  s.decode_errors = m.decode_errors;
+  s.last_latency = m.last_latency;
+  return s;
+}
+
+hullgrind::job_request_t to_lcm(const hgdds_JobRequest& r) {
+  hullgrind::job_request_t m{};
+  m.header.seq = 0;
+  m.header.utime = r.header.utime;
+  m.header.frame_id = r.header.frame_id ? r.header.frame_id : "";
+  m.job_id = r.job_id ? r.job_id : "";
+  m.part_id = r.part_id ? r.part_id : "";
+  m.action = r.action;
+  m.tool_radius = r.tool_radius;
+  m.chamfer_angle = r.chamfer_angle;
+  m.grind_speed = r.grind_speed;
+  m.travel_speed = r.travel_speed;
+  m.step = r.step;
+  m.safe_height = r.safe_height;
+  m.direction = r.direction;
+  m.flipped = r.flipped;
+  return m;
+}
+
+std::string printable(const char* s, std::size_t max) {
+  std::string out;
+  if (!s) return out;
+  for (; *s && out.size() < max; ++s) {
+    unsigned char c = static_cast<unsigned char>(*s);
+    out += (c >= 0x20 && c < 0x7f) ? char(c) : '?';
+  }
+  return out;
+}
+
+namespace {
+
+bool id_char(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' ||
+         c == ':' || c == '-';
+}
+
+// "" if v is 0 (the default) or within [lo, hi]; else why not.
+std::string check_range(const char* name, double v, double lo, double hi, const char* unit) {
+  std::ostringstream why;
+  if (!std::isfinite(v)) {
+    why << name << " is not a finite number";
+    return why.str();
+  }
+  if (v == 0) return "";
+  if (v < lo || v > hi) {
+    why << name << " " << v << " " << unit << " is outside [" << lo << ", " << hi << "] (0 = default)";
+    return why.str();
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string check_job_request(const hgdds_JobRequest& r, const JobLimits& limits) {
+  const char* id = r.job_id ? r.job_id : "";
+  std::size_t id_len = std::strlen(id);
+  if (id_len == 0) return "job_id is empty";
+  if (id_len > limits.max_job_id)
+    return "job_id has " + std::to_string(id_len) + " characters, more than " + std::to_string(limits.max_job_id);
+  for (std::size_t i = 0; i < id_len; ++i)
+    if (!id_char(id[i]))
+      return "job_id has a character other than letters, digits and . _ : - at position " + std::to_string(i);
+  const char* part = r.part_id ? r.part_id : "";
+  std::size_t part_len = std::strlen(part);
+  if (part_len > limits.max_part_id)
+    return "part_id has " + std::to_string(part_len) + " bytes, more than " + std::to_string(limits.max_part_id);
+  for (std::size_t i = 0; i < part_len; ++i) {
+    unsigned char c = static_cast<unsigned char>(part[i]);
+    if (c < 0x20 || c == 0x7f) return "part_id has a control character at position " + std::to_string(i);
+  }
+  if (r.action < hullgrind::job_request_t::ACTION_START || r.action > hullgrind::job_request_t::ACTION_RESET)
+    return "action " + std::to_string(int(r.action)) + " is not START (0), ABORT (1) or RESET (2)";
+  if (r.direction != hullgrind::job_request_t::DIRECTION_CLIMB &&
+      r.direction != hullgrind::job_request_t::DIRECTION_CONVENTIONAL)
+    return "direction " + std::to_string(int(r.direction)) + " is not CLIMB (0) or CONVENTIONAL (1)";
+  const struct {
+    const char* name;
+    double v, lo, hi;
+    const char* unit;
+  } ranges[] = {
+      {"tool_radius", r.tool_radius, 1e-3, limits.max_tool_radius, "m"},
+      {"chamfer_angle", r.chamfer_angle, 0, limits.max_chamfer_angle, "rad"},
+      {"grind_speed", r.grind_speed, 1e-4, limits.max_grind_speed, "m/s"},
+      {"travel_speed", r.travel_speed, 1e-4, limits.max_travel_speed, "m/s"},
+      {"step", r.step, limits.min_step, limits.max_step, "m"},
+      {"safe_height", r.safe_height, 1e-3, limits.max_safe_height, "m"},
+  };
+  for (const auto& c : ranges)
+    if (std::string why = check_range(c.name, c.v, c.lo, c.hi, c.unit); !why.empty()) return why;
+  return "";
+}
+
+}  // namespace hg::dds_gateway
