@@ -203,6 +203,7 @@ void UrDriver::drop(const std::string& why, double now) {
   fd_ = -1;
   const bool was_streaming = link_ == Link::Streaming;
   link_ = Link::Down;
+  have_data_ = false;
   rx_.clear();
   state_.connected = false;
   state_.pose_valid = false;
@@ -210,11 +211,8 @@ void UrDriver::drop(const std::string& why, double now) {
   backoff_ = std::min(backoff_ * 2, o_.backoff_max);
   if (was_streaming || ever_streamed_) latch(robot_status_t::FAULT_CONNECTION_LOST, "controller connection lost: " + why);
   else logf(Level::Warn, "ur: RTDE handshake failed: %s", why.c_str());
-  if (program_) {
-    program_ = false;
-    state_.running = false;
-    state_.path_index = -1;
-  }
+  // A running program is left to stop(): the script port may still reach the controller even though RTDE
+  // does not, and the program must not run on unobserved.
 }
 
 void UrDriver::read_socket(double now) {
@@ -316,6 +314,7 @@ void UrDriver::handle(std::uint8_t type, const std::uint8_t* p, std::size_t size
 }
 
 void UrDriver::on_data(double now) {
+  have_data_ = true;
   state_.connected = true;
   state_.pose_valid = true;
   const Vec3 rv(raw_.tcp[3], raw_.tcp[4], raw_.tcp[5]);
@@ -392,7 +391,7 @@ void UrDriver::update(double now) {
   if (fd_ < 0) return;
   if (link_ != Link::Streaming && now - link_since_ > o_.handshake_timeout) return drop("RTDE handshake timed out", now);
   if (link_ == Link::Streaming && now - last_data_ > o_.data_timeout) return drop("no RTDE data for " + std::to_string(o_.data_timeout) + " s", now);
-  if (link_ == Link::Streaming) evaluate(now);
+  if (link_ == Link::Streaming && have_data_) evaluate(now);
 }
 
 std::string UrDriver::send_script(const std::string& script) {
@@ -444,7 +443,7 @@ void UrDriver::stop(double) {
 
 std::string UrDriver::reset(double now) {
   update(now);
-  if (link_ != Link::Streaming) return "controller not connected";
+  if (link_ != Link::Streaming || !have_data_) return "controller not connected";
   const int sm = raw_.safety_mode;
   if (sm != 1 && sm != 2) return std::string("controller still in ") + ur_safety_mode_name(sm) + " (unlock it on the teach pendant)";
   if (raw_.robot_mode != kRobotModeRunning)

@@ -74,6 +74,7 @@ class UrDriver final : public Driver {
   std::uint8_t recipe_id_ = 0;
   double link_since_ = 0, last_data_ = 0, next_attempt_ = 0, backoff_ = 0;
   bool ever_streamed_ = false;
+  bool have_data_ = false;  // a data package arrived on the current link
   int connections_ = 0;
   // the running program
   bool program_ = false, seen_playing_ = false;
