@@ -269,7 +269,9 @@ void Bridge::run() {
         continue;  // a device faster than --rate: take the next one in time
       process(*frame);
     } catch (const SourceError& e) {
-      fail(source_->describe() + ": " + e.what());
+      // Say which source, unless the backend's message already starts with it.
+      const std::string what = e.what(), who = source_->describe();
+      fail(what.rfind(who, 0) == 0 ? what : who + ": " + what);
     } catch (const std::exception& e) {  // a backend bug must not take the process down either
       fail(source_->describe() + ": unexpected error: " + e.what());
     }
