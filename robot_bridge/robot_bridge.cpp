@@ -80,7 +80,7 @@ runtime::ProcessInfo process_info() {
               {"blend-radius", "0.001", "UR blend radius between moves (capped at 40% of the shorter segment), m"},
               {"path-timeout", "60", "an accepted job FAILS if its path does not arrive within this, s"},
               {"progress-period", "0.2", "RUNNING progress reports at most this often, s"},
-              {"state-file", "", "file remembering the running job across a crash (a restart then reports it FAILED, FAULT)"},
+              {"state-file", "", "file remembering the running job across a crash (a restart reports it ABORTED and holds FAULT)"},
               {"frame", "robot_base", "robot base frame name (robot_status_t header.frame_id)"},
               {"sim-time-scale", "1", "sim: simulated seconds per real second"},
               {"sim-home", "0.5,0,0.3", "sim: TCP position at start-up, m"},
