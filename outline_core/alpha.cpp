@@ -12,16 +12,16 @@ namespace hg::outline {
 double median_nn_spacing(const Triangulation& T) {
   const std::size_t n = T.xy.size();
   std::vector<double> nn2(n, std::numeric_limits<double>::infinity());
-  const std::size_t slots = T.slots();
-  for (std::size_t t = 0; t < slots; ++t) {
-    if (T.is_ghost(t)) continue;
-    for (int i = 0; i < 3; ++i) {
-      const std::uint32_t a = T.tri[3 * t + i], b = T.tri[3 * t + (i + 1) % 3];
-      const double dx = T.xy[a].x - T.xy[b].x, dy = T.xy[a].y - T.xy[b].y;
-      const double d2 = dx * dx + dy * dy;
-      nn2[a] = std::min(nn2[a], d2);
-      nn2[b] = std::min(nn2[b], d2);
-    }
+  // Every finite edge once: the half-edge with the smaller index (a hull edge's twin is in a ghost
+  // triangle, where the same edge appears with both ends finite).
+  const std::size_t hcount = T.tri.size();
+  for (std::size_t h = 0; h < hcount; ++h) {
+    const std::uint32_t a = T.tri[h], b = T.tri[Triangulation::next(static_cast<std::uint32_t>(h))];
+    if (a == T.ghost || b == T.ghost || T.twin[h] < h) continue;
+    const double dx = T.xy[a].x - T.xy[b].x, dy = T.xy[a].y - T.xy[b].y;
+    const double d2 = dx * dx + dy * dy;
+    nn2[a] = std::min(nn2[a], d2);
+    nn2[b] = std::min(nn2[b], d2);
   }
   std::vector<double> used;
   used.reserve(T.inserted);

@@ -19,19 +19,36 @@ std::string fmt(double v) {
   return buf;
 }
 
-// Hilbert index of (x, y) on a 2^16 x 2^16 grid.
+// Hilbert index of (x, y) on a 2^16 x 2^16 grid. The classic iteration (quadrant digit, then rotate /
+// reflect the rest) as a 4-state table: the accumulated transform is (swap?, invert?), a group where the
+// order does not matter. Table-driven, so no unpredictable branches (they dominated the sort's time).
+struct HilbertTable {
+  std::uint8_t digit[16], next[16];  // index: state * 4 + bx * 2 + by; state = swap * 2 + invert
+  constexpr HilbertTable() : digit{}, next{} {
+    for (unsigned st = 0; st < 4; ++st)
+      for (unsigned bx = 0; bx < 2; ++bx)
+        for (unsigned by = 0; by < 2; ++by) {
+          const unsigned sw = st >> 1, inv = st & 1;
+          unsigned rx = bx ^ inv, ry = by ^ inv;
+          if (sw) std::swap(rx, ry);
+          unsigned nsw = sw, ninv = inv;
+          if (ry == 0) {
+            if (rx == 1) ninv ^= 1;
+            nsw ^= 1;
+          }
+          digit[st * 4 + bx * 2 + by] = static_cast<std::uint8_t>((3 * rx) ^ ry);
+          next[st * 4 + bx * 2 + by] = static_cast<std::uint8_t>(nsw * 2 + ninv);
+        }
+  }
+};
+constexpr HilbertTable kHilbert;
+
 std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y) {
-  std::uint32_t d = 0;
-  for (std::uint32_t s = 1u << 15; s > 0; s >>= 1) {
-    const std::uint32_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
-    d += s * s * ((3 * rx) ^ ry);
-    if (ry == 0) {
-      if (rx == 1) {
-        x = 0xffffu - x;
-        y = 0xffffu - y;
-      }
-      std::swap(x, y);
-    }
+  std::uint32_t d = 0, st = 0;
+  for (int bit = 15; bit >= 0; --bit) {
+    const std::uint32_t i = st * 4 + ((x >> bit) & 1) * 2 + ((y >> bit) & 1);
+    d = (d << 2) | kHilbert.digit[i];
+    st = kHilbert.next[i];
   }
   return d;
 }
