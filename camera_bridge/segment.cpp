@@ -104,10 +104,10 @@ Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentPa
   Eigen::Vector3d n = P.plane_normal.normalized();
   double offset = P.plane_offset;
   if (!P.calibrated_plane) {
-    // RANSAC, deterministic: hypotheses scored on a fixed subset of at most 4000 samples.
+    // RANSAC, deterministic: hypotheses scored on a fixed subset of about 2000 samples.
     std::mt19937_64 rng(P.ransac_seed);
     std::uniform_int_distribution<std::size_t> pick(0, samples.size() - 1);
-    const std::size_t eval_step = std::max<std::size_t>(1, samples.size() / 4000);
+    const std::size_t eval_step = std::max<std::size_t>(1, samples.size() / 2000);
     std::size_t best = 0;
     for (int it = 0; it < P.ransac_iterations; ++it) {
       const Eigen::Vector3d& a = samples[pick(rng)];
@@ -159,7 +159,9 @@ Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentPa
   // ---- part mask: height above the table within the thickness band ----
   // Float and branch-free so the compiler vectorises it: the height is n . (z ray) - offset, with z in
   // depth counts folded into the per-column factor (float keeps ~0.1 um at 2 m, far below the noise).
-  cv::Mat mask(H, W, CV_8UC1);
+  // Scratch images kept per thread: allocating ~6 MB afresh each frame costs page faults every time.
+  thread_local cv::Mat mask, cc;
+  mask.create(H, W, CV_8UC1);
   std::vector<float> na(W);
   for (int c = 0; c < W; ++c) na[c] = static_cast<float>(n.x() * ray_a[c] * unit);
   const float lo = static_cast<float>(P.min_height + offset), hi = static_cast<float>(P.max_height + offset);
@@ -180,19 +182,15 @@ Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentPa
   }
   // Plain labelling plus our own area and row-range pass: connectedComponentsWithStats computes its
   // statistics several times slower than this.
-  cv::Mat cc;
   const int ncc = cv::connectedComponents(mask, cc, 8, CV_32S);
   std::vector<int> area(ncc, 0), first_row(ncc, H), last_row(ncc, -1);
   for (int r = 0; r < H; ++r) {
     const int* cr = cc.ptr<int>(r);
-    for (int c = 0; c < W; ++c) ++area[cr[c]];
-  }
-  for (int r = 0; r < H; ++r) {
-    const int* cr = cc.ptr<int>(r);
     for (int c = 0; c < W; ++c)
-      if (cr[c]) {
-        first_row[cr[c]] = std::min(first_row[cr[c]], r);
-        last_row[cr[c]] = r;
+      if (const int l = cr[c]) {
+        ++area[l];
+        first_row[l] = std::min(first_row[l], r);
+        last_row[l] = r;
       }
   }
   // A pixel's footprint on the table, near the optical axis.
