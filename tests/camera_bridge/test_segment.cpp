@@ -5,7 +5,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <set>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
 
 #include <opencv2/imgproc.hpp>
 
@@ -297,6 +301,51 @@ TEST(CameraBridgeRender, UnknownNamesAndBadScenes) {
   spec = scene_preset("l-bracket");
   spec.parts[0].x = 3.0;  // far outside the view
   EXPECT_THROW(render(spec, camera_profile("pm806"), 0), std::invalid_argument);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(CameraBridgeRender, TruthJsonHoldsTheGeometry) {
+  const SceneSpec spec = scene_preset("three-parts");
+  const CameraProfile prof = camera_profile("lsr-l");
+  const RenderedFrame f = render(spec, prof, 4);
+  const std::string path = ::testing::TempDir() + "/hg_truth_" + std::to_string(getpid()) + ".json";
+  write_truth(spec, prof, f, 4, path);
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  std::remove(path.c_str());
+  EXPECT_EQ(j["scene"], "three-parts");
+  EXPECT_EQ(j["camera"]["width"], 2048);
+  EXPECT_EQ(j["frame_index"], 4);
+  ASSERT_EQ(j["parts"].size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto& p = j["parts"][k];
+    // Area recomputed from the JSON rings by the shoelace formula (outer CCW positive, holes CW negative).
+    auto ring_area = [](const nlohmann::json& ring) {
+      double a = 0;
+      for (std::size_t i = 0, n = ring.size(); i < n; ++i) {
+        const auto &p0 = ring[i], &p1 = ring[(i + 1) % n];
+        a += p0[0].get<double>() * p1[1].get<double>() - p1[0].get<double>() * p0[1].get<double>();
+      }
+      return a / 2;
+    };
+    double area = ring_area(p["outer"]);
+    for (const auto& h : p["holes"]) area += ring_area(h);
+    // Equal to the placed polygon's area, and to the ideal part's analytic area within the polygonisation
+    // bound (every boundary point within kChordTolerance of the true curve).
+    EXPECT_NEAR(area, hg::partgen::polygon_area(f.part_polygons[k]), 1e-12);
+    const auto shape = hg::partgen::make_shape(spec.parts[k].shape);
+    EXPECT_NEAR(area, shape.exact_area, shape.exact_perimeter * hg::partgen::kChordTolerance) << p["shape"];
+    EXPECT_DOUBLE_EQ(p["thickness"].get<double>(), spec.parts[k].thickness);
+    EXPECT_EQ(p["truth_pixels"].get<int>(), cv::countNonZero(f.truth_labels == int(k + 1)));
+  }
+  // The table plane in the camera frame: unit normal towards the camera, at the mounting height.
+  const auto& n = j["table_plane_camera"]["normal"];
+  EXPECT_NEAR(std::hypot(n[0].get<double>(), n[1].get<double>(), n[2].get<double>()), 1.0, 1e-12);
+  EXPECT_LT(n[2].get<double>(), -0.99);
+  EXPECT_NEAR(j["table_plane_camera"]["offset"].get<double>(), -prof.mount_height, 0.01);
 }
 
 }  // namespace
