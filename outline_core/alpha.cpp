@@ -10,23 +10,10 @@
 namespace hg::outline {
 
 double median_nn_spacing(const Triangulation& T) {
-  const std::size_t n = T.xy.size();
-  std::vector<double> nn2(n, std::numeric_limits<double>::infinity());
-  // Every finite edge once: the half-edge with the smaller index (a hull edge's twin is in a ghost
-  // triangle, where the same edge appears with both ends finite).
-  const std::size_t hcount = T.tri.size();
-  for (std::size_t h = 0; h < hcount; ++h) {
-    const std::uint32_t a = T.tri[h], b = T.tri[Triangulation::next(static_cast<std::uint32_t>(h))];
-    if (a == T.ghost || b == T.ghost || T.twin[h] < h) continue;
-    const double dx = T.xy[a].x - T.xy[b].x, dy = T.xy[a].y - T.xy[b].y;
-    const double d2 = dx * dx + dy * dy;
-    nn2[a] = std::min(nn2[a], d2);
-    nn2[b] = std::min(nn2[b], d2);
-  }
   std::vector<double> used;
   used.reserve(T.inserted);
-  for (std::size_t i = 0; i < n; ++i)
-    if (T.vrep[i] == i && std::isfinite(nn2[i])) used.push_back(nn2[i]);
+  for (std::size_t v = 0; v < T.nn2.size(); ++v)
+    if (T.vrep[v] == v && std::isfinite(T.nn2[v])) used.push_back(T.nn2[v]);
   if (used.empty()) return 0;
   auto mid = used.begin() + static_cast<std::ptrdiff_t>(used.size() / 2);
   std::nth_element(used.begin(), mid, used.end());

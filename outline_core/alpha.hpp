@@ -13,8 +13,8 @@ namespace hg::outline {
 // Default k of the automatic radius R = k x median nearest-neighbour spacing (docs/outline-auto-radius.md).
 inline constexpr double kDefaultAutoFactor = 1.7;
 
-// Median over the triangulated points of the distance to the nearest other point (read off the Delaunay
-// edges: the nearest neighbour is always a Delaunay neighbour). Translated units = input units.
+// Median over the triangulated points of the distance to the nearest other point (Triangulation::nn2,
+// read off the Delaunay edges during insertion: the nearest neighbour is always a Delaunay neighbour).
 double median_nn_spacing(const Triangulation& T);
 
 // inside[t] = 1 for a finite triangle kept in the shape. A finite triangle is "big" when its circumradius

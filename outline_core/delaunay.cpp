@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "predicates.hpp"
@@ -19,7 +20,7 @@ std::string fmt(double v) {
   return buf;
 }
 
-// Hilbert index of (x, y) on a 2^16 x 2^16 grid. The classic iteration (quadrant digit, then rotate /
+// Hilbert index of (x, y) on a 2^bits x 2^bits grid (bits <= 16). The classic iteration (quadrant digit, then rotate /
 // reflect the rest) as a 4-state table: the accumulated transform is (swap?, invert?), a group where the
 // order does not matter. Table-driven, so no unpredictable branches (they dominated the sort's time).
 struct HilbertTable {
@@ -43,9 +44,9 @@ struct HilbertTable {
 };
 constexpr HilbertTable kHilbert;
 
-std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y) {
+std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y, int bits) {
   std::uint32_t d = 0, st = 0;
-  for (int bit = 15; bit >= 0; --bit) {
+  for (int bit = bits - 1; bit >= 0; --bit) {
     const std::uint32_t i = st * 4 + ((x >> bit) & 1) * 2 + ((y >> bit) & 1);
     d = (d << 2) | kHilbert.digit[i];
     st = kHilbert.next[i];
@@ -257,6 +258,7 @@ void Builder::insert(std::uint32_t v) {
   // are reused and two are appended (a disk of k triangles has k + 2 boundary edges).
   std::uint32_t* tri = T_.tri.data();
   std::uint32_t* twin = T_.twin.data();
+  double* nn2 = T_.nn2.data();
   const std::size_t m = boundary_.size();
   ba_.resize(m);
   bb_.resize(m);
@@ -285,7 +287,14 @@ void Builder::insert(std::uint32_t v) {
     twin[3 * t] = bo_[j];
     twin[bo_[j]] = 3 * t;
     start_at_[ba_[j]] = t;
-    if (finite_new == kNone && ba_[j] != G_ && bb_[j] != G_) finite_new = t;
+    if (ba_[j] != G_) {
+      // v's new Delaunay neighbours: the nearest neighbour of either end is found when the later of the
+      // two is inserted (a final Delaunay edge is an edge of every intermediate triangulation).
+      const double dx = P_[ba_[j]].x - p.x, dy = P_[ba_[j]].y - p.y, d2 = dx * dx + dy * dy;
+      nn2[v] = std::min(nn2[v], d2);
+      nn2[ba_[j]] = std::min(nn2[ba_[j]], d2);
+      if (finite_new == kNone && bb_[j] != G_) finite_new = t;
+    }
   }
   for (std::size_t j = 0; j < m; ++j) {
     const std::uint32_t t = newt_[j];
@@ -333,6 +342,13 @@ void Builder::run(const std::vector<std::uint32_t>& order) {
   mark_.assign(4, 0);
   start_at_.assign(n + 1, 0);
   T_.inserted = 3;
+  T_.nn2.assign(n, std::numeric_limits<double>::infinity());
+  for (std::uint32_t u : {a, b, c})
+    for (std::uint32_t w : {a, b, c})
+      if (u != w) {
+        const double dx = P_[u].x - P_[w].x, dy = P_[u].y - P_[w].y;
+        T_.nn2[u] = std::min(T_.nn2[u], dx * dx + dy * dy);
+      }
   last_ = 0;
   ds_vertex_ = a;
   ds_tri_ = 0;
@@ -362,23 +378,30 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
     miny = std::min(miny, p.y);
     maxy = std::max(maxy, p.y);
   }
+  // Grid of about 4 cells per point (at most 2^16 per side): finer gains nothing, and the radix passes'
+  // count arrays stay small enough for the cache.
+  int bits = 1;
+  while (bits < 16 && (std::size_t{1} << (2 * bits)) < 4 * n) ++bits;
   const double extent = std::max(maxx - minx, maxy - miny);
-  const double scale = extent > 0 ? 65535.0 / extent : 0.0;
+  const double cells = static_cast<double>((1u << bits) - 1);
+  const double scale = extent > 0 ? cells / extent : 0.0;
   std::vector<std::uint32_t> key(n), key2(n), idx2(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const auto gx = static_cast<std::uint32_t>(std::min(65535.0, (xy[i].x - minx) * scale));
-    const auto gy = static_cast<std::uint32_t>(std::min(65535.0, (xy[i].y - miny) * scale));
-    key[i] = hilbert_index(gx, gy);
+    const auto gx = static_cast<std::uint32_t>(std::min(cells, (xy[i].x - minx) * scale));
+    const auto gy = static_cast<std::uint32_t>(std::min(cells, (xy[i].y - miny) * scale));
+    key[i] = hilbert_index(gx, gy, bits);
   }
-  // Stable LSD radix sort on the 32-bit key, two 16-bit passes: equal points keep their input order.
-  std::vector<std::uint32_t> count(65537);
+  // Stable LSD radix sort on the 2*bits-bit key, two passes: equal points keep their input order.
+  const int digit_bits = bits;  // two passes of `bits` bits each
+  const std::uint32_t mask = (1u << digit_bits) - 1;
+  std::vector<std::uint32_t> count((std::size_t{1} << digit_bits) + 1);
   for (int pass = 0; pass < 2; ++pass) {
-    const int shift = 16 * pass;
+    const int shift = digit_bits * pass;
     std::fill(count.begin(), count.end(), 0);
-    for (std::size_t i = 0; i < n; ++i) ++count[((key[i] >> shift) & 0xffff) + 1];
+    for (std::size_t i = 0; i < n; ++i) ++count[((key[i] >> shift) & mask) + 1];
     for (std::size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
     for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t pos = count[(key[i] >> shift) & 0xffff]++;
+      const std::uint32_t pos = count[(key[i] >> shift) & mask]++;
       key2[pos] = key[i];
       idx2[pos] = idx[i];
     }

@@ -46,6 +46,9 @@ struct Triangulation {
   // vrep[v] = v for an inserted vertex; for a merged duplicate, the vertex it was merged into (whose
   // input index is the smallest of the equal points: the order is stable).
   std::vector<std::uint32_t> vrep;
+  // Squared distance from each inserted vertex to its nearest other point (kept up to date during the
+  // insertion from the new Delaunay edges; infinity for merged duplicates).
+  std::vector<double> nn2;
   std::size_t inserted = 0;
   std::size_t duplicates = 0;
   DelaunayStats stats;

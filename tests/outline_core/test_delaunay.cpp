@@ -246,3 +246,23 @@ TEST(OutlineDelaunay, CheckerRejectsAFlippedEdge) {
   ASSERT_TRUE(flipped);
   EXPECT_NE(check_delaunay(pts, T).find("not locally Delaunay"), std::string::npos) << check_delaunay(pts, T);
 }
+
+TEST(OutlineDelaunay, NearestNeighbourDistancesMatchBruteForce) {
+  auto pts = random_cloud(600, 12, 10);
+  const auto g = grid_cloud(15, 15, 0.7, {2, 2});
+  pts.insert(pts.end(), g.begin(), g.end());
+  pts.push_back(pts[5]);  // a duplicate: its distance 0 must not count
+  for (Order o : {Order::AsIs, Order::Brio}) {
+    const Triangulation T = triangulate(pts, Mode::DSHI, o);
+    for (std::size_t v = 0; v < T.xy.size(); ++v) {
+      if (T.vrep[v] != v) continue;
+      double best = INFINITY;
+      for (std::size_t w = 0; w < T.xy.size(); ++w) {
+        if (T.vrep[w] != w || w == v) continue;
+        const double dx = T.xy[v].x - T.xy[w].x, dy = T.xy[v].y - T.xy[w].y;
+        best = std::min(best, dx * dx + dy * dy);
+      }
+      ASSERT_EQ(T.nn2[v], best) << v;
+    }
+  }
+}
