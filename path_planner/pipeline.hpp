@@ -71,7 +71,7 @@ std::vector<Loop> mirror_for_flip(const std::vector<Loop>& loops);
 struct SmoothOptions {
   double pitch = 0;                  // pixel pitch on the plate; <= 0: estimate from the outline
   double window_pitches = 4;         // half-window of the local fits, in pitches
-  double corner_scale_pitches = 5;   // length of the one-sided line fits of the corner detector
+  double corner_scale_pitches = 8;   // length of the one-sided line fits of the corner detector
   double corner_angle = 0.5235987755982988;  // 30 deg: smaller turns are treated as curves
   bool edge_compensation = true;     // move the loop from the outermost pixel centres to the edge
 };
@@ -80,8 +80,8 @@ struct SmoothedRing {
   std::vector<std::uint8_t> corner;  // 1 where points[i] is a detected corner
 };
 // Pixel pitch estimate: median length of the loop edges within 10 deg of the x or y axis (the staircase
-// steps); 0 when the loops do not look like a staircase (fewer than 16 such edges, under a quarter of all
-// edges, or a median longer than 1/200 of the longest loop).
+// steps), or of all edges when noise leaves too few of those; 0 when the loops do not look like a
+// staircase (too few edges, or a median longer than 1/200 of the longest loop).
 double estimate_pitch(const std::vector<Loop>& loops);
 SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& options);
 

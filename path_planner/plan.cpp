@@ -49,7 +49,7 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   if (P.flipped) in.loops = mirror_for_flip(in.loops);
 
   res.pitch = cfg.smooth.pitch > 0 ? cfg.smooth.pitch : estimate_pitch(in.loops);
-  if (!(res.pitch > 0)) res.warnings.push_back("no pixel pitch found in the outline: loops used without smoothing");
+  // No pitch (a drawn polygon, not a pixel staircase): smooth_ring leaves the loops as they are.
 
   std::vector<GrindLoop> grind;
   for (std::size_t k = 0; k < in.loops.size(); ++k) {

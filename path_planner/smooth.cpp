@@ -7,7 +7,9 @@
 //     not grow the turn by half (an arc's turn grows with the scale, a corner's does not); the local
 //     maximum within one scale wins;
 //  2. each corner is re-placed at the intersection of lines fitted a little away from it on both sides
-//     (the alpha shape cuts a corner off by about a pixel), so its angle comes from long straight runs;
+//     (the alpha shape cuts a corner off by about a pixel), so its angle comes from long straight runs; a
+//     candidate whose lines meet farther from it than the alpha shape can cut a corner of that angle
+//     (1.5 pitch / sin(interior angle / 2)) is a tight arc, not a corner;
 //  3. between corners, each vertex is replaced by a local least-squares fit (a parabola in the frame of
 //     the local PCA line when the window reaches both ways, the line itself near a corner);
 //  4. edge compensation moves each point outward by half the pitch times max(|t_x|, |t_y|) for the local
@@ -38,7 +40,14 @@ double estimate_pitch(const std::vector<Loop>& loops) {
     }
   }
   // A staircase has many short axis-parallel steps; a hand-drawn polygon (few long edges) has no pitch.
-  if (lengths.size() < 16 || lengths.size() * 4 < edges) return 0;
+  // In-plane noise tilts the steps: then the median of all edges stands in.
+  if (lengths.size() < 16 || lengths.size() * 4 < edges) {
+    lengths.clear();
+    for (const Loop& l : loops)
+      for (std::size_t i = 0; i < l.points.size(); ++i)
+        lengths.push_back((l.points[(i + 1) % l.points.size()] - l.points[i]).norm());
+    if (lengths.size() < 64) return 0;
+  }
   auto mid = lengths.begin() + lengths.size() / 2;
   std::nth_element(lengths.begin(), mid, lengths.end());
   return *mid <= longest_loop / 200 ? *mid : 0;
@@ -129,7 +138,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   const double scale = o.corner_scale_pitches * pitch;
   const double window = o.window_pitches * pitch;
   const double gap = 1.5 * pitch;          // skip the alpha shape's cut-off at a corner
-  const double corner_fit = 8.0 * pitch;   // length of the lines that re-place a corner
+  const double corner_fit = 15.0 * pitch;   // length of the lines that re-place a corner
   const double bias_scale = o.edge_compensation ? 1.0 : 0.0;
 
   // 1. corner candidates and non-maximum suppression.
@@ -157,6 +166,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   // 2. corner positions from lines fitted away from the corner.
   const int nc = int(corners.size());
   std::vector<Vec2> corner_pos(nc);
+  std::vector<std::uint8_t> is_corner(nc, 1);
   for (int k = 0; k < nc; ++k) {
     const long c = corners[k];
     const long prev = nc > 1 ? corners[(k + nc - 1) % nc] - (k == 0 ? n : 0) : c - n;
@@ -172,18 +182,34 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     long f1 = f0;
     while (f1 + 1 < next && w.S(f1 + 1) <= std::min(sc + gap + corner_fit, w.S(next) - gap)) ++f1;
     corner_pos[k] = w.at(c);
-    if (b1 - b0 < 2 || f1 - f0 < 2) continue;
+    if (b1 - b0 < 2 || f1 - f0 < 2) continue;  // too short to refine: keep the vertex
     const LineFit lb = fit_line(w, b0, b1), lf = fit_line(w, f0, f1);
     const Vec2 pb = lb.centre + bias_scale * edge_bias(lb.dir, pitch) * right_of(lb.dir);
     const Vec2 pf = lf.centre + bias_scale * edge_bias(lf.dir, pitch) * right_of(lf.dir);
     const double den = lb.dir.x() * lf.dir.y() - lb.dir.y() * lf.dir.x();
-    if (std::abs(den) < std::sin(10.0 * M_PI / 180.0)) continue;
+    if (std::abs(den) < std::sin(10.0 * M_PI / 180.0)) {
+      is_corner[k] = 0;
+      continue;
+    }
     const Vec2 d = pf - pb;
     const double tb = (d.x() * lf.dir.y() - d.y() * lf.dir.x()) / den;
     const Vec2 x = pb + tb * lb.dir;
-    if ((x - w.at(c)).norm() <= 4 * pitch) corner_pos[k] = x;
+    // The alpha shape cuts a true corner by at most about two pitches (acute ones the most); lines fitted
+    // beside a tight arc that passed the detector meet several pitches outside it: not a corner.
+    const double interior = M_PI - std::abs(turn(lb.dir, lf.dir));
+    if ((x - w.at(c)).norm() <= 1.5 * pitch / std::sin(interior / 2)) corner_pos[k] = x;
+    else is_corner[k] = 0;
+  }
+  {
+    std::vector<long> kept;
+    std::vector<Vec2> kept_pos;
+    for (int k = 0; k < nc; ++k)
+      if (is_corner[k]) kept.push_back(corners[k]), kept_pos.push_back(corner_pos[k]);
+    corners.swap(kept);
+    corner_pos.swap(kept_pos);
   }
 
+  const int kept = int(corners.size());
   // 3. + 4. smoothing of the vertices between corners, with edge compensation.
   auto smooth_vertex = [&](long j, double lo, double hi) {
     // Window: vertices within `window` of j and inside (lo, hi) (arc positions, unwrapped).
@@ -218,16 +244,16 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     return Vec2(lf.centre + xi * lf.dir + eta * nrm + bias_scale * edge_bias(tangent, pitch) * right_of(tangent));
   };
 
-  if (nc == 0) {
+  if (kept == 0) {
     out.points.reserve(n);
     for (long j = 0; j < n; ++j) out.points.push_back(smooth_vertex(j, -1e300, 1e300));
     out.corner.assign(n, 0);
     return out;
   }
   out.points.reserve(n);
-  for (int k = 0; k < nc; ++k) {
+  for (int k = 0; k < kept; ++k) {
     const long c = corners[k];
-    const long next = corners[(k + 1) % nc] + (k == nc - 1 ? n : 0);
+    const long next = corners[(k + 1) % kept] + (k == kept - 1 ? n : 0);
     out.points.push_back(corner_pos[k]);
     out.corner.push_back(1);
     const double lo = w.S(c) + gap, hi = w.S(next) - gap;
