@@ -11,7 +11,10 @@
 
 namespace {
 
-std::string tmp(const std::string& name) { return testing::TempDir() + "/pp_cli_" + name; }
+// Per-test names: CTest runs each TEST as its own process, possibly side by side.
+std::string tmp(const std::string& name) {
+  return testing::TempDir() + "/pp_cli_" + testing::UnitTest::GetInstance()->current_test_info()->name() + "_" + name;
+}
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 int run(const std::string& args, std::string* out = nullptr) {
   const std::string log = tmp("out.txt");
