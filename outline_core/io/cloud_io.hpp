@@ -58,8 +58,9 @@ struct PlanarPoints {
 };
 
 // Planar input (no z, or every z equal) keeps x, y as they are; otherwise least-squares plane (PCA),
-// points given as plane coordinates about the centroid.
-PlanarPoints to_plane(const Cloud& cloud);
+// points given as plane coordinates about the centroid. Throws ReadError (naming `name`) if the
+// coordinates are too large for the least-squares sums.
+PlanarPoints to_plane(const Cloud& cloud, const std::string& name = "input");
 std::array<double, 3> plane_to_3d(const Plane& plane, Vec2 p);
 
 }  // namespace hg::outline::io

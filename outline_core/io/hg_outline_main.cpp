@@ -10,6 +10,7 @@
 
 #include "outline_core/io/cloud_io.hpp"
 #include "outline_core/io/outline_writers.hpp"
+#include "outline_core/alpha.hpp"  // kDefaultAutoFactor, for --help
 #include "outline_core/outline.hpp"
 
 namespace {
@@ -29,17 +30,19 @@ INPUT  .xyz .txt .csv  one point per line: x y [z] (blanks or commas; '#' commen
 options
   --alpha-radius R      triangles with circumradius > R are outside (input units; R > 0)
                         default: automatic, K x median nearest-neighbour spacing
-  --auto-factor K       the K of the automatic radius (K > 0; default: the core's documented value)
+  --auto-factor K       the K of the automatic radius (K > 0; default {K}, docs/outline-auto-radius.md)
   --mode M              point location: ordinary | ds | dshi   (default dshi)
   --order O             insertion order: as-is | hilbert       (default as-is)
   --outer-only          remove only big triangles connected to the outside (no holes)
-  -o FILE               write the outline JSON to FILE (default: print it on stdout)
+  -o FILE, --output FILE
+                        write the outline JSON to FILE (default: print it on stdout)
   --svg FILE            write an SVG picture: points, outer loops blue, holes red
   --png FILE            write a PNG picture of the same
   --draw-triangles      also draw the Delaunay triangles in the SVG/PNG
   --triangles FILE      write the Delaunay triangles, one "i j k" per line, 0-based indices into the
                         points as read (a merged duplicate is its first occurrence)
   -h, --help            show this text
+Long options that take a value also accept --option=VALUE.
 
 Every output file is written whole or not at all; on any error nothing is written.
 exit status: 0 done, 1 input or processing error (message names the file and line/byte), 2 bad options
@@ -154,7 +157,11 @@ int main(int argc, char** argv) {
     bool help = false;
     args = parse_args(argc, argv, help);
     if (help) {
-      std::fputs(kUsage, stdout);
+      std::string usage = kUsage;
+      char k[32];
+      std::snprintf(k, sizeof k, "%g", hg::outline::kDefaultAutoFactor);
+      usage.replace(usage.find("{K}"), 3, k);
+      std::fputs(usage.c_str(), stdout);
       return 0;
     }
   } catch (const UsageError& e) {
@@ -172,7 +179,7 @@ int main(int argc, char** argv) {
     info.read_ms = ms_since(t0);
 
     auto t1 = std::chrono::steady_clock::now();
-    io::PlanarPoints planar = io::to_plane(cloud);
+    io::PlanarPoints planar = io::to_plane(cloud, args.input);
     cloud = io::Cloud{};  // the 3-D copy is no longer needed: give its memory back before triangulating
     info.project_ms = ms_since(t1);
 

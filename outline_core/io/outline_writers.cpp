@@ -201,7 +201,8 @@ std::vector<unsigned char> render_png(std::span<const Vec2> points, const Result
       cv::circle(img, pt(p), 2 << shift, cv::Scalar(64, 64, 64), cv::FILLED, cv::LINE_AA, shift);
     } else {
       int x = static_cast<int>(view.px(p)), y = static_cast<int>(view.py(p));
-      if (x >= 0 && y >= 0 && x < img.cols && y < img.rows) img.at<cv::Vec3b>(y, x) = cv::Vec3b(64, 64, 64);
+      // Dense clouds fill whole areas: a light grey keeps the loops readable on top.
+      if (x >= 0 && y >= 0 && x < img.cols && y < img.rows) img.at<cv::Vec3b>(y, x) = cv::Vec3b(175, 175, 175);
     }
   }
   const cv::Scalar outer(208, 95, 31), hole(32, 32, 208);  // BGR of the SVG colours

@@ -7,7 +7,7 @@
 
 namespace hg::outline::io {
 
-PlanarPoints to_plane(const Cloud& cloud) {
+PlanarPoints to_plane(const Cloud& cloud, const std::string& name) {
   PlanarPoints out;
   const std::size_t n = cloud.size();
   const double* p = cloud.xyz.data();
@@ -63,6 +63,10 @@ PlanarPoints to_plane(const Cloud& cloud) {
     sum2 += h * h;
     maxd = std::max(maxd, h);
   }
+  // Coordinates near the double range overflow the covariance: say so instead of passing NaN on.
+  bool finite = normal.allFinite() && std::isfinite(sum2);
+  for (std::size_t i = 0; i < n && finite; ++i) finite = std::isfinite(out.points[i].x) && std::isfinite(out.points[i].y);
+  if (!finite) throw ReadError(name + ": coordinates too large for the plane fit (overflow in the least-squares sums)");
   out.rms_distance = std::sqrt(sum2 / static_cast<double>(n));
   out.max_distance = maxd;
   return out;

@@ -279,3 +279,15 @@ TEST(OutlineIoWriters, PicturesShowPointsLoopsAndHoles) {
   EXPECT_GT(best, 1000);
   EXPECT_GT(best_row, img2.rows / 2);
 }
+
+TEST(OutlineIoPlane, CoordinatesTooLargeForThePlaneFitAreAnErrorNotNaN) {
+  Cloud c;
+  c.has_z = true;
+  c.xyz = {0, 0, 0, 1e200, 0, 1, 0, 1e200, 2, 1e200, 1e200, 3};  // squares overflow to inf
+  try {
+    to_plane(c, "huge.xyz");
+    FAIL() << "no error";
+  } catch (const ReadError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("huge.xyz: coordinates too large", 0), 0u) << e.what();
+  }
+}

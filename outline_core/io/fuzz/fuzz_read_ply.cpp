@@ -1,5 +1,6 @@
 // libFuzzer target: the ply reader on arbitrary bytes. A ReadError is the expected answer to garbage;
 // anything else (crash, sanitizer report, other exception, absurd allocation) is a bug.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
@@ -10,6 +11,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     auto cloud = hg::outline::io::parse_ply(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.ply");
     if (cloud.size() == 0) __builtin_trap();  // readers promise at least one point or an error
+    // The plane fit runs on whatever a reader accepts: finite plane coordinates or a ReadError.
+    auto planar = hg::outline::io::to_plane(cloud, "fuzz");
+    for (auto& p : planar.points)
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) __builtin_trap();
   } catch (const hg::outline::io::ReadError&) {
   }
   return 0;
