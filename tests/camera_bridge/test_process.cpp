@@ -125,8 +125,9 @@ void expect_scan_order(const std::vector<std::pair<double, double>>& pos) {
   for (size_t i = 0; i < pos.size(); ++i) {
     ASSERT_GT(pos[i].first, max_row - 0.5) << "row goes back at point " << i;
     max_row = std::max(max_row, pos[i].first);
-    if (i > 0 && std::abs(pos[i].first - pos[i - 1].first) < 0.5)
+    if (i > 0 && std::abs(pos[i].first - pos[i - 1].first) < 0.5) {
       ASSERT_GT(pos[i].second, pos[i - 1].second + 0.5) << "column goes back within a row at point " << i;
+    }
   }
 }
 
@@ -159,7 +160,7 @@ TEST(CameraBridgeProcess, SyntheticCloudsInScanOrder) {
     std::vector<std::pair<double, double>> mine;
     for (int i = 0; i < m.n; ++i)
       if (m.part[i] == largest) mine.push_back(all[i]);
-    expect_scan_order(mine);
+    ASSERT_NO_FATAL_FAILURE(expect_scan_order(mine));
   }
   EXPECT_LT(bus.clouds[0].source_frame_seq, bus.clouds[1].source_frame_seq);
 
