@@ -10,14 +10,14 @@
 namespace hg::outline {
 
 double median_nn_spacing(const Triangulation& T) {
-  std::vector<double> used;
+  std::vector<float> used;
   used.reserve(T.inserted);
   for (std::size_t v = 0; v < T.nn2.size(); ++v)
     if (T.vrep[v] == v && std::isfinite(T.nn2[v])) used.push_back(T.nn2[v]);
   if (used.empty()) return 0;
   auto mid = used.begin() + static_cast<std::ptrdiff_t>(used.size() / 2);
   std::nth_element(used.begin(), mid, used.end());
-  return std::sqrt(*mid);
+  return std::sqrt(static_cast<double>(*mid));
 }
 
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only) {
@@ -87,7 +87,7 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
   };
 
   std::vector<std::uint8_t> used(hcount, 0);
-  std::vector<std::int64_t> pos(T.xy.size(), -1);  // position of a vertex in the chain being traced
+  std::vector<std::int32_t> pos(T.xy.size(), -1);  // position of a vertex in the chain being traced
   std::vector<std::uint32_t> path;
   for (std::uint32_t h0 = 0; h0 < hcount; ++h0) {
     if (used[h0] || !is_free(h0)) continue;
@@ -102,7 +102,7 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
         for (std::size_t k = p; k < path.size(); ++k) pos[path[k]] = -1;
         path.resize(p);
       }
-      pos[v] = static_cast<std::int64_t>(path.size());
+      pos[v] = static_cast<std::int32_t>(path.size());
       path.push_back(v);
       h = successor(h);
     } while (h != h0);

@@ -58,15 +58,17 @@ class Builder {
  public:
   Builder(Triangulation& T, Mode mode) : T_(T), mode_(mode), P_(T.xy.data()), G_(T.ghost) {}
 
-  void run(const std::vector<std::uint32_t>& order);
+  void run(std::size_t n);  // inserts vertices 0 .. n-1 in this order
 
  private:
   Triangulation& T_;
   Mode mode_;
   const Vec2* P_;
   std::uint32_t G_;
-  std::vector<std::uint32_t> mark_;  // per slot: 2*stamp = in this cavity, 2*stamp+1 = tested, not in it
-  std::uint32_t in_ = 0, out_ = 1;
+  // Per slot: in_ = in this cavity, out_ = tested and not in it; reset after each insertion (only the
+  // cavity and the triangles across its boundary were marked), so one byte per slot suffices.
+  std::vector<std::uint8_t> mark_;
+  static constexpr std::uint8_t in_ = 1, out_ = 2;
   std::vector<std::uint32_t> cavity_, boundary_, stack_, start_at_, ba_, bb_, bo_, newt_;
   std::uint32_t last_ = 0;                    // DSHI: a triangle made by the previous insertion
   std::uint32_t ds_vertex_ = 0, ds_tri_ = 0;  // DS: fixed start, a triangle incident to the first vertex
@@ -237,8 +239,6 @@ void Builder::cavity_scan(const Vec2& p) {
 
 void Builder::insert(std::uint32_t v) {
   const Vec2 p = P_[v];
-  in_ += 2;
-  out_ += 2;
   dup_ = kNone;
   if (mode_ == Mode::Ordinary) {
     cavity_scan(p);
@@ -258,7 +258,7 @@ void Builder::insert(std::uint32_t v) {
   // are reused and two are appended (a disk of k triangles has k + 2 boundary edges).
   std::uint32_t* tri = T_.tri.data();
   std::uint32_t* twin = T_.twin.data();
-  double* nn2 = T_.nn2.data();
+  float* nn2 = T_.nn2.data();
   const std::size_t m = boundary_.size();
   ba_.resize(m);
   bb_.resize(m);
@@ -290,7 +290,8 @@ void Builder::insert(std::uint32_t v) {
     if (ba_[j] != G_) {
       // v's new Delaunay neighbours: the nearest neighbour of either end is found when the later of the
       // two is inserted (a final Delaunay edge is an edge of every intermediate triangulation).
-      const double dx = P_[ba_[j]].x - p.x, dy = P_[ba_[j]].y - p.y, d2 = dx * dx + dy * dy;
+      const double dx = P_[ba_[j]].x - p.x, dy = P_[ba_[j]].y - p.y;
+      const float d2 = static_cast<float>(dx * dx + dy * dy);
       nn2[v] = std::min(nn2[v], d2);
       nn2[ba_[j]] = std::min(nn2[ba_[j]], d2);
       if (finite_new == kNone && bb_[j] != G_) finite_new = t;
@@ -307,20 +308,22 @@ void Builder::insert(std::uint32_t v) {
     for (std::size_t j = 0; j < m; ++j)
       if ((ba_[j] == ds_vertex_ || bb_[j] == ds_vertex_) && ba_[j] != G_ && bb_[j] != G_) ds_tri_ = newt_[j];
   }
+  for (std::uint32_t t : cavity_) mark_[t] = 0;
+  for (std::size_t j = 0; j < m; ++j) mark_[bo_[j] / 3] = 0;
   ++T_.inserted;
 }
 
-void Builder::run(const std::vector<std::uint32_t>& order) {
-  const std::size_t n = order.size();
+void Builder::run(std::size_t n) {
+  auto order = [](std::size_t k) { return static_cast<std::uint32_t>(k); };
   // Initial triangle: the first point, the first point different from it, the first point not collinear
   // with both. Points skipped on the way are inserted right after, in their order.
-  const std::uint32_t p0 = order[0];
+  const std::uint32_t p0 = order(0);
   std::size_t k1 = 1;
-  while (k1 < n && P_[order[k1]].x == P_[p0].x && P_[order[k1]].y == P_[p0].y) ++k1;
+  while (k1 < n && P_[order(k1)].x == P_[p0].x && P_[order(k1)].y == P_[p0].y) ++k1;
   std::size_t k2 = k1 + 1;
   if (k1 < n) {
-    const std::uint32_t p1 = order[k1];
-    while (k2 < n && pred::orient2d(P_[p0].x, P_[p0].y, P_[p1].x, P_[p1].y, P_[order[k2]].x, P_[order[k2]].y) == 0) ++k2;
+    const std::uint32_t p1 = order(k1);
+    while (k2 < n && pred::orient2d(P_[p0].x, P_[p0].y, P_[p1].x, P_[p1].y, P_[order(k2)].x, P_[order(k2)].y) == 0) ++k2;
   }
   if (k1 >= n || k2 >= n) {
     std::vector<Vec2> distinct(P_, P_ + n);
@@ -330,7 +333,7 @@ void Builder::run(const std::vector<std::uint32_t>& order) {
     if (count < 3) throw OutlineError("need at least 3 distinct points, got " + std::to_string(count));
     throw OutlineError("all " + std::to_string(count) + " distinct points are collinear");
   }
-  std::uint32_t a = p0, b = order[k1], c = order[k2];
+  std::uint32_t a = p0, b = order(k1), c = order(k2);
   if (pred::orient2d(P_[a].x, P_[a].y, P_[b].x, P_[b].y, P_[c].x, P_[c].y) < 0) std::swap(b, c);
 
   const std::size_t max_slots = 2 * n + 8;
@@ -342,20 +345,20 @@ void Builder::run(const std::vector<std::uint32_t>& order) {
   mark_.assign(4, 0);
   start_at_.assign(n + 1, 0);
   T_.inserted = 3;
-  T_.nn2.assign(n, std::numeric_limits<double>::infinity());
+  T_.nn2.assign(n, std::numeric_limits<float>::infinity());
   for (std::uint32_t u : {a, b, c})
     for (std::uint32_t w : {a, b, c})
       if (u != w) {
         const double dx = P_[u].x - P_[w].x, dy = P_[u].y - P_[w].y;
-        T_.nn2[u] = std::min(T_.nn2[u], dx * dx + dy * dy);
+        T_.nn2[u] = std::min(T_.nn2[u], static_cast<float>(dx * dx + dy * dy));
       }
   last_ = 0;
   ds_vertex_ = a;
   ds_tri_ = 0;
 
   for (std::size_t k = 1; k < k2; ++k)
-    if (k != k1) insert(order[k]);
-  for (std::size_t k = k2 + 1; k < n; ++k) insert(order[k]);
+    if (k != k1) insert(order(k));
+  for (std::size_t k = k2 + 1; k < n; ++k) insert(order(k));
 }
 
 }  // namespace
@@ -468,9 +471,7 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, 
   T.ghost = static_cast<std::uint32_t>(n);
   T.vrep.resize(n);
   for (std::size_t v = 0; v < n; ++v) T.vrep[v] = static_cast<std::uint32_t>(v);
-  std::vector<std::uint32_t> identity(n);
-  for (std::size_t v = 0; v < n; ++v) identity[v] = static_cast<std::uint32_t>(v);
-  Builder(T, mode).run(identity);
+  Builder(T, mode).run(n);
   return T;
 }
 

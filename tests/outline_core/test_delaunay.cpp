@@ -262,7 +262,7 @@ TEST(OutlineDelaunay, NearestNeighbourDistancesMatchBruteForce) {
         const double dx = T.xy[v].x - T.xy[w].x, dy = T.xy[v].y - T.xy[w].y;
         best = std::min(best, dx * dx + dy * dy);
       }
-      ASSERT_EQ(T.nn2[v], best) << v;
+      ASSERT_EQ(T.nn2[v], static_cast<float>(best)) << v;
     }
   }
 }
