@@ -57,7 +57,7 @@ not_after=$(date -u +%Y-%m-%dT%H:%M:%S -d "$days days")
 make_ca() {
   openssl ecparam -name prime256v1 -genkey -noout -out "$1/$2.key"
   openssl req -new -x509 -sha256 -days "$days" -key "$1/$2.key" -out "$1/$2.pem" -subj "/O=hullgrind/CN=$3" \
-    -addext basicConstraints=critical,CA:TRUE -addext keyUsage=critical,keyCertSign,cRLSign
+    -addext basicConstraints=critical,CA:TRUE -addext keyUsage=critical,keyCertSign,cRLSign,digitalSignature
 }
 
 # make_identity DIR NAME : key and certificate signed by DIR/identity_ca

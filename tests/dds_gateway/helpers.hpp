@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <csignal>
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <string>
