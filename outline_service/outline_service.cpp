@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 #include "hullgrind/heartbeat_t.hpp"
 #include "outline_service/part_pose.hpp"
@@ -133,11 +134,16 @@ OutlineService::OutlineService(runtime::Node& node) : node_(node), options_(opti
 }
 
 OutlineService::~OutlineService() {
-  {
-    std::lock_guard lock(mutex_);
-    quit_ = true;
+  std::unique_lock lock(mutex_);
+  quit_ = true;
+  wake_.notify_all();
+  // A shutdown must take less than a second, but a big cloud can take longer than that to compute and
+  // the core cannot be interrupted: then the result is abandoned and the process ends here.
+  if (!wake_.wait_for(lock, std::chrono::milliseconds(700), [&] { return !busy_; })) {
+    runtime::logf(runtime::Level::Warn, "abandoning the outline being computed to stop in time");
+    std::_Exit(0);
   }
-  wake_.notify_one();
+  lock.unlock();
   worker_.join();
 }
 
@@ -152,8 +158,15 @@ void OutlineService::work() {
       cloud = std::move(*pending_);
       pending_.reset();
       recv_utime = pending_recv_utime_;
+      busy_ = true;
     }
     Computed c = compute(cloud, options_);
+    {
+      std::lock_guard lock(mutex_);
+      busy_ = false;
+      wake_.notify_all();
+      if (quit_) return;
+    }
     node_.publish(channels::kOutline, c.outline);
     for (auto& pose : c.poses) node_.publish(channels::kPartPose, pose);
     double latency = double(runtime::now_utime() - recv_utime) * 1e-6;

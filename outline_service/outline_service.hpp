@@ -44,6 +44,7 @@ class OutlineService {
   std::optional<hullgrind::plate_cloud_t> pending_;
   std::int64_t pending_recv_utime_ = 0;
   bool quit_ = false;
+  bool busy_ = false;
   std::thread worker_;
 };
 

@@ -13,10 +13,42 @@ Config Config::load(const std::string& path) {
   return from_string(text.str(), path);
 }
 
+namespace {
+// OpenCV's YAML reader keeps "value  # comment" as the value. Drop comments that start at the beginning
+// of a line or after a blank, outside quotes, so that ordinary YAML files read as people expect.
+std::string strip_comments(const std::string& yaml) {
+  std::string out;
+  out.reserve(yaml.size());
+  char quote = 0;
+  bool comment = false;
+  for (std::size_t i = 0; i < yaml.size(); ++i) {
+    char ch = yaml[i];
+    if (ch == '\n') {
+      comment = false;
+      quote = 0;
+    } else if (comment) {
+      continue;
+    } else if (quote) {
+      if (ch == quote) quote = 0;
+    } else if (ch == '"' || ch == '\'') {
+      quote = ch;
+    } else if (ch == '#' && (i == 0 || yaml[i - 1] == ' ' || yaml[i - 1] == '\t' || yaml[i - 1] == '\n')) {
+      if (!(i == 0 && yaml.rfind("%YAML", 0) == 0)) {
+        comment = true;
+        while (!out.empty() && (out.back() == ' ' || out.back() == '\t')) out.pop_back();
+        continue;
+      }
+    }
+    out += ch;
+  }
+  return out;
+}
+}  // namespace
+
 Config Config::from_string(const std::string& yaml, const std::string& name) {
   Config c;
   c.source_ = name;
-  std::string text = yaml;
+  std::string text = strip_comments(yaml);
   // FileStorage wants the YAML directive; accept plain YAML files without it.
   if (text.rfind("%YAML", 0) != 0 && text.find_first_not_of(" \t\r\n") != std::string::npos &&
       text[text.find_first_not_of(" \t\r\n")] != '{')

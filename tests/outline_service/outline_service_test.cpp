@@ -84,13 +84,18 @@ TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
   EXPECT_EQ(holes, 1);
   EXPECT_EQ(c.outline.points_used, cloud.n);
   EXPECT_GT(c.outline.search_cost, 0);
-  // The hole's boundary runs through the grid points next to it: (0.1..0.2) x (0.05..0.15) is exactly
-  // the hole, so the part's area is 0.4*0.2 - 0.1*0.1 up to float rounding of the coordinates.
+  // Expected area, from the alpha-shape definition: the outer rectangle's boundary runs through its
+  // corner points (convex corners are kept whole), but each corner of the hole is chamfered by the kept
+  // triangles whose circumradius is <= R: a chamfer with legs L has circumradius L/sqrt(2), so with
+  // R = 2p the legs reach 2p (2p/sqrt(2) = 1.41p <= 2p; 3p/sqrt(2) = 2.12p > 2p). The four chamfers take
+  // 4 * (2p)^2 / 2 off the hole and are symmetric about its centre (0.15, 0.1).
+  const double hole_area = 0.01 - 4 * 0.5 * (2 * p) * (2 * p);
+  const double area = 0.08 - hole_area;
   ASSERT_EQ(c.poses.size(), 1u);
-  EXPECT_NEAR(c.poses[0].area, 0.08 - 0.01, 1e-6);
+  EXPECT_NEAR(c.poses[0].area, area, 1e-6);
   EXPECT_EQ(c.poses[0].num_parts, 1);
-  // Centroid: (0.08*(0.2,0.1) - 0.01*(0.15,0.1)) / 0.07; to the camera frame through the plane.
-  double cu = (0.08 * 0.2 - 0.01 * 0.15) / 0.07;
+  // Centroid: (0.08*(0.2,0.1) - hole_area*(0.15,0.1)) / area; to the camera frame through the plane.
+  double cu = (0.08 * 0.2 - hole_area * 0.15) / area;
   EXPECT_NEAR(c.poses[0].centroid_uv[0], cu, 1e-6);
   EXPECT_NEAR(c.poses[0].centroid_uv[1], 0.1, 1e-6);
   EXPECT_NEAR(c.poses[0].centroid_xyz[0], cu, 1e-6);

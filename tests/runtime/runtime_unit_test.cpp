@@ -52,6 +52,13 @@ TEST(RuntimeConfig, NestedKeysAndTypes) {
   EXPECT_THROW(c.get_doubles("robot.speed"), hr::ConfigError);
 }
 
+TEST(RuntimeConfig, CommentsAreNotPartOfValues) {
+  auto c = hr::Config::from_string("# a config\nspeed: 0.25   # m/s\nname: \"a # b\"  # quoted hash stays\nlist: [1, 2] # two\n");
+  EXPECT_EQ(c.get_double("speed").value(), 0.25);
+  EXPECT_EQ(c.get_string("name").value(), "a # b");
+  EXPECT_EQ(c.get_doubles("list").value(), (std::vector<double>{1, 2}));
+}
+
 TEST(RuntimeConfig, BadFileNamesTheFile) {
   try {
     hr::Config::load("/nonexistent/hg.yaml");
