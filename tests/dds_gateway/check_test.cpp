@@ -1,0 +1,105 @@
+// check_job_request at its boundaries: what a plant system may send, and what it is told otherwise.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "dds_gateway/convert.hpp"
+
+using hg::dds_gateway::check_job_request;
+using hg::dds_gateway::JobLimits;
+
+namespace {
+
+struct Req {
+  std::string job_id = "J-1", part_id = "plate", frame = "";
+  hgdds_JobRequest r{};
+  Req() { refresh(); }
+  hgdds_JobRequest& refresh() {
+    r.job_id = job_id.data();
+    r.part_id = part_id.data();
+    r.header.frame_id = frame.data();
+    return r;
+  }
+};
+
+double above(double v) { return std::nextafter(v, std::numeric_limits<double>::infinity()); }
+
+TEST(DdsGatewayCheck, AllDefaultsAndEveryIdCharacterAreAccepted) {
+  Req q;
+  q.job_id = "Az09._:-";
+  EXPECT_EQ(check_job_request(q.refresh(), JobLimits{}), "");
+  q.job_id = std::string(64, 'x');
+  EXPECT_EQ(check_job_request(q.refresh(), JobLimits{}), "");
+  q.job_id = std::string(65, 'x');
+  EXPECT_NE(check_job_request(q.refresh(), JobLimits{}).find("65 characters"), std::string::npos);
+  for (char bad : {' ', '/', '\\', '"', '<', '\x01', '\x7f', '\xc3'}) {
+    q.job_id = std::string("a") + bad + "b";
+    EXPECT_NE(check_job_request(q.refresh(), JobLimits{}).find("position 1"), std::string::npos) << int(bad);
+  }
+}
+
+TEST(DdsGatewayCheck, ParameterRangesAreInclusiveAndZeroMeansDefault) {
+  JobLimits lim;
+  struct P {
+    const char* name;
+    double hgdds_JobRequest::*field;
+    double lo, hi;
+  } params[] = {{"tool_radius", &hgdds_JobRequest::tool_radius, 1e-3, lim.max_tool_radius},
+                {"chamfer_angle", &hgdds_JobRequest::chamfer_angle, 0, lim.max_chamfer_angle},
+                {"grind_speed", &hgdds_JobRequest::grind_speed, 1e-4, lim.max_grind_speed},
+                {"travel_speed", &hgdds_JobRequest::travel_speed, 1e-4, lim.max_travel_speed},
+                {"step", &hgdds_JobRequest::step, lim.min_step, lim.max_step},
+                {"safe_height", &hgdds_JobRequest::safe_height, 1e-3, lim.max_safe_height}};
+  for (const P& p : params) {
+    SCOPED_TRACE(p.name);
+    Req q;
+    hgdds_JobRequest& r = q.refresh();
+    for (double ok : {0.0, p.hi, p.lo > 0 ? p.lo : 1e-9}) {
+      r.*p.field = ok;
+      EXPECT_EQ(check_job_request(r, lim), "") << ok;
+    }
+    for (double bad : {above(p.hi), -1e-9, std::numeric_limits<double>::infinity(),
+                       std::numeric_limits<double>::quiet_NaN()}) {
+      r.*p.field = bad;
+      std::string why = check_job_request(r, lim);
+      EXPECT_EQ(why.rfind(p.name, 0), 0u) << bad << ": " << why;
+    }
+  }
+}
+
+TEST(DdsGatewayCheck, ActionDirectionAndPartIdAreChecked) {
+  Req q;
+  hgdds_JobRequest& r = q.refresh();
+  for (int a : {0, 1, 2}) {
+    r.action = int8_t(a);
+    EXPECT_EQ(check_job_request(r, JobLimits{}), "");
+  }
+  r.action = 3;
+  EXPECT_NE(check_job_request(r, JobLimits{}).find("action 3"), std::string::npos);
+  r.action = -1;
+  EXPECT_NE(check_job_request(r, JobLimits{}).find("action -1"), std::string::npos);
+  r.action = 0;
+  r.direction = 2;
+  EXPECT_NE(check_job_request(r, JobLimits{}).find("direction 2"), std::string::npos);
+  r.direction = 1;
+  q.part_id = std::string(128, 'p');
+  EXPECT_EQ(check_job_request(q.refresh(), JobLimits{}), "");
+  q.part_id = std::string(129, 'p');
+  EXPECT_NE(check_job_request(q.refresh(), JobLimits{}).find("129 bytes"), std::string::npos);
+  q.part_id = "tab\there";
+  EXPECT_NE(check_job_request(q.refresh(), JobLimits{}).find("control character at position 3"), std::string::npos);
+  q.part_id = "";
+  EXPECT_EQ(check_job_request(q.refresh(), JobLimits{}), "");
+  r.job_id = nullptr;  // a sample without strings is refused, not crashed on
+  EXPECT_EQ(check_job_request(r, JobLimits{}), "job_id is empty");
+}
+
+TEST(DdsGatewayCheck, PrintableEchoesSafely) {
+  EXPECT_EQ(hg::dds_gateway::printable("a\nb\x01\xff", 64), "a?b??");
+  EXPECT_EQ(hg::dds_gateway::printable(std::string(80, 'z').c_str(), 64), std::string(64, 'z'));
+  EXPECT_EQ(hg::dds_gateway::printable(nullptr, 64), "");
+}
+
+}  // namespace
