@@ -60,6 +60,9 @@ Result compute_outline(std::span<const Vec2> points, const Options& options) {
   res.points_used = T.inserted;
   res.duplicates_merged = T.duplicates;
   res.search_cost = T.stats.search_cost();
+  res.search_cost_locate = T.stats.locate_visits;
+  res.search_cost_cavity = T.stats.cavity_visits;
+  res.cavity_triangles = T.stats.cavity_triangles;
   res.incircle_tests = T.stats.incircle_tests;
   res.orient_tests = T.stats.orient_tests;
   res.nn_spacing_median = median_nn_spacing(T);

@@ -66,6 +66,9 @@ struct Result {
   Order order = Order::AsIs;
   std::size_t triangles = 0;          // finite Delaunay triangles
   std::uint64_t search_cost = 0;      // triangles visited: point location + cavity search (the paper's measure)
+  std::uint64_t search_cost_locate = 0;  // part of search_cost: point location (walk, or Ordinary's full scan)
+  std::uint64_t search_cost_cavity = 0;  // part of search_cost: neighbours tested by the cavity search
+  std::uint64_t cavity_triangles = 0;    // triangles deleted over all insertions (mean cavity size x points)
   std::uint64_t incircle_tests = 0;
   std::uint64_t orient_tests = 0;
   std::vector<Loop> loops;            // outer loops first, then holes
