@@ -461,6 +461,23 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, 
     }
     T.origin = {minx / 2 + maxx / 2, miny / 2 + maxy / 2};
   }
+  // The predicates are exact while their degree-4 products neither overflow nor underflow; a cloud
+  // spanning more than 1e60 would break that, so it is refused (naming its most extreme point) rather
+  // than triangulated wrongly.
+  {
+    double minx = points[0].x, maxx = minx, miny = points[0].y, maxy = miny;
+    std::size_t extreme = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2& p = points[i];
+      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
+      if (std::max(std::fabs(p.x - T.origin.x), std::fabs(p.y - T.origin.y)) >
+          std::max(std::fabs(points[extreme].x - T.origin.x), std::fabs(points[extreme].y - T.origin.y)))
+        extreme = i;
+    }
+    if (!(maxx - minx <= 1e60 && maxy - miny <= 1e60))
+      throw OutlineError("point " + std::to_string(extreme) + " (x=" + fmt(points[extreme].x) + ", y=" + fmt(points[extreme].y) +
+                         ") is too far from the others: the cloud must span less than 1e60 for exact predicates");
+  }
   std::vector<Vec2> translated(n);
   for (std::size_t i = 0; i < n; ++i) translated[i] = {points[i].x - T.origin.x, points[i].y - T.origin.y};
   if (!custom.empty() && custom.size() != n) throw OutlineError("custom insertion order has the wrong size");

@@ -294,3 +294,29 @@ TEST(OutlineAlpha, DuplicatesAreMergedAndTrianglesReferToFirstOccurrences) {
   EXPECT_EQ(r.loops[0].area, 36.0);
   for (std::uint32_t i : r.loops[0].point_index) EXPECT_LT(i, distinct);
 }
+
+TEST(OutlineAlpha, ExtremeRadii) {
+  const auto pts = random_cloud(500, 77, 10);
+  Options opt;
+  opt.alpha_radius = 1e-6;  // every triangle is big: nothing inside, no loop
+  EXPECT_TRUE(compute_outline(pts, opt).loops.empty());
+  opt.alpha_radius = 1e6;  // nothing is big: one loop, the convex hull
+  const Result r = compute_outline(pts, opt);
+  ASSERT_EQ(r.loops.size(), 1u);
+  std::vector<Q2> q;
+  for (const Vec2& p : pts) q.push_back(exact(p));
+  EXPECT_NEAR(r.loops[0].area, hull_area2_q(q).get_d() / 2, 1e-9);
+  opt.alpha_radius = std::nan("");
+  EXPECT_THROW(compute_outline(pts, opt), OutlineError);
+}
+
+TEST(OutlineAlpha, CoordinatesBeyondTheExactRangeAreRefused) {
+  auto pts = random_cloud(50, 78, 10);
+  pts[9] = {1e70, 0};
+  try {
+    compute_outline(pts);
+    FAIL() << "no error";
+  } catch (const OutlineError& e) {
+    EXPECT_NE(std::string(e.what()).find("point 9 "), std::string::npos) << e.what();
+  }
+}
