@@ -53,6 +53,9 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const outline::Options& 
   }
   out.thickness = cloud.thickness;
   out.num_loops = 0;
+  out.points_read = cloud.n;
+  out.mode = outline::to_string(options.mode);
+  out.order = outline::to_string(options.order);
   auto fail = [&](int8_t status, std::string why) {
     out.status = status;
     out.error_text = std::move(why);
@@ -76,7 +79,14 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const outline::Options& 
   }
   out.compute_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.alpha_radius = r.alpha_radius;
+  out.points_read = int32_t(r.points_read);
   out.points_used = int32_t(r.points_used);
+  out.duplicates_merged = int32_t(r.duplicates_merged);
+  out.mode = outline::to_string(r.mode);
+  out.order = outline::to_string(r.order);
+  out.time_triangulate = r.time.triangulate_ms * 1e-3;
+  out.time_alpha = r.time.alpha_ms * 1e-3;
+  out.time_loops = r.time.loops_ms * 1e-3;
   out.triangles = int32_t(r.triangles);
   out.search_cost = int64_t(r.search_cost);
   bool any_outer = false;

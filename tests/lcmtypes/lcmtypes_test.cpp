@@ -113,7 +113,12 @@ TEST(LcmTypes, OutlineWithLoops) {
     m.loops.push_back(l);
   }
   m.num_loops = 2;
+  m.points_read = 1300;
   m.points_used = 1234;
+  m.duplicates_merged = 66;
+  m.mode = "dshi";
+  m.order = "hilbert";
+  m.time_triangulate = 0.01, m.time_alpha = 0.002, m.time_loops = 0.001;
   m.triangles = 2400;
   m.search_cost = 5'000'000'000LL;
   m.compute_time = 0.02;
@@ -124,6 +129,10 @@ TEST(LcmTypes, OutlineWithLoops) {
   EXPECT_EQ(o.loops[1].n, 4);
   EXPECT_EQ(o.loops[1].v, m.loops[1].v);
   EXPECT_EQ(o.search_cost, 5'000'000'000LL);
+  EXPECT_EQ(o.points_read, 1300);
+  EXPECT_EQ(o.duplicates_merged, 66);
+  EXPECT_EQ(o.order, "hilbert");
+  EXPECT_EQ(o.time_alpha, 0.002);
 }
 
 TEST(LcmTypes, PartPose) {

@@ -83,6 +83,12 @@ TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
   }
   EXPECT_EQ(holes, 1);
   EXPECT_EQ(c.outline.points_used, cloud.n);
+  EXPECT_EQ(c.outline.points_read, cloud.n);
+  EXPECT_EQ(c.outline.duplicates_merged, 0);
+  EXPECT_EQ(c.outline.mode, "dshi");
+  EXPECT_EQ(c.outline.order, "as-is");
+  EXPECT_GT(c.outline.time_triangulate, 0);
+  EXPECT_LE(c.outline.time_triangulate + c.outline.time_alpha + c.outline.time_loops, c.outline.compute_time);
   EXPECT_GT(c.outline.search_cost, 0);
   // Expected area, from the alpha-shape definition: the outer rectangle's boundary runs through its
   // corner points (convex corners are kept whole), but each corner of the hole is chamfered by the kept
