@@ -53,9 +53,16 @@ void to_dds(const hullgrind::outline_t& m, OutlineSample& out) {
   s.loops._maximum = s.loops._length = static_cast<uint32_t>(out.loops.size());
   s.loops._buffer = out.loops.data();
   s.loops._release = false;
+  s.points_read = m.points_read;
   s.points_used = m.points_used;
+  s.duplicates_merged = m.duplicates_merged;
+  s.mode = str(m.mode);
+  s.order = str(m.order);
   s.triangles = m.triangles;
   s.search_cost = m.search_cost;
+  s.time_triangulate = m.time_triangulate;
+  s.time_alpha = m.time_alpha;
+  s.time_loops = m.time_loops;
   s.compute_time = m.compute_time;
 }
 

@@ -57,9 +57,16 @@ inline void expect_same(const hullgrind::outline_t& m, const hgdds_Outline& d) {
     EXPECT_EQ(ml.area, dl.area);
     EXPECT_EQ(ml.perimeter, dl.perimeter);
   }
+  EXPECT_EQ(m.points_read, d.points_read);
   EXPECT_EQ(m.points_used, d.points_used);
+  EXPECT_EQ(m.duplicates_merged, d.duplicates_merged);
+  EXPECT_EQ(m.mode, str(d.mode));
+  EXPECT_EQ(m.order, str(d.order));
   EXPECT_EQ(m.triangles, d.triangles);
   EXPECT_EQ(m.search_cost, d.search_cost);
+  EXPECT_EQ(m.time_triangulate, d.time_triangulate);
+  EXPECT_EQ(m.time_alpha, d.time_alpha);
+  EXPECT_EQ(m.time_loops, d.time_loops);
   EXPECT_EQ(m.compute_time, d.compute_time);
 }
 
