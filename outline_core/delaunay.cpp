@@ -413,11 +413,15 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
     idx.swap(idx2);
   }
   if (order != Order::Brio) return idx;
-  // BRIO rounds: the last round holds about half the points, the one before half of the rest, ... The
-  // round is a hash of the coordinates (not of the index), so equal points share a round and keep their
-  // input order. A stable counting sort by round keeps the Hilbert order within each round.
+  // BRIO rounds, growing 16-fold: the last round holds 15/16 of the points, the one before 15/16 of the
+  // rest, ... (factor 16 rather than the classic 2: the big last round keeps the Hilbert locality, and the
+  // sparse earlier rounds already make later points land inside the mesh; measured on a 1.59 M camera
+  // grid: 4.4 cavity triangles per point instead of 6.8 for plain Hilbert, 25 % less time; factor 2: 4.0
+  // triangles but no faster). The round is a hash of the coordinates (not of the index), so equal points
+  // share a round and keep their input order. A stable counting sort by round keeps the Hilbert order
+  // within each round.
   int rounds = 0;
-  while ((n >> rounds) > 256 && rounds < 30) ++rounds;
+  while (rounds < 7 && (n >> (4 * rounds)) > 256) ++rounds;
   std::vector<std::uint8_t> round(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double x = xy[i].x + 0.0, y = xy[i].y + 0.0;  // -0.0 becomes +0.0: equal values, equal bits
@@ -426,8 +430,8 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
     std::memcpy(&by, &y, 8);
     std::uint64_t h = bx * 0x9e3779b97f4a7c15ull ^ (by + 0x632be59bd9b4e019ull + (bx << 6) + (bx >> 2));
     h ^= h >> 31; h *= 0xbf58476d1ce4e5b9ull; h ^= h >> 27; h *= 0x94d049bb133111ebull; h ^= h >> 31;
-    const int tz = h == 0 ? 63 : __builtin_ctzll(h);
-    round[i] = static_cast<std::uint8_t>(rounds - std::min(rounds, tz));
+    const int level = (h == 0 ? 64 : __builtin_ctzll(h)) / 4;  // P(level >= k) = 16^-k
+    round[i] = static_cast<std::uint8_t>(rounds - std::min(rounds, level));
   }
   std::vector<std::uint32_t> rc(static_cast<std::size_t>(rounds) + 2, 0);
   for (std::size_t i = 0; i < n; ++i) ++rc[round[i] + 1u];

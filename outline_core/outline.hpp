@@ -20,8 +20,8 @@ struct Vec2 {
 // Point location scheme of the Bowyer-Watson insertion (paper section 3.1).
 enum class Mode { Ordinary, DS, DSHI };
 // Insertion order: as given (scan order), or sorted along a space-filling curve first. Brio: biased
-// randomized insertion order (rounds of doubling size, each round along the Hilbert curve): points land
-// inside the current mesh, so cavities stay small (about 4 triangles instead of 7 on camera grids).
+// randomized insertion order (rounds growing 16-fold, each along the Hilbert curve): points land inside
+// the current mesh, so cavities stay small (about 4.4 triangles instead of 6.8 on camera grids).
 enum class Order { AsIs, Hilbert, Brio };
 
 const char* to_string(Mode);
