@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "helpers.hpp"
+#include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/part_pose_t.hpp"
 
 using namespace hgtest;
@@ -16,6 +17,7 @@ TEST(DdsGatewayThroughput, ThousandPerSecondForThirtySecondsNoLossNoDuplicate) {
   lcm::LCM lcm{hg::runtime::default_lcm_url()};
   ASSERT_TRUE(lcm.good());
   GatewayProcess gateway(kDomain);
+  Collector<hullgrind::heartbeat_t> beats(lcm, "HG_HEARTBEAT");
   dds_entity_t pp = make_participant(kDomain, cyclone_config(), {});
   Qos q = stream_qos();
   Reader<hgdds_PartPose> reader(pp, &hgdds_PartPose_desc, "hg_part_pose", q.get());
@@ -69,6 +71,18 @@ TEST(DdsGatewayThroughput, ThousandPerSecondForThirtySecondsNoLossNoDuplicate) {
   counter.join();
   double total_s = std::chrono::duration<double>(Clock::now() - t0).count();
 
+  // Where a loss would have happened: the gateway's own counters (LCM messages decoded, DDS writes, drops).
+  // (A heartbeat made after the counting finished, not one queued while this thread was publishing.)
+  const int64_t counted_utime = hg::runtime::now_utime();
+  auto last_beat = [&]() -> const hullgrind::heartbeat_t* {
+    for (auto it = beats.msgs.rbegin(); it != beats.msgs.rend(); ++it)
+      if (it->pid == gateway.pid() && it->header.utime > counted_utime) return &*it;
+    return nullptr;
+  };
+  wait_until([&] { return last_beat() != nullptr; }, [&] { lcm.handleTimeout(20); }, 5s);
+  if (const hullgrind::heartbeat_t* b = last_beat())
+    std::printf("[ FIGURES  ] gateway counters: received %lld, published %lld, dropped %lld, decode errors %lld\n",
+                (long long)b->received, (long long)b->published, (long long)b->dropped, (long long)b->decode_errors);
   int missing = 0, duplicated = 0;
   for (int c : seen) {
     missing += c == 0;
