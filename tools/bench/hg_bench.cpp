@@ -1,0 +1,563 @@
+// hg-bench: reproduces the paper's Tables 2, 3, 7 and 8 (search cost and time per point-location mode) on
+// generated clouds of the paper's sizes, times our other insertion orders on a shuffled copy, and runs the
+// peers (CGAL, PCL) on the same points with the same R when they were built in. Writes a markdown report
+// and a PNG plot. A benchmark, not a test: it asserts nothing about time, it prints figures.
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/utsname.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench.hpp"
+#include "outline_core/alpha.hpp"
+#include "outline_core/delaunay.hpp"
+#include "outline_core/io/cloud_io.hpp"
+#include "outline_core/outline.hpp"
+#include "partgen/presets.hpp"
+#include "partgen/synth.hpp"
+#include "partgen/writers.hpp"
+#include "peers.hpp"
+
+namespace hg::bench {
+namespace {
+
+using outline::Vec2;
+using Clock = std::chrono::steady_clock;
+
+constexpr bool kHaveCgal =
+#ifdef HG_BENCH_CGAL
+    true;
+#else
+    false;
+#endif
+constexpr bool kHavePcl =
+#ifdef HG_BENCH_PCL
+    true;
+#else
+    false;
+#endif
+
+struct Args {
+  std::set<std::string> sets{"low", "down", "high"};
+  std::vector<std::string> only;  // preset names; overrides sets
+  int runs = 5, slow_runs = 3, slow_runs_high = 1, ordinary_runs = 3;
+  double noise = 0.05;  // in-plane sigma as a fraction of the pitch
+  bool jagged = true;
+  double dropout = 0;
+  std::uint64_t seed = 7;
+  int band_rows = 8;
+  bool cgal = true, alpha_shape = true, pcl = true, memory = true;
+  std::string memory_preset = "high-4";
+  std::string md, png, include, tmp = "/tmp";
+};
+
+[[noreturn]] void usage(int code) {
+  std::fprintf(code ? stderr : stdout,
+               "usage: hg-bench [--sets low,down,high] [--only PRESET,...] [--runs N] [--slow-runs N]\n"
+               "                [--slow-runs-high N] [--ordinary-runs N] [--noise F] [--no-jagged] [--dropout F]\n"
+               "                [--seed N] [--band-rows B] [--no-cgal] [--no-alpha-shape] [--no-pcl] [--no-memory]\n"
+               "                [--memory-preset NAME] [--md FILE] [--png FILE] [--include FILE] [--tmp DIR]\n"
+               "  --noise F: in-plane Gaussian noise, sigma = F x pitch (default 0.05); --no-jagged: pixel-centre\n"
+               "  rule at the edges (default: jagged edges, like a camera). Clouds come from hg_partgen's presets\n"
+               "  (low-*: paper Table 1, down-*: Table 6, high-*: Table 4), in scan-line order.\n"
+               "  ordinary (O(n^2)) and ds run on low and down only, as in the paper. Peers: CGAL %s, PCL %s.\n",
+               kHaveCgal ? "built in" : "not built", kHavePcl ? "built in" : "not built");
+  std::exit(code);
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+Args parse_args(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string opt = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "hg-bench: %s needs a value\n", opt.c_str());
+        usage(2);
+      }
+      return argv[++i];
+    };
+    auto number = [&](double lo, double hi) {
+      const std::string v = value();
+      char* end = nullptr;
+      const double d = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end || !(d >= lo && d <= hi)) {
+        std::fprintf(stderr, "hg-bench: %s: '%s' is not a number in [%g, %g]\n", opt.c_str(), v.c_str(), lo, hi);
+        std::exit(2);
+      }
+      return d;
+    };
+    if (opt == "--help" || opt == "-h") usage(0);
+    else if (opt == "--sets") {
+      a.sets.clear();
+      for (const auto& s : split(value())) {
+        if (s != "low" && s != "down" && s != "high") {
+          std::fprintf(stderr, "hg-bench: --sets: unknown set '%s' (low, down, high)\n", s.c_str());
+          std::exit(2);
+        }
+        a.sets.insert(s);
+      }
+    } else if (opt == "--only") a.only = split(value());
+    else if (opt == "--runs") a.runs = static_cast<int>(number(1, 1000));
+    else if (opt == "--slow-runs") a.slow_runs = static_cast<int>(number(0, 1000));
+    else if (opt == "--slow-runs-high") a.slow_runs_high = static_cast<int>(number(0, 1000));
+    else if (opt == "--ordinary-runs") a.ordinary_runs = static_cast<int>(number(0, 1000));
+    else if (opt == "--noise") a.noise = number(0, 10);
+    else if (opt == "--no-jagged") a.jagged = false;
+    else if (opt == "--dropout") a.dropout = number(0, 0.9);
+    else if (opt == "--seed") a.seed = static_cast<std::uint64_t>(number(0, 1e15));
+    else if (opt == "--band-rows") a.band_rows = static_cast<int>(number(1, 4096));
+    else if (opt == "--no-cgal") a.cgal = false;
+    else if (opt == "--no-alpha-shape") a.alpha_shape = false;
+    else if (opt == "--no-pcl") a.pcl = false;
+    else if (opt == "--no-memory") a.memory = false;
+    else if (opt == "--memory-preset") a.memory_preset = value();
+    else if (opt == "--md") a.md = value();
+    else if (opt == "--png") a.png = value();
+    else if (opt == "--include") a.include = value();
+    else if (opt == "--tmp") a.tmp = value();
+    else {
+      std::fprintf(stderr, "hg-bench: unknown option '%s'\n", opt.c_str());
+      usage(2);
+    }
+  }
+  a.cgal = a.cgal && kHaveCgal;
+  a.alpha_shape = a.alpha_shape && a.cgal;
+  a.pcl = a.pcl && kHavePcl;
+  return a;
+}
+
+std::string read_first_line(const std::string& path) {
+  std::ifstream f(path);
+  std::string line;
+  std::getline(f, line);
+  return line;
+}
+
+std::string machine_facts() {
+  std::string model;
+  std::ifstream cpu("/proc/cpuinfo");
+  for (std::string line; std::getline(cpu, line);)
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  long mem_kb = 0;
+  std::ifstream mi("/proc/meminfo");
+  for (std::string line; std::getline(mi, line);)
+    if (line.rfind("MemTotal:", 0) == 0) mem_kb = std::atol(line.c_str() + 9);
+  utsname u{};
+  uname(&u);
+  char buf[512];
+  std::snprintf(buf, sizeof buf, "%s, %ld logical CPUs, %.1f GB RAM, Linux %s", model.c_str(),
+                sysconf(_SC_NPROCESSORS_ONLN), mem_kb / 1048576.0, u.release);
+  return buf;
+}
+
+// ---- clouds ----
+
+struct BenchCloud {
+  partgen::Preset preset;
+  std::vector<Vec2> scan;      // scan-line order, as the camera gives them
+  std::vector<Vec2> shuffled;  // the same points in a random order
+  std::vector<std::int32_t> row, col;
+};
+
+partgen::CloudOptions cloud_options(const partgen::Preset& p, const Args& a) {
+  partgen::CloudOptions o = partgen::preset_options(p);
+  o.in_plane_sigma = a.noise * o.pitch;
+  o.jagged = a.jagged;
+  o.dropout = a.dropout;
+  o.seed = a.seed;
+  return o;
+}
+
+BenchCloud make_cloud(const partgen::Preset& p, const Args& a) {
+  const partgen::Cloud c = partgen::synthesize(partgen::preset_scene(p), cloud_options(p, a));
+  BenchCloud b;
+  b.preset = p;
+  b.scan.resize(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i) b.scan[i] = {c.xyz[3 * i], c.xyz[3 * i + 1]};
+  b.row = c.pixel_row;
+  b.col = c.pixel_col;
+  b.shuffled = b.scan;
+  std::mt19937_64 rng(a.seed + 1000);
+  std::shuffle(b.shuffled.begin(), b.shuffled.end(), rng);
+  return b;
+}
+
+// Banded order (an experiment the issue asks to measure): the rows are cut into bands of B rows; each band
+// is swept column by column (alternating direction from band to band), top to bottom within a column. Keeps
+// the locality heritable initial needs while each new point falls next to the mesh, not beyond a straight
+// row front. Computed from the pixel rows and columns an organised camera cloud carries.
+std::vector<std::uint32_t> banded_order(const BenchCloud& c, int B) {
+  const std::size_t n = c.scan.size();
+  std::int32_t min_col = INT32_MAX, max_col = INT32_MIN, min_row = INT32_MAX, max_row = INT32_MIN;
+  for (std::size_t i = 0; i < n; ++i) {
+    min_col = std::min(min_col, c.col[i]);
+    max_col = std::max(max_col, c.col[i]);
+    min_row = std::min(min_row, c.row[i]);
+    max_row = std::max(max_row, c.row[i]);
+  }
+  const std::size_t cols = static_cast<std::size_t>(max_col - min_col + 1);
+  const std::size_t bands = static_cast<std::size_t>((max_row - min_row) / B + 1);
+  std::vector<std::uint32_t> count(bands * cols + 1, 0), key(n), order(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t band = static_cast<std::size_t>((c.row[i] - min_row) / B);
+    const std::size_t cc = static_cast<std::size_t>(c.col[i] - min_col);
+    key[i] = static_cast<std::uint32_t>(band * cols + (band % 2 ? cols - 1 - cc : cc));
+    ++count[key[i] + 1];
+  }
+  for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
+  for (std::size_t i = 0; i < n; ++i) order[count[key[i]]++] = static_cast<std::uint32_t>(i);  // stable: rows stay in order
+  return order;
+}
+
+// ---- our methods ----
+
+OurStats stats_of(const outline::Result& r) {
+  OurStats s;
+  s.search_cost = r.search_cost;
+  s.locate = r.search_cost_locate;
+  s.cavity_visits = r.search_cost_cavity;
+  s.cavity_triangles = r.cavity_triangles;
+  s.incircle = r.incircle_tests;
+  s.orient = r.orient_tests;
+  s.points_used = r.points_used;
+  s.triangles = r.triangles;
+  for (const auto& l : r.loops) {
+    (l.hole ? s.holes : s.outer_loops) += 1;
+    s.boundary_edges += l.points.size();
+    s.area += l.hole ? -l.area : l.area;
+  }
+  return s;
+}
+
+// The same pipeline as compute_outline (triangulate, classify, loops) with a custom insertion order that
+// is computed inside the timed region.
+outline::Result outline_with_order(std::span<const Vec2> pts, double R,
+                                   const std::function<std::vector<std::uint32_t>()>& make_order) {
+  outline::Result res;
+  outline::Triangulation T = outline::triangulate(pts, outline::Mode::DSHI, outline::Order::AsIs, make_order());
+  res.points_used = T.inserted;
+  res.search_cost = T.stats.search_cost();
+  res.search_cost_locate = T.stats.locate_visits;
+  res.search_cost_cavity = T.stats.cavity_visits;
+  res.cavity_triangles = T.stats.cavity_triangles;
+  res.incircle_tests = T.stats.incircle_tests;
+  res.orient_tests = T.stats.orient_tests;
+  res.nn_spacing_median = outline::median_nn_spacing(T);
+  const auto inside = outline::classify_alpha(T, R, false);
+  res.loops = outline::extract_loops(T, inside, pts);
+  for (std::size_t t = 0; t < T.slots(); ++t) res.triangles += !T.is_ghost(t);
+  return res;
+}
+
+struct Job {
+  std::string key;
+  int runs;
+  bool is_peer;
+  std::function<void(Method&)> run;  // one timed run: appends to m.time, fills stats
+};
+
+double now_ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+CloudResult bench_cloud(const BenchCloud& c, const Args& a) {
+  const auto& p = c.preset;
+  const bool small = p.name.rfind("high", 0) != 0;
+  CloudResult res;
+  res.preset = p.name;
+  res.table = p.table;
+  res.piece = p.piece;
+  res.paper_points = p.paper_points;
+  res.points = c.scan.size();
+  res.pitch = p.pitch;
+
+  // R: the product's automatic radius on the scan-order cloud; every method then gets this same R.
+  {
+    outline::Options o;
+    const outline::Result r = outline::compute_outline(c.scan, o);
+    res.alpha_radius = r.alpha_radius;
+    res.nn_spacing = r.nn_spacing_median;
+  }
+  const double R = res.alpha_radius;
+
+  auto ours = [&](std::span<const Vec2> pts, outline::Mode mode, outline::Order order) {
+    return [pts, mode, order, R](Method& m) {
+      outline::Options o;
+      o.alpha_radius = R;
+      o.mode = mode;
+      o.order = order;
+      const auto t0 = Clock::now();
+      const outline::Result r = outline::compute_outline(pts, o);
+      m.time.ms.push_back(now_ms_since(t0));
+      m.stats = stats_of(r);
+    };
+  };
+  std::vector<Job> jobs;
+  using outline::Mode;
+  using outline::Order;
+  jobs.push_back({key::dshi, a.runs, false, ours(c.scan, Mode::DSHI, Order::AsIs)});
+  jobs.push_back({key::dshi_hilbert_scan, a.runs, false, ours(c.scan, Mode::DSHI, Order::Hilbert)});
+  jobs.push_back({key::dshi_hilbert_shuf, a.runs, false, ours(c.shuffled, Mode::DSHI, Order::Hilbert)});
+  jobs.push_back({key::dshi_brio_shuf, a.runs, false, ours(c.shuffled, Mode::DSHI, Order::Brio)});
+  const int B = a.band_rows;
+  jobs.push_back({key::dshi_band, a.runs, false, [&c, R, B](Method& m) {
+                    const auto t0 = Clock::now();
+                    const outline::Result r = outline_with_order(c.scan, R, [&] { return banded_order(c, B); });
+                    m.time.ms.push_back(now_ms_since(t0));
+                    m.stats = stats_of(r);
+                  }});
+  if (small) {
+    jobs.push_back({key::ds, a.runs, false, ours(c.scan, Mode::DS, Order::AsIs)});
+    jobs.push_back({key::dshi_asis_shuf, a.runs, false, ours(c.shuffled, Mode::DSHI, Order::AsIs)});
+    jobs.push_back({key::ordinary, a.ordinary_runs, false, ours(c.scan, Mode::Ordinary, Order::AsIs)});
+  }
+  auto peer = [&](PeerOutline (*fn)(std::span<const Vec2>, double)) {
+    return [&c, R, fn](Method& m) {
+      const auto t0 = Clock::now();
+      m.peer = fn(c.scan, R);
+      m.time.ms.push_back(now_ms_since(t0));
+    };
+  };
+  const int slow = small ? a.slow_runs : a.slow_runs_high;
+  if (a.cgal) jobs.push_back({key::cgal_dt, a.runs, true, peer(&cgal_dt_loops)});
+  if (a.alpha_shape && slow > 0) jobs.push_back({key::cgal_alpha, slow, true, peer(&cgal_alpha_shape)});
+  if (a.pcl && slow > 0) jobs.push_back({key::pcl, slow, true, peer(&pcl_concave_hull)});
+
+  for (const auto& j : jobs) {
+    Method m;
+    m.key = j.key;
+    m.is_peer = j.is_peer;
+    res.methods.push_back(m);
+  }
+  // Round robin over the methods, so a burst of load from the shared machine spreads over all of them.
+  int max_runs = 0;
+  for (const auto& j : jobs) max_runs = std::max(max_runs, j.runs);
+  for (int r = 0; r < max_runs; ++r)
+    for (std::size_t k = 0; k < jobs.size(); ++k) {
+      if (r >= jobs[k].runs) continue;
+      jobs[k].run(res.methods[k]);
+      std::fprintf(stderr, "  %-8s %-26s run %d: %10.2f ms\n", p.name.c_str(), jobs[k].key.c_str(), r + 1,
+                   res.methods[k].time.ms.back());
+    }
+  return res;
+}
+
+// ---- peak memory of whole processes ----
+
+// Runs argv as a child process; returns its peak RSS (kB) and wall time, or -1 if it failed.
+MemoryResult run_child(const std::string& what, const std::vector<std::string>& argv) {
+  MemoryResult m;
+  m.what = what;
+  for (const auto& s : argv) m.command += (m.command.empty() ? "" : " ") + s;
+  std::vector<char*> cargv;
+  for (const auto& s : argv) cargv.push_back(const_cast<char*>(s.c_str()));
+  cargv.push_back(nullptr);
+  const auto t0 = Clock::now();
+  const pid_t pid = fork();
+  if (pid < 0) {
+    m.note = std::string("fork failed: ") + std::strerror(errno);
+    return m;
+  }
+  if (pid == 0) {
+    const int devnull = open("/dev/null", O_WRONLY);
+    if (devnull >= 0) dup2(devnull, 1);
+    execv(cargv[0], cargv.data());
+    std::fprintf(stderr, "hg-bench: cannot run %s: %s\n", cargv[0], std::strerror(errno));
+    _exit(127);
+  }
+  int status = 0;
+  rusage ru{};
+  if (wait4(pid, &status, 0, &ru) < 0) {
+    m.note = std::string("wait4 failed: ") + std::strerror(errno);
+    return m;
+  }
+  m.wall_ms = now_ms_since(t0);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    m.max_rss_kb = ru.ru_maxrss;
+  } else {
+    m.note = WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
+                               : "killed by signal " + std::to_string(WTERMSIG(status));
+  }
+  return m;
+}
+
+std::string self_exe() {
+  std::error_code ec;
+  const auto p = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("hg-bench") : p.string();
+}
+
+// Child modes (hg-bench --child-WHAT FILE R): read the file as hg-outline does, then run one method, so
+// the child's peak RSS is that of a whole process doing the job.
+int child_main(const std::string& what, const std::string& file, double R) {
+  const outline::io::Cloud cloud = outline::io::read_cloud_file(file);
+  const outline::io::PlanarPoints planar = outline::io::to_plane(cloud, file);
+  if (what == "--child-read") return planar.points.size() > 2 ? 0 : 1;
+  if (what == "--child-cgal-dt" && kHaveCgal) return cgal_dt_loops(planar.points, R).boundary_edges > 0 ? 0 : 1;
+  if (what == "--child-pcl" && kHavePcl) return pcl_concave_hull(planar.points, R).boundary_edges > 0 ? 0 : 1;
+  std::fprintf(stderr, "hg-bench: %s not available in this build\n", what.c_str());
+  return 3;
+}
+
+std::vector<MemoryResult> measure_memory(const Args& a, Report& report) {
+  std::vector<MemoryResult> out;
+  const partgen::Preset& p = partgen::find_preset(a.memory_preset);
+  const partgen::Scene scene = partgen::preset_scene(p);
+  const partgen::CloudOptions opts = cloud_options(p, a);
+  const partgen::Cloud c = partgen::synthesize(scene, opts);
+  const std::string dir = a.tmp + "/hg-bench-" + std::to_string(getpid());
+  std::filesystem::create_directories(dir);
+  const std::string pcd = dir + "/" + p.name + ".pcd";
+  partgen::write_pcd(c, pcd, true);
+  report.memory_cloud = p.name + " (" + std::to_string(c.size()) + " points, binary PCD float32, " +
+                        std::to_string(std::filesystem::file_size(pcd) / 1000000) + " MB)";
+  // R for the peers: what hg-outline chose itself (read back from its JSON).
+  double R = 0;
+#ifdef HG_OUTLINE_EXE
+  const std::string json = dir + "/outline.json";
+  MemoryResult ours = run_child("hg-outline (whole process: read, plane, outline, write JSON)",
+                                {HG_OUTLINE_EXE, pcd, "-o", json});
+  try {
+    std::ifstream f(json);
+    const auto j = nlohmann::json::parse(f);
+    R = j.at("alpha_radius").get<double>();
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "its own time_ms: read %.0f, total (after reading) %.0f; R = %.4g",
+                  j.at("time_ms").at("read").get<double>(), j.at("time_ms").at("total").get<double>(), R);
+    ours.note = buf;
+  } catch (const std::exception& e) {
+    ours.note += std::string(" (JSON not readable: ") + e.what() + ")";
+  }
+  out.push_back(ours);
+  MemoryResult hilbert = run_child("hg-outline --order hilbert", {HG_OUTLINE_EXE, pcd, "--order", "hilbert", "-o", json});
+  out.push_back(hilbert);
+#endif
+  if (R <= 0) R = 1.7 * p.pitch;
+  char rbuf[64];
+  std::snprintf(rbuf, sizeof rbuf, "%.17g", R);
+  const std::string me = self_exe();
+  out.push_back(run_child("reading the file only (hg_outline_io reader + plane, in hg-bench)", {me, "--child-read", pcd, rbuf}));
+  if (a.cgal) out.push_back(run_child("CGAL DT + circumradius + loops (after the same reader)", {me, "--child-cgal-dt", pcd, rbuf}));
+  if (a.pcl) out.push_back(run_child("PCL ConcaveHull (after the same reader)", {me, "--child-pcl", pcd, rbuf}));
+  std::filesystem::remove_all(dir);
+  return out;
+}
+
+std::string load_average() {
+  return read_first_line("/proc/loadavg");
+}
+
+}  // namespace
+}  // namespace hg::bench
+
+int main(int argc, char** argv) {
+  using namespace hg::bench;
+  if (argc == 4 && std::string(argv[1]).rfind("--child-", 0) == 0) {
+    try {
+      return child_main(argv[1], argv[2], std::strtod(argv[3], nullptr));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hg-bench child: %s\n", e.what());
+      return 1;
+    }
+  }
+  const Args a = parse_args(argc, argv);
+  Report report;
+  for (int i = 0; i < argc; ++i) {
+    std::string s = argv[i];
+    if (i == 0) s = "hg-bench";
+    report.command += (i ? " " : "") + s;
+  }
+  {
+    const std::time_t t = std::time(nullptr);
+    char buf[64];
+    std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M %Z", std::localtime(&t));
+    report.date = buf;
+  }
+  report.machine = machine_facts();
+  report.compiler = std::string("GCC ") + __VERSION__;
+#ifdef NDEBUG
+  report.compiler += ", NDEBUG";
+#endif
+  report.runs = a.runs;
+  report.slow_runs = a.slow_runs;
+  report.slow_runs_high = a.slow_runs_high;
+  report.ordinary_runs = a.ordinary_runs;
+  report.band_rows = a.band_rows;
+  {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "hg_partgen presets, scan-line order, in-plane noise sigma = %.3g x pitch, %s, dropout %.3g, seed %llu",
+                  a.noise, a.jagged ? "jagged edges" : "pixel-centre edges", a.dropout, static_cast<unsigned long long>(a.seed));
+    report.cloud_options = buf;
+  }
+  report.cgal_version = a.cgal ? "built in" : (kHaveCgal ? "disabled" : "not installed at configure time");
+  report.pcl_version = a.pcl ? "built in" : (kHavePcl ? "disabled" : "not installed at configure time");
+  if (!a.include.empty()) {
+    std::ifstream f(a.include);
+    if (!f) {
+      std::fprintf(stderr, "hg-bench: cannot read --include %s\n", a.include.c_str());
+      return 2;
+    }
+    std::stringstream ss;
+    ss << f.rdbuf();
+    report.include_text = ss.str();
+  }
+  report.load_start = load_average();
+
+  std::vector<const hg::partgen::Preset*> todo;
+  try {
+    if (!a.only.empty()) {
+      for (const auto& name : a.only) todo.push_back(&hg::partgen::find_preset(name));
+    } else {
+      for (const auto& set : {"low", "down", "high"})
+        if (a.sets.count(set))
+          for (const auto& p : hg::partgen::presets())
+            if (p.name.rfind(std::string(set) + "-", 0) == 0) todo.push_back(&p);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hg-bench: %s\n", e.what());
+    return 2;
+  }
+  try {
+    for (const auto* p : todo) {
+      std::fprintf(stderr, "%s (%s piece %d): generating...\n", p->name.c_str(), p->table.c_str(), p->piece);
+      const BenchCloud c = make_cloud(*p, a);
+      report.clouds.push_back(bench_cloud(c, a));
+    }
+    if (a.memory) report.memory = measure_memory(a, report);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hg-bench: %s\n", e.what());
+    return 1;
+  }
+  report.load_end = load_average();
+  if (!a.md.empty()) write_markdown(report, a.md);
+  if (!a.png.empty()) write_plot(report, a.png);
+  if (a.md.empty()) write_markdown(report, "/dev/stdout");
+  return 0;
+}
