@@ -39,6 +39,23 @@ class DdsGatewayBridge : public testing::Test {
     // Up and matched: the gateway's own heartbeat came back as health, and every reader sees its writer.
     ASSERT_TRUE(wait_until([&] { return gateway_health() != nullptr && all_matched(); }, [&] { pump(); }, 20s))
         << "the gateway did not come up on DDS";
+    // A reader that sees the writer is not yet seen by it, and the volatile topics send nothing to a reader
+    // they do not know: warm them up until one of each crosses, then forget the warm-up samples.
+    hullgrind::part_pose_t pose{};
+    pose.header.frame_id = "warm-up";
+    hullgrind::robot_status_t robot{};
+    robot.header.frame_id = "warm-up";
+    ASSERT_TRUE(wait_until([&] { return !part_pose->samples.empty() && !robot_status->samples.empty(); },
+                           [&] {
+                             lcm.publish("HG_PART_POSE", &pose);
+                             lcm.publish("HG_ROBOT_STATUS", &robot);
+                             wait_until([] { return false; }, [&] { pump(); }, 20ms);
+                           },
+                           20s))
+        << "no part pose or robot status crossed during warm-up";
+    wait_until([] { return false; }, [&] { pump(); }, 300ms);  // stragglers
+    part_pose->samples.clear();
+    robot_status->samples.clear();
   }
   void TearDown() override {
     outline.reset();
