@@ -1,23 +1,26 @@
 // Step 1: de-noise the outline's pixel staircase without rounding real corners.
 //
 // The outline core's loops run through the outermost pixel centres of the plate, so they zig-zag by up to
-// one pixel pitch and sit on average half a pitch inside the true edge. Here:
-//  1. corners: at every vertex, lines are fitted (PCA) to the loop one corner-scale behind and ahead; the
-//     turn between them is a corner candidate when it exceeds corner_angle AND doubling the scale does
-//     not grow the turn by half (an arc's turn grows with the scale, a corner's does not); the local
-//     maximum within one scale wins;
-//  2. each corner is re-placed at the intersection of lines fitted a little away from it on both sides
-//     (the alpha shape cuts a corner off by about a pixel), so its angle comes from long straight runs; a
-//     candidate whose lines meet farther from it than the alpha shape can cut a corner of that angle
-//     (1.5 pitch / sin(interior angle / 2)) is a tight arc, not a corner;
-//  3. between corners, each vertex is replaced by a local least-squares fit (a parabola in the frame of
-//     the local PCA line when the window reaches both ways, the line itself near a corner);
-//  4. edge compensation moves each point outward by half the pitch times max(|t_x|, |t_y|) for the local
-//     tangent t: the expected gap between the outermost pixel centres and an edge of that direction,
-//     assuming the pixel grid is aligned with the plate's u, v axes (top-down camera).
+// one pixel pitch and sit on average half a pitch inside the true edge; with in-plane noise the vertices
+// scatter by the noise as well. Local smoothing windows cannot average that away (a few vertices each), so
+// the loop is modelled by long primitives instead:
+//  1. corners: turning angle between total-least-squares lines fitted one corner scale behind and ahead of
+//     every vertex (O(1) each from prefix sums of the coordinate moments); a corner turns by at least
+//     corner_angle and its turn does not grow by half when the scale doubles (an arc's turn grows with the
+//     scale, a corner's does not); the local maximum within one scale wins;
+//  2. each run between corners (minus a gap at both ends, where the alpha shape cuts or fills the corner)
+//     is split recursively into pieces that a TLS line or a geometric circle fit (Kasa start, Gauss-Newton)
+//     explains: no window of vertices may have a mean residual above what the noise and the staircase
+//     allow. Pieces that neither explains are halved; the smallest ones keep their better fit;
+//  3. corners are re-placed at the intersection of the primitives on both sides (their angle comes from the
+//     whole runs); a candidate whose primitives meet far from it, or at a shallow angle, is a tight arc or
+//     noise, not a corner: it is dropped and the runs beside it are fitted as one;
+//  4. edge compensation moves each primitive outward by half the pitch times max(|t_x|, |t_y|) for its
+//     tangent t: the mean gap between the outermost pixel centres and an edge of that direction, assuming
+//     the pixel grid is aligned with the plate's u, v axes (top-down camera).
+// Output: line pieces as their end points, circle pieces sampled with a 5 um chord error: few vertices, so
+// the offset and everything after it is cheap. Cost O(n log n) (recursive halving), O(n) for typical loops.
 #include "path_planner/pipeline.hpp"
-
-#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
@@ -39,89 +42,232 @@ double estimate_pitch(const std::vector<Loop>& loops) {
       if (std::min(a, b) <= tan10 * std::max(a, b) && std::max(a, b) > 0) lengths.push_back(d.norm());
     }
   }
-  // A staircase has many short axis-parallel steps; a hand-drawn polygon (few long edges) has no pitch.
-  // In-plane noise tilts the steps: then the median of all edges stands in.
-  if (lengths.size() < 16 || lengths.size() * 4 < edges) {
-    lengths.clear();
-    for (const Loop& l : loops)
-      for (std::size_t i = 0; i < l.points.size(); ++i)
-        lengths.push_back((l.points[(i + 1) % l.points.size()] - l.points[i]).norm());
-    if (lengths.size() < 64) return 0;
-  }
+  // A staircase has many short axis-parallel steps, all one pitch long; a hand-drawn polygon (few long
+  // edges) has no pitch. Noise tilts the steps: then too few are axis-parallel and there is no estimate
+  // (the lattice is not recoverable from a noisy boundary; see docs/path_planner.md).
+  if (lengths.size() < 16 || lengths.size() * 4 < edges) return 0;
   auto mid = lengths.begin() + lengths.size() / 2;
   std::nth_element(lengths.begin(), mid, lengths.end());
-  return *mid <= longest_loop / 200 ? *mid : 0;
+  const double median = *mid;
+  // Lattice steps are all one pitch long; noisy edges that happen to lie near an axis are not.
+  const std::size_t exact = std::size_t(std::count_if(lengths.begin(), lengths.end(),
+                                                      [&](double l) { return std::abs(l - median) <= 0.02 * median; }));
+  if (exact * 2 < lengths.size()) return 0;
+  return median <= longest_loop / 200 ? median : 0;
 }
 
 namespace {
 
-struct LineFit {
-  Vec2 centre = Vec2::Zero();
-  Vec2 dir = Vec2::UnitX();  // unit, along travel
-  int count = 0;
-};
-
-// Unwrapped access: index j may be any integer; arc position grows by the loop length per turn.
-struct Walk {
-  const Ring& p;
-  std::vector<double> s;  // s[i]: arc length at vertex i
-  double total = 0;
-  int n = 0;
-  explicit Walk(const Ring& ring) : p(ring), n(int(ring.size())) {
-    s.resize(n);
-    for (int i = 0; i < n; ++i) {
-      s[i] = total;
-      total += (p[(i + 1) % n] - p[i]).norm();
-    }
-  }
-  int wrap(long j) const { return int(((j % n) + n) % n); }
-  const Vec2& at(long j) const { return p[wrap(j)]; }
-  double S(long j) const {
-    const long w = (j >= 0) ? j / n : -((-j + n - 1) / n);
-    return s[wrap(j)] + double(w) * total;
-  }
-};
-
-// PCA line through vertices j0..j1 (unwrapped, inclusive), oriented from j0 toward j1.
-LineFit fit_line(const Walk& w, long j0, long j1) {
-  LineFit f;
-  f.count = int(j1 - j0 + 1);
-  if (f.count < 2) return f;
-  const Vec2 ref = w.at(j0);
-  Vec2 c = Vec2::Zero();
-  for (long j = j0; j <= j1; ++j) c += w.at(j) - ref;
-  c /= f.count;
-  double sxx = 0, sxy = 0, syy = 0;
-  for (long j = j0; j <= j1; ++j) {
-    const Vec2 d = w.at(j) - ref - c;
-    sxx += d.x() * d.x();
-    sxy += d.x() * d.y();
-    syy += d.y() * d.y();
-  }
-  // Major axis of the 2x2 covariance in closed form.
-  const double theta = 0.5 * std::atan2(2 * sxy, sxx - syy);
-  Vec2 dir(std::cos(theta), std::sin(theta));
-  if (dir.dot(w.at(j1) - w.at(j0)) < 0) dir = -dir;
-  f.centre = ref + c;
-  f.dir = dir;
-  return f;
-}
-
-double turn(const Vec2& a, const Vec2& b) { return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)); }
-
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+double turn(const Vec2& a, const Vec2& b) { return std::atan2(cross(a, b), a.dot(b)); }
 // Outward (away from material, i.e. right of travel) normal of a travel direction.
 Vec2 right_of(const Vec2& t) { return Vec2(t.y(), -t.x()); }
 
+// The ring unrolled three times (unwrapped index j in [-n, 2n)) with prefix sums of the moments of the
+// coordinates (relative to the first vertex, for precision), so that a TLS line over any index range
+// costs O(1).
+struct Unrolled {
+  int n = 0;
+  Vec2 origin;
+  std::vector<Vec2> q;                          // q[j + n]: vertex j relative to origin
+  std::vector<double> s;                        // s[j + n]: arc length at vertex j
+  std::vector<double> mx, my, mxx, mxy, myy;    // prefix sums over q[0 .. k-1]
+
+  explicit Unrolled(const Ring& ring) : n(int(ring.size())), origin(ring[0]) {
+    const int m = 3 * n;
+    q.resize(m);
+    s.resize(m);
+    for (int k = 0; k < m; ++k) q[k] = ring[k % n] - origin;
+    double length = 0;
+    for (int k = 0; k < n; ++k) length += (ring[(k + 1) % n] - ring[k]).norm();
+    double acc = -length;
+    for (int k = 0; k < m; ++k) {
+      s[k] = acc;
+      acc += (ring[(k + 1) % n] - ring[k % n]).norm();
+    }
+    mx.assign(m + 1, 0), my.assign(m + 1, 0), mxx.assign(m + 1, 0), mxy.assign(m + 1, 0), myy.assign(m + 1, 0);
+    for (int k = 0; k < m; ++k) {
+      const Vec2& p = q[k];
+      mx[k + 1] = mx[k] + p.x();
+      my[k + 1] = my[k] + p.y();
+      mxx[k + 1] = mxx[k] + p.x() * p.x();
+      mxy[k + 1] = mxy[k] + p.x() * p.y();
+      myy[k + 1] = myy[k] + p.y() * p.y();
+    }
+  }
+  const Vec2& at(long j) const { return q[j + n]; }
+  double S(long j) const { return s[j + n]; }
+  long wrap(long j) const { return ((j % n) + n) % n; }
+};
+
+struct Line {
+  Vec2 centre = Vec2::Zero();  // relative to Unrolled::origin
+  Vec2 dir = Vec2::UnitX();    // unit, along travel
+  double rms = 0;              // root mean square distance of the vertices from the line
+  bool ok = false;
+};
+
+// TLS line through vertices j0..j1 (unwrapped, inclusive, at most 2n apart), oriented from j0 toward j1.
+Line fit_line(const Unrolled& u, long j0, long j1) {
+  Line f;
+  const double cnt = double(j1 - j0 + 1);
+  if (cnt < 2) return f;
+  const long a = j0 + u.n, b = j1 + u.n + 1;
+  const double sx = u.mx[b] - u.mx[a], sy = u.my[b] - u.my[a];
+  const Vec2 c(sx / cnt, sy / cnt);
+  const double cxx = (u.mxx[b] - u.mxx[a]) / cnt - c.x() * c.x();
+  const double cxy = (u.mxy[b] - u.mxy[a]) / cnt - c.x() * c.y();
+  const double cyy = (u.myy[b] - u.myy[a]) / cnt - c.y() * c.y();
+  // Major axis of the 2x2 covariance in closed form; the minor eigenvalue is the mean squared residual.
+  const double theta = 0.5 * std::atan2(2 * cxy, cxx - cyy);
+  Vec2 dir(std::cos(theta), std::sin(theta));
+  if (dir.dot(u.at(j1) - u.at(j0)) < 0) dir = -dir;
+  const double tr = cxx + cyy, det = cxx * cyy - cxy * cxy;
+  const double minor = 0.5 * tr - std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  f.centre = c;
+  f.dir = dir;
+  f.rms = std::sqrt(std::max(0.0, minor));
+  f.ok = true;
+  return f;
+}
+
+// A fitted primitive: a line (centre, dir) or a circle (centre, radius; ccw = travel counter-clockwise).
+struct Primitive {
+  bool circle = false;
+  Vec2 centre = Vec2::Zero();
+  Vec2 dir = Vec2::UnitX();
+  double radius = 0;
+  bool ccw = true;
+  long first = 0, last = 0;  // unwrapped vertex range explained
+};
+
+// Geometric circle fit: Kasa's algebraic fit as the start, then Gauss-Newton on the orthogonal distances.
+bool fit_circle(const Unrolled& u, long j0, long j1, Primitive& c) {
+  const long m = j1 - j0 + 1;
+  if (m < 5) return false;
+  const Vec2 ref = u.at((j0 + j1) / 2);
+  // Kasa: x^2 + y^2 + D x + E y + F = 0 in least squares.
+  double sxx = 0, sxy = 0, syy = 0, sx = 0, sy = 0, sz = 0, sxz = 0, syz = 0;
+  for (long j = j0; j <= j1; ++j) {
+    const Vec2 p = u.at(j) - ref;
+    const double z = p.squaredNorm();
+    sxx += p.x() * p.x(), sxy += p.x() * p.y(), syy += p.y() * p.y();
+    sx += p.x(), sy += p.y(), sz += z, sxz += p.x() * z, syz += p.y() * z;
+  }
+  Eigen::Matrix3d A;
+  A << sxx, sxy, sx, sxy, syy, sy, sx, sy, double(m);
+  const Eigen::Vector3d rhs(-sxz, -syz, -sz);
+  const Eigen::Vector3d def = A.ldlt().solve(rhs);
+  if (!def.allFinite()) return false;
+  Vec2 centre(-def[0] / 2, -def[1] / 2);
+  double r2 = centre.squaredNorm() - def[2];
+  if (!(r2 > 0)) return false;
+  double r = std::sqrt(r2);
+  for (int it = 0; it < 4; ++it) {
+    Eigen::Matrix3d JtJ = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d Jtr = Eigen::Vector3d::Zero();
+    for (long j = j0; j <= j1; ++j) {
+      const Vec2 d = u.at(j) - ref - centre;
+      const double dn = d.norm();
+      if (dn <= 0) continue;
+      const Eigen::Vector3d J(-d.x() / dn, -d.y() / dn, -1);
+      const double res = dn - r;
+      JtJ += J * J.transpose();
+      Jtr += J * res;
+    }
+    const Eigen::Vector3d step = JtJ.ldlt().solve(-Jtr);
+    if (!step.allFinite()) return false;
+    centre += step.head<2>();
+    r += step[2];
+    if (step.norm() < 1e-10) break;
+  }
+  if (!(r > 0) || !std::isfinite(r)) return false;
+  double area2 = 0;  // orientation of travel about the centre
+  for (long j = j0; j < j1; ++j) area2 += cross(u.at(j) - ref - centre, u.at(j + 1) - ref - centre);
+  c.circle = true;
+  c.centre = ref + centre;
+  c.radius = r;
+  c.ccw = area2 > 0;
+  c.first = j0, c.last = j1;
+  return true;
+}
+
+double residual(const Primitive& p, const Vec2& q) {
+  if (p.circle) return (q - p.centre).norm() - p.radius;
+  return cross(p.dir, q - p.centre);  // left of travel positive
+}
+
+// Largest |mean residual| over any `w` consecutive vertices of the piece (the whole piece when shorter):
+// a systematic misfit shows up there, noise averages out.
+double worst_window_mean(const Unrolled& u, const Primitive& p, long j0, long j1, int w, std::vector<double>& r) {
+  const long m = j1 - j0 + 1;
+  r.resize(m);
+  for (long j = j0; j <= j1; ++j) r[j - j0] = residual(p, u.at(j));
+  const long win = std::min<long>(w, m);
+  double sum = 0, worst = 0;
+  for (long k = 0; k < m; ++k) {
+    sum += r[k];
+    if (k >= win) sum -= r[k - win];
+    if (k >= win - 1) worst = std::max(worst, std::abs(sum) / double(win));
+  }
+  return worst;
+}
+
+// Tangent (travel direction) of a primitive at point q.
+Vec2 tangent_at(const Primitive& p, const Vec2& q) {
+  if (!p.circle) return p.dir;
+  const Vec2 radial = (q - p.centre).normalized();
+  return p.ccw ? Vec2(-radial.y(), radial.x()) : Vec2(radial.y(), -radial.x());
+}
+
 double edge_bias(const Vec2& t, double pitch) { return 0.5 * pitch * std::max(std::abs(t.x()), std::abs(t.y())); }
 
-// Turn at vertex i between lines fitted over [S(i)-scale, S(i)] and [S(i), S(i)+scale].
-double turn_at(const Walk& w, long i, double scale) {
-  const double si = w.S(i);
-  long b = i, f = i;
-  while (i - b < w.n / 3 && w.S(b - 1) >= si - scale) --b;
-  while (f - i < w.n / 3 && w.S(f + 1) <= si + scale) ++f;
-  if (i - b < 2 || f - i < 2) return 0;
-  return turn(fit_line(w, b, i).dir, fit_line(w, i, f).dir);
+// Intersection of two primitives (edge-compensated by `bias_a`, `bias_b` along their outward normals) nearest
+// to `near`. False when they do not meet.
+bool intersect(const Primitive& a, const Primitive& b, double pitch, double bias_scale, const Vec2& near, Vec2& x) {
+  auto shifted_line = [&](const Primitive& p, Vec2& c, Vec2& d) {
+    d = p.dir;
+    c = p.centre + bias_scale * edge_bias(d, pitch) * right_of(d);
+  };
+  auto shifted_radius = [&](const Primitive& p, const Vec2& at) {
+    // outward is away from the centre when travelling counter-clockwise (material inside)
+    const double b = bias_scale * edge_bias(tangent_at(p, at), pitch);
+    return p.radius + (p.ccw ? b : -b);
+  };
+  if (!a.circle && !b.circle) {
+    Vec2 ca, da, cb, db;
+    shifted_line(a, ca, da);
+    shifted_line(b, cb, db);
+    const double den = cross(da, db);
+    if (std::abs(den) < 1e-12) return false;
+    x = ca + (cross(cb - ca, db) / den) * da;
+    return true;
+  }
+  if (a.circle != b.circle) {
+    const Primitive& l = a.circle ? b : a;
+    const Primitive& c = a.circle ? a : b;
+    Vec2 cl, dl;
+    shifted_line(l, cl, dl);
+    const double r = shifted_radius(c, near);
+    const double t0 = (c.centre - cl).dot(dl);
+    const Vec2 foot = cl + t0 * dl;
+    const double h2 = r * r - (foot - c.centre).squaredNorm();
+    if (h2 < 0) return false;
+    const double h = std::sqrt(h2);
+    const Vec2 x1 = foot + h * dl, x2 = foot - h * dl;
+    x = (x1 - near).squaredNorm() < (x2 - near).squaredNorm() ? x1 : x2;
+    return true;
+  }
+  const double ra = shifted_radius(a, near), rb = shifted_radius(b, near);
+  const Vec2 d = b.centre - a.centre;
+  const double L = d.norm();
+  if (!(L > 0) || L > ra + rb || L < std::abs(ra - rb)) return false;
+  const double t = (L * L + ra * ra - rb * rb) / (2 * L);
+  const double h = std::sqrt(std::max(0.0, ra * ra - t * t));
+  const Vec2 e = d / L, base = a.centre + t * e, perp(-e.y(), e.x());
+  const Vec2 x1 = base + h * perp, x2 = base - h * perp;
+  x = (x1 - near).squaredNorm() < (x2 - near).squaredNorm() ? x1 : x2;
+  return true;
 }
 
 }  // namespace
@@ -134,134 +280,263 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     out.corner.assign(ring.size(), 0);
     return out;
   }
-  const Walk w(ring);
-  const double scale = o.corner_scale_pitches * pitch;
-  const double window = o.window_pitches * pitch;
-  const double gap = 1.5 * pitch;          // skip the alpha shape's cut-off at a corner
-  const double corner_fit = 15.0 * pitch;   // length of the lines that re-place a corner
+  const Unrolled u(ring);
+  const double total = u.S(n) - u.S(0);
+  // Length unit of the scales: the pitch, or the vertex spacing when noise spreads the vertices further.
+  double unit = pitch;
+  {
+    std::vector<double> e(n);
+    for (int i = 0; i < n; ++i) e[i] = u.S(i + 1) - u.S(i);
+    std::nth_element(e.begin(), e.begin() + n / 2, e.end());
+    unit = std::max(pitch, e[n / 2]);
+  }
+  const double scale = o.corner_scale_pitches * unit;
   const double bias_scale = o.edge_compensation ? 1.0 : 0.0;
 
-  // 1. corner candidates and non-maximum suppression.
-  std::vector<double> t1(n, 0);
-  std::vector<std::uint8_t> cand(n, 0);
-  for (int i = 0; i < n; ++i) {
-    t1[i] = turn_at(w, i, scale);
-    if (std::abs(t1[i]) >= o.corner_angle) {
-      const double t2 = turn_at(w, i, 2 * scale);
-      cand[i] = std::abs(t2) < 1.5 * std::abs(t1[i]);
+  // ---- 1. corner candidates: turn between one-sided TLS lines at scale and 2 x scale (two-pointer) ----
+  std::vector<double> t1(n, 0), t2(n, 0);
+  {
+    // b: first index with S >= S(i) - scale, f: last with S <= S(i) + scale (both move forward only)
+    long b1 = -n + 1, f1 = 0, b2 = -n + 1, f2 = 0;
+    for (long i = 0; i < n; ++i) {
+      const double si = u.S(i);
+      while (b1 < i && u.S(b1) < si - scale) ++b1;
+      while (b2 < i && u.S(b2) < si - 2 * scale) ++b2;
+      while (f1 + 1 < i + n && u.S(f1 + 1) <= si + scale) ++f1;
+      while (f2 + 1 < i + n && u.S(f2 + 1) <= si + 2 * scale) ++f2;
+      if (f1 < i) f1 = i;
+      if (f2 < i) f2 = i;
+      if (i - b1 < 2 || f1 - i < 2) continue;
+      t1[i] = turn(fit_line(u, b1, i).dir, fit_line(u, i, f1).dir);
+      if (std::abs(t1[i]) >= o.corner_angle) t2[i] = turn(fit_line(u, b2, i).dir, fit_line(u, i, f2).dir);
     }
   }
   std::vector<long> corners;
-  for (int i = 0; i < n; ++i) {
-    if (!cand[i]) continue;
+  for (long i = 0; i < n; ++i) {
+    if (!(std::abs(t1[i]) >= o.corner_angle && std::abs(t2[i]) < 1.5 * std::abs(t1[i]))) continue;
     bool best = true;
-    const double si = w.S(i);
-    for (long j = i - 1; best && i - j < n / 2 && si - w.S(j) <= scale; --j)
-      if (std::abs(t1[w.wrap(j)]) > std::abs(t1[i])) best = false;
-    for (long j = i + 1; best && j - i < n / 2 && w.S(j) - si <= scale; ++j)
-      if (std::abs(t1[w.wrap(j)]) >= std::abs(t1[i])) best = false;
+    const double si = u.S(i);
+    for (long j = i - 1; best && i - j < n / 2 && si - u.S(j) <= scale; --j)
+      if (std::abs(t1[u.wrap(j)]) > std::abs(t1[i])) best = false;
+    for (long j = i + 1; best && j - i < n / 2 && u.S(j) - si <= scale; ++j)
+      if (std::abs(t1[u.wrap(j)]) >= std::abs(t1[i])) best = false;
     if (best) corners.push_back(i);
   }
+  if (total < 8 * scale) corners.clear();  // a loop this small has no room for corners and runs
 
-  // 2. corner positions from lines fitted away from the corner.
-  const int nc = int(corners.size());
-  std::vector<Vec2> corner_pos(nc);
-  std::vector<std::uint8_t> is_corner(nc, 1);
-  for (int k = 0; k < nc; ++k) {
-    const long c = corners[k];
-    const long prev = nc > 1 ? corners[(k + nc - 1) % nc] - (k == 0 ? n : 0) : c - n;
-    const long next = nc > 1 ? corners[(k + 1) % nc] + (k == nc - 1 ? n : 0) : c + n;
-    const double sc = w.S(c);
-    // back: S in [max(sc - gap - corner_fit, S(prev) + gap), sc - gap]
-    long b1 = c;
-    while (b1 > prev && w.S(b1) > sc - gap) --b1;
-    long b0 = b1;
-    while (b0 - 1 > prev && w.S(b0 - 1) >= std::max(sc - gap - corner_fit, w.S(prev) + gap)) --b0;
-    long f0 = c;
-    while (f0 < next && w.S(f0) < sc + gap) ++f0;
-    long f1 = f0;
-    while (f1 + 1 < next && w.S(f1 + 1) <= std::min(sc + gap + corner_fit, w.S(next) - gap)) ++f1;
-    corner_pos[k] = w.at(c);
-    if (b1 - b0 < 2 || f1 - f0 < 2) continue;  // too short to refine: keep the vertex
-    const LineFit lb = fit_line(w, b0, b1), lf = fit_line(w, f0, f1);
-    const Vec2 pb = lb.centre + bias_scale * edge_bias(lb.dir, pitch) * right_of(lb.dir);
-    const Vec2 pf = lf.centre + bias_scale * edge_bias(lf.dir, pitch) * right_of(lf.dir);
-    const double den = lb.dir.x() * lf.dir.y() - lb.dir.y() * lf.dir.x();
-    if (std::abs(den) < std::sin(10.0 * M_PI / 180.0)) {
-      is_corner[k] = 0;
+  // ---- noise level of a window mean (the mean of `win` consecutive vertices): from five adjacent window
+  // means M-2..M2 around each vertex, E = 3/4 M0 - (M-1 + M1)/2 + (M-2 + M2)/8 cancels a straight or
+  // evenly curved edge (position, slope and curvature) and leaves noise and staircase with variance
+  // 1.094 sigma^2 for independent windows; median of |E| across the edge over the loop, as a Gaussian sigma.
+  // It measures the noise as it is, correlated between neighbouring vertices or not. ----
+  const int win = std::max(5, int(std::lround(2 * o.window_pitches)));
+  double sigma = 0;
+  {
+    std::vector<double> dev(n);
+    auto mean_at = [&](long centre) {
+      const long a = centre - win / 2 + u.n, b = a + win;
+      return Vec2((u.mx[b] - u.mx[a]) / win, (u.my[b] - u.my[a]) / win);
+    };
+    for (long i = 0; i < n; ++i) {
+      const Vec2 m0 = mean_at(i), m1 = mean_at(i + win), m_1 = mean_at(i - win), m2 = mean_at(i + 2 * win),
+                 m_2 = mean_at(i - 2 * win);
+      const Vec2 e = 0.75 * m0 - 0.5 * (m_1 + m1) + 0.125 * (m_2 + m2);
+      const Vec2 along = m1 - m_1;
+      const double len = along.norm();
+      dev[i] = len > 0 ? std::abs(cross(along, e)) / len : e.norm();
+    }
+    std::nth_element(dev.begin(), dev.begin() + n / 2, dev.end());
+    sigma = 1.4826 * dev[n / 2] / std::sqrt(1.094);
+  }
+  // A window mean beyond this is a misfit, not noise or staircase.
+  const double tolerance = 0.1 * pitch + 3.0 * sigma;
+  const long min_piece = 2 * win;
+
+  // ---- 2. + 3. fit the runs between corners; drop corners whose primitives do not make one ----
+  std::vector<Primitive> prims;
+  std::vector<int> piece_run;  // run index of each primitive (run k starts at corner k)
+  std::vector<double> scratch;
+  std::vector<std::pair<long, long>> stack;
+  // Best primitive for vertices a..b and its worst window mean residual.
+  auto best_fit = [&](long a, long b, Primitive& best) {
+    Primitive line;
+    const Line lf = fit_line(u, a, b);
+    line.centre = lf.centre, line.dir = lf.dir, line.first = a, line.last = b;
+    const double line_err = worst_window_mean(u, line, a, b, win, scratch);
+    best = line;
+    if (line_err <= tolerance || b - a < 5) return line_err;
+    Primitive circ;
+    if (!fit_circle(u, a, b, circ) || !(circ.radius > 2 * unit && circ.radius < 1e3 * total)) return line_err;
+    const double circ_err = worst_window_mean(u, circ, a, b, win, scratch);
+    if (circ_err < line_err) best = circ;
+    return std::min(line_err, circ_err);
+  };
+  // Greedy segmentation of vertices j0..j1: from the start, the longest piece that a line or a circle
+  // explains (doubling, then bisection: O(m log m) for a piece of m vertices), and so on.
+  auto fit_run = [&](long j0, long j1, int k) {
+    Primitive p;
+    for (long a = j0; a <= j1;) {
+      if (best_fit(a, j1, p) <= tolerance || j1 - a + 1 <= min_piece) {
+        if (j1 - a + 1 < min_piece && j1 - j0 + 1 >= min_piece) {
+          // a short rest: fit it with the vertices before it, keep only its own range
+          best_fit(j1 - min_piece + 1, j1, p);
+          p.first = a;
+        }
+        prims.push_back(p), piece_run.push_back(k);
+        break;
+      }
+      long good = a + min_piece - 1, bad = j1;  // good: known to fit (or the minimum); bad: known not to
+      Primitive pg;
+      best_fit(a, good, pg);
+      for (long len = 2 * min_piece; a + len - 1 < bad; len *= 2) {
+        if (best_fit(a, a + len - 1, p) > tolerance) {
+          bad = a + len - 1;
+          break;
+        }
+        good = a + len - 1, pg = p;
+      }
+      while (bad - good > 1) {
+        const long mid = (good + bad) / 2;
+        if (best_fit(a, mid, p) <= tolerance) good = mid, pg = p;
+        else bad = mid;
+      }
+      prims.push_back(pg), piece_run.push_back(k);
+      a = good + 1;
+    }
+  };
+  // The greedy pieces run past the true junctions (a misfit must build up before it shows): move each
+  // boundary between two pieces of a run to where the two primitives' squared residuals split best, then
+  // refit both.
+  auto refine_junctions = [&](std::size_t from) {
+    for (int pass = 0; pass < 2; ++pass)
+      for (std::size_t i = from; i + 1 < prims.size(); ++i) {
+        if (piece_run[i] != piece_run[i + 1]) continue;
+        Primitive& pa = prims[i];
+        Primitive& pb = prims[i + 1];
+        const long lo = pa.first + 2, hi = pb.last - 2;
+        if (hi - lo < 2) continue;
+        // cost(t) = sum_{j<=t} ra^2 + sum_{j>t} rb^2 over lo-1 .. hi
+        double sb = 0;
+        for (long j = lo; j <= hi; ++j) sb += std::pow(residual(pb, u.at(j)), 2);
+        double sa = 0, best = sb;
+        long best_t = lo - 1;
+        for (long t = lo; t < hi; ++t) {
+          sa += std::pow(residual(pa, u.at(t)), 2);
+          sb -= std::pow(residual(pb, u.at(t)), 2);
+          if (sa + sb < best) best = sa + sb, best_t = t;
+        }
+        if (best_t == pa.last) continue;
+        const long a0 = pa.first, b1 = pb.last;
+        best_fit(a0, best_t, pa);
+        best_fit(best_t + 1, b1, pb);
+      }
+  };
+  std::vector<Vec2> corner_pos;
+  for (int attempt = 0;; ++attempt) {
+    if (attempt == 8) corners.clear();  // give up on corners: the loop as one smooth run
+    const int nc = int(corners.size());
+    prims.clear();
+    piece_run.clear();
+    corner_pos.assign(nc, Vec2::Zero());
+    if (nc == 0) {
+      fit_run(0, n - 1, 0);
+      refine_junctions(0);
+      break;
+    }
+    // Gap at each corner: the alpha shape fills a concave corner and the pixels thin out toward an acute
+    // tip, over about two units divided by sin(interior / 2).
+    std::vector<double> gap(nc);
+    for (int k = 0; k < nc; ++k) gap[k] = 2.0 * unit / std::sin(std::max(0.2, M_PI - std::abs(t1[corners[k]])) / 2);
+    int crowded = -1;
+    for (int k = 0; k < nc && crowded < 0; ++k) {
+      const long c0 = corners[k], c1 = corners[(k + 1) % nc] + (k + 1 == nc ? n : 0);
+      long j0 = c0, j1 = c1;
+      while (j0 < c1 && u.S(j0) < u.S(c0) + gap[k]) ++j0;
+      while (j1 > j0 && u.S(j1) > u.S(c1) - gap[(k + 1) % nc]) --j1;
+      if (j1 - j0 < 2) {  // corners too close together for a run between them: drop the weaker one
+        crowded = std::abs(t1[corners[k]]) < std::abs(t1[corners[(k + 1) % nc]]) ? k : (k + 1) % nc;
+        break;
+      }
+      const std::size_t from = prims.size();
+      fit_run(j0, j1, k);
+      refine_junctions(from);
+    }
+    if (crowded >= 0) {
+      corners.erase(corners.begin() + crowded);
       continue;
     }
-    const Vec2 d = pf - pb;
-    const double tb = (d.x() * lf.dir.y() - d.y() * lf.dir.x()) / den;
-    const Vec2 x = pb + tb * lb.dir;
-    // The alpha shape cuts a true corner by at most about two pitches (acute ones the most); lines fitted
-    // beside a tight arc that passed the detector meet several pitches outside it: not a corner.
-    const double interior = M_PI - std::abs(turn(lb.dir, lf.dir));
-    if ((x - w.at(c)).norm() <= 1.5 * pitch / std::sin(interior / 2)) corner_pos[k] = x;
-    else is_corner[k] = 0;
-  }
-  {
-    std::vector<long> kept;
-    std::vector<Vec2> kept_pos;
-    for (int k = 0; k < nc; ++k)
-      if (is_corner[k]) kept.push_back(corners[k]), kept_pos.push_back(corner_pos[k]);
-    corners.swap(kept);
-    corner_pos.swap(kept_pos);
-  }
-
-  const int kept = int(corners.size());
-  // 3. + 4. smoothing of the vertices between corners, with edge compensation.
-  auto smooth_vertex = [&](long j, double lo, double hi) {
-    // Window: vertices within `window` of j and inside (lo, hi) (arc positions, unwrapped).
-    const double sj = w.S(j);
-    long a = j, b = j;
-    while (j - a < n / 2 && w.S(a - 1) > lo && sj - w.S(a - 1) <= window) --a;
-    while (b - j < n / 2 && w.S(b + 1) < hi && w.S(b + 1) - sj <= window) ++b;
-    if (b - a < 2) return w.at(j);
-    const LineFit lf = fit_line(w, a, b);
-    const Vec2 nrm = right_of(lf.dir);
-    const bool two_sided = sj - w.S(a) >= window / 2 && w.S(b) - sj >= window / 2 && b - a >= 4;
-    const Vec2 q = w.at(j) - lf.centre;
-    const double xi = q.dot(lf.dir);
-    double eta = 0, slope = 0;
-    if (two_sided) {
-      Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d r = Eigen::Vector3d::Zero();
-      for (long k = a; k <= b; ++k) {
-        const Vec2 d = w.at(k) - lf.centre;
-        const double x = d.dot(lf.dir), y = d.dot(nrm);
-        const Eigen::Vector3d phi(1, x, x * x);
-        A += phi * phi.transpose();
-        r += phi * y;
-      }
-      const Eigen::Vector3d coef = A.ldlt().solve(r);
-      if (coef.allFinite()) {
-        eta = coef[0] + coef[1] * xi + coef[2] * xi * xi;
-        slope = coef[1] + 2 * coef[2] * xi;
-      }
+    // Corner positions from the primitives on both sides.
+    std::vector<int> drop;
+    std::size_t after = 0;
+    for (int k = 0; k < nc; ++k) {
+      while (piece_run[after] != k) ++after;  // first primitive of run k
+      const Primitive& pa = prims[(after == 0 ? prims.size() : after) - 1];
+      const Primitive& pb = prims[after];
+      const Vec2 near = u.at(corners[k]);
+      const double interior = std::max(0.2, M_PI - std::abs(t1[corners[k]]));
+      Vec2 x;
+      const bool met = intersect(pa, pb, pitch, bias_scale, near, x);
+      const double angle = met ? std::abs(turn(tangent_at(pa, x), tangent_at(pb, x))) : 0;
+      // The primitives must meet near the candidate (within the gap it was cut by) at a real angle.
+      if (!met || (x - near).norm() > gap[k] + 2 * unit / std::sin(interior / 2) || angle < 0.6 * o.corner_angle)
+        drop.push_back(k);
+      else
+        corner_pos[k] = x;
     }
-    const Vec2 tangent = (lf.dir + slope * nrm).normalized();
-    return Vec2(lf.centre + xi * lf.dir + eta * nrm + bias_scale * edge_bias(tangent, pitch) * right_of(tangent));
-  };
+    if (drop.empty()) break;
+    for (auto it = drop.rbegin(); it != drop.rend(); ++it) corners.erase(corners.begin() + *it);
+  }
 
-  if (kept == 0) {
-    out.points.reserve(n);
-    for (long j = 0; j < n; ++j) out.points.push_back(smooth_vertex(j, -1e300, 1e300));
-    out.corner.assign(n, 0);
+  // ---- 4. emit: corners, line end points, sampled arcs, all edge-compensated ----
+  const int nc = int(corners.size());
+  auto project = [&](const Primitive& p, const Vec2& q) -> Vec2 {
+    const Vec2 t = tangent_at(p, q);
+    const double b = bias_scale * edge_bias(t, pitch);
+    if (!p.circle) return p.centre + (q - p.centre).dot(p.dir) * p.dir + b * right_of(p.dir);
+    const Vec2 radial = (q - p.centre).normalized();
+    return p.centre + (p.radius + (p.ccw ? b : -b)) * radial;
+  };
+  auto emit = [&](const Vec2& p, bool corner) {
+    out.points.push_back(u.origin + p);
+    out.corner.push_back(corner ? 1 : 0);
+  };
+  const double chord = 5e-6;
+  auto emit_piece = [&](const Primitive& p, const Vec2* from, const Vec2* to) {
+    const Vec2 a = from ? *from : project(p, u.at(p.first));
+    const Vec2 b = to ? *to : project(p, u.at(p.last));
+    if (!p.circle) {
+      if (!from) emit(a, false);
+      if (!to) emit(b, false);
+      return;
+    }
+    double a0 = std::atan2((a - p.centre).y(), (a - p.centre).x());
+    double sweep = turn(a - p.centre, b - p.centre);
+    // the travelled sweep has the circle's sense; a piece can span more than half a turn
+    if (p.ccw && sweep < 0) sweep += 2 * M_PI;
+    if (!p.ccw && sweep > 0) sweep -= 2 * M_PI;
+    if (p.first + u.n - 1 <= p.last) sweep = p.ccw ? 2 * M_PI : -2 * M_PI;  // a whole loop
+    const double dstep = 2 * std::sqrt(2 * chord / p.radius);
+    const int steps = std::max(1, int(std::ceil(std::abs(sweep) / dstep)));
+    const int last = (p.first + u.n - 1 <= p.last) ? steps - 1 : steps;
+    for (int s = from ? 1 : 0; s <= last; ++s) {
+      if (s == steps && to) break;
+      const double ang = a0 + sweep * s / steps;
+      emit(project(p, p.centre + Vec2(std::cos(ang), std::sin(ang))), false);
+    }
+  };
+  if (nc == 0) {
+    for (const Primitive& p : prims) emit_piece(p, nullptr, nullptr);
     return out;
   }
-  out.points.reserve(n);
-  for (int k = 0; k < kept; ++k) {
-    const long c = corners[k];
-    const long next = corners[(k + 1) % kept] + (k == kept - 1 ? n : 0);
-    out.points.push_back(corner_pos[k]);
-    out.corner.push_back(1);
-    const double lo = w.S(c) + gap, hi = w.S(next) - gap;
-    for (long j = c + 1; j < next; ++j) {
-      const double sj = w.S(j);
-      if (sj <= lo || sj >= hi) continue;
-      out.points.push_back(smooth_vertex(j, lo, hi));
-      out.corner.push_back(0);
+  for (int k = 0; k < nc; ++k) {
+    emit(corner_pos[k], true);
+    for (std::size_t i = 0; i < prims.size(); ++i) {
+      if (piece_run[i] != k) continue;
+      const bool first = i == 0 || piece_run[i - 1] != k;
+      const bool last = i + 1 == prims.size() || piece_run[i + 1] != k;
+      const Vec2* to = last ? &corner_pos[(k + 1) % nc] : nullptr;
+      // arcs next to a corner start / end exactly at it; lines run through it anyway
+      emit_piece(prims[i], first ? &corner_pos[k] : nullptr, to);
     }
   }
   return out;

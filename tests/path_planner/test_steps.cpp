@@ -33,6 +33,18 @@ double vertex_dist(const Vec2& p, const Ring& r) {
   return d;
 }
 
+// The polyline sampled every `step` along its segments (vertices included): a smoothed ring may represent
+// a straight run by its two end points, and the error must be checked along the whole run.
+Ring densify(const Ring& r, double step) {
+  Ring o;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const Vec2 a = r[i], b = r[(i + 1) % r.size()];
+    const int m = std::max(1, int(std::ceil((b - a).norm() / step)));
+    for (int k = 0; k < m; ++k) o.push_back(a + (b - a) * (double(k) / m));
+  }
+  return o;
+}
+
 Ring rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
 Ring rotated(const Ring& r, double a, const Vec2& c) {
   const Eigen::Rotation2Dd R(a);
@@ -125,7 +137,7 @@ TEST(PathPlannerSmooth, RotatedRectangleStaysOnTheEdgeAndKeepsItsCorners) {
     const SmoothedRing s = smooth_ring(stairs, p, no_compensation());
     int far = 0;
     double worst = 0;
-    for (const Vec2& q : s.points) {
+    for (const Vec2& q : densify(s.points, p / 2)) {
       if (vertex_dist(q, truth) < 0.005) continue;  // away from corners
       worst = std::max(worst, ring_dist(q, truth));
       ++far;
@@ -163,13 +175,13 @@ TEST(PathPlannerSmooth, AcuteAndObtuseCornersKeepTheirAngle) {
 
 TEST(PathPlannerSmooth, CircleHasNoCornersAndKeepsItsRadius) {
   const double p = 0.001;
-  for (double R : {0.025, 0.05}) {  // tighter arcs than about 20 pitches may be taken for corners
+  for (double R : {0.008, 0.012, 0.025, 0.05}) {  // down to 8 pitches: a tight arc is not a corner
     const Ring truth = circle({0.10031, 0.10072}, R, 2000);
     const SmoothedRing s = smooth_ring(staircase(truth, p), p, no_compensation());
     int corners = 0;
     for (auto c : s.corner) corners += c;
     EXPECT_EQ(corners, 0) << "R " << R;
-    for (const Vec2& q : s.points) EXPECT_NEAR((q - Vec2(0.10031, 0.10072)).norm(), R, 0.0005) << "R " << R;
+    for (const Vec2& q : densify(s.points, p / 2)) EXPECT_NEAR((q - Vec2(0.10031, 0.10072)).norm(), R, 0.0005) << "R " << R;
   }
 }
 
@@ -180,7 +192,7 @@ TEST(PathPlannerSmooth, EdgeCompensationMovesOutwardByHalfAPitch) {
   const Ring inner = staircase(rect(0.0005, 0.0005, 0.0995, 0.0995), p);
   const SmoothedRing s = smooth_ring(inner, p, SmoothOptions{});
   const Ring truth = rect(0, 0, 0.1, 0.1);
-  for (const Vec2& q : s.points) {
+  for (const Vec2& q : densify(s.points, p / 2)) {
     if (vertex_dist(q, truth) < 0.005) continue;
     EXPECT_LT(ring_dist(q, truth), 1e-4);
   }
