@@ -70,8 +70,9 @@ std::vector<Loop> mirror_for_flip(const std::vector<Loop>& loops);
 // ---- 1. de-noise the pixel staircase, keeping corners ----
 struct SmoothOptions {
   double pitch = 0;                  // pixel pitch on the plate; <= 0: estimate from the outline
-  double window_pitches = 4;         // half-window of the local fits, in pitches
-  double corner_scale_pitches = 8;   // length of the one-sided line fits of the corner detector
+  double window_pitches = 4;         // residual windows are 2x this many vertices (misfit test, noise level)
+  double corner_scale_pitches = 8;   // length of the one-sided line fits of the corner detector, in units
+                                     // (the pitch, or the vertex spacing when noise spreads it)
   double corner_angle = 0.5235987755982988;  // 30 deg: smaller turns are treated as curves
   bool edge_compensation = true;     // move the loop from the outermost pixel centres to the edge
 };
@@ -80,9 +81,13 @@ struct SmoothedRing {
   std::vector<std::uint8_t> corner;  // 1 where points[i] is a detected corner
 };
 // Pixel pitch estimate: median length of the loop edges within 10 deg of the x or y axis (the staircase
-// steps), or of all edges when noise leaves too few of those; 0 when the loops do not look like a
-// staircase (too few edges, or a median longer than 1/200 of the longest loop).
+// steps), when most edges are such steps and most of those are within 2 % of the median (lattice steps);
+// 0 otherwise: a drawn polygon, or a noisy boundary (noise of a fraction of a pitch destroys the lattice).
 double estimate_pitch(const std::vector<Loop>& loops);
+// Corner-preserving de-noising (smooth.cpp): corners from a two-scale turning angle, the runs between them
+// as TLS line and circle pieces, corners at the intersections of the pieces beside them, edge compensation
+// by pitch/2 * max(|t_x|, |t_y|). pitch 0 (unknown): dense rings are fitted without edge compensation,
+// sparse ones (drawn polygons) returned unchanged. Straight pieces come out as their two end points.
 SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& options);
 
 // ---- 2. offset by the tool radius (Clipper) ----

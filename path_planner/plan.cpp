@@ -49,7 +49,12 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   if (P.flipped) in.loops = mirror_for_flip(in.loops);
 
   res.pitch = cfg.smooth.pitch > 0 ? cfg.smooth.pitch : estimate_pitch(in.loops);
-  // No pitch (a drawn polygon, not a pixel staircase): smooth_ring leaves the loops as they are.
+  // No pitch: a drawn polygon (long edges) is left as it is; a dense but noisy boundary is fitted without
+  // edge compensation (its pixel lattice cannot be recovered; configure pixel_pitch for it).
+  bool dense = false;  // a boundary sampled like a pixel staircase (mean edge <= 1/200 of the loop)
+  for (const Loop& l : in.loops) dense |= l.points.size() >= 200;
+  if (!(res.pitch > 0) && dense && cfg.smooth.edge_compensation)
+    res.warnings.push_back("pixel pitch unknown (not a clean pixel staircase): no edge compensation; set pixel_pitch");
 
   std::vector<GrindLoop> grind;
   for (std::size_t k = 0; k < in.loops.size(); ++k) {

@@ -275,23 +275,28 @@ bool intersect(const Primitive& a, const Primitive& b, double pitch, double bias
 SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o) {
   SmoothedRing out;
   const int n = int(ring.size());
-  if (n < 8 || !(pitch > 0)) {
+  auto unchanged = [&] {
     out.points = ring;
     out.corner.assign(ring.size(), 0);
     return out;
-  }
+  };
+  if (n < 8 || !(pitch >= 0)) return unchanged();
   const Unrolled u(ring);
   const double total = u.S(n) - u.S(0);
   // Length unit of the scales: the pitch, or the vertex spacing when noise spreads the vertices further.
-  double unit = pitch;
+  double spacing = 0;
   {
     std::vector<double> e(n);
     for (int i = 0; i < n; ++i) e[i] = u.S(i + 1) - u.S(i);
     std::nth_element(e.begin(), e.begin() + n / 2, e.end());
-    unit = std::max(pitch, e[n / 2]);
+    spacing = e[n / 2];
   }
+  // Unknown pitch: a densely sampled boundary (a noisy one, whose lattice is lost) is still fitted, with the
+  // vertex spacing as the unit and without edge compensation; a drawn polygon (long edges) is left alone.
+  if (pitch == 0 && !(spacing > 0 && spacing <= total / 200)) return unchanged();
+  const double unit = std::max(pitch, spacing);
   const double scale = o.corner_scale_pitches * unit;
-  const double bias_scale = o.edge_compensation ? 1.0 : 0.0;
+  const double bias_scale = o.edge_compensation && pitch > 0 ? 1.0 : 0.0;
 
   // ---- 1. corner candidates: turn between one-sided TLS lines at scale and 2 x scale (two-pointer) ----
   std::vector<double> t1(n, 0), t2(n, 0);
@@ -349,7 +354,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     sigma = 1.4826 * dev[n / 2] / std::sqrt(1.094);
   }
   // A window mean beyond this is a misfit, not noise or staircase.
-  const double tolerance = 0.1 * pitch + 3.0 * sigma;
+  const double tolerance = 0.1 * (pitch > 0 ? pitch : spacing) + 3.0 * sigma;
   const long min_piece = 2 * win;
 
   // ---- 2. + 3. fit the runs between corners; drop corners whose primitives do not make one ----

@@ -1,0 +1,106 @@
+// hg-plan-bench: time plan() (smooth, offset, resample, orient, leads, base frame, validate) on a pixel
+// staircase of a 0.6 x 0.4 m plate rotated 0.3 rad with a D100 hole, made here on the pixel lattice at a
+// pitch that gives about the requested vertex count; and on the same staircase with Gaussian jitter of
+// 0.6 pitch on every vertex (a noisy boundary, pixel_pitch configured). Prints median, min, max in ms.
+//   hg-plan-bench [vertices=10000] [runs=21]
+#include "path_planner/pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+
+using namespace hg::path_planner;
+
+namespace {
+
+// Boundary sampled every pitch/8 and snapped to the pixel centres ((k + 0.5) pitch), repeats and
+// back-and-forth spikes removed (a stack, so O(n)).
+Ring staircase(const Ring& poly, double pitch) {
+  Ring out;
+  auto snap = [&](const Vec2& p) {
+    return Vec2((std::floor(p.x() / pitch) + 0.5) * pitch, (std::floor(p.y() / pitch) + 0.5) * pitch);
+  };
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+    const int m = int(std::ceil((b - a).norm() / (pitch / 8)));
+    for (int k = 0; k < m; ++k) {
+      const Vec2 q = snap(a + (b - a) * (double(k) / m));
+      if (!out.empty() && (q - out.back()).norm() < 1e-12) continue;
+      if (out.size() >= 2 && (q - out[out.size() - 2]).norm() < 1e-12) {
+        out.pop_back();
+        continue;
+      }
+      out.push_back(q);
+    }
+  }
+  while (out.size() > 2 && (out.front() - out.back()).norm() < 1e-12) out.pop_back();
+  return out;
+}
+
+std::vector<Loop> plate(double pitch) {
+  const Eigen::Rotation2Dd R(0.3);
+  Ring outer;
+  for (const Vec2& p : {Vec2(-0.3, -0.2), Vec2(0.3, -0.2), Vec2(0.3, 0.2), Vec2(-0.3, 0.2)}) outer.push_back(R * p);
+  Ring hole;
+  for (int k = 0; k < 400; ++k) {
+    const double t = -2 * M_PI * k / 400;
+    hole.push_back(Vec2(0.1, 0.02) + 0.05 * Vec2(std::cos(t), std::sin(t)));
+  }
+  std::vector<Loop> loops{{false, staircase(outer, pitch)}, {true, staircase(hole, pitch)}};
+  return loops;
+}
+
+std::size_t vertices(const std::vector<Loop>& loops) {
+  std::size_t n = 0;
+  for (const Loop& l : loops) n += l.points.size();
+  return n;
+}
+
+void run(const char* label, const std::vector<Loop>& loops, const PlannerConfig& cfg, int runs) {
+  OutlineInput in;
+  in.plane = {Vec3(0, 0, 1.19), Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, -1)};
+  in.loops = loops;
+  std::vector<double> ms;
+  PlanResult r;
+  for (int i = 0; i < runs; ++i) {
+    r = plan(in, JobParams{}, cfg, std::nullopt);
+    ms.push_back(r.seconds * 1e3);
+  }
+  std::sort(ms.begin(), ms.end());
+  std::printf("%-22s %6zu vertices  median %7.2f ms  min %7.2f  max %7.2f  (%s, %zu waypoints)\n", label,
+              vertices(loops), ms[ms.size() / 2], ms.front(), ms.back(), r.ok ? "planned" : r.reason.c_str(),
+              r.path.size());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const long want = argc > 1 ? std::atol(argv[1]) : 10000;
+  const int runs = argc > 2 ? std::atoi(argv[2]) : 21;
+  if (want < 100 || runs < 1) {
+    std::fprintf(stderr, "usage: hg-plan-bench [vertices >= 100] [runs >= 1]\n");
+    return 2;
+  }
+  // vertices ~ perimeter / pitch: find the pitch by a few secant-like steps
+  double pitch = 0.0005;
+  for (int it = 0; it < 4; ++it) pitch *= double(vertices(plate(pitch))) / double(want);
+  const std::vector<Loop> loops = plate(pitch);
+  PlannerConfig cfg;
+  cfg.camera_to_base = pose_from_xyz_rpy(Vec3(0.5, 0, 1.2), Vec3(M_PI, 0, 0));
+  cfg.limits.workspace_min = Vec3(-2, -2, 0);
+  cfg.limits.workspace_max = Vec3(2, 2, 2);
+  cfg.limits.table_z = 0;
+  std::printf("pitch %.4f mm, %d runs\n", pitch * 1e3, runs);
+  run("staircase", loops, cfg, runs);
+  std::vector<Loop> noisy = loops;
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0, 0.6 * pitch);
+  for (Loop& l : noisy)
+    for (Vec2& p : l.points) p += Vec2(g(rng), g(rng));
+  cfg.smooth.pitch = pitch;
+  run("staircase + noise", noisy, cfg, runs);
+  return 0;
+}
