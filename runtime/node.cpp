@@ -47,11 +47,6 @@ bool parse_bool(const std::string& v, bool& out) {
 
 }  // namespace
 
-std::string default_lcm_url() {
-  const char* env = std::getenv("LCM_DEFAULT_URL");
-  return env && *env ? env : kDefaultLcmUrl;
-}
-
 std::int64_t now_utime() {
   timeval tv{};
   gettimeofday(&tv, nullptr);
@@ -63,10 +58,7 @@ Node::Node(ProcessInfo info, int argc, char** argv) : info_(std::move(info)) {
   set_process_name(info_.name);
   parse(argc, argv);
   install_signal_handlers();
-  // Plate clouds are megabytes: the kernel's default UDP receive buffer (~200 KB) loses the fragments of
-  // a burst of them. Ask for 4 MiB unless the URL says otherwise (the kernel caps it at net.core.rmem_max).
-  if (lcm_url_.rfind("udpm://", 0) == 0 && lcm_url_.find("recv_buf_size") == std::string::npos)
-    lcm_url_ += std::string(lcm_url_.find('?') == std::string::npos ? "?" : "&") + "recv_buf_size=4194304";
+  lcm_url_ = with_receive_buffer(lcm_url_);
   lcm_ = std::make_unique<lcm::LCM>(lcm_url_);
   if (!lcm_->good()) {
     logf(Level::Error, "cannot open LCM at '%s' (for udpm: is there a multicast route? "

@@ -21,14 +21,11 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "runtime/config.hpp"
+#include "runtime/lcm_url.hpp"
 #include "runtime/log.hpp"
 
 namespace hg::runtime {
 
-inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
-
-// LCM_DEFAULT_URL if set, else the loopback-only default above (ttl=0: never leaves the machine).
-std::string default_lcm_url();
 std::int64_t now_utime();
 
 struct Param {

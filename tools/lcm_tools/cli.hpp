@@ -6,13 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "runtime/lcm_url.hpp"
+
 namespace hg::lcmtools {
 
-// LCM_DEFAULT_URL if set, else multicast with ttl=0: nothing leaves the machine.
-inline std::string default_lcm_url() {
-  const char* env = std::getenv("LCM_DEFAULT_URL");
-  return env && *env ? env : "udpm://239.255.76.67:7667?ttl=0";
-}
+using runtime::default_lcm_url;  // LCM_DEFAULT_URL, else multicast with ttl=0
+using runtime::with_receive_buffer;
 
 class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;

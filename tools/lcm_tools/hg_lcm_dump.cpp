@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
   sigaction(SIGTERM, &sa, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
 
-  lcm::LCM lcm(url);
+  lcm::LCM lcm(with_receive_buffer(url));  // big clouds: see runtime/lcm_url.hpp
   if (!lcm.good()) {
     std::fprintf(stderr, "hg-lcm-dump: cannot open LCM at %s\n", url.c_str());
     return 1;

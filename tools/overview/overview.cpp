@@ -1,0 +1,218 @@
+#include "tools/overview/overview.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "outline_core/io/outline_writers.hpp"
+
+namespace hg::overview {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+const char* kind_name(int k) {
+  switch (k) {
+    case hullgrind::grind_path_t::KIND_APPROACH: return "approach";
+    case hullgrind::grind_path_t::KIND_LEAD_IN: return "lead-in";
+    case hullgrind::grind_path_t::KIND_GRIND: return "grind";
+    case hullgrind::grind_path_t::KIND_LEAD_OUT: return "lead-out";
+    case hullgrind::grind_path_t::KIND_RETRACT: return "retract";
+    case hullgrind::grind_path_t::KIND_TRAVEL: return "travel";
+  }
+  return "unknown";
+}
+
+const char* state_name(int s) {
+  static const char* names[] = {"ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED"};
+  return s >= 0 && s < 8 ? names[s] : "?";
+}
+
+double ms(std::int64_t a, std::int64_t b) { return double(b - a) * 1e-3; }
+
+}  // namespace
+
+Json outline_json(const JobTrace& job) {
+  const auto& o = job.outline->msg;
+  outline::Result r;
+  r.points_read = std::size_t(o.points_read);
+  r.points_used = std::size_t(o.points_used);
+  r.duplicates_merged = std::size_t(o.duplicates_merged);
+  r.alpha_radius = o.alpha_radius;
+  r.mode = outline::parse_mode(o.mode.empty() ? "dshi" : o.mode);
+  r.order = outline::parse_order(o.order.empty() ? "as-is" : o.order);
+  r.triangles = std::size_t(o.triangles);
+  r.search_cost = std::uint64_t(o.search_cost);
+  r.time = {o.time_triangulate * 1e3, o.time_alpha * 1e3, o.time_loops * 1e3, o.compute_time * 1e3};
+  for (const auto& l : o.loops) {
+    outline::Loop loop;
+    loop.hole = l.hole;
+    loop.area = l.area;
+    loop.perimeter = l.perimeter;
+    for (int i = 0; i < l.n; ++i) loop.points.push_back({l.u[std::size_t(i)], l.v[std::size_t(i)]});
+    r.loops.push_back(std::move(loop));
+  }
+  outline::io::PlanarPoints planar;
+  planar.projected = true;
+  for (int i = 0; i < 3; ++i) {
+    planar.plane.origin[i] = o.plane_origin[i];
+    planar.plane.normal[i] = o.plane_normal[i];
+    planar.plane.u[i] = o.plane_u_axis[i];
+    planar.plane.v[i] = o.plane_v_axis[i];
+  }
+  if (job.cloud)
+    for (int i = 0; i < job.cloud->msg.n; ++i)
+      planar.points.push_back({job.cloud->msg.u[std::size_t(i)], job.cloud->msg.v[std::size_t(i)]});
+  outline::io::RunInfo info;
+  info.input = "HG_PLATE_CLOUD seq " + std::to_string(o.cloud_seq);
+  info.format = "lcm";
+  info.has_z = true;
+  Json j = outline::io::outline_json(r, planar, info);
+  j["status"] = o.status;
+  if (!o.error_text.empty()) j["error"] = o.error_text;
+  return j;
+}
+
+Json path_json(const hullgrind::grind_path_t& p) {
+  Json j;
+  j["job_id"] = p.job_id;
+  j["frame"] = p.frame;
+  Json wps = Json::array();
+  for (int i = 0; i < p.n; ++i) {
+    const auto k = std::size_t(i);
+    wps.push_back({{"position", {p.position[k][0], p.position[k][1], p.position[k][2]}},
+                   {"orientation", {p.orientation[k][0], p.orientation[k][1], p.orientation[k][2], p.orientation[k][3]}},
+                   {"speed", p.speed[k]},
+                   {"kind", kind_name(p.kind[k])}});
+  }
+  j["waypoints"] = std::move(wps);
+  j["tool_radius"] = p.tool_radius;
+  j["tilt"] = p.tilt;
+  j["flipped"] = p.flipped;
+  return j;
+}
+
+Json summary_json(const JobTrace& job) {
+  Json j;
+  j["job_id"] = job.job_id;
+  j["final_state"] = job.final_status ? state_name(job.final_status->msg.state) : "none";
+  if (job.final_status) {
+    j["final_source"] = job.final_status->msg.source;
+    j["final_message"] = job.final_status->msg.message;
+  }
+  Json stages = Json::object();
+  if (job.cloud) stages["capture_to_cloud_ms"] = ms(job.cloud->msg.header.utime, job.cloud->log_utime);
+  if (job.cloud && job.outline) stages["cloud_to_outline_ms"] = ms(job.cloud->log_utime, job.outline->log_utime);
+  if (job.outline) stages["outline_compute_ms"] = job.outline->msg.compute_time * 1e3;
+  if (job.outline && job.path && job.request)
+    stages["plan_ms"] = ms(std::max(job.outline->log_utime, job.request->log_utime), job.path->log_utime);
+  if (job.path && job.final_status) stages["robot_run_ms"] = ms(job.path->log_utime, job.final_status->log_utime);
+  if (job.request && job.final_status) stages["request_to_end_ms"] = ms(job.request->log_utime, job.final_status->log_utime);
+  j["stages"] = std::move(stages);
+  if (job.cloud) j["cloud_points"] = job.cloud->msg.n;
+  if (job.outline) {
+    int holes = 0;
+    for (const auto& l : job.outline->msg.loops) holes += l.hole;
+    j["outline_loops"] = job.outline->msg.num_loops;
+    j["outline_holes"] = holes;
+  }
+  if (job.path) j["path_waypoints"] = job.path->msg.n;
+  Json states = Json::array();
+  for (const auto& s : job.statuses)
+    states.push_back({{"t_ms", job.request ? ms(job.request->log_utime, s.log_utime) : 0.0},
+                      {"source", s.msg.source}, {"state", state_name(s.msg.state)}, {"progress", s.msg.progress},
+                      {"message", s.msg.message}});
+  j["statuses"] = std::move(states);
+  return j;
+}
+
+std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isometry3d& camera_to_base) {
+  std::vector<Eigen::Vector2d> cloud;
+  if (job.cloud)
+    for (int i = 0; i < job.cloud->msg.n; ++i)
+      cloud.emplace_back(job.cloud->msg.u[std::size_t(i)], job.cloud->msg.v[std::size_t(i)]);
+  // Path from the robot base frame back into the plate plane of the outline.
+  std::vector<Eigen::Vector2d> path;
+  std::vector<int> kinds;
+  if (job.path && job.outline) {
+    const auto& o = job.outline->msg;
+    Eigen::Vector3d origin(o.plane_origin), u(o.plane_u_axis), v(o.plane_v_axis);
+    Eigen::Isometry3d base_to_camera = camera_to_base.inverse();
+    for (int i = 0; i < job.path->msg.n; ++i) {
+      Eigen::Vector3d p = base_to_camera * Eigen::Vector3d(job.path->msg.position[std::size_t(i)].data());
+      path.emplace_back((p - origin).dot(u), (p - origin).dot(v));
+      kinds.push_back(job.path->msg.kind[std::size_t(i)]);
+    }
+  }
+  Eigen::Vector2d lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max()), hi = -lo;
+  auto grow = [&](const Eigen::Vector2d& p) { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); };
+  for (const auto& p : cloud) grow(p);
+  for (const auto& p : path) grow(p);
+  if (job.outline)
+    for (const auto& l : job.outline->msg.loops)
+      for (int i = 0; i < l.n; ++i) grow({l.u[std::size_t(i)], l.v[std::size_t(i)]});
+  if (lo.x() > hi.x()) lo = {0, 0}, hi = {1, 1};
+
+  const int width = 1400, margin = 40, legend = 150;
+  double scale = (width - 2 * margin) / std::max(hi.x() - lo.x(), 1e-9);
+  int height = int((hi.y() - lo.y()) * scale) + 2 * margin + legend;
+  if (height > 2400) {  // very tall parts: fit the height instead
+    scale = (2400 - 2 * margin - legend) / std::max(hi.y() - lo.y(), 1e-9);
+    height = 2400;
+  }
+  cv::Mat img(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  auto px = [&](const Eigen::Vector2d& p) {  // y up
+    return cv::Point(int(std::lround(margin + (p.x() - lo.x()) * scale)),
+                     int(std::lround(height - legend - margin - (p.y() - lo.y()) * scale)));
+  };
+  for (const auto& p : cloud) {
+    cv::Point q = px(p);
+    if (q.x >= 0 && q.y >= 0 && q.x < width && q.y < height) img.at<cv::Vec3b>(q) = cv::Vec3b(170, 170, 170);
+  }
+  int holes = 0, outers = 0;
+  if (job.outline)
+    for (const auto& l : job.outline->msg.loops) {
+      std::vector<cv::Point> pts;
+      for (int i = 0; i < l.n; ++i) pts.push_back(px({l.u[std::size_t(i)], l.v[std::size_t(i)]}));
+      cv::polylines(img, pts, true, l.hole ? cv::Scalar(40, 40, 220) : cv::Scalar(200, 90, 20), 2, cv::LINE_AA);
+      (l.hole ? holes : outers)++;
+    }
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    int k = kinds[i];
+    cv::Scalar color = k == hullgrind::grind_path_t::KIND_GRIND ? cv::Scalar(40, 160, 40)
+                       : (k == hullgrind::grind_path_t::KIND_LEAD_IN || k == hullgrind::grind_path_t::KIND_LEAD_OUT)
+                           ? cv::Scalar(200, 160, 0)
+                           : cv::Scalar(0, 140, 255);
+    cv::line(img, px(path[i - 1]), px(path[i]), color, k == hullgrind::grind_path_t::KIND_GRIND ? 2 : 1, cv::LINE_AA);
+  }
+  if (!path.empty()) cv::circle(img, px(path.front()), 7, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
+
+  Json s = summary_json(job);
+  std::vector<std::string> lines;
+  std::string outcome = "job " + job.job_id + ": " + s["final_state"].get<std::string>() +
+                        (job.final_status && !job.final_status->msg.message.empty() ? " (" + job.final_status->msg.message + ")" : "");
+  if (outcome.size() > 125) outcome = outcome.substr(0, 122) + "...";
+  lines.push_back(outcome);
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "cloud %zu points; outline %d outer + %d holes (blue, red), R = %.2f mm; path %zu waypoints",
+                cloud.size(), outers, holes, job.outline ? job.outline->msg.alpha_radius * 1e3 : 0.0, path.size());
+  lines.push_back(buf);
+  lines.push_back("path: grind (green), lead-in/out (cyan), approach/retract/travel (orange); circle: start");
+  std::string t = "stages:";
+  for (auto& [k, v] : s["stages"].items()) {
+    std::snprintf(buf, sizeof buf, " %s %.1f", k.c_str(), v.get<double>());
+    t += buf;
+  }
+  lines.push_back(t);
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    cv::putText(img, lines[i], cv::Point(margin, height - legend + 30 + int(i) * 28), cv::FONT_HERSHEY_SIMPLEX, 0.55,
+                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  std::vector<unsigned char> png;
+  cv::imencode(".png", img, png);
+  return png;
+}
+
+}  // namespace hg::overview

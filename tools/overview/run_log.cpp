@@ -1,0 +1,73 @@
+#include "tools/overview/run_log.hpp"
+
+#include <lcm/lcm-cpp.hpp>
+#include <stdexcept>
+
+namespace hg::overview {
+namespace {
+
+template <class T>
+bool decode(const lcm::LogEvent* e, std::vector<Logged<T>>& into) {
+  T msg;
+  int used = -1;
+  try {
+    used = msg.decode(e->data, 0, int(e->datalen));
+  } catch (const std::exception&) {
+    used = -1;
+  }
+  if (used != int(e->datalen)) return false;
+  into.push_back({std::move(msg), e->timestamp});
+  return true;
+}
+
+bool is_final(std::int8_t s) {
+  return s == hullgrind::job_status_t::STATE_DONE || s == hullgrind::job_status_t::STATE_FAILED ||
+         s == hullgrind::job_status_t::STATE_ABORTED || s == hullgrind::job_status_t::STATE_REFUSED;
+}
+
+}  // namespace
+
+RunLog read_run_log(const std::string& path) {
+  lcm::LogFile file(path, "r");
+  if (!file.good()) throw std::runtime_error(path + ": cannot open the LCM log");
+  RunLog log;
+  while (const lcm::LogEvent* e = file.readNextEvent()) {
+    ++log.events;
+    bool ok = true;
+    if (e->channel == "HG_PLATE_CLOUD") ok = decode(e, log.clouds);
+    else if (e->channel == "HG_OUTLINE") ok = decode(e, log.outlines);
+    else if (e->channel == "HG_GRIND_PATH") ok = decode(e, log.paths);
+    else if (e->channel == "HG_JOB_REQUEST") ok = decode(e, log.requests);
+    else if (e->channel == "HG_JOB_STATUS") ok = decode(e, log.statuses);
+    if (!ok) ++log.undecodable;
+  }
+  return log;
+}
+
+JobTrace trace_job(const RunLog& log, const std::string& job_id) {
+  JobTrace t;
+  t.job_id = job_id;
+  for (const auto& r : log.requests)
+    if (r.msg.action == hullgrind::job_request_t::ACTION_START && (job_id.empty() || r.msg.job_id == job_id)) {
+      t.request = r;
+      t.job_id = r.msg.job_id;
+    }
+  if (t.job_id.empty()) return t;
+  for (const auto& p : log.paths)
+    if (p.msg.job_id == t.job_id) t.path = p;  // the last one, if a restart planned it twice
+  // The outline the path was planned on: the last one with that seq logged before the path.
+  if (t.path)
+    for (const auto& o : log.outlines)
+      if (o.msg.header.seq == t.path->msg.outline_seq && o.log_utime <= t.path->log_utime) t.outline = o;
+  if (t.outline)
+    for (const auto& c : log.clouds)
+      if (c.msg.header.seq == t.outline->msg.cloud_seq && c.log_utime <= t.outline->log_utime) t.cloud = c;
+  for (const auto& s : log.statuses)
+    if (s.msg.job_id == t.job_id) {
+      t.statuses.push_back(s);
+      if (is_final(s.msg.state)) t.final_status = s;
+    }
+  return t;
+}
+
+}  // namespace hg::overview
