@@ -118,12 +118,17 @@ Line fit_line(const Unrolled& u, long j0, long j1) {
   const double cxx = (u.mxx[b] - u.mxx[a]) / cnt - c.x() * c.x();
   const double cxy = (u.mxy[b] - u.mxy[a]) / cnt - c.x() * c.y();
   const double cyy = (u.myy[b] - u.myy[a]) / cnt - c.y() * c.y();
-  // Major axis of the 2x2 covariance in closed form; the minor eigenvalue is the mean squared residual.
-  const double theta = 0.5 * std::atan2(2 * cxy, cxx - cyy);
-  Vec2 dir(std::cos(theta), std::sin(theta));
-  if (dir.dot(u.at(j1) - u.at(j0)) < 0) dir = -dir;
+  // Major axis of the 2x2 covariance in closed form (no trigonometry: this runs for every vertex); the
+  // minor eigenvalue is the mean squared residual.
   const double tr = cxx + cyy, det = cxx * cyy - cxy * cxy;
-  const double minor = 0.5 * tr - std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  const double root = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  const double major = 0.5 * tr + root, minor = 0.5 * tr - root;
+  // eigenvector of `major`: (cxy, major - cxx) or (major - cyy, cxy), whichever is better conditioned
+  Vec2 dir = (major - cxx) * (major - cxx) > (major - cyy) * (major - cyy) ? Vec2(cxy, major - cxx)
+                                                                          : Vec2(major - cyy, cxy);
+  const double len = dir.norm();
+  dir = len > 0 ? Vec2(dir / len) : Vec2(u.at(j1) - u.at(j0)).normalized();
+  if (dir.dot(u.at(j1) - u.at(j0)) < 0) dir = -dir;
   f.centre = c;
   f.dir = dir;
   f.rms = std::sqrt(std::max(0.0, minor));
@@ -301,6 +306,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   // ---- 1. corner candidates: turn between one-sided TLS lines at scale and 2 x scale (two-pointer) ----
   std::vector<double> t1(n, 0), t2(n, 0);
   {
+    const double cos_corner = std::cos(o.corner_angle);
     // b: first index with S >= S(i) - scale, f: last with S <= S(i) + scale (both move forward only)
     long b1 = -n + 1, f1 = 0, b2 = -n + 1, f2 = 0;
     for (long i = 0; i < n; ++i) {
@@ -312,8 +318,10 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       if (f1 < i) f1 = i;
       if (f2 < i) f2 = i;
       if (i - b1 < 2 || f1 - i < 2) continue;
-      t1[i] = turn(fit_line(u, b1, i).dir, fit_line(u, i, f1).dir);
-      if (std::abs(t1[i]) >= o.corner_angle) t2[i] = turn(fit_line(u, b2, i).dir, fit_line(u, i, f2).dir);
+      const Vec2 back = fit_line(u, b1, i).dir, ahead = fit_line(u, i, f1).dir;
+      if (back.dot(ahead) > cos_corner) continue;  // turns less than corner_angle: skip the atan2
+      t1[i] = turn(back, ahead);
+      t2[i] = turn(fit_line(u, b2, i).dir, fit_line(u, i, f2).dir);
     }
   }
   std::vector<long> corners;
