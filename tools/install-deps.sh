@@ -11,9 +11,9 @@ packages=(
   liblcm-dev liblcm-bin liblcm-java libopenni2-dev libeigen3-dev libopencv-dev
   cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev
   # lcm-spy, tools and tests
-  default-jdk-headless libjchart2d-java libgtest-dev iproute2 xvfb python3
+  default-jdk-headless default-jre libjchart2d-java libgtest-dev iproute2 xvfb python3 openssl
   # test-only oracle for the outline core (never needed to build or run the product)
-  libcgal-dev
+  libcgal-dev libgmp-dev
 )
 
 missing=()

@@ -3,7 +3,7 @@
 #
 # In a network namespace of its own (loopback only), starts the pipeline of config/pipeline.toml under
 # tools/supervisor (camera bridge on the virtual OpenNI2 device, outline service, path planner, simulated
-# robot, DDS gateway), records the bus, sends one job request, waits until the job ends, and writes out/:
+# robot, DDS gateway with DDS Security), records the bus, sends one job request, waits until the job ends, and writes out/:
 # outline.json, path.json, overview.png, summary.json, run.lcmlog and the processes' logs. Prints the
 # timings of each stage and the job's final state; exits non-zero if the job did not end DONE.
 set -euo pipefail
@@ -85,6 +85,10 @@ for _ in $(seq 1 200); do [[ -s "$OUT/record.name" ]] && break; sleep 0.1; done
 [[ -s "$OUT/record.name" ]] || { echo "run.sh: tools/record did not start" >&2; exit 1; }
 rm -f "$OUT/record.name"
 
+if [[ ! -f "$OUT/dds-security/governance.p7s" ]]; then
+  stamp "making a test DDS Security set in $OUT/dds-security (tools/make-dds-security.sh)"
+  "$ROOT/tools/make-dds-security.sh" "$OUT/dds-security" >/dev/null
+fi
 stamp "starting the pipeline ($PIPELINE) under tools/supervisor"
 "$ROOT/tools/supervisor" run "$PIPELINE" >"$OUT/supervisor.out" 2>"$OUT/supervisor.log" &
 sup=$!
@@ -113,7 +117,7 @@ import json, sys, time
 path, job, timeout, t0 = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
 names = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED"]
 end = time.time() + timeout
-pos, running = 0, False
+pos, running, last_step = 0, False, -1
 while time.time() < end:
     with open(path) as f:
         f.seek(pos)
@@ -129,9 +133,14 @@ while time.time() < end:
         state = names[m["state"]] if 0 <= m["state"] < 8 else str(m["state"])
         text = "%s %s %3.0f%% %s" % (m["source"], state, 100 * m["progress"], m["message"])
         if state == "RUNNING":
-            sys.stdout.write("\r[%6.1f s] %s" % (time.time() - t0, text[:110].ljust(110)))
-            running = True
-            continue
+            if sys.stdout.isatty():  # one line that updates itself
+                sys.stdout.write("\r[%6.1f s] %s" % (time.time() - t0, text[:110].ljust(110)))
+                running = True
+                continue
+            step = int(100 * m["progress"]) // 25
+            if step == last_step:  # a log file gets a line per quarter
+                continue
+            last_step = step
         if running:
             sys.stdout.write("\n")
             running = False
