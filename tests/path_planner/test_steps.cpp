@@ -634,8 +634,9 @@ TEST(PathPlannerPlan, FlippedPathIsTheMirrorImage) {
   const std::vector<Loop> mirrored = mirror_for_flip(in.loops);
   const Eigen::Isometry3d Tinv = plate_to_base(in.plane, cfg.camera_to_base).inverse();
   for (const Waypoint& w : r.path) {
-    if (w.kind == kGrind)
+    if (w.kind == kGrind) {
       EXPECT_NEAR(ring_dist((Tinv * w.position).head<2>(), mirrored[w.loop].points), cfg.defaults.tool_radius, 2e-5);
+    }
   }
 }
 
