@@ -276,7 +276,8 @@ class E2EReplay(PipelineCase):
                         q.kill()
                         q.wait()
         replayed = os.path.join(p.dir, "replayed")
-        ov = E.run([E.bin_path("hg-overview"), replay_log, "--out", replayed, "--job-id", job], timeout=120)
+        ov = E.run([E.bin_path("hg-overview"), replay_log, "--out", replayed, "--job-id", job, "--planner-config",
+                    os.path.join(E.CONFIG, "path_planner.yaml")], timeout=120)
         self.assertIn(ov.returncode, (0, 1), ov.stderr)  # 1: no robot in the replay, the job is not DONE
         for name in ("outline.json", "path.json"):
             self.assertTrue(os.path.exists(os.path.join(replayed, name)), "replay gave no %s: %s" % (name, ov.stdout))
