@@ -57,7 +57,8 @@ std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y, int bits) {
 
 class Builder {
  public:
-  Builder(Triangulation& T, Mode mode) : T_(T), mode_(mode), P_(T.xy.data()), G_(T.ghost) {}
+  Builder(Triangulation& T, Mode mode)
+      : T_(T), mode_(mode), P_(T.xy.data()), G_(T.ghost) {}
 
   void run(std::size_t n);  // inserts vertices 0 .. n-1 in this order
 
@@ -66,18 +67,25 @@ class Builder {
   Mode mode_;
   const Vec2* P_;
   std::uint32_t G_;
-  // Per slot: in_ = in this cavity, out_ = tested and not in it; reset after each insertion (only the
-  // cavity and the triangles across its boundary were marked), so one byte per slot suffices.
-  std::vector<std::uint8_t> mark_;
-  static constexpr std::uint8_t in_ = 1, out_ = 2;
-  std::vector<std::uint32_t> cavity_, boundary_, stack_, start_at_, ba_, bb_, bo_, newt_;
+  bool count_ = true;   // count conflict tests in the stats (not in Ordinary's cavity pass: its scan counted)
+  std::uint32_t slots_ = 0;  // triangles in use (tri/twin are sized for all of them up front)
+  // The cavity, and its boundary in counter-clockwise order: half-edge j runs from bnd_a_[j] to
+  // bnd_a_[j + 1], bnd_o_[j] is its twin outside the cavity.
+  std::vector<std::uint32_t> cavity_, bnd_a_, bnd_o_, stack_;
   std::uint32_t last_ = 0;                    // DSHI: a triangle made by the previous insertion
   std::uint32_t ds_vertex_ = 0, ds_tri_ = 0;  // DS: fixed start, a triangle incident to the first vertex
   std::uint32_t dup_ = kNone;
 
+  double orient_xy(double ax, double ay, double bx, double by, double cx, double cy) const {
+    return pred::orient2d(ax, ay, bx, by, cx, cy);
+  }
   double orient(std::uint32_t u, std::uint32_t v, const Vec2& p) {
     ++T_.stats.orient_tests;
-    return pred::orient2d(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
+    return orient_xy(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
+  }
+  double incircle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec2& p) const {
+    const Vec2 &A = P_[a], &B = P_[b], &C = P_[c];
+    return pred::incircle(A.x, A.y, B.x, B.y, C.x, C.y, p.x, p.y);
   }
   // p strictly between u and v, given that the three are collinear.
   bool strictly_between(std::uint32_t u, std::uint32_t v, const Vec2& p) const {
@@ -104,14 +112,34 @@ class Builder {
     const std::uint32_t ge = ghost_edge(t);
     if (ge != kNone) return ghost_conflict(v[ge], v[(ge + 1) % 3], p);
     ++T_.stats.incircle_tests;
-    return pred::incircle(P_[v[0]].x, P_[v[0]].y, P_[v[1]].x, P_[v[1]].y, P_[v[2]].x, P_[v[2]].y, p.x, p.y) > 0;
+    return incircle(v[0], v[1], v[2], p) > 0;
+  }
+  // Conflict test of the triangle across a cavity edge, entered by its half-edge g = b -> a (so its
+  // vertices counter-clockwise are b, a, c). Needs no ghost search: only these three are compared.
+  bool conflict_across(std::uint32_t g, const Vec2& p) {
+    const std::uint32_t* tri = T_.tri.data();
+    const std::uint32_t t = g / 3, i = g - 3 * t;
+    const std::uint32_t b = tri[g], a = tri[3 * t + (i == 2 ? 0 : i + 1)], c = tri[3 * t + (i == 0 ? 2 : i - 1)];
+    if (count_) ++T_.stats.cavity_visits;
+    if (c == G_) {
+      if (count_) ++T_.stats.orient_tests;
+      const double o = orient_xy(P_[b].x, P_[b].y, P_[a].x, P_[a].y, p.x, p.y);
+      return o > 0 || (o == 0 && strictly_between(b, a, p));
+    }
+    if (a == G_ || b == G_) {
+      const std::uint32_t u = a == G_ ? c : a, v = a == G_ ? b : c;  // the finite edge u -> v
+      if (count_) ++T_.stats.orient_tests;
+      const double o = orient_xy(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
+      return o > 0 || (o == 0 && strictly_between(u, v, p));
+    }
+    if (count_) ++T_.stats.incircle_tests;
+    return incircle(b, a, c, p) > 0;
   }
 
   std::uint32_t walk(std::uint32_t start, const Vec2& p);
   std::uint32_t scan_for_conflict(const Vec2& p);
   void find_duplicate_by_scan(const Vec2& p);
-  void cavity_bfs(std::uint32_t t0, const Vec2& p);
-  void cavity_scan(const Vec2& p);
+  void dig_cavity(std::uint32_t t0, const Vec2& p);
   void insert(std::uint32_t v);
 };
 
@@ -122,7 +150,7 @@ class Builder {
 // when p equals a vertex.
 std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
   std::uint32_t from = kNone;  // half-edge of t we entered through (p strictly on its inner side)
-  const std::uint64_t cap = T_.slots() + 16;
+  const std::uint64_t cap = std::uint64_t{slots_} + 16;
   const std::uint32_t* tri = T_.tri.data();
   const std::uint32_t* twin = T_.twin.data();
   for (std::uint64_t steps = 0; steps < cap; ++steps) {
@@ -143,7 +171,7 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
         o[i] = 1;
         continue;
       }
-      o[i] = orient(v[i], v[(i + 1) % 3], p);
+      o[i] = orient(v[i], v[i == 2 ? 0 : i + 1], p);
       if (o[i] < 0) {
         (negatives++ == 0 ? first_neg : second_neg) = i;
       } else if (o[i] == 0) {
@@ -176,8 +204,7 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
 }
 
 std::uint32_t Builder::scan_for_conflict(const Vec2& p) {
-  const std::uint32_t n = static_cast<std::uint32_t>(T_.slots());
-  for (std::uint32_t t = 0; t < n; ++t) {
+  for (std::uint32_t t = 0; t < slots_; ++t) {
     ++T_.stats.locate_visits;
     if (conflict(t, p)) return t;
   }
@@ -186,131 +213,113 @@ std::uint32_t Builder::scan_for_conflict(const Vec2& p) {
 }
 
 void Builder::find_duplicate_by_scan(const Vec2& p) {
-  for (std::uint32_t v : T_.tri)
-    if (v != G_ && P_[v].x == p.x && P_[v].y == p.y) {
-      dup_ = v;
+  const std::uint32_t* tri = T_.tri.data();
+  for (std::uint32_t k = 0; k < 3 * slots_; ++k)
+    if (tri[k] != G_ && P_[tri[k]].x == p.x && P_[tri[k]].y == p.y) {
+      dup_ = tri[k];
       return;
     }
 }
 
-// Conflict region by breadth-first search from a triangle known to be in conflict. The region is
-// connected, so this finds all of it; every neighbour tested counts in the search cost.
-void Builder::cavity_bfs(std::uint32_t t0, const Vec2& p) {
+// The conflict region, by depth-first search from t0 (in conflict), taking each triangle's edges in
+// counter-clockwise order: the boundary edges then come out in counter-clockwise order around the cavity.
+// The cavity is a disk whose vertices all lie on its boundary (each becomes a neighbour of p), so its
+// triangles form a tree across their shared edges: each is reached once, no marks are needed. A
+// triangle outside touching the cavity along two edges is tested twice (rare; counted twice).
+void Builder::dig_cavity(std::uint32_t t0, const Vec2& p) {
   cavity_.clear();
-  boundary_.clear();
-  mark_[t0] = in_;
-  cavity_.push_back(t0);
+  bnd_a_.clear();
+  bnd_o_.clear();
+  stack_.clear();
+  const std::uint32_t* tri = T_.tri.data();
   const std::uint32_t* twin = T_.twin.data();
-  for (std::size_t k = 0; k < cavity_.size(); ++k) {
-    const std::uint32_t t = cavity_[k];
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      const std::uint32_t h = 3 * t + i;
-      const std::uint32_t n = twin[h] / 3;
-      if (mark_[n] == in_) continue;
-      if (mark_[n] != out_) {
-        ++T_.stats.cavity_visits;
-        if (conflict(n, p)) {
-          mark_[n] = in_;
-          cavity_.push_back(n);
-          continue;
-        }
-        mark_[n] = out_;
-      }
-      boundary_.push_back(h);
-    }
-  }
-}
-
-// The paper's ordinary scheme: every live triangle is tested.
-void Builder::cavity_scan(const Vec2& p) {
-  cavity_.clear();
-  boundary_.clear();
-  const std::uint32_t n = static_cast<std::uint32_t>(T_.slots());
-  for (std::uint32_t t = 0; t < n; ++t) {
-    ++T_.stats.locate_visits;
-    if (conflict(t, p)) {
-      mark_[t] = in_;
+  cavity_.push_back(t0);
+  stack_.push_back(3 * t0 + 2);
+  stack_.push_back(3 * t0 + 1);
+  stack_.push_back(3 * t0);
+  while (!stack_.empty()) {
+    const std::uint32_t h = stack_.back();
+    stack_.pop_back();
+    const std::uint32_t g = twin[h];
+    if (conflict_across(g, p)) {
+      const std::uint32_t t = g / 3, i = g - 3 * t;
       cavity_.push_back(t);
+      stack_.push_back(3 * t + (i == 0 ? 2 : i - 1));  // then the edge after it
+      stack_.push_back(3 * t + (i == 2 ? 0 : i + 1));  // the edge after g first
+    } else {
+      bnd_a_.push_back(tri[h]);
+      bnd_o_.push_back(g);
     }
   }
-  for (std::uint32_t t : cavity_)
-    for (std::uint32_t i = 0; i < 3; ++i)
-      if (mark_[T_.twin[3 * t + i] / 3] != in_) boundary_.push_back(3 * t + i);
 }
 
 void Builder::insert(std::uint32_t v) {
   const Vec2 p = P_[v];
   dup_ = kNone;
+  std::uint32_t t0 = kNone;
   if (mode_ == Mode::Ordinary) {
-    cavity_scan(p);
-    if (cavity_.empty()) find_duplicate_by_scan(p);
+    // The paper's ordinary scheme: every live triangle is tested (and counted); the cavity is then
+    // collected from the first one found, its tests not counted again.
+    for (std::uint32_t t = 0; t < slots_; ++t) {
+      ++T_.stats.locate_visits;
+      if (conflict(t, p) && t0 == kNone) t0 = t;
+    }
+    if (t0 == kNone) find_duplicate_by_scan(p);
   } else {
-    const std::uint32_t t0 = walk(mode_ == Mode::DS ? ds_tri_ : last_, p);
-    if (dup_ == kNone && t0 != kNone) cavity_bfs(t0, p);
+    t0 = walk(mode_ == Mode::DS ? ds_tri_ : last_, p);
   }
+  if (dup_ == kNone && t0 == kNone) throw OutlineError("internal error: no triangle in conflict with point " + std::to_string(v));
   if (dup_ != kNone) {
     T_.vrep[v] = dup_;
     ++T_.duplicates;
     return;
   }
+  count_ = mode_ != Mode::Ordinary;
+  dig_cavity(t0, p);
+  count_ = true;
+  const std::size_t m = bnd_a_.size();  // a disk of m - 2 triangles has m boundary edges
   T_.stats.cavity_triangles += cavity_.size();
 
-  // Star the cavity from p: one new triangle (a, b, p) per boundary half-edge a -> b; the cavity's slots
-  // are reused and two are appended (a disk of k triangles has k + 2 boundary edges).
+  // Star the cavity from p: new triangle j = (bnd_a_[j], bnd_a_[j + 1], v), in the cavity's slots and
+  // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
+  cavity_.push_back(slots_);
+  cavity_.push_back(slots_ + 1);
+  slots_ += 2;
   std::uint32_t* tri = T_.tri.data();
   std::uint32_t* twin = T_.twin.data();
   float* nn2 = T_.nn2.data();
-  const std::size_t m = boundary_.size();
-  ba_.resize(m);
-  bb_.resize(m);
-  bo_.resize(m);
-  for (std::size_t j = 0; j < m; ++j) {
-    const std::uint32_t h = boundary_[j];
-    ba_[j] = tri[h];
-    bb_[j] = tri[Triangulation::next(h)];
-    bo_[j] = twin[h];
-  }
-  newt_.assign(cavity_.begin(), cavity_.end());
-  while (newt_.size() < m) {
-    newt_.push_back(static_cast<std::uint32_t>(T_.slots()));
-    T_.tri.resize(T_.tri.size() + 3);
-    T_.twin.resize(T_.twin.size() + 3);
-    mark_.push_back(0);
-  }
-  tri = T_.tri.data();
-  twin = T_.twin.data();
   std::uint32_t finite_new = kNone;
   for (std::size_t j = 0; j < m; ++j) {
-    const std::uint32_t t = newt_[j];
-    tri[3 * t] = ba_[j];
-    tri[3 * t + 1] = bb_[j];
+    const std::size_t jn = j + 1 == m ? 0 : j + 1, jp = j == 0 ? m - 1 : j - 1;
+    const std::uint32_t t = cavity_[j], a = bnd_a_[j], b = bnd_a_[jn], o = bnd_o_[j];
+    tri[3 * t] = a;
+    tri[3 * t + 1] = b;
     tri[3 * t + 2] = v;
-    twin[3 * t] = bo_[j];
-    twin[bo_[j]] = 3 * t;
-    start_at_[ba_[j]] = t;
-    if (ba_[j] != G_) {
+    twin[3 * t] = o;
+    twin[o] = 3 * t;
+    twin[3 * t + 1] = 3 * cavity_[jn] + 2;
+    twin[3 * t + 2] = 3 * cavity_[jp] + 1;
+    if (a != G_) {
       // v's new Delaunay neighbours: the nearest neighbour of either end is found when the later of the
       // two is inserted (a final Delaunay edge is an edge of every intermediate triangulation).
-      const double dx = P_[ba_[j]].x - p.x, dy = P_[ba_[j]].y - p.y;
+      const double dx = P_[a].x - p.x, dy = P_[a].y - p.y;
       const float d2 = static_cast<float>(dx * dx + dy * dy);
       nn2[v] = std::min(nn2[v], d2);
-      nn2[ba_[j]] = std::min(nn2[ba_[j]], d2);
-      if (finite_new == kNone && bb_[j] != G_) finite_new = t;
+      nn2[a] = std::min(nn2[a], d2);
+      if (finite_new == kNone && b != G_) finite_new = t;
     }
   }
-  for (std::size_t j = 0; j < m; ++j) {
-    const std::uint32_t t = newt_[j];
-    const std::uint32_t tb = start_at_[bb_[j]];
-    twin[3 * t + 1] = 3 * tb + 2;
-    twin[3 * tb + 2] = 3 * t + 1;
-  }
   last_ = finite_new;
-  if (mode_ == Mode::DS && mark_[ds_tri_] == in_) {
-    for (std::size_t j = 0; j < m; ++j)
-      if ((ba_[j] == ds_vertex_ || bb_[j] == ds_vertex_) && ba_[j] != G_ && bb_[j] != G_) ds_tri_ = newt_[j];
+  if (mode_ == Mode::DS) {
+    // The fixed start may have been in the cavity: keep a finite triangle incident to ds_vertex_.
+    const std::uint32_t* w = tri + 3 * ds_tri_;
+    const bool ok = (w[0] == ds_vertex_ || w[1] == ds_vertex_ || w[2] == ds_vertex_) && ghost_edge(ds_tri_) == kNone;
+    if (!ok)
+      for (std::size_t j = 0; j < m; ++j) {
+        const std::uint32_t a = bnd_a_[j], b = bnd_a_[j + 1 == m ? 0 : j + 1];
+        if ((a == ds_vertex_ || b == ds_vertex_) && a != G_ && b != G_) ds_tri_ = cavity_[j];
+      }
   }
-  for (std::uint32_t t : cavity_) mark_[t] = 0;
-  for (std::size_t j = 0; j < m; ++j) mark_[bo_[j] / 3] = 0;
   ++T_.inserted;
 }
 
@@ -337,14 +346,16 @@ void Builder::run(std::size_t n) {
   std::uint32_t a = p0, b = order(k1), c = order(k2);
   if (pred::orient2d(P_[a].x, P_[a].y, P_[b].x, P_[b].y, P_[c].x, P_[c].y) < 0) std::swap(b, c);
 
-  const std::size_t max_slots = 2 * n + 8;
-  T_.tri.reserve(3 * max_slots);
-  T_.twin.reserve(3 * max_slots);
-  mark_.reserve(max_slots);
-  T_.tri = {a, b, c, b, a, G_, c, b, G_, a, c, G_};
-  T_.twin = {3, 6, 9, 0, 11, 7, 1, 5, 10, 2, 8, 4};
-  mark_.assign(4, 0);
-  start_at_.assign(n + 1, 0);
+  // A triangulation of n + 1 vertices (the ghost included) on the sphere has 2 (n + 1) - 4 triangles:
+  // every slot is allocated once, no growth during the insertion.
+  const std::size_t max_slots = 2 * n + 2;
+  T_.tri.assign(3 * max_slots, 0);
+  T_.twin.assign(3 * max_slots, 0);
+  const std::uint32_t init_tri[12] = {a, b, c, b, a, G_, c, b, G_, a, c, G_};
+  const std::uint32_t init_twin[12] = {3, 6, 9, 0, 11, 7, 1, 5, 10, 2, 8, 4};
+  std::copy(init_tri, init_tri + 12, T_.tri.begin());
+  std::copy(init_twin, init_twin + 12, T_.twin.begin());
+  slots_ = 4;
   T_.inserted = 3;
   T_.nn2.assign(n, std::numeric_limits<float>::infinity());
   for (std::uint32_t u : {a, b, c})
@@ -356,10 +367,16 @@ void Builder::run(std::size_t n) {
   last_ = 0;
   ds_vertex_ = a;
   ds_tri_ = 0;
+  cavity_.reserve(64);
+  bnd_a_.reserve(64);
+  bnd_o_.reserve(64);
+  stack_.reserve(64);
 
   for (std::size_t k = 1; k < k2; ++k)
     if (k != k1) insert(order(k));
   for (std::size_t k = k2 + 1; k < n; ++k) insert(order(k));
+  T_.tri.resize(3 * std::size_t{slots_});
+  T_.twin.resize(3 * std::size_t{slots_});
 }
 
 }  // namespace
@@ -465,6 +482,23 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, 
       miny = std::min(miny, p.y); maxy = std::max(maxy, p.y);
     }
     T.origin = {minx / 2 + maxx / 2, miny / 2 + maxy / 2};
+  }
+  // The origin is rounded to a multiple of a power of two about 2^-20 of the extent (a negligible shift):
+  // it then has few significant bits, so for coordinates with few bits themselves (float32 camera data)
+  // the translation is exact and the translated coordinates keep few bits; products of their differences
+  // are then exact doubles and the exact fallback of the predicates (frequent on noise-free grids, where
+  // every cell is nearly cocircular) works on one-component expansions.
+  {
+    double minx = points[0].x, maxx = minx, miny = points[0].y, maxy = miny;
+    for (const Vec2& p : points) {
+      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
+    }
+    const double extent = std::max(maxx - minx, maxy - miny);
+    if (std::isfinite(extent) && extent > 0) {
+      const double unit = std::ldexp(1.0, std::ilogb(extent) - 20);
+      const Vec2 r{std::round(T.origin.x / unit) * unit, std::round(T.origin.y / unit) * unit};
+      if (std::isfinite(r.x) && std::isfinite(r.y)) T.origin = r;
+    }
   }
   // The predicates are exact while their degree-4 products neither overflow nor underflow; a cloud
   // spanning more than 1e60 would break that, so it is refused (naming its most extreme point) rather

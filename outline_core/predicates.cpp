@@ -3,7 +3,10 @@
 // Floating-Point Arithmetic and Fast Robust Geometric Predicates" (1997), section 2.
 #include "predicates.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace hg::outline::pred {
@@ -133,28 +136,239 @@ Expansion square_norm(const Expansion& x, const Expansion& y) {
   return h;
 }
 
-Expansion orient_expansion(double ax, double ay, double bx, double by, double cx, double cy) {
-  return cross(diff(ax, cx), diff(ay, cy), diff(bx, cx), diff(by, cy));
+// "Few bits": nonzero doubles d_k that are all integer multiples of 2^s and below 2^B in magnitude with
+// B - s <= 26. Then a product of two is an integer below 2^52 units of 2^2s and the sum or difference of
+// two products is below 2^53 units: all exact doubles. Coordinate differences of nearby camera points
+// (float32 data, translated to a rounded origin) are like this, and those are the near-degenerate tests
+// that reach the exact path (a noise-free grid makes every cell nearly cocircular), so this cheap check
+// settles most of them. Limits on s and B keep every product of four far from under/overflow.
+inline bool few_bits(const double* d, int count) {
+  int lo = 4096, hi = -4096;
+  for (int k = 0; k < count; ++k) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &d[k], 8);
+    const int e = static_cast<int>((bits >> 52) & 0x7ff);
+    if (e == 0) {
+      if ((bits << 1) == 0) continue;  // zero
+      return false;                    // subnormal
+    }
+    const std::uint64_t mant = (bits & ((std::uint64_t{1} << 52) - 1)) | (std::uint64_t{1} << 52);
+    lo = std::min(lo, e - 1075 + __builtin_ctzll(mant));  // value = mant 2^(e - 1075)
+    hi = std::max(hi, e - 1022);                          // |value| < 2^(e - 1022)
+  }
+  return hi - lo <= 26 && lo >= -240 && hi <= 240;
+}
+
+// Fixed-capacity expansions on the stack for orient2d and incircle: the exact path runs often on
+// camera grids (near-cocircular cells everywhere) and must not allocate. Same algorithms as above.
+template <int N>
+struct Fixed {
+  double c[N];
+  int n = 0;
+};
+
+// h = e + f (h must hold e.n + f.n components and not alias e or f).
+inline int sum_raw(const double* e, int en, const double* f, int fn, double* h) {
+  if (en == 0) {
+    for (int k = 0; k < fn; ++k) h[k] = f[k];
+    return fn;
+  }
+  if (fn == 0) {
+    for (int k = 0; k < en; ++k) h[k] = e[k];
+    return en;
+  }
+  // Merge by magnitude on the fly, then the chain of two-sums.
+  int i = 0, j = 0, hn = 0;
+  double q = (std::fabs(e[0]) < std::fabs(f[0])) ? e[i++] : f[j++];
+  while (i < en || j < fn) {
+    const double g = (j >= fn || (i < en && std::fabs(e[i]) < std::fabs(f[j]))) ? e[i++] : f[j++];
+    double s, t;
+    two_sum(q, g, s, t);
+    if (t != 0) h[hn++] = t;
+    q = s;
+  }
+  if (q != 0 || hn == 0) h[hn++] = q;
+  if (hn == 1 && h[0] == 0) hn = 0;
+  return hn;
+}
+
+inline int scale_raw(const double* e, int en, double b, double* h) {
+  if (en == 0 || b == 0) return 0;
+  int hn = 0;
+  double q, t;
+  two_product(e[0], b, q, t);
+  if (t != 0) h[hn++] = t;
+  for (int i = 1; i < en; ++i) {
+    double p1, p0, s;
+    two_product(e[i], b, p1, p0);
+    two_sum(q, p0, s, t);
+    if (t != 0) h[hn++] = t;
+    two_sum(p1, s, q, t);
+    if (t != 0) h[hn++] = t;
+  }
+  if (q != 0) h[hn++] = q;
+  return hn;
+}
+
+template <int A, int B, int H>
+void fsum(const Fixed<A>& e, const Fixed<B>& f, Fixed<H>& h) {
+  static_assert(H >= A + B);
+  h.n = sum_raw(e.c, e.n, f.c, f.n, h.c);
+}
+
+// h = e * f: sum over f's components of e scaled by each.
+template <int A, int B, int H>
+void fmul(const Fixed<A>& e, const Fixed<B>& f, Fixed<H>& h) {
+  static_assert(H >= 2 * A * B);
+  double part[2 * A];
+  double acc[H];
+  h.n = 0;
+  for (int k = 0; k < f.n; ++k) {
+    const int pn = scale_raw(e.c, e.n, f.c[k], part);
+    const int an = sum_raw(h.c, h.n, part, pn, acc);
+    for (int i = 0; i < an; ++i) h.c[i] = acc[i];
+    h.n = an;
+  }
+}
+
+inline Fixed<2> fdiff(double a, double b) {
+  Fixed<2> e;
+  double x, y;
+  two_diff(a, b, x, y);
+  if (y != 0) e.c[e.n++] = y;
+  if (x != 0) e.c[e.n++] = x;
+  return e;
+}
+
+template <int N>
+double fsign(const Fixed<N>& e) { return e.n == 0 ? 0.0 : e.c[e.n - 1]; }
+
+// ax*by - ay*bx for 2-component inputs: at most 16 components.
+Fixed<16> fcross(const Fixed<2>& ax, const Fixed<2>& ay, const Fixed<2>& bx, const Fixed<2>& by) {
+  Fixed<8> l, r;
+  fmul(ax, by, l);
+  fmul(ay, bx, r);
+  for (int k = 0; k < r.n; ++k) r.c[k] = -r.c[k];
+  Fixed<16> h;
+  fsum(l, r, h);
+  return h;
+}
+
+Fixed<16> fsquare_norm(const Fixed<2>& x, const Fixed<2>& y) {
+  Fixed<8> xx, yy;
+  fmul(x, x, xx);
+  fmul(y, y, yy);
+  Fixed<16> h;
+  fsum(xx, yy, h);
+  return h;
 }
 
 }  // namespace
 
 double orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
-  return sign_of(orient_expansion(ax, ay, bx, by, cx, cy));
+  const Fixed<2> acx = fdiff(ax, cx), acy = fdiff(ay, cy), bcx = fdiff(bx, cx), bcy = fdiff(by, cy);
+  if (acx.n <= 1 && acy.n <= 1 && bcx.n <= 1 && bcy.n <= 1) {
+    const double d[4] = {ax - cx, ay - cy, bx - cx, by - cy};  // exact
+    if (few_bits(d, 4)) return d[0] * d[3] - d[1] * d[2];    // exact (collinear rows of a grid: 0)
+  }
+  return fsign(fcross(fdiff(ax, cx), fdiff(ay, cy), fdiff(bx, cx), fdiff(by, cy)));
 }
 
 double incircle_exact(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
-  const Expansion adx = diff(ax, dx), ady = diff(ay, dy);
-  const Expansion bdx = diff(bx, dx), bdy = diff(by, dy);
-  const Expansion cdx = diff(cx, dx), cdy = diff(cy, dy);
-  Expansion ta, tb, tc, s1, s2;
-  mul(square_norm(adx, ady), cross(bdx, bdy, cdx, cdy), ta);
-  mul(square_norm(bdx, bdy), cross(cdx, cdy, adx, ady), tb);
-  mul(square_norm(cdx, cdy), cross(adx, ady, bdx, bdy), tc);
-  sum(ta, tb, s1);
-  sum(s1, tc, s2);
-  return sign_of(s2);
+  const Fixed<2> adx = fdiff(ax, dx), ady = fdiff(ay, dy);
+  const Fixed<2> bdx = fdiff(bx, dx), bdy = fdiff(by, dy);
+  const Fixed<2> cdx = fdiff(cx, dx), cdy = fdiff(cy, dy);
+  if (adx.n <= 1 && ady.n <= 1 && bdx.n <= 1 && bdy.n <= 1 && cdx.n <= 1 && cdy.n <= 1) {
+    const double d[6] = {ax - dx, ay - dy, bx - dx, by - dy, cx - dx, cy - dy};  // exact
+    if (few_bits(d, 6)) {
+      // Lifts L and cross products C exact: det = fl(fl(ta + tb) + tc), ti = fl(Li Ci), errs by at most
+      // 3 eps (1 + eps)^2 P, P = sum |Li Ci|; 4 eps times the computed P bounds it.
+      const double L[3] = {d[0] * d[0] + d[1] * d[1], d[2] * d[2] + d[3] * d[3], d[4] * d[4] + d[5] * d[5]};
+      const double C[3] = {d[2] * d[5] - d[4] * d[3], d[4] * d[1] - d[0] * d[5], d[0] * d[3] - d[2] * d[1]};
+      const double ta = L[0] * C[0], tb = L[1] * C[1], tc = L[2] * C[2];
+      const double det = ta + tb + tc;
+      const double bound = 4 * kEps * (std::fabs(ta) + std::fabs(tb) + std::fabs(tc));
+      if (det > bound || -det > bound) return det;
+      // Undecided (an exactly cocircular grid cell): each Li Ci is exactly the sum of two doubles, so
+      // det is the exact sum of six.
+      double part[3][2], s1[4], s2[6];
+      int pn[3];
+      for (int k = 0; k < 3; ++k) {
+        double hi, lo;
+        two_product(L[k], C[k], hi, lo);
+        pn[k] = 0;
+        if (lo != 0) part[k][pn[k]++] = lo;
+        if (hi != 0) part[k][pn[k]++] = hi;
+      }
+      const int n1 = sum_raw(part[0], pn[0], part[1], pn[1], s1);
+      const int n2 = sum_raw(s1, n1, part[2], pn[2], s2);
+      return n2 == 0 ? 0.0 : s2[n2 - 1];
+    }
+    // Every difference is a single double (the usual case: nearby points). Then
+    // det = sum over cyclic (a, b, c) of (adx^2 + ady^2) (bdx cdy - cdx bdy), each cross product an exact
+    // 4-component expansion, scaled twice by adx and twice by ady: at most 32 components per term.
+    const double ax1 = adx.n ? adx.c[0] : 0.0, ay1 = ady.n ? ady.c[0] : 0.0;
+    const double bx1 = bdx.n ? bdx.c[0] : 0.0, by1 = bdy.n ? bdy.c[0] : 0.0;
+    const double cx1 = cdx.n ? cdx.c[0] : 0.0, cy1 = cdy.n ? cdy.c[0] : 0.0;
+    auto cross4 = [](double px, double py, double qx, double qy, double* out) {
+      double l1, l0, r1, r0;
+      two_product(px, qy, l1, l0);
+      two_product(-qx, py, r1, r0);  // negation is exact
+      const double l[2] = {l0, l1}, r[2] = {r0, r1};
+      double lz[2], rz[2];
+      int ln = 0, rn = 0;
+      for (double v : l) if (v != 0) lz[ln++] = v;
+      for (double v : r) if (v != 0) rz[rn++] = v;
+      return sum_raw(lz, ln, rz, rn, out);
+    };
+    // (ux^2 + uy^2) * cross: the lift is an exact expansion of at most 4 components; with coordinates of
+    // few significant bits (float input, rounded origin) it is one component and this is one two-product.
+    auto term = [](double ux, double uy, const double* cr, int crn, double* out) {
+      double x1, x0, y1, y0;
+      two_product(ux, ux, x1, x0);
+      two_product(uy, uy, y1, y0);
+      double xs[2], ys[2], lift[4], part[8], acc[32];
+      int xn = 0, yn = 0;
+      if (x0 != 0) xs[xn++] = x0;
+      if (x1 != 0) xs[xn++] = x1;
+      if (y0 != 0) ys[yn++] = y0;
+      if (y1 != 0) ys[yn++] = y1;
+      const int ln = sum_raw(xs, xn, ys, yn, lift);
+      int on = 0;
+      for (int k = 0; k < ln; ++k) {
+        const int pn = scale_raw(cr, crn, lift[k], part);
+        on = sum_raw(out, on, part, pn, acc);
+        for (int i = 0; i < on; ++i) out[i] = acc[i];
+      }
+      return on;
+    };
+    double bc[4], ca[4], ab[4], ta[32], tb[32], tc[32], s1[64], s2[96];
+    const int bcn = cross4(bx1, by1, cx1, cy1, bc);
+    const int can = cross4(cx1, cy1, ax1, ay1, ca);
+    const int abn = cross4(ax1, ay1, bx1, by1, ab);
+    const int tan_ = term(ax1, ay1, bc, bcn, ta);
+    const int tbn = term(bx1, by1, ca, can, tb);
+    const int tcn = term(cx1, cy1, ab, abn, tc);
+    const int s1n = sum_raw(ta, tan_, tb, tbn, s1);
+    const int s2n = sum_raw(s1, s1n, tc, tcn, s2);
+    return s2n == 0 ? 0.0 : s2[s2n - 1];
+  }
+  Fixed<512> ta, tb, tc;
+  fmul(fsquare_norm(adx, ady), fcross(bdx, bdy, cdx, cdy), ta);
+  fmul(fsquare_norm(bdx, bdy), fcross(cdx, cdy, adx, ady), tb);
+  fmul(fsquare_norm(cdx, cdy), fcross(adx, ady, bdx, bdy), tc);
+  Fixed<1024> s1;
+  fsum(ta, tb, s1);
+  Fixed<1536> s2;
+  fsum(s1, tc, s2);
+  return fsign(s2);
 }
+
+namespace {
+Expansion orient_expansion(double ax, double ay, double bx, double by, double cx, double cy) {
+  return cross(diff(ax, cx), diff(ay, cy), diff(bx, cx), diff(by, cy));
+}
+}  // namespace
 
 int circumradius_vs(double ax, double ay, double bx, double by, double cx, double cy, double R) {
   // Filter. Relative rounding errors: each squared length <= 4.01 eps, the product N of three <= 14.1 eps.

@@ -1,0 +1,86 @@
+// hg-core-timing: times the outline core (triangulate, alpha, loops) on one cloud file in several
+// insertion orders, median of runs in one process, with the search counters per inserted point.
+// Not a test (no timed assertions anywhere); the figures of docs/outline-core-performance.md.
+//   hg-core-timing FILE [--runs N] [--only scan-asis|scan-hilbert|scan-brio|shuf-asis|shuf-hilbert|shuf-brio]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "outline_core/io/cloud_io.hpp"
+#include "outline_core/outline.hpp"
+
+using namespace hg::outline;
+
+namespace {
+
+struct Config {
+  const char* name;
+  bool shuffled;
+  Order order;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: hg-core-timing FILE [--runs N] [--only CONFIG] [--mode M]\n");
+    return 2;
+  }
+  std::string file = argv[1], only;
+  int runs = 5;
+  Mode mode = Mode::DSHI;
+  for (int i = 2; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+    else if (!std::strcmp(argv[i], "--mode") && i + 1 < argc) mode = parse_mode(argv[++i]);
+    else {
+      std::fprintf(stderr, "hg-core-timing: unknown argument '%s'\n", argv[i]);
+      return 2;
+    }
+  }
+  std::vector<Vec2> scan, shuf;
+  {
+    io::Cloud cloud = io::read_cloud_file(file);
+    scan = io::to_plane(cloud, file).points;
+  }
+  shuf = scan;
+  std::mt19937_64 rng(12345);
+  std::shuffle(shuf.begin(), shuf.end(), rng);
+
+  const Config configs[] = {{"scan-asis", false, Order::AsIs},     {"scan-hilbert", false, Order::Hilbert},
+                            {"scan-brio", false, Order::Brio},     {"shuf-hilbert", true, Order::Hilbert},
+                            {"shuf-brio", true, Order::Brio},      {"shuf-asis", true, Order::AsIs}};
+  std::printf("%s: %zu points, %d runs, mode %s\n", file.c_str(), scan.size(), runs, to_string(mode));
+  std::printf("%-13s %9s %9s %8s %8s %9s | %7s %7s %7s %7s\n", "config", "total_ms", "tri_ms", "alpha_ms", "loops_ms",
+              "loops", "cav/pt", "inc/pt", "ori/pt", "loc/pt");
+  for (const Config& c : configs) {
+    if (!only.empty() && only != c.name) continue;
+    if (only.empty() && !std::strcmp(c.name, "shuf-asis")) continue;  // minutes on 1.5 M points: on request only
+    std::vector<double> tot, tri, alp, lop;
+    Result r;
+    Options o;
+    o.mode = mode;
+    o.order = c.order;
+    for (int k = 0; k < runs; ++k) {
+      r = compute_outline(c.shuffled ? shuf : scan, o);
+      tot.push_back(r.time.total_ms);
+      tri.push_back(r.time.triangulate_ms);
+      alp.push_back(r.time.alpha_ms);
+      lop.push_back(r.time.loops_ms);
+    }
+    const double n = static_cast<double>(r.points_used);
+    std::printf("%-13s %9.1f %9.1f %8.1f %8.1f %9zu | %7.2f %7.2f %7.2f %7.2f\n", c.name, median(tot), median(tri),
+                median(alp), median(lop), r.loops.size(), r.cavity_triangles / n, r.incircle_tests / n,
+                r.orient_tests / n, r.search_cost_locate / n);
+  }
+  return 0;
+}
