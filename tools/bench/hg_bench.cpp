@@ -371,40 +371,48 @@ CloudResult bench_cloud(const BenchCloud& c, const Args& a) {
 
 // ---- peak memory of whole processes ----
 
-// Runs argv as a child process; returns its peak RSS (kB) and wall time, or -1 if it failed.
-MemoryResult run_child(const std::string& what, const std::vector<std::string>& argv) {
+// Runs argv through hg-bench-rss (a small parent, see rss_wrapper.c) and reads back the child's peak RSS
+// (kB) and wall time; max_rss_kb = -1 if it failed.
+MemoryResult run_child(const std::string& what, const std::vector<std::string>& argv_in, const std::string& dir) {
   MemoryResult m;
   m.what = what;
-  for (const auto& s : argv) m.command += (m.command.empty() ? "" : " ") + s;
+  for (const auto& s : argv_in) m.command += (m.command.empty() ? "" : " ") + s;
+#ifdef HG_BENCH_RSS_EXE
+  const std::string result_file = dir + "/rss.txt";
+  std::vector<std::string> argv = {HG_BENCH_RSS_EXE, result_file};
+  argv.insert(argv.end(), argv_in.begin(), argv_in.end());
   std::vector<char*> cargv;
   for (const auto& s : argv) cargv.push_back(const_cast<char*>(s.c_str()));
   cargv.push_back(nullptr);
-  const auto t0 = Clock::now();
   const pid_t pid = fork();
   if (pid < 0) {
     m.note = std::string("fork failed: ") + std::strerror(errno);
     return m;
   }
   if (pid == 0) {
-    const int devnull = open("/dev/null", O_WRONLY);
-    if (devnull >= 0) dup2(devnull, 1);
     execv(cargv[0], cargv.data());
     std::fprintf(stderr, "hg-bench: cannot run %s: %s\n", cargv[0], std::strerror(errno));
     _exit(127);
   }
   int status = 0;
-  rusage ru{};
-  if (wait4(pid, &status, 0, &ru) < 0) {
-    m.note = std::string("wait4 failed: ") + std::strerror(errno);
+  if (waitpid(pid, &status, 0) < 0) {
+    m.note = std::string("waitpid failed: ") + std::strerror(errno);
     return m;
   }
-  m.wall_ms = now_ms_since(t0);
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-    m.max_rss_kb = ru.ru_maxrss;
-  } else {
-    m.note = WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
-                               : "killed by signal " + std::to_string(WTERMSIG(status));
+  std::ifstream f(result_file);
+  long kb = -1;
+  double wall = 0;
+  int code = -1;
+  if (!(f >> kb >> wall >> code)) {
+    m.note = "hg-bench-rss wrote no result";
+    return m;
   }
+  m.wall_ms = wall;
+  if (code == 0) m.max_rss_kb = kb; else m.note = "exit status " + std::to_string(code);
+#else
+  (void)dir;
+  m.note = "hg-bench-rss not built";
+#endif
   return m;
 }
 
@@ -443,7 +451,7 @@ std::vector<MemoryResult> measure_memory(const Args& a, Report& report) {
 #ifdef HG_OUTLINE_EXE
   const std::string json = dir + "/outline.json";
   MemoryResult ours = run_child("hg-outline (whole process: read, plane, outline, write JSON)",
-                                {HG_OUTLINE_EXE, pcd, "-o", json});
+                                {HG_OUTLINE_EXE, pcd, "-o", json}, dir);
   try {
     std::ifstream f(json);
     const auto j = nlohmann::json::parse(f);
@@ -456,16 +464,16 @@ std::vector<MemoryResult> measure_memory(const Args& a, Report& report) {
     ours.note += std::string(" (JSON not readable: ") + e.what() + ")";
   }
   out.push_back(ours);
-  MemoryResult hilbert = run_child("hg-outline --order hilbert", {HG_OUTLINE_EXE, pcd, "--order", "hilbert", "-o", json});
+  MemoryResult hilbert = run_child("hg-outline --order hilbert", {HG_OUTLINE_EXE, pcd, "--order", "hilbert", "-o", json}, dir);
   out.push_back(hilbert);
 #endif
   if (R <= 0) R = 1.7 * p.pitch;
   char rbuf[64];
   std::snprintf(rbuf, sizeof rbuf, "%.17g", R);
   const std::string me = self_exe();
-  out.push_back(run_child("reading the file only (hg_outline_io reader + plane, in hg-bench)", {me, "--child-read", pcd, rbuf}));
-  if (a.cgal) out.push_back(run_child("CGAL DT + circumradius + loops (after the same reader)", {me, "--child-cgal-dt", pcd, rbuf}));
-  if (a.pcl) out.push_back(run_child("PCL ConcaveHull (after the same reader)", {me, "--child-pcl", pcd, rbuf}));
+  out.push_back(run_child("reading the file only (hg_outline_io reader + plane, in hg-bench)", {me, "--child-read", pcd, rbuf}, dir));
+  if (a.cgal) out.push_back(run_child("CGAL DT + circumradius + loops (after the same reader)", {me, "--child-cgal-dt", pcd, rbuf}, dir));
+  if (a.pcl) out.push_back(run_child("PCL ConcaveHull (after the same reader)", {me, "--child-pcl", pcd, rbuf}, dir));
   std::filesystem::remove_all(dir);
   return out;
 }
