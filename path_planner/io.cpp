@@ -45,6 +45,7 @@ std::vector<Param> planner_params() {
       {"workspace_max", "1.5,1,1", "workspace box, base frame, m: upper corner"},
       {"table_z", "0", "table top height in the base frame; every waypoint must be above it, m"},
       {"max_speed", "0.5", "largest TCP speed allowed, m/s"},
+      {"max_accel", "2.0", "largest acceleration a corner may demand (v^2/r), m/s^2; = the robot bridge's max-accel"},
   };
 }
 
@@ -132,6 +133,8 @@ PlannerConfig config_from(const ParamLookup& L) {
   c.limits.workspace_max = vec3(L, "workspace_max");
   c.limits.table_z = num(L, "table_z");
   c.limits.max_speed = num(L, "max_speed");
+  c.limits.max_accel = num(L, "max_accel");
+  if (!(c.limits.max_speed > 0) || !(c.limits.max_accel > 0)) throw ConfigError("max_speed and max_accel must be > 0");
   return c;
 }
 

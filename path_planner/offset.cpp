@@ -12,6 +12,12 @@ namespace hg::path_planner {
 
 namespace {
 constexpr double kUnit = 1e-6;  // metres per Clipper unit
+// Clipper rounds the offset's vertices to whole units, which leaves vertices a unit or two from their
+// neighbour, some of them stepping back against the travel: a zig-zag of a few micrometres that the robot
+// bridge sees as a corner of a fraction of a millimetre radius. Vertices within this distance of a
+// neighbour or of the line through their neighbours are removed (CleanPolygon); it is far below the arc
+// tolerance (10 um) and the accuracy targets (0.3 mm).
+constexpr double kCleanUnits = 3;
 }
 
 std::vector<Ring> offset_ring(const Ring& ring, bool hole, double distance, double arc_tolerance) {
@@ -31,6 +37,7 @@ std::vector<Ring> offset_ring(const Ring& ring, bool hole, double distance, doub
   co.AddPath(path, ClipperLib::jtRound, ClipperLib::etClosedPolygon);
   ClipperLib::Paths solution;
   co.Execute(solution, (hole ? -distance : distance) / kUnit);
+  ClipperLib::CleanPolygons(solution, kCleanUnits);
   for (ClipperLib::Path& sp : solution) {
     // Negative rings after growing an outer loop are pockets the tool closed off (a notch narrower than
     // the tool): not reachable, not part of the path.

@@ -1,7 +1,7 @@
 // The grind-path planning pipeline: small pure steps over plain structs (Eigen), composed the way
 // ROS-Industrial's noether composes tool-path modifiers:
 //   (mirror if flipped) -> smooth -> offset -> resample -> order/start -> orient + leads + approach/retract
-//   -> robot base frame -> validate.
+//   -> robot base frame -> corner speeds -> validate.
 // No LCM here: the process (path_planner.cpp) and the CLI (hg_plan.cpp) both call plan().
 //
 // Conventions (see docs/path_planner.md):
@@ -171,16 +171,31 @@ std::vector<Waypoint> to_base(const std::vector<PlateWaypoint>& path, const Eige
 // Camera -> base from x, y, z (m) and roll, pitch, yaw (rad, R = Rz(yaw) Ry(pitch) Rx(roll)).
 Eigen::Isometry3d pose_from_xyz_rpy(const Vec3& xyz, const Vec3& rpy);
 
+// ---- 6b. corner speeds (the robot bridge's acceleration rule) ----
+// The rule the robot bridge checks before it moves (robot_bridge/path.cpp check_path): at every waypoint i
+// but the last, with a = waypoint i-1 (the robot's start position for i = 0), b = waypoint i, c = waypoint
+// i+1, and v = min(speed[i], speed[i+1]) (speed[i]: the segment ending at i), v^2 / r <= max_accel, r the
+// radius of the circle through a, b, c. Waypoints with a zero-length segment on either side are no corner.
+// Radius of the circle through a, b, c: infinite when collinear with b between, 0 for a reversal.
+double corner_radius(const Vec3& a, const Vec3& b, const Vec3& c);
+// Largest v with v * v / radius <= max_accel in floating point (with a 1e-9 relative margin); infinite
+// for an infinite radius, 0 for radius 0.
+double corner_speed_limit(double radius, double max_accel);
+// Lowers the speed of both segments at every corner to the corner's limit (geometry unchanged); reversals
+// are left for validate to refuse. Returns how many waypoint speeds were lowered.
+int limit_corner_speeds(std::vector<Waypoint>& path, const Vec3& start, double max_accel);
+
 // ---- 7. validation ----
 struct Limits {
   Vec3 workspace_min = Vec3(-1, -1, -0.5), workspace_max = Vec3(1, 1, 1);
   double table_z = -1e9;    // base-frame height of the table top; every waypoint must be strictly above
   double max_speed = 0.5;
+  double max_accel = 2.0;   // m/s^2, the corner rule above; MUST equal the robot bridge's max-accel
 };
 // Empty string when the path is fit to run; otherwise the first reason found (names the waypoint).
 // Self-intersection is checked per grind loop (lead-in end + grind waypoints of one loop) in the plane
-// perpendicular to `up` (base frame).
-std::string validate(const std::vector<Waypoint>& path, const Limits& limits, const Vec3& up);
+// perpendicular to `up` (base frame). Corners: the rule above from `start` (the robot's position).
+std::string validate(const std::vector<Waypoint>& path, const Limits& limits, const Vec3& up, const Vec3& start);
 // True when the closed polyline has two non-adjacent segments that touch or cross (grid-bucketed).
 bool self_intersects(const std::vector<Vec2>& closed_polyline);
 
@@ -221,6 +236,7 @@ struct PlanResult {
   JobParams params;                    // as used
   double pitch = 0;                    // pixel pitch used by the smoothing
   int loops_planned = 0;
+  int slowed = 0;                      // waypoint speeds lowered for corners (limit_corner_speeds)
   double seconds = 0;                  // planning time
 };
 // Fills zero-valued job parameters from the defaults; returns a reason when a parameter is unusable.

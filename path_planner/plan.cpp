@@ -92,8 +92,9 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   so.direction = P.direction;
   so.spindle_clockwise = cfg.spindle_clockwise;
   res.path = to_base(sequence(grind, start_plate.head<2>(), so), T);
+  res.slowed = limit_corner_speeds(res.path, start_base, cfg.limits.max_accel);
 
-  if (std::string why = validate(res.path, cfg.limits, T.linear().col(2)); !why.empty())
+  if (std::string why = validate(res.path, cfg.limits, T.linear().col(2), start_base); !why.empty())
     return fail("validation: " + why);
   res.ok = true;
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

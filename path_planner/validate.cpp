@@ -1,5 +1,5 @@
-// Step 7: validation before publishing: workspace box, table, speeds, unit quaternions, and no
-// self-intersection of any grind loop.
+// Step 7: validation before publishing: workspace box, table, speeds, unit quaternions, the robot bridge's
+// corner acceleration rule, and no self-intersection of any grind loop.
 #include "path_planner/pipeline.hpp"
 
 #include <algorithm>
@@ -72,7 +72,7 @@ bool self_intersects(const std::vector<Vec2>& p) {
   return false;
 }
 
-std::string validate(const std::vector<Waypoint>& path, const Limits& L, const Vec3& up) {
+std::string validate(const std::vector<Waypoint>& path, const Limits& L, const Vec3& up, const Vec3& start) {
   if (path.empty()) return "path is empty";
   for (std::size_t i = 0; i < path.size(); ++i) {
     const Waypoint& w = path[i];
@@ -87,6 +87,24 @@ std::string validate(const std::vector<Waypoint>& path, const Limits& L, const V
     if (!(w.speed > 0) || w.speed > L.max_speed)
       return at + fmt("speed %.4f m/s is outside (0, %.4f] m/s", w.speed, L.max_speed);
     if (std::abs(w.orientation.norm() - 1) > 1e-6) return at + "orientation is not a unit quaternion";
+  }
+  // Corners, exactly as the robot bridge checks them (pipeline.hpp, 6b).
+  static const char* kind_names[] = {"approach", "lead_in", "grind", "lead_out", "retract", "travel"};
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    const Vec3& a = i == 0 ? start : path[i - 1].position;
+    const Vec3& b = path[i].position;
+    const Vec3& c = path[i + 1].position;
+    if ((b - a).squaredNorm() == 0 || (c - b).squaredNorm() == 0) continue;
+    const double v = std::min(path[i].speed, path[i + 1].speed);
+    const double r = corner_radius(a, b, c);
+    const double lateral = r == 0 ? INFINITY : v * v / r;
+    if (lateral > L.max_accel) {
+      const std::int8_t k = path[i].kind;
+      const std::string at = "waypoint " + std::to_string(i) + " (" + (k >= 0 && k < 6 ? kind_names[k] : "unknown") + "): ";
+      if (r == 0) return at + "the path reverses here (corner radius 0): no speed can take it";
+      return at + fmt("the corner (radius %.6f mm) at %.6f m/s needs %.6f m/s^2", r * 1e3, v, lateral) +
+             fmt(", more than max_accel %.6f m/s^2", L.max_accel);
+    }
   }
   // Grind loops: the lead-in's last point (the loop's start) and the grind waypoints that follow.
   const Vec3 e1 = up.unitOrthogonal(), e2 = up.normalized().cross(e1);

@@ -10,6 +10,7 @@
 #include "partgen/shapes.hpp"
 #include "partgen/synth.hpp"
 #include "path_planner/pipeline.hpp"
+#include "robot_bridge/path.hpp"
 
 using namespace hg::path_planner;
 namespace pg = hg::partgen;
@@ -188,6 +189,56 @@ void check_shape(const std::string& shape, bool noisy, double smooth_limit, doub
   for (const Waypoint& w : res.path)
     if (w.kind == kGrind) ++ground[w.loop];
   for (std::size_t k = 0; k < c.loops.size(); ++k) EXPECT_GT(ground[k], 10) << shape << " loop " << k;
+
+  // The robot bridge runs what the planner publishes: its own check (robot_bridge/path.cpp, linked) with
+  // its default limits (max_accel 2 m/s^2, max_speed 0.25 m/s), from the position the planner started
+  // from. Job variants: both tool radii, both directions, flipped, robot at home or elsewhere.
+  hg::robot_bridge::Limits bl;
+  bl.workspace_min = cfg.limits.workspace_min;
+  bl.workspace_max = cfg.limits.workspace_max;
+  bl.table_z = cfg.limits.table_z;
+  ASSERT_EQ(cfg.limits.max_accel, bl.max_accel);
+  struct Variant {
+    double tool;
+    Direction dir;
+    bool flipped;
+    std::optional<Vec3> robot;
+    double grind_speed;  // 0: the default 0.02 m/s; 0.1 m/s needs corner radii of 5 mm
+  };
+  const Variant variants[] = {{0.005, Direction::Climb, false, std::nullopt, 0},
+                              {0.01, Direction::Conventional, false, std::nullopt, 0},
+                              {0.005, Direction::Climb, true, Vec3(0.2, -0.3, 0.15), 0},
+                              {0.005, Direction::Climb, false, std::nullopt, 0.1}};
+  for (const Variant& v : variants) {
+    JobParams j;
+    j.grind_speed = v.grind_speed;
+    j.tool_radius = v.tool;
+    j.direction = v.dir;
+    j.flipped = v.flipped;
+    const PlanResult pr = plan(in, j, cfg, v.robot);
+    ASSERT_TRUE(pr.ok) << shape << ": " << pr.reason;
+    hg::robot_bridge::Path bp;
+    double slowest = 1e9, grind_time = 0, grind_time_nominal = 0;
+    for (std::size_t i = 0; i < pr.path.size(); ++i) {
+      const Waypoint& w = pr.path[i];
+      bp.position.push_back(w.position);
+      bp.orientation.push_back(w.orientation);
+      bp.speed.push_back(w.speed);
+      bp.kind.push_back(w.kind);
+      if (w.kind == kGrind) {
+        const double len = (w.position - pr.path[i - 1].position).norm();
+        slowest = std::min(slowest, w.speed);
+        grind_time += len / w.speed;
+        grind_time_nominal += len / pr.params.grind_speed;
+      }
+    }
+    const Vec3 start = v.robot ? *v.robot : cfg.home;
+    EXPECT_EQ(hg::robot_bridge::check_path(bp, {start, Eigen::Quaterniond::Identity()}, bl), "")
+        << shape << (noisy ? " noisy" : "") << " tool " << v.tool << (v.flipped ? " flipped" : "");
+    std::printf("    tool %2.0f mm %-12s %-7s %.2f m/s: %5zu waypoints, %3d speeds lowered, slowest grind %.4f m/s, grind time %.1f s (%.1f s at constant speed)\n",
+                v.tool * 1e3, v.dir == Direction::Climb ? "climb" : "conventional", v.flipped ? "flipped" : "",
+                pr.params.grind_speed, pr.path.size(), pr.slowed, slowest, grind_time, grind_time_nominal);
+  }
 }
 
 }  // namespace

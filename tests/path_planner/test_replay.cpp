@@ -1,0 +1,173 @@
+// `make run`'s scene (plate-hole-slot through the pm806 profile, the largest part) rendered, segmented and
+// outlined by the camera bridge's and the outline service's own code, then planned; and the committed camera log (tests/data/camera_bridge_three_parts.lcmlog: pm806 profile, 1.35 mm pixels at
+// 1.5 m, three parts) through the outline service's computation and the planner, configured as `make run`
+// configures them (config/path_planner.yaml, camera 1.5 m above the base origin's plate spot). Independent
+// expectation: the robot bridge's own path check (robot_bridge/path.cpp, linked), with the limits of
+// config/robot_bridge.yaml, on the grind_path_t the bridge would decode.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "camera_bridge/camera_bridge.hpp"
+#include "camera_bridge/scene.hpp"
+#include "camera_bridge/segment.hpp"
+#include "hullgrind/plate_cloud_t.hpp"
+#include "outline_service/outline_service.hpp"
+#include "path_planner/io.hpp"
+#include "robot_bridge/path.hpp"
+#include "runtime/config.hpp"
+
+using namespace hg::path_planner;
+namespace rb = hg::robot_bridge;
+
+namespace {
+
+// config/path_planner.yaml with command-line style overrides, the way hg-plan reads it.
+PlannerConfig planner_config(const std::map<std::string, std::string>& overrides) {
+  const auto file = hg::runtime::Config::load(std::string(HG_SOURCE_DIR) + "/config/path_planner.yaml");
+  const std::vector<hg::runtime::Param> params = planner_params();
+  auto fallback = [&](const std::string& k) {
+    for (const auto& p : params)
+      if (p.name == k) return p.default_value;
+    return std::string();
+  };
+  ParamLookup L{[&](const std::string& k) -> std::string {
+                  if (auto it = overrides.find(k); it != overrides.end()) return it->second;
+                  if (auto v = file.get_string(k)) return *v;
+                  return fallback(k);
+                },
+                [&](const std::string& k) -> std::vector<double> {
+                  std::string text;
+                  if (auto it = overrides.find(k); it != overrides.end()) text = it->second;
+                  else if (file.has(k)) return file.get_doubles(k).value_or(std::vector<double>{});
+                  else text = fallback(k);
+                  std::vector<double> out;
+                  std::stringstream ss(text);
+                  std::string item;
+                  while (std::getline(ss, item, ',')) out.push_back(std::stod(item));
+                  return out;
+                }};
+  return config_from(L);
+}
+
+rb::Limits bridge_limits() {
+  const auto file = hg::runtime::Config::load(std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml");
+  rb::Limits l;
+  const auto lo = file.get_doubles("workspace-min").value(), hi = file.get_doubles("workspace-max").value();
+  l.workspace_min = rb::Vec3(lo[0], lo[1], lo[2]);
+  l.workspace_max = rb::Vec3(hi[0], hi[1], hi[2]);
+  l.table_z = file.get_double("table-z").value();
+  l.max_speed = file.get_double("max-speed").value();
+  l.max_accel = file.get_double("max-accel").value();
+  return l;
+}
+
+std::vector<hullgrind::plate_cloud_t> clouds() {
+  lcm::LogFile log(std::string(HG_TEST_DATA) + "/camera_bridge_three_parts.lcmlog", "r");
+  std::vector<hullgrind::plate_cloud_t> out;
+  while (const lcm::LogEvent* ev = log.readNextEvent()) {
+    hullgrind::plate_cloud_t m;
+    if (ev->channel == "HG_PLATE_CLOUD" && m.decode(ev->data, 0, ev->datalen) == ev->datalen) out.push_back(std::move(m));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(PathPlannerReplay, EveryPlannedPathPassesTheRobotBridgesCheck) {
+  const std::vector<hullgrind::plate_cloud_t> cs = clouds();
+  ASSERT_EQ(cs.size(), 2u);
+  const rb::Limits limits = bridge_limits();
+  const PlannerConfig cfg = planner_config({{"camera_xyz", "0.5,0,1.5"}, {"small_hole", "skip"}});  // the scene has tiny holes
+  ASSERT_EQ(cfg.limits.max_accel, limits.max_accel) << "config/path_planner.yaml max_accel must equal "
+                                                       "config/robot_bridge.yaml max-accel";
+  // Without the corner step (max_accel out of reach) for comparison: the failure `make run` showed.
+  PlannerConfig unlimited = cfg;
+  unlimited.limits.max_accel = 1e12;
+  int refused_unlimited = 0, planned = 0;
+  for (const auto& cloud : cs) {
+    const hullgrind::outline_t outline = hg::outline_service::compute(cloud, hg::outline::Options{}).outline;
+    ASSERT_EQ(outline.status, +hullgrind::outline_t::STATUS_OK) << outline.error_text;
+    const OutlineInput in = from_lcm(outline);
+    // Robot at home (as before its first status) and at a corner of the workspace.
+    for (const std::optional<Vec3>& robot : {std::optional<Vec3>(), std::optional<Vec3>(Vec3(0.9, -0.8, 0.4))})
+      for (double tool : {0.003, 0.01}) {
+        JobParams jp;
+        jp.tool_radius = tool;
+        const rb::Pose start{robot ? *robot : cfg.home, Eigen::Quaterniond::Identity()};
+        const PlanResult before = plan(in, jp, unlimited, robot);
+        ASSERT_TRUE(before.ok) << before.reason;
+        const std::string why = rb::check_path(rb::from_lcm(to_lcm(before, "replay", 0, "robot_base", 0)), start, limits);
+        refused_unlimited += !why.empty();
+
+        const PlanResult r = plan(in, jp, cfg, robot);
+        ASSERT_TRUE(r.ok) << r.reason;
+        ++planned;
+        EXPECT_EQ(rb::check_path(rb::from_lcm(to_lcm(r, "replay", 0, "robot_base", 0)), start, limits), "")
+            << "cloud " << cloud.header.seq << " tool " << tool;
+        double slowest = 1e9, t = 0, t_nominal = 0;
+        for (std::size_t i = 1; i < r.path.size(); ++i)
+          if (r.path[i].kind == kGrind) {
+            const double len = (r.path[i].position - r.path[i - 1].position).norm();
+            slowest = std::min(slowest, r.path[i].speed);
+            t += len / r.path[i].speed;
+            t_nominal += len / r.params.grind_speed;
+          }
+        std::printf("  cloud %lld, tool %2.0f mm, robot %s: %zu waypoints, %d speeds lowered, slowest %.4f m/s, "
+                    "grind %.1f s (%.1f s at constant speed); without the step: %s\n",
+                    (long long)cloud.header.seq, tool * 1e3, robot ? "away" : "home", r.path.size(), r.slowed, slowest,
+                    t, t_nominal, why.empty() ? "accepted" : why.c_str());
+      }
+  }
+  EXPECT_EQ(planned, 8);
+  std::printf("  without the corner step the bridge refused %d of %d paths\n", refused_unlimited, planned);
+}
+
+// What `make run` does up to the robot: hg-virtual://plate-hole-slot?profile=pm806 frames (noise differs
+// per frame index), the camera bridge's segmentation (largest part), the outline service, the planner with
+// the run's config; the robot starts at its sim-home, which is the planner's home.
+TEST(PathPlannerReplay, MakeRunSceneFramesPassTheRobotBridgesCheck) {
+  namespace cb = hg::camera_bridge;
+  const rb::Limits limits = bridge_limits();
+  // small_hole skip: some frames' noise opens a spurious pin hole in the outline (reported as a warning).
+  const PlannerConfig cfg = planner_config({{"camera_xyz", "0.5,0,1.5"}, {"small_hole", "skip"}});
+  PlannerConfig unlimited = cfg;
+  unlimited.limits.max_accel = 1e12;
+  const cb::SceneSpec spec = cb::scene_preset("plate-hole-slot");
+  const cb::CameraProfile profile = cb::camera_profile("pm806");
+  int refused_unlimited = 0, frames = 0, lowered = 0;
+  double slowest = 1e9;
+  for (std::uint64_t k = 0; k < 20; ++k) {
+    const cb::RenderedFrame f = cb::render(spec, profile, k);
+    const cb::Segmentation seg = cb::segment(f.depth, f.intrinsics, cb::SegmentParams{});
+    ASSERT_EQ(seg.status, cb::SegmentStatus::Ok) << seg.text;
+    hullgrind::plate_cloud_t cloud;
+    cb::fill_plate_cloud(seg, cloud);
+    const hullgrind::outline_t outline = hg::outline_service::compute(cloud, hg::outline::Options{}).outline;
+    ASSERT_EQ(outline.status, +hullgrind::outline_t::STATUS_OK) << outline.error_text;
+    const OutlineInput in = from_lcm(outline);
+    const rb::Pose start{cfg.home, Eigen::Quaterniond::Identity()};
+    // Odd frames at a fast feed (0.1 m/s needs corner radii of 5 mm at 2 m/s^2): real corners get slowed.
+    JobParams jp;
+    jp.grind_speed = k % 2 ? 0.1 : 0;
+    const PlanResult before = plan(in, jp, unlimited, std::nullopt);
+    ASSERT_TRUE(before.ok) << before.reason;
+    const std::string why = rb::check_path(rb::from_lcm(to_lcm(before, "run", 0, "robot_base", 0)), start, limits);
+    refused_unlimited += !why.empty();
+    const PlanResult r = plan(in, jp, cfg, std::nullopt);
+    ASSERT_TRUE(r.ok) << r.reason;
+    EXPECT_EQ(rb::check_path(rb::from_lcm(to_lcm(r, "run", 0, "robot_base", 0)), start, limits), "") << "frame " << k;
+    ++frames;
+    lowered += r.slowed;
+    for (const Waypoint& w : r.path) slowest = std::min(slowest, w.speed);
+    std::printf("  frame %2llu, grind %.2f m/s: %zu waypoints, %3d speeds lowered; without the step: %s\n",
+                (unsigned long long)k, r.params.grind_speed, r.path.size(), r.slowed, why.empty() ? "accepted" : why.c_str());
+  }
+  std::printf("  without the corner step the bridge refused %d of %d frames' paths; with it none, %d speeds lowered, "
+              "slowest %.4f m/s\n", refused_unlimited, frames, lowered, slowest);
+  EXPECT_GE(refused_unlimited, 10);  // every fast frame has corners the step must slow: the check has teeth
+}
