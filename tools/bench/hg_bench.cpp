@@ -346,9 +346,15 @@ CloudResult bench_cloud(const BenchCloud& c, const Args& a) {
     };
   };
   const int slow = small ? a.slow_runs : a.slow_runs_high;
+#ifdef HG_BENCH_CGAL
   if (a.cgal) jobs.push_back({key::cgal_dt, a.runs, true, peer(&cgal_dt_loops)});
   if (a.alpha_shape && slow > 0) jobs.push_back({key::cgal_alpha, slow, true, peer(&cgal_alpha_shape)});
+#endif
+#ifdef HG_BENCH_PCL
   if (a.pcl && slow > 0) jobs.push_back({key::pcl, slow, true, peer(&pcl_concave_hull)});
+#endif
+  (void)peer;
+  (void)slow;
 
   for (const auto& j : jobs) {
     Method m;
@@ -428,8 +434,13 @@ int child_main(const std::string& what, const std::string& file, double R) {
   const outline::io::Cloud cloud = outline::io::read_cloud_file(file);
   const outline::io::PlanarPoints planar = outline::io::to_plane(cloud, file);
   if (what == "--child-read") return planar.points.size() > 2 ? 0 : 1;
-  if (what == "--child-cgal-dt" && kHaveCgal) return cgal_dt_loops(planar.points, R).boundary_edges > 0 ? 0 : 1;
-  if (what == "--child-pcl" && kHavePcl) return pcl_concave_hull(planar.points, R).boundary_edges > 0 ? 0 : 1;
+#ifdef HG_BENCH_CGAL
+  if (what == "--child-cgal-dt") return cgal_dt_loops(planar.points, R).boundary_edges > 0 ? 0 : 1;
+#endif
+#ifdef HG_BENCH_PCL
+  if (what == "--child-pcl") return pcl_concave_hull(planar.points, R).boundary_edges > 0 ? 0 : 1;
+#endif
+  (void)R;
   std::fprintf(stderr, "hg-bench: %s not available in this build\n", what.c_str());
   return 3;
 }
