@@ -56,9 +56,15 @@ std::string fmt(const char* f, double v) {
 // Thousands separators, like the paper.
 std::string big(double v) {
   if (std::isnan(v)) return "–";
-  std::string s = std::to_string(static_cast<long long>(std::llround(v)));
-  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
-  return s;
+  // Built forwards digit by digit (GCC 12 gives a false -Wrestrict on std::string::insert here).
+  const std::string digits = std::to_string(static_cast<long long>(std::llround(v)));
+  const std::size_t sign = digits[0] == '-' ? 1 : 0;
+  std::string out = digits.substr(0, sign);
+  for (std::size_t i = sign; i < digits.size(); ++i) {
+    if (i > sign && (digits.size() - i) % 3 == 0) out.push_back(',');
+    out.push_back(digits[i]);
+  }
+  return out;
 }
 std::string ms(double v) {
   if (std::isnan(v)) return "–";
