@@ -45,12 +45,37 @@ struct HilbertTable {
 };
 constexpr HilbertTable kHilbert;
 
+// Two levels per step: 4 states x 16 (two bits of x, two of y) -> 4-bit digit and next state.
+struct HilbertTable2 {
+  std::uint8_t digit[64], next[64];  // index: state * 16 + (x bits) * 4 + (y bits)
+  constexpr HilbertTable2() : digit{}, next{} {
+    for (unsigned st = 0; st < 4; ++st)
+      for (unsigned xb = 0; xb < 4; ++xb)
+        for (unsigned yb = 0; yb < 4; ++yb) {
+          const unsigned i1 = st * 4 + (xb >> 1) * 2 + (yb >> 1);
+          const unsigned s1 = kHilbert.next[i1];
+          const unsigned i2 = s1 * 4 + (xb & 1) * 2 + (yb & 1);
+          digit[st * 16 + xb * 4 + yb] = static_cast<std::uint8_t>((kHilbert.digit[i1] << 2) | kHilbert.digit[i2]);
+          next[st * 16 + xb * 4 + yb] = kHilbert.next[i2];
+        }
+  }
+};
+constexpr HilbertTable2 kHilbert2;
+
 std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y, int bits) {
   std::uint32_t d = 0, st = 0;
-  for (int bit = bits - 1; bit >= 0; --bit) {
+  int bit = bits;
+  if (bit & 1) {  // odd count: one single level first
+    --bit;
     const std::uint32_t i = st * 4 + ((x >> bit) & 1) * 2 + ((y >> bit) & 1);
-    d = (d << 2) | kHilbert.digit[i];
+    d = kHilbert.digit[i];
     st = kHilbert.next[i];
+  }
+  while (bit > 0) {
+    bit -= 2;
+    const std::uint32_t i = st * 16 + ((x >> bit) & 3) * 4 + ((y >> bit) & 3);
+    d = (d << 4) | kHilbert2.digit[i];
+    st = kHilbert2.next[i];
   }
   return d;
 }
@@ -387,13 +412,19 @@ std::size_t Triangulation::finite_count() const {
   return c;
 }
 
-std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order) {
-  const std::size_t n = xy.size();
+namespace {
+
+// The insertion order of the points translated by -origin (computed on the fly, as fl(p - origin),
+// so no translated copy is needed).
+std::vector<std::uint32_t> order_translated(std::span<const Vec2> pts, Vec2 origin, Order order) {
+  const std::size_t n = pts.size();
+  auto at = [&](std::size_t i) { return Vec2{pts[i].x - origin.x, pts[i].y - origin.y}; };
   std::vector<std::uint32_t> idx(n);
   for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<std::uint32_t>(i);
   if (order == Order::AsIs || n < 3) return idx;
-  double minx = xy[0].x, maxx = minx, miny = xy[0].y, maxy = miny;
-  for (const Vec2& p : xy) {
+  double minx = at(0).x, maxx = minx, miny = at(0).y, maxy = miny;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 p = at(i);
     minx = std::min(minx, p.x);
     maxx = std::max(maxx, p.x);
     miny = std::min(miny, p.y);
@@ -408,8 +439,9 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
   const double scale = extent > 0 ? cells / extent : 0.0;
   std::vector<std::uint32_t> key(n), key2(n), idx2(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const auto gx = static_cast<std::uint32_t>(std::min(cells, (xy[i].x - minx) * scale));
-    const auto gy = static_cast<std::uint32_t>(std::min(cells, (xy[i].y - miny) * scale));
+    const Vec2 p = at(i);
+    const auto gx = static_cast<std::uint32_t>(std::min(cells, (p.x - minx) * scale));
+    const auto gy = static_cast<std::uint32_t>(std::min(cells, (p.y - miny) * scale));
     key[i] = hilbert_index(gx, gy, bits);
   }
   // Stable LSD radix sort on the 2*bits-bit key, two passes: equal points keep their input order.
@@ -441,7 +473,8 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
   while (rounds < 7 && (n >> (4 * rounds)) > 256) ++rounds;
   std::vector<std::uint8_t> round(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double x = xy[i].x + 0.0, y = xy[i].y + 0.0;  // -0.0 becomes +0.0: equal values, equal bits
+    const Vec2 p = at(i);
+    const double x = p.x + 0.0, y = p.y + 0.0;  // -0.0 becomes +0.0: equal values, equal bits
     std::uint64_t bx, by;
     std::memcpy(&bx, &x, 8);
     std::memcpy(&by, &y, 8);
@@ -455,6 +488,12 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
   for (std::size_t r = 1; r < rc.size(); ++r) rc[r] += rc[r - 1];
   for (std::size_t k = 0; k < n; ++k) idx2[rc[round[idx[k]]]++] = idx[k];
   return idx2;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order) {
+  return order_translated(xy, Vec2{0, 0}, order);  // p - 0 == p
 }
 
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) {
@@ -517,13 +556,13 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, 
       throw OutlineError("point " + std::to_string(extreme) + " (x=" + fmt(points[extreme].x) + ", y=" + fmt(points[extreme].y) +
                          ") is too far from the others: the cloud must span less than 1e60 for exact predicates");
   }
-  std::vector<Vec2> translated(n);
-  for (std::size_t i = 0; i < n; ++i) translated[i] = {points[i].x - T.origin.x, points[i].y - T.origin.y};
   if (!custom.empty() && custom.size() != n) throw OutlineError("custom insertion order has the wrong size");
-  T.ids = custom.empty() ? insertion_order(translated, order) : std::move(custom);
+  T.ids = custom.empty() ? order_translated(points, T.origin, order) : std::move(custom);
   T.xy.resize(n);
-  for (std::size_t v = 0; v < n; ++v) T.xy[v] = translated[T.ids[v]];
-  std::vector<Vec2>().swap(translated);
+  for (std::size_t v = 0; v < n; ++v) {
+    const Vec2& p = points[T.ids[v]];
+    T.xy[v] = {p.x - T.origin.x, p.y - T.origin.y};
+  }
   T.ghost = static_cast<std::uint32_t>(n);
   T.vrep.resize(n);
   for (std::size_t v = 0; v < n; ++v) T.vrep[v] = static_cast<std::uint32_t>(v);

@@ -38,7 +38,7 @@ struct Options {
   double alpha_radius = 0;     // R in input units; <= 0: automatic, auto_factor x median nearest-neighbour spacing
   double auto_factor = 0;      // <= 0: the documented default k
   Mode mode = Mode::DSHI;
-  Order order = Order::AsIs;
+  Order order = Order::Brio;   // docs/outline-core-performance.md: scan order makes long thin fans
   bool outer_only = false;     // paper's BFS from outside only: big triangles inside are kept (no holes)
   bool keep_triangles = false; // fill Result::triangles
 };

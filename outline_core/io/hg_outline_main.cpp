@@ -32,7 +32,9 @@ options
                         default: automatic, K x median nearest-neighbour spacing
   --auto-factor K       the K of the automatic radius (K > 0; default {K}, docs/outline-auto-radius.md)
   --mode M              point location: ordinary | ds | dshi   (default dshi)
-  --order O             insertion order: as-is | hilbert       (default as-is)
+  --order O             insertion order: brio | hilbert | as-is   (default brio: biased randomized
+                        rounds along a Hilbert curve; as-is inserts in file order, slow on scan-order
+                        grids; docs/outline-core-performance.md)
   --outer-only          remove only big triangles connected to the outside (no holes)
   -o FILE, --output FILE
                         write the outline JSON to FILE (default: print it on stdout)
@@ -114,7 +116,7 @@ Args parse_args(int argc, char** argv, bool& help) {
       try {
         a.opt.order = hg::outline::parse_order(o);
       } catch (const std::exception&) {
-        throw UsageError("--order must be as-is or hilbert, got '" + o + "'");
+        throw UsageError("--order must be brio, hilbert or as-is, got '" + o + "'");
       }
     } else if (arg == "--outer-only") {
       flag();

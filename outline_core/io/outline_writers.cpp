@@ -27,7 +27,16 @@ const char* mode_name(Mode m) {
   }
   return "?";
 }
-const char* order_name(Order o) { return o == Order::Hilbert ? "hilbert" : "as-is"; }
+// Every order by its option name (the same names as to_string(Order) in the core; hg_outline_io does not
+// link the core library, so outline_io_tests would not link with a call to it).
+const char* order_name(Order o) {
+  switch (o) {
+    case Order::AsIs: return "as-is";
+    case Order::Hilbert: return "hilbert";
+    case Order::Brio: return "brio";
+  }
+  return "?";
+}
 
 nlohmann::ordered_json arr3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 

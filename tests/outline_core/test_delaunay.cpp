@@ -269,7 +269,8 @@ TEST(OutlineDelaunay, NearestNeighbourDistancesMatchBruteForce) {
 
 TEST(OutlineDelaunay, ResultReportsTheSearchCounters) {
   const auto pts = grid_cloud(30, 20, 1, {}, 0.2);
-  const Triangulation T = triangulate(pts, Mode::DSHI, Order::AsIs);
+  // The default options: DSHI, BRIO order.
+  const Triangulation T = triangulate(pts, Mode::DSHI, Order::Brio);
   const Result r = compute_outline(pts);
   EXPECT_EQ(r.search_cost, r.search_cost_locate + r.search_cost_cavity);
   EXPECT_EQ(r.search_cost_locate, T.stats.locate_visits);
@@ -282,7 +283,7 @@ TEST(OutlineDelaunay, ResultReportsTheSearchCounters) {
   // Each cavity triangle but the located one, and each triangle across the cavity's boundary, was tested.
   EXPECT_GE(r.search_cost_cavity, r.cavity_triangles - (pts.size() - 3));
   EXPECT_EQ(r.mode, Mode::DSHI);
-  EXPECT_EQ(r.order, Order::AsIs);
+  EXPECT_EQ(r.order, Order::Brio);
   EXPECT_EQ(r.triangles, T.finite_count());
   EXPECT_GE(r.time.total_ms, r.time.triangulate_ms);
 }
