@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::fprintf(stderr, "hg-plan: %zu waypoints, %d loops, pitch %.3f mm, planned in %.2f ms\n", r.path.size(),
-               r.loops_planned, r.pitch * 1e3, r.seconds * 1e3);
+  std::fprintf(stderr, "hg-plan: %zu waypoints, %d loops, %d speeds lowered at corners, pitch %.3f mm, planned in %.2f ms\n",
+               r.path.size(), r.loops_planned, r.slowed, r.pitch * 1e3, r.seconds * 1e3);
   return 0;
 }

@@ -138,6 +138,7 @@ class Planner {
     node_.publish(channels::kGrindPath, g);
     std::string msg = std::to_string(r.path.size()) + " waypoints, " + std::to_string(r.loops_planned) +
                       " loops, planned in " + std::to_string(r.seconds * 1e3) + " ms";
+    if (r.slowed > 0) msg += ", " + std::to_string(r.slowed) + " speeds lowered at corners (max_accel)";
     for (const std::string& w : r.warnings) msg += "; warning: " + w;
     status(req, hullgrind::job_status_t::STATE_PLANNED, 1, msg);
     logf(Level::Info, "job '%s': %s", req.job_id.c_str(), msg.c_str());

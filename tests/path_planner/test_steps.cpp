@@ -5,6 +5,7 @@
 #include <map>
 #include <random>
 #include <sstream>
+#include <string_view>
 
 #include "path_planner/io.hpp"
 #include "path_planner/pipeline.hpp"
@@ -428,7 +429,8 @@ TEST(PathPlannerFrame, MatrixAndXyzRpyConfigAgree) {
     for (int c = 0; c < 4; ++c) {
       char buf[32];
       std::snprintf(buf, sizeof buf, "%.17g", ref.matrix()(r, c));
-      m += (m.empty() ? "" : ",") + std::string(buf);
+      if (!m.empty()) m += ',';
+      m += buf;
     }
   auto defaults = planner_params();
   auto lookup = [&](std::map<std::string, std::string> over) {
@@ -633,7 +635,8 @@ TEST(PathPlannerCornerSpeed, RandomZigzagsPassTheBridgeCheckAndValidateAgreesWit
     // Both refuse the same paths, at the same waypoint.
     EXPECT_EQ(bridge_before.empty(), ours_before.empty()) << bridge_before << " | " << ours_before;
     if (!bridge_before.empty() && !ours_before.empty()) {
-      EXPECT_EQ(bridge_before.substr(0, bridge_before.find(':')), ours_before.substr(0, ours_before.find(':')));
+      auto where = [](const std::string& why) { return std::string_view(why).substr(0, why.find(':')); };
+      EXPECT_EQ(where(bridge_before), where(ours_before));  // "waypoint K (kind)"
     }
     slowed += limit_corner_speeds(p, start, L.max_accel);
     EXPECT_EQ(hg::robot_bridge::check_path(to_bridge(p), bstart, bl), "") << "trial " << trial;
