@@ -66,6 +66,18 @@ rb::Limits bridge_limits() {
   return l;
 }
 
+// The outline service's options at its defaults (what `make run` starts it with).
+hg::outline::Options service_options() {
+  hg::outline::Options o;
+  for (const hg::runtime::Param& p : hg::outline_service::process_info().params) {
+    if (p.name == "mode") o.mode = hg::outline::parse_mode(p.default_value);
+    if (p.name == "order") o.order = hg::outline::parse_order(p.default_value);
+    if (p.name == "alpha-radius") o.alpha_radius = std::stod(p.default_value);
+    if (p.name == "auto-factor") o.auto_factor = std::stod(p.default_value);
+  }
+  return o;
+}
+
 std::vector<hullgrind::plate_cloud_t> clouds() {
   lcm::LogFile log(std::string(HG_TEST_DATA) + "/camera_bridge_three_parts.lcmlog", "r");
   std::vector<hullgrind::plate_cloud_t> out;
@@ -90,7 +102,7 @@ TEST(PathPlannerReplay, EveryPlannedPathPassesTheRobotBridgesCheck) {
   unlimited.limits.max_accel = 1e12;
   int refused_unlimited = 0, planned = 0;
   for (const auto& cloud : cs) {
-    const hullgrind::outline_t outline = hg::outline_service::compute(cloud, hg::outline::Options{}).outline;
+    const hullgrind::outline_t outline = hg::outline_service::compute(cloud, service_options()).outline;
     ASSERT_EQ(outline.status, +hullgrind::outline_t::STATUS_OK) << outline.error_text;
     const OutlineInput in = from_lcm(outline);
     // Robot at home (as before its first status) and at a corner of the workspace.
@@ -147,7 +159,7 @@ TEST(PathPlannerReplay, MakeRunSceneFramesPassTheRobotBridgesCheck) {
     ASSERT_EQ(seg.status, cb::SegmentStatus::Ok) << seg.text;
     hullgrind::plate_cloud_t cloud;
     cb::fill_plate_cloud(seg, cloud);
-    const hullgrind::outline_t outline = hg::outline_service::compute(cloud, hg::outline::Options{}).outline;
+    const hullgrind::outline_t outline = hg::outline_service::compute(cloud, service_options()).outline;
     ASSERT_EQ(outline.status, +hullgrind::outline_t::STATUS_OK) << outline.error_text;
     const OutlineInput in = from_lcm(outline);
     const rb::Pose start{cfg.home, Eigen::Quaterniond::Identity()};
