@@ -8,8 +8,10 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <unistd.h>
 
 #include "cli.hpp"
+#include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/job_request_t.hpp"
 #include "registry.hpp"
 #include "runtime/channels.hpp"
@@ -39,6 +41,10 @@ Publishes hullgrind messages. --lcm-url default: $LCM_DEFAULT_URL, else udpm://2
   garbage --channel C [--count N] [--rate HZ] [--seed S]
       N messages (default 20) that must not decode, in turn: random bytes, a valid message cut short,
       a valid message with trailing bytes, a valid message whose header string length lies.
+
+  heartbeat --process NAME [--pid PID] [--rate HZ] [--state-text TEXT]
+      heartbeat_t on HG_HEARTBEAT at HZ (default 1) until SIGINT/SIGTERM, state OK, for a process that
+      has no LCM library of its own (tools/supervisor announces itself so); --pid default: the parent's.
 
   json --type T --channel C JSON
       one message of type T given as JSON in hg-lcm-dump's --full form (its "msg" object).
@@ -112,6 +118,39 @@ int cmd_job(lcm::LCM& lcm, Args& args) {
     return 1;
   }
   std::fprintf(stderr, "hg-lcm-send: published job_request_t job_id=%s on %s\n", m.job_id.c_str(), channel.c_str());
+  return 0;
+}
+
+// A heartbeat_t for a process that has no LCM library of its own (the Python supervisor announces itself
+// on the bus with it), once per period until SIGINT/SIGTERM.
+int cmd_heartbeat(lcm::LCM& lcm, Args& args) {
+  hullgrind::heartbeat_t m{};
+  m.state = hullgrind::heartbeat_t::STATE_OK;
+  m.last_latency = -1;
+  double rate = 1;
+  while (!args.done()) {
+    std::string a = args.next();
+    if (a == "--process") m.process = args.value();
+    else if (a == "--pid") m.pid = static_cast<int32_t>(args.integer(0, INT32_MAX));
+    else if (a == "--rate") rate = args.number(0.01, 1000);
+    else if (a == "--state-text") m.state_text = args.value();
+    else throw UsageError("heartbeat: unknown option '" + a + "'");
+  }
+  if (m.process.empty()) throw UsageError("heartbeat: --process is required");
+  if (m.pid == 0) m.pid = static_cast<int32_t>(getppid());
+  const auto start = std::chrono::steady_clock::now();
+  Pacer pacer{rate};
+  while (!g_stop) {
+    pacer.wait();
+    if (g_stop) break;
+    m.header.utime = now_utime();
+    m.uptime = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (lcm.publish(hg::channels::kHeartbeat, &m) != 0) {
+      std::fprintf(stderr, "hg-lcm-send: publish on %s failed\n", hg::channels::kHeartbeat);
+      return 1;
+    }
+    ++m.header.seq;
+  }
   return 0;
 }
 
@@ -274,7 +313,7 @@ int main(int argc, char** argv) {
     Args args(argc, argv, first + 1);
     Schema schema = Schema::embedded();
     check_schema_matches_generated(schema);
-    if (command != "job" && command != "sample" && command != "garbage" && command != "json")
+    if (command != "job" && command != "sample" && command != "garbage" && command != "json" && command != "heartbeat")
       throw UsageError("unknown command '" + command + "' (see --help)");
     lcm::LCM lcm(url);
     if (!lcm.good()) {
@@ -282,6 +321,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (command == "job") return cmd_job(lcm, args);
+    if (command == "heartbeat") return cmd_heartbeat(lcm, args);
     if (command == "sample") return cmd_sample(lcm, schema, args);
     if (command == "garbage") return cmd_garbage(lcm, schema, args);
     return cmd_json(lcm, schema, args);
