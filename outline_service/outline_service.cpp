@@ -21,7 +21,7 @@ runtime::ProcessInfo process_info() {
           {{"alpha-radius", "0", "alpha radius R in metres (triangles with circumradius > R are outside); 0: automatic"},
            {"auto-factor", "0", "automatic R = factor x median point spacing; 0: the outline core's default"},
            {"mode", "dshi", "point location: ordinary|ds|dshi"},
-           {"order", "as-is", "insertion order: as-is (scan order, what DSHI expects)|hilbert"},
+           {"order", "brio", "insertion order: brio (default: biased randomized rounds of Hilbert order, 2-3x faster on camera clouds)|hilbert|as-is (the scan order the paper inserts in)"},
            {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true}}};
 }
 

@@ -76,6 +76,8 @@ TEST_F(OutlineServiceProcess, CloudInOutlineAndPoseOut) {
   EXPECT_EQ(o.cloud_seq, 7);
   EXPECT_EQ(o.num_loops, 2);
   EXPECT_DOUBLE_EQ(o.alpha_radius, 0.012);
+  EXPECT_EQ(o.mode, "dshi");  // the process defaults
+  EXPECT_EQ(o.order, "brio");
   EXPECT_EQ(o.header.frame_id, "camera");
   EXPECT_NEAR(inbox.poses.back().area, 0.0702, 1e-6);  // hole corners chamfered: see outline_service_test
   EXPECT_EQ(inbox.poses.back().cloud_seq, 7);
