@@ -97,6 +97,7 @@ TEST(PathPlannerReplay, EveryPlannedPathPassesTheRobotBridgesCheck) {
   const PlannerConfig cfg = planner_config({{"camera_xyz", "0.5,0,1.5"}, {"small_hole", "skip"}});  // the scene has tiny holes
   ASSERT_EQ(cfg.limits.max_accel, limits.max_accel) << "config/path_planner.yaml max_accel must equal "
                                                        "config/robot_bridge.yaml max-accel";
+  EXPECT_LE(cfg.limits.max_speed, limits.max_speed) << "config/path_planner.yaml max_speed above the bridge's max-speed";
   // Without the corner step (max_accel out of reach) for comparison: the failure `make run` showed.
   PlannerConfig unlimited = cfg;
   unlimited.limits.max_accel = 1e12;
