@@ -92,11 +92,17 @@ class Builder {
   Mode mode_;
   const Vec2* P_;
   std::uint32_t G_;
-  bool count_ = true;   // count conflict tests in the stats (not in Ordinary's cavity pass: its scan counted)
   std::uint32_t slots_ = 0;  // triangles in use (tri/twin are sized for all of them up front)
   // The cavity, and its boundary in counter-clockwise order: half-edge j runs from bnd_a_[j] to
   // bnd_a_[j + 1], bnd_o_[j] is its twin outside the cavity.
+  // Scratch arrays, grown on demand (never shrunk): cavity_ gets two more entries for the new slots.
   std::vector<std::uint32_t> cavity_, bnd_a_, bnd_o_, stack_;
+  void grow_scratch(std::size_t need) {
+    if (need <= cavity_.size()) return;
+    const std::size_t size = std::max(need, 2 * cavity_.size());
+    cavity_.resize(size), bnd_a_.resize(size), bnd_o_.resize(size), stack_.resize(size);
+  }
+  std::size_t ncav_ = 0, nbnd_ = 0;
   std::uint32_t last_ = 0;                    // DSHI: a triangle made by the previous insertion
   std::uint32_t ds_vertex_ = 0, ds_tri_ = 0;  // DS: fixed start, a triangle incident to the first vertex
   std::uint32_t dup_ = kNone;
@@ -141,30 +147,24 @@ class Builder {
   }
   // Conflict test of the triangle across a cavity edge, entered by its half-edge g = b -> a (so its
   // vertices counter-clockwise are b, a, c). Needs no ghost search: only these three are compared.
-  bool conflict_across(std::uint32_t g, const Vec2& p) {
+  bool conflict_across(std::uint32_t g, const Vec2& p, std::uint64_t& orients, std::uint64_t& incircles) const {
     const std::uint32_t* tri = T_.tri.data();
     const std::uint32_t t = g / 3, i = g - 3 * t;
     const std::uint32_t b = tri[g], a = tri[3 * t + (i == 2 ? 0 : i + 1)], c = tri[3 * t + (i == 0 ? 2 : i - 1)];
-    if (count_) ++T_.stats.cavity_visits;
-    if (c == G_) {
-      if (count_) ++T_.stats.orient_tests;
-      const double o = orient_xy(P_[b].x, P_[b].y, P_[a].x, P_[a].y, p.x, p.y);
-      return o > 0 || (o == 0 && strictly_between(b, a, p));
-    }
-    if (a == G_ || b == G_) {
-      const std::uint32_t u = a == G_ ? c : a, v = a == G_ ? b : c;  // the finite edge u -> v
-      if (count_) ++T_.stats.orient_tests;
-      const double o = orient_xy(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
+    if (c == G_ || a == G_ || b == G_) [[unlikely]] {
+      const std::uint32_t u = c == G_ ? b : (a == G_ ? c : a), v = c == G_ ? a : (a == G_ ? b : c);  // finite edge u -> v
+      ++orients;
+      const double o = pred::orient2d(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
       return o > 0 || (o == 0 && strictly_between(u, v, p));
     }
-    if (count_) ++T_.stats.incircle_tests;
+    ++incircles;
     return incircle(b, a, c, p) > 0;
   }
 
   std::uint32_t walk(std::uint32_t start, const Vec2& p);
   std::uint32_t scan_for_conflict(const Vec2& p);
   void find_duplicate_by_scan(const Vec2& p);
-  void dig_cavity(std::uint32_t t0, const Vec2& p);
+  void dig_cavity(std::uint32_t t0, const Vec2& p, bool count);
   void insert(std::uint32_t v);
 };
 
@@ -251,30 +251,45 @@ void Builder::find_duplicate_by_scan(const Vec2& p) {
 // The cavity is a disk whose vertices all lie on its boundary (each becomes a neighbour of p), so its
 // triangles form a tree across their shared edges: each is reached once, no marks are needed. A
 // triangle outside touching the cavity along two edges is tested twice (rare; counted twice).
-void Builder::dig_cavity(std::uint32_t t0, const Vec2& p) {
-  cavity_.clear();
-  bnd_a_.clear();
-  bnd_o_.clear();
-  stack_.clear();
+void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   const std::uint32_t* tri = T_.tri.data();
   const std::uint32_t* twin = T_.twin.data();
-  cavity_.push_back(t0);
-  stack_.push_back(3 * t0 + 2);
-  stack_.push_back(3 * t0 + 1);
-  stack_.push_back(3 * t0);
-  while (!stack_.empty()) {
-    const std::uint32_t h = stack_.back();
-    stack_.pop_back();
+  std::uint64_t visits = 0, orients = 0, incircles = 0;
+  // Sizes: the stack holds at most cavity + 3 half-edges, the boundary cavity + 2; checked per triangle.
+  grow_scratch(64);
+  std::uint32_t* cav = cavity_.data();
+  std::uint32_t* ba = bnd_a_.data();
+  std::uint32_t* bo = bnd_o_.data();
+  std::uint32_t* st = stack_.data();
+  std::size_t nc = 0, nb = 0, ns = 0;
+  cav[nc++] = t0;
+  st[ns++] = 3 * t0 + 2;
+  st[ns++] = 3 * t0 + 1;
+  st[ns++] = 3 * t0;
+  while (ns > 0) {
+    const std::uint32_t h = st[--ns];
     const std::uint32_t g = twin[h];
-    if (conflict_across(g, p)) {
+    ++visits;
+    if (conflict_across(g, p, orients, incircles)) {
+      if (nc + 8 > cavity_.size()) [[unlikely]] {
+        grow_scratch(nc + 8);
+        cav = cavity_.data(), ba = bnd_a_.data(), bo = bnd_o_.data(), st = stack_.data();
+      }
       const std::uint32_t t = g / 3, i = g - 3 * t;
-      cavity_.push_back(t);
-      stack_.push_back(3 * t + (i == 0 ? 2 : i - 1));  // then the edge after it
-      stack_.push_back(3 * t + (i == 2 ? 0 : i + 1));  // the edge after g first
+      cav[nc++] = t;
+      st[ns++] = 3 * t + (i == 0 ? 2 : i - 1);  // then the edge after it
+      st[ns++] = 3 * t + (i == 2 ? 0 : i + 1);  // the edge after g first
     } else {
-      bnd_a_.push_back(tri[h]);
-      bnd_o_.push_back(g);
+      ba[nb] = tri[h];
+      bo[nb++] = g;
     }
+  }
+  ncav_ = nc;
+  nbnd_ = nb;
+  if (count) {
+    T_.stats.cavity_visits += visits;
+    T_.stats.orient_tests += orients;
+    T_.stats.incircle_tests += incircles;
   }
 }
 
@@ -299,16 +314,14 @@ void Builder::insert(std::uint32_t v) {
     ++T_.duplicates;
     return;
   }
-  count_ = mode_ != Mode::Ordinary;
-  dig_cavity(t0, p);
-  count_ = true;
-  const std::size_t m = bnd_a_.size();  // a disk of m - 2 triangles has m boundary edges
-  T_.stats.cavity_triangles += cavity_.size();
+  dig_cavity(t0, p, mode_ != Mode::Ordinary);
+  const std::size_t m = nbnd_;  // a disk of m - 2 triangles has m boundary edges
+  T_.stats.cavity_triangles += ncav_;
 
   // Star the cavity from p: new triangle j = (bnd_a_[j], bnd_a_[j + 1], v), in the cavity's slots and
   // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
-  cavity_.push_back(slots_);
-  cavity_.push_back(slots_ + 1);
+  cavity_[ncav_] = slots_;  // room is kept: the cavity holds m - 2 entries, the arrays at least m + 6
+  cavity_[ncav_ + 1] = slots_ + 1;
   slots_ += 2;
   std::uint32_t* tri = T_.tri.data();
   std::uint32_t* twin = T_.twin.data();
@@ -392,10 +405,7 @@ void Builder::run(std::size_t n) {
   last_ = 0;
   ds_vertex_ = a;
   ds_tri_ = 0;
-  cavity_.reserve(64);
-  bnd_a_.reserve(64);
-  bnd_o_.reserve(64);
-  stack_.reserve(64);
+  grow_scratch(64);
 
   for (std::size_t k = 1; k < k2; ++k)
     if (k != k1) insert(order(k));

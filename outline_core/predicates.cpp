@@ -274,36 +274,14 @@ double orient2d_exact(double ax, double ay, double bx, double by, double cx, dou
   return fsign(fcross(fdiff(ax, cx), fdiff(ay, cy), fdiff(bx, cx), fdiff(by, cy)));
 }
 
-double incircle_exact(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
+namespace {
+
+[[gnu::noinline]] double incircle_general(double ax, double ay, double bx, double by, double cx, double cy, double dx,
+                                          double dy) {
   const Fixed<2> adx = fdiff(ax, dx), ady = fdiff(ay, dy);
   const Fixed<2> bdx = fdiff(bx, dx), bdy = fdiff(by, dy);
   const Fixed<2> cdx = fdiff(cx, dx), cdy = fdiff(cy, dy);
   if (adx.n <= 1 && ady.n <= 1 && bdx.n <= 1 && bdy.n <= 1 && cdx.n <= 1 && cdy.n <= 1) {
-    const double d[6] = {ax - dx, ay - dy, bx - dx, by - dy, cx - dx, cy - dy};  // exact
-    if (few_bits(d, 6)) {
-      // Lifts L and cross products C exact: det = fl(fl(ta + tb) + tc), ti = fl(Li Ci), errs by at most
-      // 3 eps (1 + eps)^2 P, P = sum |Li Ci|; 4 eps times the computed P bounds it.
-      const double L[3] = {d[0] * d[0] + d[1] * d[1], d[2] * d[2] + d[3] * d[3], d[4] * d[4] + d[5] * d[5]};
-      const double C[3] = {d[2] * d[5] - d[4] * d[3], d[4] * d[1] - d[0] * d[5], d[0] * d[3] - d[2] * d[1]};
-      const double ta = L[0] * C[0], tb = L[1] * C[1], tc = L[2] * C[2];
-      const double det = ta + tb + tc;
-      const double bound = 4 * kEps * (std::fabs(ta) + std::fabs(tb) + std::fabs(tc));
-      if (det > bound || -det > bound) return det;
-      // Undecided (an exactly cocircular grid cell): each Li Ci is exactly the sum of two doubles, so
-      // det is the exact sum of six.
-      double part[3][2], s1[4], s2[6];
-      int pn[3];
-      for (int k = 0; k < 3; ++k) {
-        double hi, lo;
-        two_product(L[k], C[k], hi, lo);
-        pn[k] = 0;
-        if (lo != 0) part[k][pn[k]++] = lo;
-        if (hi != 0) part[k][pn[k]++] = hi;
-      }
-      const int n1 = sum_raw(part[0], pn[0], part[1], pn[1], s1);
-      const int n2 = sum_raw(s1, n1, part[2], pn[2], s2);
-      return n2 == 0 ? 0.0 : s2[n2 - 1];
-    }
     // Every difference is a single double (the usual case: nearby points). Then
     // det = sum over cyclic (a, b, c) of (adx^2 + ady^2) (bdx cdy - cdx bdy), each cross product an exact
     // 4-component expansion, scaled twice by adx and twice by ady: at most 32 components per term.
@@ -362,6 +340,56 @@ double incircle_exact(double ax, double ay, double bx, double by, double cx, dou
   Fixed<1536> s2;
   fsum(s1, tc, s2);
   return fsign(s2);
+}
+
+}  // namespace
+
+namespace {
+
+// incircle when every coordinate difference is exact and they have few bits (see few_bits); `done`
+// tells whether it applied. Apart from the general path, whose expansions need a large stack frame.
+double incircle_few_bits(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy,
+                         bool& done) {
+  done = false;
+  const double d[6] = {ax - dx, ay - dy, bx - dx, by - dy, cx - dx, cy - dy};
+  const double minuend[6] = {ax, ay, bx, by, cx, cy}, subtrahend[6] = {dx, dy, dx, dy, dx, dy};
+  for (int k = 0; k < 6; ++k) {  // exact difference: its two-diff tail is zero
+    const double bv = minuend[k] - d[k], av = d[k] + bv;
+    if ((minuend[k] - av) + (bv - subtrahend[k]) != 0) return 0;
+  }
+  if (!few_bits(d, 6)) return 0;
+  done = true;
+  // Lifts L and cross products C exact: det = fl(fl(ta + tb) + tc), ti = fl(Li Ci), errs by at most
+  // 3 eps (1 + eps)^2 P, P = sum |Li Ci|; 4 eps times the computed P bounds it.
+  const double L[3] = {d[0] * d[0] + d[1] * d[1], d[2] * d[2] + d[3] * d[3], d[4] * d[4] + d[5] * d[5]};
+  const double C[3] = {d[2] * d[5] - d[4] * d[3], d[4] * d[1] - d[0] * d[5], d[0] * d[3] - d[2] * d[1]};
+  const double ta = L[0] * C[0], tb = L[1] * C[1], tc = L[2] * C[2];
+  const double det = ta + tb + tc;
+  const double bound = 4 * kEps * (std::fabs(ta) + std::fabs(tb) + std::fabs(tc));
+  if (det > bound || -det > bound) return det;
+  // Undecided (an exactly cocircular grid cell): each Li Ci is exactly the sum of two doubles, so
+  // det is the exact sum of six.
+  double part[3][2], s1[4] = {}, s2[6] = {};  // (initialised: GCC cannot see sum_raw skip them)
+  int pn[3];
+  for (int k = 0; k < 3; ++k) {
+    double hi, lo;
+    two_product(L[k], C[k], hi, lo);
+    pn[k] = 0;
+    if (lo != 0) part[k][pn[k]++] = lo;
+    if (hi != 0) part[k][pn[k]++] = hi;
+  }
+  const int n1 = sum_raw(part[0], pn[0], part[1], pn[1], s1);
+  const int n2 = sum_raw(s1, n1, part[2], pn[2], s2);
+  return n2 == 0 ? 0.0 : s2[n2 - 1];
+}
+
+}  // namespace
+
+double incircle_exact(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
+  bool done;
+  const double s = incircle_few_bits(ax, ay, bx, by, cx, cy, dx, dy, done);
+  if (done) return s;
+  return incircle_general(ax, ay, bx, by, cx, cy, dx, dy);
 }
 
 namespace {
