@@ -47,8 +47,8 @@ int main(int argc, char** argv) {
     cloud.header.frame_id = "camera";
     cb::fill_plate_cloud(s, cloud);
     for (const char* order : {"as-is", "hilbert", "brio"}) {
-      hg::outline::Options opt;
-      opt.order = hg::outline::parse_order(order);
+      hg::outline_service::ServiceOptions opt;
+      opt.outline.order = hg::outline::parse_order(order);
       std::vector<double> wall, cpu;
       int loops = 0;
       for (int r = 0; r < runs; ++r) {

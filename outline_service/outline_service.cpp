@@ -22,11 +22,15 @@ runtime::ProcessInfo process_info() {
            {"auto-factor", "0", "automatic R = factor x median point spacing; 0: the outline core's default"},
            {"mode", "dshi", "point location: ordinary|ds|dshi"},
            {"order", "brio", "insertion order: brio (default: biased randomized rounds of Hilbert order, 2-3x faster on camera clouds)|hilbert|as-is (the scan order the paper inserts in)"},
-           {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true}}};
+           {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true},
+           {"min-hole-spacings", "3", "drop holes smaller in area than (this x median point spacing)^2: dropout, not cut-outs (0: keep all)"}}};
 }
 
-outline::Options options_from(const runtime::Node& node) {
-  outline::Options o;
+ServiceOptions options_from(const runtime::Node& node) {
+  ServiceOptions so;
+  so.min_hole_spacings = node.param_double("min-hole-spacings");
+  if (!(so.min_hole_spacings >= 0)) throw runtime::ConfigError("min-hole-spacings must be >= 0");
+  outline::Options& o = so.outline;
   o.alpha_radius = node.param_double("alpha-radius");
   o.auto_factor = node.param_double("auto-factor");
   try {
@@ -36,10 +40,11 @@ outline::Options options_from(const runtime::Node& node) {
     throw runtime::ConfigError(e.what());
   }
   o.outer_only = node.param_bool("outer-only");
-  return o;
+  return so;
 }
 
-Computed compute(const hullgrind::plate_cloud_t& cloud, const outline::Options& options) {
+Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& service_options) {
+  const outline::Options& options = service_options.outline;
   Computed c;
   hullgrind::outline_t& out = c.outline;
   out.header.frame_id = cloud.header.frame_id;
@@ -89,6 +94,13 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const outline::Options& 
   out.time_loops = r.time.loops_ms * 1e-3;
   out.triangles = int32_t(r.triangles);
   out.search_cost = int64_t(r.search_cost);
+  // Gaps of a few missing pixels are not cut-outs (see ServiceOptions::min_hole_spacings).
+  const double min_hole = service_options.min_hole_spacings * r.nn_spacing_median;
+  std::erase_if(r.loops, [&](const outline::Loop& l) {
+    bool drop = l.hole && l.area < min_hole * min_hole;
+    c.holes_dropped += drop;
+    return drop;
+  });
   bool any_outer = false;
   for (const outline::Loop& l : r.loops) {
     hullgrind::outline_loop_t m;
@@ -183,9 +195,10 @@ void OutlineService::work() {
     node_.set_latency(latency);
     if (c.outline.status == hullgrind::outline_t::STATUS_OK) {
       node_.set_state(hullgrind::heartbeat_t::STATE_OK);
-      runtime::logf(runtime::Level::Info, "cloud %lld: %d points -> %d loops in %.1f ms (R %.4f m)",
+      runtime::logf(runtime::Level::Info, "cloud %lld: %d points -> %d loops in %.1f ms (R %.4f m)%s",
                     (long long)cloud.header.seq, cloud.n, c.outline.num_loops, c.outline.compute_time * 1e3,
-                    c.outline.alpha_radius);
+                    c.outline.alpha_radius,
+                    c.holes_dropped ? (", " + std::to_string(c.holes_dropped) + " tiny holes dropped").c_str() : "");
     } else {
       node_.set_state(hullgrind::heartbeat_t::STATE_DEGRADED, "last cloud: " + c.outline.error_text);
     }

@@ -17,16 +17,26 @@
 namespace hg::outline_service {
 
 runtime::ProcessInfo process_info();
-outline::Options options_from(const runtime::Node& node);  // throws runtime::ConfigError
+struct ServiceOptions {
+  ServiceOptions(outline::Options o = {}, double min_hole = 3) : outline(o), min_hole_spacings(min_hole) {}
+  outline::Options outline;
+  // Holes smaller in area than (min_hole_spacings x median point spacing s)^2 are dropped: a gap that
+  // small is a few missing pixels (a 2x2 block of dropout leaves a 7 s^2 hole), not a cut-out. The
+  // automatic radius only promises holes wider than 3 spacings, and a cut-out 4 spacings wide has at
+  // least 12.6 s^2. 0 keeps every hole.
+  double min_hole_spacings = 3;
+};
+ServiceOptions options_from(const runtime::Node& node);  // throws runtime::ConfigError
 
 struct Computed {
   hullgrind::outline_t outline;
   std::vector<hullgrind::part_pose_t> poses;  // one per part, largest first; empty unless status OK
+  int holes_dropped = 0;                       // below the minimum hole size
 };
 
 // The whole computation for one cloud, without LCM: never throws on bad input; a cloud that yields no
 // valid loop gives an outline with an error status and the reason, and no loops.
-Computed compute(const hullgrind::plate_cloud_t& cloud, const outline::Options& options);
+Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& options);
 
 // The process logic: the newest cloud wins. Clouds are computed on a worker thread; a cloud still waiting
 // when a newer one arrives is dropped and counted in the heartbeat.
@@ -38,7 +48,7 @@ class OutlineService {
  private:
   void work();
   runtime::Node& node_;
-  outline::Options options_;
+  ServiceOptions options_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::optional<hullgrind::plate_cloud_t> pending_;

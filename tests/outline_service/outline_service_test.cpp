@@ -110,6 +110,44 @@ TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
   EXPECT_NEAR(c.poses[0].principal_axis_angle, 0, 1e-6);
 }
 
+TEST(OutlineServiceCompute, GapsOfMissingPixelsAreNotHoles) {
+  const double p = 0.005;
+  auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, p);
+  // A 2 x 2 block of pixels missing far from the real hole: with R = 1.5 p the triangles across the gap
+  // are outside and the alpha shape has a hole of 3x3 p^2 less the four corner chamfers (p^2/2 each):
+  // 7 p^2 (checked below), less than (3 p)^2.
+  std::vector<std::size_t> gap;
+  for (std::size_t i = 0; i < cloud.u.size(); ++i)
+    if ((std::abs(cloud.v[i] - 0.1f) < 1e-6f || std::abs(cloud.v[i] - 0.105f) < 1e-6f) &&
+        (std::abs(cloud.u[i] - 0.3f) < 1e-6f || std::abs(cloud.u[i] - 0.305f) < 1e-6f))
+      gap.push_back(i);
+  ASSERT_EQ(gap.size(), 4u);
+  for (auto it = gap.rbegin(); it != gap.rend(); ++it) {
+    cloud.u.erase(cloud.u.begin() + long(*it));
+    cloud.v.erase(cloud.v.begin() + long(*it));
+    cloud.part.erase(cloud.part.begin() + long(*it));
+  }
+  cloud.n -= 4;
+  hg::outline::Options opt;
+  opt.alpha_radius = 1.5 * p;
+  auto holes = [](const os::Computed& c) {
+    int n = 0;
+    for (const auto& l : c.outline.loops) n += l.hole;
+    return n;
+  };
+  auto kept = os::compute(cloud, os::ServiceOptions(opt, 0));
+  ASSERT_EQ(kept.outline.status, +hullgrind::outline_t::STATUS_OK);
+  EXPECT_EQ(holes(kept), 2);  // the cut-out and the gap
+  EXPECT_EQ(kept.holes_dropped, 0);
+  for (const auto& l : kept.outline.loops)
+    if (l.hole && l.area < 0.001) EXPECT_NEAR(l.area, 7 * p * p, 1e-9);
+  auto filtered = os::compute(cloud, os::ServiceOptions(opt));  // the process default, 3 spacings
+  EXPECT_EQ(holes(filtered), 1);  // the cut-out only: 0.1 m wide, far above (3 p)^2
+  EXPECT_EQ(filtered.holes_dropped, 1);
+  for (const auto& l : filtered.outline.loops)
+    if (l.hole) EXPECT_GT(l.area, 0.009);
+}
+
 TEST(OutlineServiceCompute, OuterOnlyFillsTheHole) {
   auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, 0.005);
   hg::outline::Options opt;
