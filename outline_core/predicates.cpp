@@ -142,8 +142,9 @@ Expansion square_norm(const Expansion& x, const Expansion& y) {
 // (float32 data, translated to a rounded origin) are like this, and those are the near-degenerate tests
 // that reach the exact path (a noise-free grid makes every cell nearly cocircular), so this cheap check
 // settles most of them. Limits on s and B keep every product of four far from under/overflow.
-inline bool few_bits(const double* d, int count) {
-  int lo = 4096, hi = -4096;
+inline bool few_bits(const double* d, int count, int& lo) {
+  lo = 4096;
+  int hi = -4096;
   for (int k = 0; k < count; ++k) {
     std::uint64_t bits;
     std::memcpy(&bits, &d[k], 8);
@@ -269,7 +270,8 @@ double orient2d_exact(double ax, double ay, double bx, double by, double cx, dou
   const Fixed<2> acx = fdiff(ax, cx), acy = fdiff(ay, cy), bcx = fdiff(bx, cx), bcy = fdiff(by, cy);
   if (acx.n <= 1 && acy.n <= 1 && bcx.n <= 1 && bcy.n <= 1) {
     const double d[4] = {ax - cx, ay - cy, bx - cx, by - cy};  // exact
-    if (few_bits(d, 4)) return d[0] * d[3] - d[1] * d[2];    // exact (collinear rows of a grid: 0)
+    int lo;
+    if (few_bits(d, 4, lo)) return d[0] * d[3] - d[1] * d[2];  // exact (collinear rows of a grid: 0)
   }
   return fsign(fcross(fdiff(ax, cx), fdiff(ay, cy), fdiff(bx, cx), fdiff(by, cy)));
 }
@@ -357,30 +359,22 @@ double incircle_few_bits(double ax, double ay, double bx, double by, double cx, 
     const double bv = minuend[k] - d[k], av = d[k] + bv;
     if ((minuend[k] - av) + (bv - subtrahend[k]) != 0) return 0;
   }
-  if (!few_bits(d, 6)) return 0;
+  int lo;
+  if (!few_bits(d, 6, lo)) return 0;
   done = true;
-  // Lifts L and cross products C exact: det = fl(fl(ta + tb) + tc), ti = fl(Li Ci), errs by at most
-  // 3 eps (1 + eps)^2 P, P = sum |Li Ci|; 4 eps times the computed P bounds it.
-  const double L[3] = {d[0] * d[0] + d[1] * d[1], d[2] * d[2] + d[3] * d[3], d[4] * d[4] + d[5] * d[5]};
-  const double C[3] = {d[2] * d[5] - d[4] * d[3], d[4] * d[1] - d[0] * d[5], d[0] * d[3] - d[2] * d[1]};
-  const double ta = L[0] * C[0], tb = L[1] * C[1], tc = L[2] * C[2];
-  const double det = ta + tb + tc;
-  const double bound = 4 * kEps * (std::fabs(ta) + std::fabs(tb) + std::fabs(tc));
-  if (det > bound || -det > bound) return det;
-  // Undecided (an exactly cocircular grid cell): each Li Ci is exactly the sum of two doubles, so
-  // det is the exact sum of six.
-  double part[3][2], s1[4] = {}, s2[6] = {};  // (initialised: GCC cannot see sum_raw skip them)
-  int pn[3];
-  for (int k = 0; k < 3; ++k) {
-    double hi, lo;
-    two_product(L[k], C[k], hi, lo);
-    pn[k] = 0;
-    if (lo != 0) part[k][pn[k]++] = lo;
-    if (hi != 0) part[k][pn[k]++] = hi;
-  }
-  const int n1 = sum_raw(part[0], pn[0], part[1], pn[1], s1);
-  const int n2 = sum_raw(s1, n1, part[2], pn[2], s2);
-  return n2 == 0 ? 0.0 : s2[n2 - 1];
+  // In units of 2^lo the differences are integers below 2^26 (scaling by a power of two is exact): the
+  // lifts and cross products are integers below 2^53, their products below 2^106, the sum of three
+  // below 2^108: exact in 128-bit integers.
+  std::uint64_t scale_bits = static_cast<std::uint64_t>(1023 - lo) << 52;  // 2^-lo, lo in [-240, 240]
+  double scale;
+  std::memcpy(&scale, &scale_bits, 8);
+  std::int64_t q[6];
+  for (int k = 0; k < 6; ++k) q[k] = static_cast<std::int64_t>(d[k] * scale);
+  const std::int64_t L[3] = {q[0] * q[0] + q[1] * q[1], q[2] * q[2] + q[3] * q[3], q[4] * q[4] + q[5] * q[5]};
+  const std::int64_t C[3] = {q[2] * q[5] - q[4] * q[3], q[4] * q[1] - q[0] * q[5], q[0] * q[3] - q[2] * q[1]};
+  const __int128 det = static_cast<__int128>(L[0]) * C[0] + static_cast<__int128>(L[1]) * C[1] +
+                       static_cast<__int128>(L[2]) * C[2];
+  return det > 0 ? 1.0 : (det < 0 ? -1.0 : 0.0);
 }
 
 }  // namespace

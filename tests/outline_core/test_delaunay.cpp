@@ -124,6 +124,49 @@ TEST(OutlineDelaunay, PredicatesAgreeWithRationalArithmetic) {
   }
 }
 
+TEST(OutlineDelaunay, PredicatesOnFewBitPointsAgreeWithRationalArithmetic) {
+  // Coordinates on a 2^-24 grid (like float32 camera data in metres): their differences have few bits, so
+  // the exact fallback takes its integer path. Points on a circle rounded to the grid are cocircular to
+  // ~1e-7, far below the filter's reach; a rectangle's corners (a grid cell) are exactly cocircular;
+  // near-collinear triples rounded to the grid.
+  auto g24 = [](double v) { return std::round(v * 0x1p24) * 0x1p-24; };
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> ang(0, 2 * M_PI), u(-1, 1);
+  int decided_nonzero = 0, zero = 0;
+  for (int it = 0; it < 20000; ++it) {
+    const double cxr = u(rng) * 0.3, cyr = u(rng) * 0.3, r = 1e-3 * (1 + std::fabs(u(rng)));
+    Vec2 p[4];
+    for (auto& q : p) {
+      const double t = ang(rng);
+      q = {g24(cxr + r * std::cos(t)), g24(cyr + r * std::sin(t))};
+    }
+    if (it % 4 == 0) {  // an axis-aligned rectangle
+      p[1] = {p[2].x, p[0].y};
+      p[3] = {p[0].x, p[2].y};
+    }
+    if (pred::orient2d(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y) < 0) std::swap(p[1], p[2]);
+    const double s = pred::incircle(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y);
+    const int want = sgn(incircle_q(exact(p[0]), exact(p[1]), exact(p[2]), exact(p[3])));
+    ASSERT_EQ((s > 0) - (s < 0), want) << it;
+    (want == 0 ? zero : decided_nonzero)++;
+    // The exact fallback itself (its integer path), called directly, also off the degenerate cases.
+    const double e = pred::incircle_exact(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y);
+    ASSERT_EQ((e > 0) - (e < 0), want) << it;
+    const Vec2 far{g24(cxr + 3 * r * u(rng)), g24(cyr + 3 * r * u(rng))};
+    const double f = pred::incircle_exact(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, far.x, far.y);
+    ASSERT_EQ((f > 0) - (f < 0), sgn(incircle_q(exact(p[0]), exact(p[1]), exact(p[2]), exact(far)))) << it;
+    const double oe = pred::orient2d_exact(p[0].x, p[0].y, p[1].x, p[1].y, far.x, far.y);
+    ASSERT_EQ((oe > 0) - (oe < 0), sgn(orient_q(exact(p[0]), exact(p[1]), exact(far)))) << it;
+    // Near-collinear: a third float point on the segment, rounded.
+    const double t = (u(rng) + 1) / 2;
+    const Vec2 m{g24(p[0].x + t * (p[1].x - p[0].x)), g24(p[0].y + t * (p[1].y - p[0].y))};
+    const double o = pred::orient2d(p[0].x, p[0].y, p[1].x, p[1].y, m.x, m.y);
+    ASSERT_EQ((o > 0) - (o < 0), sgn(orient_q(exact(p[0]), exact(p[1]), exact(m)))) << it;
+  }
+  EXPECT_GT(zero, 1000) << decided_nonzero;
+  EXPECT_GT(decided_nonzero, 10000);
+}
+
 TEST(OutlineDelaunay, CircumradiusComparisonIsExact) {
   // r = 5 exactly for the 6-8-10 right triangle (and scaled copies): r == R must give 0.
   for (double s : {1.0, 0.125, 3.0, 1e-7, 1e7}) {
