@@ -2,6 +2,7 @@
 // summary.json, and prints the stage timings and the job's final state.
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -79,6 +80,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "hg-overview: %s: no job request in the log (%zu events)\n", log_path.c_str(), log.events);
       return 1;
     }
+    std::filesystem::create_directories(out_dir);
     hg::outline::io::StagedFiles files;
     if (job.outline) files.stage(out_dir + "/outline.json", hg::overview::outline_json(job).dump(1) + "\n");
     if (job.path) files.stage(out_dir + "/path.json", hg::overview::path_json(job.path->msg).dump(1) + "\n");
