@@ -87,6 +87,11 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
     return g;
   };
 
+  // A vertex's input coordinates; with no input given, the translated point plus the origin (exact when
+  // the caller released its points through triangulate_releasing).
+  auto coord = [&](std::uint32_t v) {
+    return input.empty() ? Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y} : input[T.ids[v]];
+  };
   std::vector<Loop> loops;
   auto emit = [&](const std::uint32_t* v, std::size_t m) {
     Loop L;
@@ -95,13 +100,14 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
       if (T.ids[v[k]] < T.ids[v[start]]) start = k;
     // Area and length in input coordinates relative to the loop's first point: exact for integer-valued
     // inputs, and no cancellation against a far origin.
-    const Vec2 o = input[T.ids[v[start]]];
+    const Vec2 o = coord(v[start]);
     double twice_area = 0;
     for (std::size_t k = 0; k < m; ++k) {
-      const std::uint32_t i = T.ids[v[(start + k) % m]], j = T.ids[v[(start + k + 1) % m]];
-      L.point_index.push_back(i);
-      L.points.push_back(input[i]);
-      const double xi = input[i].x - o.x, yi = input[i].y - o.y, xj = input[j].x - o.x, yj = input[j].y - o.y;
+      const std::uint32_t vi = v[(start + k) % m], vj = v[(start + k + 1) % m];
+      const Vec2 pi = coord(vi), pj = coord(vj);
+      L.point_index.push_back(T.ids[vi]);
+      L.points.push_back(pi);
+      const double xi = pi.x - o.x, yi = pi.y - o.y, xj = pj.x - o.x, yj = pj.y - o.y;
       twice_area += xi * yj - xj * yi;
       L.perimeter += std::hypot(xj - xi, yj - yi);
     }

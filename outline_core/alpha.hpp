@@ -27,7 +27,8 @@ std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool 
 // Chains the free half-edges (inside triangle on the left, outside or ghost on the right) into closed
 // loops. At a pinch vertex the outgoing edge paired with an incoming one is the next free edge of the
 // same fan of inside triangles; a closed chain that still visits a vertex twice is split there, so every
-// loop is a simple polygon with >= 3 vertices. Outer loops (counter-clockwise) first, then holes
+// loop is a simple polygon with >= 3 vertices. `input` (the points as given) may be empty when the
+// triangulation came from triangulate_releasing and released them: coordinates are then xy + origin. Outer loops (counter-clockwise) first, then holes
 // (clockwise), each group by decreasing area; each loop starts at its smallest point index.
 std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::uint8_t>& inside,
                                 std::span<const Vec2> input);

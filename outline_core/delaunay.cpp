@@ -510,7 +510,12 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) 
   return triangulate(points, mode, order, {});
 }
 
-Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom) {
+namespace {
+
+// The triangulation; `release`, when given, is the vector `points` views: it is emptied (memory returned)
+// once the translated copy exists, if every point equals its translated copy plus the origin exactly.
+Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom,
+                               std::vector<Vec2>* release) {
   const std::size_t n = points.size();
   if (n > 500'000'000) throw OutlineError("too many points: " + std::to_string(n));
   double sx = 0, sy = 0;
@@ -569,15 +574,28 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, 
   if (!custom.empty() && custom.size() != n) throw OutlineError("custom insertion order has the wrong size");
   T.ids = custom.empty() ? order_translated(points, T.origin, order) : std::move(custom);
   T.xy.resize(n);
+  bool recoverable = true;
   for (std::size_t v = 0; v < n; ++v) {
     const Vec2& p = points[T.ids[v]];
     T.xy[v] = {p.x - T.origin.x, p.y - T.origin.y};
+    recoverable &= T.xy[v].x + T.origin.x == p.x && T.xy[v].y + T.origin.y == p.y;
   }
+  if (release && recoverable) std::vector<Vec2>().swap(*release);
   T.ghost = static_cast<std::uint32_t>(n);
   T.vrep.resize(n);
   for (std::size_t v = 0; v < n; ++v) T.vrep[v] = static_cast<std::uint32_t>(v);
   Builder(T, mode).run(n);
   return T;
+}
+
+}  // namespace
+
+Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom) {
+  return triangulate_impl(points, mode, order, std::move(custom), nullptr);
+}
+
+Triangulation triangulate_releasing(std::vector<Vec2>& points, Mode mode, Order order) {
+  return triangulate_impl(points, mode, order, {}, &points);
 }
 
 }  // namespace hg::outline

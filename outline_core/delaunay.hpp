@@ -70,6 +70,11 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
 // Validates (finite coordinates, >= 3 distinct points, not all collinear; throws OutlineError naming the
 // index) and triangulates.
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order);
+// Same, and empties `points` (returning its memory) as soon as the triangulation holds its translated
+// copy, when every point is recoverable from it exactly (points[ids[v]] == xy[v] + origin; true for
+// float32 camera data, whose translation to the rounded origin is exact); otherwise `points` is kept.
+// Saves one copy of the cloud at the peak (25 MB for 1.59 M points).
+Triangulation triangulate_releasing(std::vector<Vec2>& points, Mode mode, Order order);
 // Same with an explicit insertion order (a permutation of 0..n-1; for experiments and benchmarks).
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom);
 

@@ -41,7 +41,11 @@ Order parse_order(const std::string& s) {
   throw OutlineError("unknown order '" + s + "' (expected as-is, hilbert or brio)");
 }
 
-Result compute_outline(std::span<const Vec2> points, const Options& options) {
+namespace {
+
+// The pipeline; `owned`, when given, is the vector `points` views and may be released by the
+// triangulation (then the loops take their coordinates from it).
+Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const Options& options) {
   using Clock = std::chrono::steady_clock;
   auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   if (!std::isfinite(options.alpha_radius))
@@ -54,7 +58,9 @@ Result compute_outline(std::span<const Vec2> points, const Options& options) {
   res.points_read = points.size();
   res.mode = options.mode;
   res.order = options.order;
-  const Triangulation T = triangulate(points, options.mode, options.order);
+  const Triangulation T =
+      owned ? triangulate_releasing(*owned, options.mode, options.order) : triangulate(points, options.mode, options.order);
+  if (owned) points = *owned;  // empty if released
   const auto t1 = Clock::now();
 
   res.points_used = T.inserted;
@@ -89,6 +95,15 @@ Result compute_outline(std::span<const Vec2> points, const Options& options) {
   res.time.loops_ms = ms(t2, t3);
   res.time.total_ms = ms(t0, t3);
   return res;
+}
+
+}  // namespace
+
+Result compute_outline(std::span<const Vec2> points, const Options& options) { return run_outline(points, nullptr, options); }
+
+Result compute_outline(std::vector<Vec2>&& points, const Options& options) {
+  std::vector<Vec2> owned = std::move(points);  // consumed: released during the triangulation when possible
+  return run_outline(owned, &owned, options);
 }
 
 }  // namespace hg::outline

@@ -320,3 +320,51 @@ TEST(OutlineAlpha, CoordinatesBeyondTheExactRangeAreRefused) {
     EXPECT_NE(std::string(e.what()).find("point 9 "), std::string::npos) << e.what();
   }
 }
+
+TEST(OutlineAlpha, ConsumingOverloadGivesTheSameOutlineAndReleasesRecoverablePoints) {
+  // A jittered plate with a hole, coordinates on a 2^-20 grid (like float32 data): the translation to the
+  // rounded origin is exact, so triangulate_releasing empties the vector, and the loops (coordinates
+  // rebuilt from xy + origin) equal those computed from the points themselves.
+  auto plate = grid_cloud(60, 40, 1, {1000, -500}, 0.2, 8);
+  std::vector<Vec2> pts;
+  for (Vec2 p : plate)
+    if (std::hypot(p.x - 1030, p.y + 480) > 6) pts.push_back({std::round(p.x * 0x1p20) * 0x1p-20, std::round(p.y * 0x1p20) * 0x1p-20});
+  {
+    std::vector<Vec2> copy = pts;
+    const Triangulation T = triangulate_releasing(copy, Mode::DSHI, Order::Brio);
+    EXPECT_TRUE(copy.empty());
+    for (std::size_t v = 0; v < T.xy.size(); ++v) {
+      ASSERT_EQ(T.xy[v].x + T.origin.x, pts[T.ids[v]].x);
+      ASSERT_EQ(T.xy[v].y + T.origin.y, pts[T.ids[v]].y);
+    }
+  }
+  // Full-precision coordinates in [0, 1000]: translating those near zero to the origin (about 500) rounds
+  // away their low bits, so the points stay.
+  const auto far = random_cloud(500, 3, 1000);
+  const std::vector<Vec2>* clouds[] = {&pts, &far};
+  for (const std::vector<Vec2>* cloud : clouds) {
+    Options o;
+    o.alpha_radius = cloud == &pts ? 1.2 : 60;
+    const Result a = compute_outline(std::span<const Vec2>(*cloud), o);
+    if (cloud == &far) {
+      std::vector<Vec2> copy = far;
+      triangulate_releasing(copy, Mode::DSHI, Order::Brio);
+      EXPECT_EQ(copy.size(), far.size());
+    }
+    const Result b = compute_outline(std::vector<Vec2>(*cloud), o);
+    ASSERT_EQ(a.loops.size(), b.loops.size());
+    if (cloud == &pts) {
+      EXPECT_EQ(a.loops.size(), 2u);  // the plate and its hole
+    }
+    for (std::size_t k = 0; k < a.loops.size(); ++k) {
+      EXPECT_EQ(a.loops[k].point_index, b.loops[k].point_index);
+      EXPECT_EQ(a.loops[k].area, b.loops[k].area);
+      ASSERT_EQ(a.loops[k].points.size(), b.loops[k].points.size());
+      for (std::size_t i = 0; i < a.loops[k].points.size(); ++i) {
+        EXPECT_EQ(a.loops[k].points[i].x, (*cloud)[a.loops[k].point_index[i]].x);
+        EXPECT_EQ(b.loops[k].points[i].x, a.loops[k].points[i].x);
+        EXPECT_EQ(b.loops[k].points[i].y, a.loops[k].points[i].y);
+      }
+    }
+  }
+}
