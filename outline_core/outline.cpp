@@ -83,11 +83,26 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   const auto t2 = Clock::now();
 
   res.loops = extract_loops(T, inside, points);
-  const std::size_t slots = T.slots();
-  for (std::size_t t = 0; t < slots; ++t) {
-    if (T.is_ghost(t)) continue;
-    ++res.triangles;
-    if (options.keep_triangles) res.delaunay_triangles.push_back({T.ids[T.tri[3 * t]], T.ids[T.tri[3 * t + 1]], T.ids[T.tri[3 * t + 2]]});
+  if (options.keep_triangles) {
+    const std::size_t slots = T.slots();
+    for (std::size_t t = 0; t < slots; ++t) {
+      if (T.is_ghost(t)) continue;
+      ++res.triangles;
+      res.delaunay_triangles.push_back({T.ids[T.tri[3 * t]], T.ids[T.tri[3 * t + 1]], T.ids[T.tri[3 * t + 2]]});
+    }
+  } else {
+    // Finite triangles = all slots minus the ghost ones, one per hull edge: counted by turning around the
+    // vertex at infinity (no pass over the 3 M triangles). Its half-edges are g -> x; the next one
+    // around it is the twin of the half-edge ending at the ghost in the same triangle.
+    std::uint32_t h0 = 0;
+    while (T.tri[h0] != T.ghost) ++h0;  // a half-edge leaving the ghost (usually within the first slots)
+    std::size_t hull = 0;
+    std::uint32_t h = h0;
+    do {
+      ++hull;
+      h = T.twin[Triangulation::prev(h)];
+    } while (h != h0);
+    res.triangles = T.slots() - hull;
   }
   const auto t3 = Clock::now();
   res.time.triangulate_ms = ms(t0, t1);

@@ -392,27 +392,7 @@ Expansion orient_expansion(double ax, double ay, double bx, double by, double cx
 }
 }  // namespace
 
-int circumradius_vs(double ax, double ay, double bx, double by, double cx, double cy, double R) {
-  // Filter. Relative rounding errors: each squared length <= 4.01 eps, the product N of three <= 14.1 eps.
-  const double abx = ax - bx, aby = ay - by, bcx = bx - cx, bcy = by - cy, cax = cx - ax, cay = cy - ay;
-  const double ab2 = abx * abx + aby * aby, bc2 = bcx * bcx + bcy * bcy, ca2 = cax * cax + cay * cay;
-  const double N = ab2 * bc2 * ca2;
-  const double l = (ax - cx) * (by - cy), r = (ay - cy) * (bx - cx);
-  const double D = l - r;
-  const double errD = kOrientBound * (std::fabs(l) + std::fabs(r));
-  const double absD = std::fabs(D);
-  if (absD > 4 * errD && std::isnormal(N)) {
-    // |D - fl(D)| <= errD < |D| / 4, so the relative error of D is relD < (4/3) errD / |D| < 1/3 and that
-    // of D^2 below 2.34 relD; M = 4 R^2 D^2 then errs by at most 2.5 relD M + 8 eps M, and
-    // relD M < (4/3) errD |D| 4 R^2 (no division needed).
-    const double R4 = 4.0 * (R * R);
-    const double M = R4 * (D * D);
-    const double margin = 1.01 * (16 * kEps * N + 2.5 * (4.0 / 3.0) * errD * absD * R4 + 8 * kEps * M);
-    if (std::isnormal(M)) {
-      if (N - M > margin) return 1;
-      if (M - N > margin) return -1;
-    }
-  }
+int circumradius_vs_exact(double ax, double ay, double bx, double by, double cx, double cy, double R) {
   // Exact: sign(|ab|^2 |bc|^2 |ca|^2 - 4 R^2 D^2).
   const Expansion eab = square_norm(diff(ax, bx), diff(ay, by));
   const Expansion ebc = square_norm(diff(bx, cx), diff(by, cy));
