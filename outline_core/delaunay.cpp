@@ -8,31 +8,12 @@
 #include <limits>
 #include <string>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 #include "predicates.hpp"
 
 namespace hg::outline {
 namespace {
 
 constexpr std::uint32_t kNone = 0xffffffffu;
-
-// Asks for transparent huge pages on a large array before it is first touched: the insertion reads
-// and writes tri/twin/xy/nn2 (130 MB for 1.5 M points) at scattered places, and with 4 KB pages both
-// the first-touch page faults and the TLB misses cost (measured in docs/outline-core-performance.md).
-// Only a hint: without THP (or off Linux) nothing changes.
-void advise_huge_pages(const void* p, std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-  const auto begin = reinterpret_cast<std::uintptr_t>(p);
-  const std::uintptr_t a = (begin + kHuge - 1) & ~(kHuge - 1), e = (begin + bytes) & ~(kHuge - 1);
-  if (e > a) madvise(reinterpret_cast<void*>(a), e - a, MADV_HUGEPAGE);
-#else
-  (void)p, (void)bytes;
-#endif
-}
 
 std::string fmt(double v) {
   char buf[64];
@@ -406,10 +387,6 @@ void Builder::run(std::size_t n) {
   // A triangulation of n + 1 vertices (the ghost included) on the sphere has 2 (n + 1) - 4 triangles:
   // every slot is allocated once, no growth during the insertion.
   const std::size_t max_slots = 2 * n + 2;
-  T_.tri.reserve(3 * max_slots);
-  T_.twin.reserve(3 * max_slots);
-  advise_huge_pages(T_.tri.data(), 3 * max_slots * sizeof(std::uint32_t));
-  advise_huge_pages(T_.twin.data(), 3 * max_slots * sizeof(std::uint32_t));
   T_.tri.assign(3 * max_slots, 0);
   T_.twin.assign(3 * max_slots, 0);
   const std::uint32_t init_tri[12] = {a, b, c, b, a, G_, c, b, G_, a, c, G_};
@@ -418,8 +395,6 @@ void Builder::run(std::size_t n) {
   std::copy(init_twin, init_twin + 12, T_.twin.begin());
   slots_ = 4;
   T_.inserted = 3;
-  T_.nn2.reserve(n);
-  advise_huge_pages(T_.nn2.data(), n * sizeof(float));
   T_.nn2.assign(n, std::numeric_limits<float>::infinity());
   for (std::uint32_t u : {a, b, c})
     for (std::uint32_t w : {a, b, c})
@@ -598,8 +573,6 @@ Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order or
   }
   if (!custom.empty() && custom.size() != n) throw OutlineError("custom insertion order has the wrong size");
   T.ids = custom.empty() ? order_translated(points, T.origin, order) : std::move(custom);
-  T.xy.reserve(n);
-  advise_huge_pages(T.xy.data(), n * sizeof(Vec2));
   T.xy.resize(n);
   bool recoverable = true;
   for (std::size_t v = 0; v < n; ++v) {
