@@ -64,6 +64,30 @@ TEST(OutlineDelaunay, ExactGridsAreCocircularEverywhere) {
 
 TEST(OutlineDelaunay, JitteredScanGrid) { check_all_modes(grid_cloud(60, 50, 1, {}, 0.2)); }
 
+TEST(OutlineDelaunay, Float32CameraGridsInMetres) {
+  // What the camera gives: a pixel grid in scan order, in metres, stored as float32, around a centre
+  // near the coordinate origin (so the floats' ulps differ across the cloud), noise-free (rows exactly
+  // straight, every cell a cocircular rectangle) and with 0.05-pixel noise. The few-bits exact paths
+  // decide most degenerate tests here.
+  auto f32 = [](double v) {
+    volatile float f = static_cast<float>(v);  // volatile: GCC 12 -O3 may drop a float round trip
+    return static_cast<double>(f);
+  };
+  const double pitch = 2.4467e-4;
+  for (double noise : {0.0, 0.05}) {
+    std::mt19937_64 rng(31);
+    std::normal_distribution<double> g(0, noise > 0 ? noise * pitch : 1);
+    std::vector<Vec2> pts;
+    for (int row = 0; row < 60; ++row)
+      for (int col = 0; col < 70; ++col) {
+        const double x = -0.004 + col * pitch + (noise > 0 ? g(rng) : 0), y = 0.003 - row * pitch + (noise > 0 ? g(rng) : 0);
+        pts.push_back({f32(x), f32(y)});
+      }
+    SCOPED_TRACE(noise);
+    check_all_modes(pts, 0);
+  }
+}
+
 TEST(OutlineDelaunay, CollinearHeavy) { check_all_modes(collinear_heavy(3)); }
 
 TEST(OutlineDelaunay, Cocircular) {
