@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hg::path_planner {
 
@@ -491,7 +492,18 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       const bool met = intersect(pa, pb, pitch, bias_scale, near, x);
       const double angle = met ? std::abs(turn(tangent_at(pa, x), tangent_at(pb, x))) : 0;
       // The primitives must meet near the candidate (within the gap it was cut by) at a real angle.
-      if (!met || (x - near).norm() > gap[k] + 2 * unit / std::sin(interior / 2) || angle < 0.6 * o.corner_angle)
+      // And the outline must come close to where they meet: at a sharp corner the pixels reach the tip up
+      // to the alpha shape's chamfer (about half the gap) and a pitch of staircase, while a fillet of radius
+      // R stays R (1/sin(interior/2) - 1) away from it (0.41 R at 90 deg) -- a fillet is an arc, not a corner.
+      double closest = std::numeric_limits<double>::max();
+      if (met) {
+        const long c = corners[k];
+        const double reach = gap[k] + 2 * unit;
+        for (long j = c; j > c - n + 1 && u.S(c) - u.S(j) <= reach; --j) closest = std::min(closest, (u.at(j) - x).norm());
+        for (long j = c; j < c + n - 1 && u.S(j) - u.S(c) <= reach; ++j) closest = std::min(closest, (u.at(j) - x).norm());
+      }
+      if (!met || (x - near).norm() > gap[k] + 2 * unit / std::sin(interior / 2) || angle < 0.6 * o.corner_angle ||
+          closest > 0.5 * gap[k] + unit)
         drop.push_back(k);
       else
         corner_pos[k] = x;
