@@ -72,6 +72,7 @@ TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
   cloud.header.seq = 41;
   hg::outline::Options opt;
   opt.alpha_radius = 2 * p;
+  opt.order = hg::outline::Order::Hilbert;
   auto c = os::compute(cloud, opt);
   ASSERT_EQ(c.outline.status, +hullgrind::outline_t::STATUS_OK) << c.outline.error_text;
   EXPECT_EQ(c.outline.cloud_seq, 41);
@@ -86,7 +87,7 @@ TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
   EXPECT_EQ(c.outline.points_read, cloud.n);
   EXPECT_EQ(c.outline.duplicates_merged, 0);
   EXPECT_EQ(c.outline.mode, "dshi");
-  EXPECT_EQ(c.outline.order, "as-is");
+  EXPECT_EQ(c.outline.order, "hilbert");  // the message says which order was used
   EXPECT_GT(c.outline.time_triangulate, 0);
   EXPECT_LE(c.outline.time_triangulate + c.outline.time_alpha + c.outline.time_loops, c.outline.compute_time);
   EXPECT_GT(c.outline.search_cost, 0);
