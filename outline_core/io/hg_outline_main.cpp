@@ -188,7 +188,12 @@ int main(int argc, char** argv) {
     args.opt.keep_triangles = !args.tri_out.empty() || (args.draw_triangles && (!args.svg_out.empty() || !args.png_out.empty()));
     hg::outline::Result result;
     try {
-      result = hg::outline::compute_outline(planar.points, args.opt);
+      // Without pictures the points are not needed afterwards: the core takes them over and frees them
+      // once it holds its exact copy (lower peak memory on big clouds).
+      if (args.svg_out.empty() && args.png_out.empty())
+        result = hg::outline::compute_outline(std::move(planar.points), args.opt);
+      else
+        result = hg::outline::compute_outline(planar.points, args.opt);
     } catch (const hg::outline::OutlineError& e) {
       throw io::ReadError(args.input + ": " + e.what());
     }

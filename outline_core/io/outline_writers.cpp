@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <cstring>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <png.h>
 
 namespace hg::outline::io {
 
@@ -226,8 +226,21 @@ std::vector<unsigned char> render_png(std::span<const Vec2> points, const Result
   std::snprintf(legend, sizeof legend, "%zu points, %zu outer (blue), %zu holes (red), R = %.4g", points.size(),
                 r.loops.size() - holes, holes, r.alpha_radius);
   cv::putText(img, legend, cv::Point(10, view.height - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  std::vector<unsigned char> png;
-  if (!cv::imencode(".png", img, png)) throw WriteError("PNG encoding failed");
+  // libpng directly, not OpenCV's imgcodecs: linking imgcodecs maps ~140 shared libraries (GDAL, ...) into
+  // hg-outline, ~40 MB of its peak memory, for this one call.
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = png_uint_32(img.cols);
+  image.height = png_uint_32(img.rows);
+  image.format = PNG_FORMAT_BGR;
+  png_alloc_size_t size = 0;
+  const auto stride = png_int_32(img.step[0]);
+  if (!png_image_write_to_memory(&image, nullptr, &size, 0, img.data, stride, nullptr))
+    throw WriteError(std::string("PNG encoding failed: ") + image.message);
+  std::vector<unsigned char> png(size);
+  if (!png_image_write_to_memory(&image, png.data(), &size, 0, img.data, stride, nullptr))
+    throw WriteError(std::string("PNG encoding failed: ") + image.message);
+  png.resize(size);
   return png;
 }
 
