@@ -291,6 +291,7 @@ class E2EReplay(PipelineCase):
                         q.kill()
                         q.wait()
         replayed = os.path.join(p.dir, "replayed")
+        os.makedirs(replayed)
         ov = E.run([E.bin_path("hg-overview"), replay_log, "--out", replayed, "--job-id", job, "--planner-config",
                     os.path.join(E.CONFIG, "path_planner.yaml")], timeout=120)
         self.assertIn(ov.returncode, (0, 1), ov.stderr)  # 1: no robot in the replay, the job is not DONE
@@ -348,6 +349,23 @@ class E2ETwoHosts(PipelineCase):
         out = E.run(prefix + list(cmd), timeout=30)
         self.assertEqual(out.returncode, 0, "%s: %s" % (" ".join(cmd), out.stderr))
 
+    def probe(self, sender, receiver, url):
+        """How many of 10 job requests on a probe channel, sent from `sender` with `url`, `receiver` hears."""
+        dump = subprocess.Popen(receiver + [E.bin_path("hg-lcm-dump"), "--lcm-url", self.URL, "--channels", "^HG_E2E_PROBE$",
+                                            "--timeout", "4"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            time.sleep(1.0)
+            for i in range(10):
+                E.run(sender + [E.bin_path("hg-lcm-send"), "--lcm-url", url, "job", "--job-id", "probe-%d" % i,
+                                "--channel", "HG_E2E_PROBE"], timeout=20)
+                time.sleep(0.1)
+            out, _ = dump.communicate(timeout=30)
+        finally:
+            if dump.poll() is None:
+                dump.kill()
+                dump.wait()
+        return len(out.splitlines())
+
     def test_camera_on_another_host(self):
         cam_pid, cam = self.namespace()
         rest_pid, rest = self.namespace()
@@ -359,6 +377,11 @@ class E2ETwoHosts(PipelineCase):
             self.sh(prefix, "ip", "addr", "add", addr, "dev", dev)
             self.sh(prefix, "ip", "link", "set", dev, "up")
             self.sh(prefix, "ip", "route", "add", "224.0.0.0/4", "dev", dev)
+
+        # Control: what crosses is routed multicast. A message sent in the camera namespace with ttl=0 (the
+        # default URL: host-local) must not reach the other namespace; with ttl=1 it must.
+        self.assertEqual(self.probe(cam, rest, "udpm://239.255.76.67:7667?ttl=0"), 0, "ttl=0 traffic crossed the veth")
+        self.assertGreater(self.probe(cam, rest, self.URL), 0, "ttl=1 traffic did not cross the veth")
 
         # The rest of the pipeline under the supervisor in the "rest" namespace; the camera alone in its own.
         self.pipeline = p = E.Pipeline("twohost", lcm_url=self.URL, without=("camera",), netns_exec=rest,
