@@ -59,7 +59,10 @@ def planner_settings(yaml_path, command):
     for i, a in enumerate(command[:-1]):
         if a.startswith("--") and a != "--config":
             key, val = a[2:], command[i + 1]
-            cfg[key] = [float(x) for x in val.split(",")] if "," in val else float(val)
+            try:
+                cfg[key] = [float(x) for x in val.split(",")] if "," in val else float(val)
+            except ValueError:
+                cfg[key] = val  # a word (e.g. --small_hole skip)
     return cfg
 
 
