@@ -75,6 +75,7 @@ struct SmoothOptions {
                                      // (the pitch, or the vertex spacing when noise spreads it)
   double corner_angle = 0.5235987755982988;  // 30 deg: smaller turns are treated as curves
   bool edge_compensation = true;     // move the loop from the outermost pixel centres to the edge
+  double noise = 0;                  // noise of a window mean, m (estimate_noise); 0: from the ring itself
 };
 struct SmoothedRing {
   Ring points;
@@ -89,6 +90,10 @@ double estimate_pitch(const std::vector<Loop>& loops);
 // by pitch/2 * max(|t_x|, |t_y|). pitch 0 (unknown): dense rings are fitted without edge compensation,
 // sparse ones (drawn polygons) returned unchanged. Straight pieces come out as their two end points.
 SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& options);
+// Noise of the outline's window means (the misfit threshold of the fits), pooled over all loops: it is the
+// camera's and the segmentation's, the same along every edge of a frame, and a short loop of tight arcs
+// (a slot) would overestimate it alone, since arc-to-line junctions are not cancelled by the estimator.
+double estimate_noise(const std::vector<Loop>& loops, const SmoothOptions& options);
 
 // ---- 2. offset by the tool radius (Clipper) ----
 // Outer loops grow by `distance`, holes shrink. Returns zero rings for a hole too small for the tool, and

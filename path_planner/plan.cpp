@@ -56,10 +56,12 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   if (!(res.pitch > 0) && dense && cfg.smooth.edge_compensation)
     res.warnings.push_back("pixel pitch unknown (not a clean pixel staircase): no edge compensation; set pixel_pitch");
 
+  SmoothOptions smooth = cfg.smooth;
+  smooth.noise = estimate_noise(in.loops, smooth);
   std::vector<GrindLoop> grind;
   for (std::size_t k = 0; k < in.loops.size(); ++k) {
     const Loop& l = in.loops[k];
-    const SmoothedRing sm = smooth_ring(l.points, res.pitch, cfg.smooth);
+    const SmoothedRing sm = smooth_ring(l.points, res.pitch, smooth);
     const std::vector<Ring> off = offset_ring(sm.points, l.hole, P.tool_radius, cfg.arc_tolerance);
     if (off.empty()) {
       const std::string why = std::string(l.hole ? "hole" : "outer loop") + " " + std::to_string(k) +

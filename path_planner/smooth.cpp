@@ -276,7 +276,44 @@ bool intersect(const Primitive& a, const Primitive& b, double pitch, double bias
   return true;
 }
 
+int window_of(const SmoothOptions& o) { return std::max(5, int(std::lround(2 * o.window_pitches))); }
+
+// Noise of a window mean (the mean of `win` consecutive vertices): from five adjacent window means M-2..M2
+// around each vertex, E = 3/4 M0 - (M-1 + M1)/2 + (M-2 + M2)/8 cancels a straight or evenly curved edge
+// (position, slope and curvature) and leaves noise and staircase with variance 1.094 sigma^2 for
+// independent windows. It measures the noise as it is, correlated between neighbouring vertices or not.
+// Appends |E| across the edge at every vertex (none for a loop shorter than the five windows).
+void append_window_noise(const Unrolled& u, int win, std::vector<double>& dev) {
+  const long n = u.n;
+  if (n < 5 * win) return;
+  auto mean_at = [&](long centre) {
+    const long a = centre - win / 2 + n, b = a + win;
+    return Vec2((u.mx[b] - u.mx[a]) / win, (u.my[b] - u.my[a]) / win);
+  };
+  for (long i = 0; i < n; ++i) {
+    const Vec2 m0 = mean_at(i), m1 = mean_at(i + win), m_1 = mean_at(i - win), m2 = mean_at(i + 2 * win),
+               m_2 = mean_at(i - 2 * win);
+    const Vec2 e = 0.75 * m0 - 0.5 * (m_1 + m1) + 0.125 * (m_2 + m2);
+    const Vec2 along = m1 - m_1;
+    const double len = along.norm();
+    dev.push_back(len > 0 ? std::abs(cross(along, e)) / len : e.norm());
+  }
+}
+// Median of |E| as a Gaussian sigma.
+double sigma_of(std::vector<double>& dev) {
+  if (dev.empty()) return 0;
+  std::nth_element(dev.begin(), dev.begin() + dev.size() / 2, dev.end());
+  return 1.4826 * dev[dev.size() / 2] / std::sqrt(1.094);
+}
+
 }  // namespace
+
+double estimate_noise(const std::vector<Loop>& loops, const SmoothOptions& o) {
+  std::vector<double> dev;
+  for (const Loop& l : loops)
+    if (l.points.size() >= 8) append_window_noise(Unrolled(l.points), window_of(o), dev);
+  return sigma_of(dev);
+}
 
 SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o) {
   SmoothedRing out;
@@ -338,32 +375,18 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   }
   if (total < 8 * scale) corners.clear();  // a loop this small has no room for corners and runs
 
-  // ---- noise level of a window mean (the mean of `win` consecutive vertices): from five adjacent window
-  // means M-2..M2 around each vertex, E = 3/4 M0 - (M-1 + M1)/2 + (M-2 + M2)/8 cancels a straight or
-  // evenly curved edge (position, slope and curvature) and leaves noise and staircase with variance
-  // 1.094 sigma^2 for independent windows; median of |E| across the edge over the loop, as a Gaussian sigma.
-  // It measures the noise as it is, correlated between neighbouring vertices or not. ----
-  const int win = std::max(5, int(std::lround(2 * o.window_pitches)));
-  double sigma = 0;
-  {
-    std::vector<double> dev(n);
-    auto mean_at = [&](long centre) {
-      const long a = centre - win / 2 + u.n, b = a + win;
-      return Vec2((u.mx[b] - u.mx[a]) / win, (u.my[b] - u.my[a]) / win);
-    };
-    for (long i = 0; i < n; ++i) {
-      const Vec2 m0 = mean_at(i), m1 = mean_at(i + win), m_1 = mean_at(i - win), m2 = mean_at(i + 2 * win),
-                 m_2 = mean_at(i - 2 * win);
-      const Vec2 e = 0.75 * m0 - 0.5 * (m_1 + m1) + 0.125 * (m_2 + m2);
-      const Vec2 along = m1 - m_1;
-      const double len = along.norm();
-      dev[i] = len > 0 ? std::abs(cross(along, e)) / len : e.norm();
-    }
-    std::nth_element(dev.begin(), dev.begin() + n / 2, dev.end());
-    sigma = 1.4826 * dev[n / 2] / std::sqrt(1.094);
+  // ---- noise level of a window mean: the outline's (all loops pooled), or this loop's own ----
+  const int win = window_of(o);
+  double sigma = o.noise;
+  if (!(sigma > 0)) {
+    std::vector<double> dev;
+    append_window_noise(u, win, dev);
+    sigma = sigma_of(dev);
   }
-  // A window mean beyond this is a misfit, not noise or staircase.
-  const double tolerance = 0.1 * (pitch > 0 ? pitch : spacing) + 3.0 * sigma;
+  // A window mean beyond this is a misfit, not noise or staircase. 4 sigma, not 3: a loop has a hundred or
+  // more windows and the noise of a real camera's edge has heavy tails (mixed pixels), so a 3 sigma bump is
+  // expected on most loops and would split a straight edge or bend it into a large arc.
+  const double tolerance = 0.1 * (pitch > 0 ? pitch : spacing) + 4.0 * sigma;
   const long min_piece = 2 * win;
 
   // ---- 2. + 3. fit the runs between corners; drop corners whose primitives do not make one ----
@@ -381,6 +404,10 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     if (line_err <= tolerance || b - a < 5) return line_err;
     Primitive circ;
     if (!fit_circle(u, a, b, circ) || !(circ.radius > 2 * unit && circ.radius < 1e3 * total)) return line_err;
+    // A circle that bows off its chord by less than twice the tolerance is not told apart from a straight by
+    // the data (a noise bump made the line miss by a little): the piece stays a line, split if it must be.
+    const double half_sweep = std::min(M_PI, 0.5 * (u.S(b) - u.S(a)) / circ.radius);
+    if (circ.radius * (1 - std::cos(half_sweep)) < 2 * tolerance) return line_err;
     const double circ_err = worst_window_mean(u, circ, a, b, win, scratch);
     if (circ_err < line_err) best = circ;
     return std::min(line_err, circ_err);
@@ -420,30 +447,42 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   };
   // The greedy pieces run past the true junctions (a misfit must build up before it shows): move each
   // boundary between two pieces of a run to where the two primitives' squared residuals split best, then
-  // refit both.
-  auto refine_junctions = [&](std::size_t from) {
-    for (int pass = 0; pass < 2; ++pass)
-      for (std::size_t i = from; i + 1 < prims.size(); ++i) {
-        if (piece_run[i] != piece_run[i + 1]) continue;
+  // refit both; repeated until no boundary moves, since a piece that held vertices of its neighbour is bent
+  // toward it and gives them up a few at a time. `wrap`: the run is the whole loop (no corners), so the
+  // last piece also borders the first, one loop length (n) further on.
+  auto refine_junctions = [&](std::size_t from, bool wrap) {
+    const std::size_t count = prims.size();
+    for (int pass = 0; pass < 8; ++pass) {
+      bool moved = false;
+      for (std::size_t i = from; i < count; ++i) {
+        const bool wrapping = i + 1 == count;
+        if (wrapping && !(wrap && count - from >= 2)) break;
+        const std::size_t k = wrapping ? from : i + 1;
+        if (piece_run[i] != piece_run[k]) continue;
         Primitive& pa = prims[i];
-        Primitive& pb = prims[i + 1];
-        const long lo = pa.first + 2, hi = pb.last - 2;
+        Primitive& pb = prims[k];
+        const long shift = wrapping ? n : 0;  // pb's vertices unwrapped to follow pa's
+        const long lo = pa.first + 2, hi = pb.last + shift - 2;
         if (hi - lo < 2) continue;
+        auto rb = [&](long j) { return residual(pb, u.at(j - shift)); };
         // cost(t) = sum_{j<=t} ra^2 + sum_{j>t} rb^2 over lo-1 .. hi
         double sb = 0;
-        for (long j = lo; j <= hi; ++j) sb += std::pow(residual(pb, u.at(j)), 2);
+        for (long j = lo; j <= hi; ++j) sb += std::pow(rb(j), 2);
         double sa = 0, best = sb;
         long best_t = lo - 1;
         for (long t = lo; t < hi; ++t) {
           sa += std::pow(residual(pa, u.at(t)), 2);
-          sb -= std::pow(residual(pb, u.at(t)), 2);
+          sb -= std::pow(rb(t), 2);
           if (sa + sb < best) best = sa + sb, best_t = t;
         }
         if (best_t == pa.last) continue;
-        const long a0 = pa.first, b1 = pb.last;
+        const long a0 = pa.first, b1 = pb.last + shift;
         best_fit(a0, best_t, pa);
-        best_fit(best_t + 1, b1, pb);
+        best_fit(best_t + 1 - shift, b1 - shift, pb);
+        moved = true;
       }
+      if (!moved) break;
+    }
   };
   std::vector<Vec2> corner_pos;
   for (int attempt = 0;; ++attempt) {
@@ -454,7 +493,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     corner_pos.assign(nc, Vec2::Zero());
     if (nc == 0) {
       fit_run(0, n - 1, 0);
-      refine_junctions(0);
+      refine_junctions(0, true);
       break;
     }
     // Gap at each corner: the alpha shape fills a concave corner and the pixels thin out toward an acute
@@ -473,7 +512,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       }
       const std::size_t from = prims.size();
       fit_run(j0, j1, k);
-      refine_junctions(from);
+      refine_junctions(from, false);
     }
     if (crowded >= 0) {
       corners.erase(corners.begin() + crowded);
@@ -540,6 +579,19 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     if (p.ccw && sweep < 0) sweep += 2 * M_PI;
     if (!p.ccw && sweep > 0) sweep -= 2 * M_PI;
     if (p.first + u.n - 1 <= p.last) sweep = p.ccw ? 2 * M_PI : -2 * M_PI;  // a whole loop
+    else if (from || to) {
+      // given end points that passed each other (a short arc between two junctions) would wrap the sweep
+      // round the circle: the piece then shrinks to the chord between them
+      const Vec2 own_a = project(p, u.at(p.first)), own_b = project(p, u.at(p.last));
+      double own = turn(own_a - p.centre, own_b - p.centre);
+      if (p.ccw && own < 0) own += 2 * M_PI;
+      if (!p.ccw && own > 0) own -= 2 * M_PI;
+      if (std::abs(sweep) > std::abs(own) + M_PI) {
+        if (!from) emit(a, false);
+        if (!to) emit(b, false);
+        return;
+      }
+    }
     const double dstep = 2 * std::sqrt(2 * chord / p.radius);
     const int steps = std::max(1, int(std::ceil(std::abs(sweep) / dstep)));
     const int last = (p.first + u.n - 1 <= p.last) ? steps - 1 : steps;
@@ -549,19 +601,58 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       emit(project(p, p.centre + Vec2(std::cos(ang), std::sin(ang))), false);
     }
   };
+  // Junctions between neighbouring pieces of a run: where the two primitives meet (or, for a line passing
+  // just outside a circle, the middle of their closest approach), not each piece's own projected end vertex.
+  // A circle fitted to an arc that runs into a tangent straight keeps curving past the tangent point, and the
+  // split between the pieces lands wherever the noise puts it: emitting the arc up to its own end vertex
+  // then dents the edge by up to (overshoot)^2 / 2R before the line resumes.
+  const std::size_t np = prims.size();
+  std::vector<Vec2> junction(np);  // junction[i]: between prims[i] and its successor in the same run
+  std::vector<char> has_junction(np, 0);
+  for (std::size_t i = 0; i < np; ++i) {
+    const std::size_t j = (i + 1) % np;
+    if (np < 2 || piece_run[i] != piece_run[j] || (j == 0 && nc > 0)) continue;
+    const Primitive& pa = prims[i];
+    const Primitive& pb = prims[j];
+    const Vec2 ea = project(pa, u.at(pa.last)), sb = project(pb, u.at(pb.first));
+    const Vec2 near = 0.5 * (ea + sb);
+    const double reach = 3 * unit + (ea - sb).norm();
+    Vec2 x;
+    bool ok = intersect(pa, pb, pitch, bias_scale, near, x) && (x - near).norm() <= reach;
+    if (!ok && pa.circle != pb.circle) {
+      // no crossing: the line's foot of the circle's centre and the circle point above it
+      const Primitive& c = pa.circle ? pa : pb;
+      const Primitive& l = pa.circle ? pb : pa;
+      const Vec2 foot = project(l, c.centre);
+      const Vec2 on_circle = project(c, foot);
+      x = 0.5 * (foot + on_circle);
+      ok = (foot - on_circle).norm() <= tolerance + 0.5 * unit && (x - near).norm() <= reach;
+    }
+    if (ok) junction[i] = x, has_junction[i] = 1;
+  }
+  // emit_piece() leaves out the `from` and `to` points it is given: corners and junctions are emitted here.
   if (nc == 0) {
-    for (const Primitive& p : prims) emit_piece(p, nullptr, nullptr);
+    const bool wraps = np >= 2 && has_junction[np - 1];
+    if (wraps) emit(junction[np - 1], false);
+    for (std::size_t i = 0; i < np; ++i) {
+      const Vec2* from = i == 0 ? (wraps ? &junction[np - 1] : nullptr) : has_junction[i - 1] ? &junction[i - 1] : nullptr;
+      const Vec2* to = has_junction[i] ? &junction[i] : nullptr;
+      emit_piece(prims[i], from, to);
+      if (to && i + 1 < np) emit(*to, false);
+    }
     return out;
   }
   for (int k = 0; k < nc; ++k) {
     emit(corner_pos[k], true);
-    for (std::size_t i = 0; i < prims.size(); ++i) {
+    for (std::size_t i = 0; i < np; ++i) {
       if (piece_run[i] != k) continue;
       const bool first = i == 0 || piece_run[i - 1] != k;
-      const bool last = i + 1 == prims.size() || piece_run[i + 1] != k;
-      const Vec2* to = last ? &corner_pos[(k + 1) % nc] : nullptr;
+      const bool last = i + 1 == np || piece_run[i + 1] != k;
       // arcs next to a corner start / end exactly at it; lines run through it anyway
-      emit_piece(prims[i], first ? &corner_pos[k] : nullptr, to);
+      const Vec2* from = first ? &corner_pos[k] : has_junction[i - 1] ? &junction[i - 1] : nullptr;
+      const Vec2* to = last ? &corner_pos[(k + 1) % nc] : has_junction[i] ? &junction[i] : nullptr;
+      emit_piece(prims[i], from, to);
+      if (!last && to) emit(*to, false);
     }
   }
   return out;

