@@ -65,8 +65,10 @@ std::optional<DepthFrame> SyntheticSource::grab(std::chrono::milliseconds timeou
   if (!wait_slot(next_, period_, timeout)) return std::nullopt;
   DepthFrame f;
   f.seq = index_;
-  f.utime = runtime::now_utime();
   RenderedFrame r = render(spec_, profile_, static_cast<std::uint64_t>(index_++));
+  // Stamped when the frame exists, as a camera stamps its frames: the rendering stands in for the exposure
+  // and the transfer, which a real depth camera does without our CPU, and is not the pipeline's latency.
+  f.utime = runtime::now_utime();
   f.intrinsics = r.intrinsics;
   f.depth = std::move(r.depth);
   return f;

@@ -16,10 +16,11 @@ here (LCM log format and the few header fields needed, decoded by hand):
 
   latency  = log time of grind_path_t - plate_cloud_t.header.utime of the cloud that path was planned
              from (path.outline_seq -> outline.cloud_seq -> cloud), i.e. capture -> published path;
-  render   = the synthetic source stamps header.utime before it renders the frame, so the latency includes
-             the rendering a real camera does not cost us: cloud logged - cloud utime - the camera's own
-             processing time (heartbeat last_latency: segmentation + publish);
-  stages   = cloud utime -> cloud logged (render + segmentation + send), cloud -> outline logged (outline
+  render   = cloud logged - cloud utime - the camera's own processing time (heartbeat last_latency:
+             segmentation + publish). The synthetic source stamps header.utime once the frame is rendered
+             (as a camera stamps a frame it has captured; the rendering stands in for exposure and transfer),
+             so this is ~0 now; before 2026-11-22 it stamped before rendering and the render was in here;
+  stages   = cloud utime -> cloud logged (segmentation + send), cloud -> outline logged (outline
              service), outline -> path logged (planner).
 
 Prints medians (and 90th percentiles) per profile, the load average before and after, and a JSON line.
