@@ -198,6 +198,48 @@ bool fit_circle(const Unrolled& u, long j0, long j1, Primitive& c) {
   return true;
 }
 
+// Refit circle `c` over its vertices tangent to the given lines (its neighbours within a run, where the
+// edge is smooth by construction: no corner was found there). A free circle fitted to a part of a noisy
+// arc comes out off in centre and radius by a fair fraction of the noise (the shorter the arc, the worse);
+// tangency lets the straights' many vertices hold it in place. Soft constraints, weighted to be nearly
+// hard, in the same Gauss-Newton as fit_circle; the centre stays on the side of each line it is on.
+void refit_tangent(const Unrolled& u, Primitive& c, const std::vector<const Primitive*>& lines) {
+  const long m = c.last - c.first + 1;
+  if (lines.empty() || m < 5) return;
+  const double weight = std::sqrt(100.0 * double(m));
+  std::vector<double> side;
+  for (const Primitive* l : lines) side.push_back(cross(l->dir, c.centre - l->centre) >= 0 ? 1.0 : -1.0);
+  Vec2 centre = c.centre;
+  double r = c.radius;
+  for (int it = 0; it < 8; ++it) {
+    Eigen::Matrix3d JtJ = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d Jtr = Eigen::Vector3d::Zero();
+    for (long j = c.first; j <= c.last; ++j) {
+      const Vec2 d = u.at(j) - centre;
+      const double dn = d.norm();
+      if (dn <= 0) continue;
+      const Eigen::Vector3d J(-d.x() / dn, -d.y() / dn, -1);
+      JtJ += J * J.transpose();
+      Jtr += J * (dn - r);
+    }
+    for (std::size_t k = 0; k < lines.size(); ++k) {
+      const Primitive& l = *lines[k];
+      const double res = weight * (side[k] * cross(l.dir, centre - l.centre) - r);
+      const Eigen::Vector3d J(-weight * side[k] * l.dir.y(), weight * side[k] * l.dir.x(), -weight);
+      JtJ += J * J.transpose();
+      Jtr += J * res;
+    }
+    const Eigen::Vector3d step = JtJ.ldlt().solve(-Jtr);
+    if (!step.allFinite()) return;
+    centre += step.head<2>();
+    r += step[2];
+    if (step.norm() < 1e-10) break;
+  }
+  if (!(r > 0) || !std::isfinite(r) || !centre.allFinite()) return;
+  c.centre = centre;
+  c.radius = r;
+}
+
 double residual(const Primitive& p, const Vec2& q) {
   if (p.circle) return (q - p.centre).norm() - p.radius;
   return cross(p.dir, q - p.centre);  // left of travel positive
@@ -338,7 +380,18 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   // vertex spacing as the unit and without edge compensation; a drawn polygon (long edges) is left alone.
   if (pitch == 0 && !(spacing > 0 && spacing <= total / 200)) return unchanged();
   const double unit = std::max(pitch, spacing);
-  const double scale = o.corner_scale_pitches * unit;
+  // ---- noise level of a window mean: the outline's (all loops pooled), or this loop's own ----
+  const int win = window_of(o);
+  double sigma = o.noise;
+  if (!(sigma > 0)) {
+    std::vector<double> dev;
+    append_window_noise(u, win, dev);
+    sigma = sigma_of(dev);
+  }
+  // The corner detector's lines are at least 60 window-mean noise levels long: noise then tilts them by
+  // about 1/60 rad, so that a tight arc (a 20 mm slot end under pm806 noise, where one corner scale of
+  // 8 pixels turns by ~30 deg) cannot pass for a corner by the noise inflating its turn at one scale.
+  const double scale = std::max(o.corner_scale_pitches * unit, 60.0 * sigma);
   const double bias_scale = o.edge_compensation && pitch > 0 ? 1.0 : 0.0;
 
   // ---- 1. corner candidates: turn between one-sided TLS lines at scale and 2 x scale (two-pointer) ----
@@ -375,14 +428,6 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   }
   if (total < 8 * scale) corners.clear();  // a loop this small has no room for corners and runs
 
-  // ---- noise level of a window mean: the outline's (all loops pooled), or this loop's own ----
-  const int win = window_of(o);
-  double sigma = o.noise;
-  if (!(sigma > 0)) {
-    std::vector<double> dev;
-    append_window_noise(u, win, dev);
-    sigma = sigma_of(dev);
-  }
   // A window mean beyond this is a misfit, not noise or staircase. 4 sigma, not 3: a loop has a hundred or
   // more windows and the noise of a real camera's edge has heavy tails (mixed pixels), so a 3 sigma bump is
   // expected on most loops and would split a straight edge or bend it into a large arc.
@@ -484,6 +529,21 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       if (!moved) break;
     }
   };
+  // Neighbouring straights of a run that one line explains about as well (its rms residual within a quarter
+  // of the worse piece's) are one edge that a noise bump split: merged, so the short piece beside the bump
+  // does not tilt. A real bend, however shallow, raises the merged residual far more than that.
+  auto merge_lines = [&](std::size_t from) {
+    for (std::size_t i = from; i + 1 < prims.size();) {
+      Primitive& pa = prims[i];
+      const Primitive& pb = prims[i + 1];
+      if (pa.circle || pb.circle || piece_run[i] != piece_run[i + 1]) { ++i; continue; }
+      const Line a = fit_line(u, pa.first, pa.last), b = fit_line(u, pb.first, pb.last), ab = fit_line(u, pa.first, pb.last);
+      if (!(ab.rms <= 1.25 * std::max(a.rms, b.rms))) { ++i; continue; }
+      pa.centre = ab.centre, pa.dir = ab.dir, pa.last = pb.last;
+      prims.erase(prims.begin() + long(i) + 1);
+      piece_run.erase(piece_run.begin() + long(i) + 1);
+    }
+  };
   std::vector<Vec2> corner_pos;
   for (int attempt = 0;; ++attempt) {
     if (attempt == 8) corners.clear();  // give up on corners: the loop as one smooth run
@@ -494,6 +554,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     if (nc == 0) {
       fit_run(0, n - 1, 0);
       refine_junctions(0, true);
+      merge_lines(0);
       break;
     }
     // Gap at each corner: the alpha shape fills a concave corner and the pixels thin out toward an acute
@@ -513,6 +574,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       const std::size_t from = prims.size();
       fit_run(j0, j1, k);
       refine_junctions(from, false);
+      merge_lines(from);
     }
     if (crowded >= 0) {
       corners.erase(corners.begin() + crowded);
@@ -549,6 +611,43 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     }
     if (drop.empty()) break;
     for (auto it = drop.rbegin(); it != drop.rend(); ++it) corners.erase(corners.begin() + *it);
+  }
+
+  // Arcs tangent to the straights beside them in the same run; the corners beside refitted arcs re-placed.
+  std::vector<char> tangent_junction(prims.size(), 0);  // [i]: prims[i] and its successor made tangent
+  {
+    const std::size_t np = prims.size();
+    const bool one_run = corners.empty();
+    std::vector<char> refitted(np, 0);
+    for (std::size_t i = 0; i < np && np >= 2; ++i) {
+      if (!prims[i].circle) continue;
+      std::vector<const Primitive*> lines;
+      const std::size_t before = i == 0 ? np - 1 : i - 1, after = i + 1 == np ? 0 : i + 1;
+      const bool wraps_before = i == 0, wraps_after = i + 1 == np;
+      // only a straight of some length that the free circle already nearly touches: a short line piece
+      // inside an arc, or a line that crosses the circle, is not a tangent neighbour
+      auto tangent_line = [&](std::size_t j) {
+        const Primitive& l = prims[j];
+        const double gap = std::abs(std::abs(cross(l.dir, prims[i].centre - l.centre)) - prims[i].radius);
+        return !l.circle && l.last - l.first + 1 >= 2 * min_piece && gap <= 2 * tolerance;
+      };
+      if (piece_run[before] == piece_run[i] && (!wraps_before || one_run) && tangent_line(before))
+        lines.push_back(&prims[before]), tangent_junction[before] = 1;
+      if (after != before && piece_run[after] == piece_run[i] && (!wraps_after || one_run) && tangent_line(after))
+        lines.push_back(&prims[after]), tangent_junction[i] = 1;
+      refit_tangent(u, prims[i], lines);
+      refitted[i] = !lines.empty();
+    }
+    std::size_t after = 0;
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      while (piece_run[after] != int(k)) ++after;
+      const std::size_t before = after == 0 ? np - 1 : after - 1;
+      if (!refitted[before] && !refitted[after]) continue;
+      Vec2 x;
+      if (intersect(prims[before], prims[after], pitch, bias_scale, corner_pos[k], x) &&
+          (x - corner_pos[k]).norm() <= 2 * unit)
+        corner_pos[k] = x;
+    }
   }
 
   // ---- 4. emit: corners, line end points, sampled arcs, all edge-compensated ----
@@ -616,7 +715,9 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     const Primitive& pb = prims[j];
     const Vec2 ea = project(pa, u.at(pa.last)), sb = project(pb, u.at(pb.first));
     const Vec2 near = 0.5 * (ea + sb);
-    const double reach = 3 * unit + (ea - sb).norm();
+    // A tangent pair meets at the tangent point wherever the noise put the split between their vertices.
+    const double reach = 3 * unit + (ea - sb).norm() +
+                         (tangent_junction[i] ? 0.5 * std::min(u.S(pa.last) - u.S(pa.first), u.S(pb.last) - u.S(pb.first)) : 0);
     Vec2 x;
     bool ok = intersect(pa, pb, pitch, bias_scale, near, x) && (x - near).norm() <= reach;
     if (!ok && pa.circle != pb.circle) {

@@ -33,7 +33,7 @@ import e2e_pipeline as E  # noqa: E402
 JOB_TIMEOUT = 120  # s: capture + outline + plan + a 10x simulated run is ~15 s; generous for a loaded machine
 # Planner tolerance for noisy parts (docs/path_planner.md: offset <= 1.0 mm noisy), away from corners.
 OFFSET_TOLERANCE = 1.0e-3
-SLOT_TOLERANCE = 2.0e-3  # see test_slot_path_matches_ground_truth
+SLOT_TOLERANCE = 1.5e-3  # see test_slot_path_matches_ground_truth
 # A neighbourhood of a true corner (turn >= 20 deg) left out of the offset check: the planner fits corners
 # over corner_scale = 8 pitches (~11 mm at the pm806's 1.34 mm pitch) and smoothing rounds what is inside.
 CORNER_TURN = math.radians(20)
@@ -203,11 +203,11 @@ class E2EWholePipeline(PipelineCase):
                              "offset error %.3f mm > %.1f mm at grind waypoint %d (ring %d, table frame %.1f, %.1f mm, "
                              "signed %.3f mm)" % ((1e3 * worst[0], 1e3 * OFFSET_TOLERANCE) + worst[1]))
 
-    # The slot (straights running tangentially into 20 mm end arcs) is the open part of issue 5: under
-    # pm806 noise its path is within 1.0 mm on about half the frames and within ~1.7 mm on all that were
-    # measured (tests/path_planner, MakeRunSceneFramesMatchTheGroundTruth, 20 frames); before the fix of the
-    # line/arc junctions it was dented by up to 2.8 mm. This asserts the level reached, SLOT_TOLERANCE, so the
-    # defect cannot come back unnoticed; the 1.0 mm target is reported open in the issue.
+    # The slot (straights running tangentially into 20 mm end arcs): under pm806 noise its path is within
+    # 1.0 mm on 18 of 20 frames and within 1.5 mm on all (tests/path_planner,
+    # MakeRunSceneFramesMatchTheGroundTruth; 77 of 80 frames within 1.0 mm when run on 80), the rest being
+    # stretches where the raw outline runs 1-2 mm off the edge. Before the planner's line/arc junctions were
+    # fixed it was dented by up to 2.8 mm. Asserted at SLOT_TOLERANCE so that a regression shows.
     def test_slot_path_matches_ground_truth(self):
         if E2EWholePipeline.slot_error is None:
             self.test_job_done_and_path_matches_ground_truth()

@@ -133,8 +133,11 @@ void check_shape(const std::string& shape, bool noisy, double smooth_limit, doub
   Stats smooth, offset;
   int corners_checked = 0;
   std::vector<std::uint8_t> found(c.truth.straight_corners.size(), 0);
+  // As plan() does: the noise level pooled over the part's loops.
+  SmoothOptions options;
+  options.noise = estimate_noise(c.loops, options);
   for (const Loop& l : c.loops) {
-    const SmoothedRing s = smooth_ring(l.points, pitch, SmoothOptions{});
+    const SmoothedRing s = smooth_ring(l.points, pitch, options);
     for (const Vec2& p : densify(s.points)) {
       auto [d, near] = to_truth(p, c.truth);
       if (!near) smooth.add(d, p);

@@ -182,20 +182,19 @@ TEST(PathPlannerReplay, MakeRunSceneFramesPassTheRobotBridgesCheck) {
   }
   std::printf("  without the corner step the bridge refused %d of %d frames' paths; with it none, %d speeds lowered, "
               "slowest %.4f m/s\n", refused_unlimited, frames, lowered, slowest);
-  // Most fast frames have corners the step must slow: the check has teeth. (The concave corners and the
-  // slot's arcs of the offset path are tight enough; how many frames also carry a noise kink varies.)
-  EXPECT_GE(refused_unlimited, 5);
+  // Some fast frames have corners the step must slow, so the check has teeth. (How many varies with the
+  // noise kinks the smoothing leaves; 8 of the 10 before line/arc junctions were joined, 4 after.)
+  EXPECT_GE(refused_unlimited, 1);
   EXPECT_GT(lowered, 0);
 }
 
 // Accuracy of `make run`'s paths against the scene's ground truth, frame by frame (the whole-pipeline e2e
 // test checks one frame): every grind waypoint away from the true corners lies the tool radius from the
 // true edge of the ring it grinds. Outer edge and round hole: within issue 5's 1.0 mm for noisy parts on
-// every frame. The slot (straights running tangentially into 20 mm end arcs, under pm806 noise of ~0.6 mm
-// per vertex) is the OPEN part of issue 5: the line/arc segmentation used to dent it by up to 2.8 mm on
-// these frames; now at most ~1.7 mm, and about half the frames still exceed 1.0 mm at an arc-to-straight
-// junction. Asserted: at most 2.0 mm on every frame (the defect must not come back), and the count of
-// frames over 1.0 mm is printed.
+// every frame. The slot (straights running tangentially into 20 mm end arcs, pm806 edge noise of ~0.6 mm
+// per vertex) is where line/arc segmentation dented the path by up to 2.8 mm on these frames; now 18 of
+// the 20 are within 1.0 mm and the other two within 1.5 mm, where the raw outline itself runs 1-2 mm off
+// the edge for a stretch (mixed pixels): asserted <= 1.5 mm, the frames over 1.0 mm counted and printed.
 TEST(PathPlannerReplay, MakeRunSceneFramesMatchTheGroundTruth) {
   namespace cb = hg::camera_bridge;
   const cb::SceneSpec spec = cb::scene_preset("plate-hole-slot");
@@ -261,7 +260,7 @@ TEST(PathPlannerReplay, MakeRunSceneFramesMatchTheGroundTruth) {
     for (std::size_t j = 0; j < rings.size(); ++j) {
       EXPECT_GT(checked[j], 20) << "frame " << k << " ring " << j << " has (almost) no grind waypoints";
       const bool slot = j == 2;
-      EXPECT_LE(worst[j], slot ? 0.002 : 0.001) << "frame " << k << " ring " << j;
+      EXPECT_LE(worst[j], slot ? 0.0015 : 0.001) << "frame " << k << " ring " << j;
       (slot ? worst_slot : worst_other) = std::max(slot ? worst_slot : worst_other, worst[j]);
       slot_over += slot && worst[j] > 0.001;
     }
