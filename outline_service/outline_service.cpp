@@ -23,7 +23,7 @@ runtime::ProcessInfo process_info() {
            {"mode", "dshi", "point location: ordinary|ds|dshi"},
            {"order", "brio", "insertion order: brio (default: biased randomized rounds of Hilbert order, 2-3x faster on camera clouds)|hilbert|as-is (the scan order the paper inserts in)"},
            {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true},
-           {"min-hole-spacings", "3", "drop holes smaller in area than (this x median point spacing)^2: dropout, not cut-outs (0: keep all)"}}};
+           {"min-hole-spacings", "5", "drop holes smaller in area than (this x median point spacing)^2: dropout, not cut-outs (0: keep all)"}}};
 }
 
 ServiceOptions options_from(const runtime::Node& node) {

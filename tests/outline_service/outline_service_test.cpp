@@ -2,6 +2,8 @@
 // statuses for clouds that give no valid loop.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 
@@ -142,11 +144,55 @@ TEST(OutlineServiceCompute, GapsOfMissingPixelsAreNotHoles) {
   EXPECT_EQ(kept.holes_dropped, 0);
   for (const auto& l : kept.outline.loops)
     if (l.hole && l.area < 0.001) EXPECT_NEAR(l.area, 7 * p * p, 1e-9);
-  auto filtered = os::compute(cloud, os::ServiceOptions(opt));  // the process default, 3 spacings
-  EXPECT_EQ(holes(filtered), 1);  // the cut-out only: 0.1 m wide, far above (3 p)^2
+  auto filtered = os::compute(cloud, os::ServiceOptions(opt));  // the process default, 5 spacings
+  EXPECT_EQ(holes(filtered), 1);  // the cut-out only: 0.1 m wide, far above (5 p)^2
   EXPECT_EQ(filtered.holes_dropped, 1);
   for (const auto& l : filtered.outline.loops)
     if (l.hole) EXPECT_GT(l.area, 0.009);
+}
+
+TEST(OutlineServiceCompute, ThreeByThreeDropoutIsNotAHoleButASmallCutOutIs) {
+  const double p = 0.005;
+  auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, p);
+  // A 3 x 3 block of pixels missing (pm806 frames show such gaps): with R = 1.5 p its hole is the 4 x 4 p
+  // square through the neighbours less four corner chamfers of p^2 / 2: 14 p^2 (checked below), under the
+  // default (5 p)^2. And a cut-out 8 x 8 pixels wide (the boundary through its neighbours: 9 x 9 p less the
+  // chamfers, 79 p^2), elsewhere on the plate, is a real small hole: kept.
+  auto missing = [&](float u, float v) {
+    const bool gap = u > 0.2925f && u < 0.3075f && v > 0.0925f && v < 0.1075f;  // 3 x 3
+    const bool cut = u > 0.0425f && u < 0.0825f && v > 0.0425f && v < 0.0825f;  // 8 x 8
+    return gap || cut;
+  };
+  hullgrind::plate_cloud_t kept_points = cloud;
+  kept_points.u.clear(), kept_points.v.clear(), kept_points.part.clear();
+  for (std::size_t i = 0; i < cloud.u.size(); ++i)
+    if (!missing(cloud.u[i], cloud.v[i])) {
+      kept_points.u.push_back(cloud.u[i]);
+      kept_points.v.push_back(cloud.v[i]);
+      kept_points.part.push_back(cloud.part[i]);
+    }
+  ASSERT_EQ(cloud.u.size() - kept_points.u.size(), 9u + 64u);
+  kept_points.n = int32_t(kept_points.u.size());
+  hg::outline::Options opt;
+  opt.alpha_radius = 1.5 * p;
+  std::vector<double> areas;
+  const auto all = os::compute(kept_points, os::ServiceOptions(opt, 0));
+  ASSERT_EQ(all.outline.status, +hullgrind::outline_t::STATUS_OK);
+  for (const auto& l : all.outline.loops)
+    if (l.hole) areas.push_back(l.area);
+  std::sort(areas.begin(), areas.end());
+  ASSERT_EQ(areas.size(), 3u);  // the gap, the small cut-out, the 0.1 m cut-out
+  EXPECT_NEAR(areas[0], 14 * p * p, 1e-9);
+  EXPECT_NEAR(areas[1], 79 * p * p, 1e-9);
+  const auto filtered = os::compute(kept_points, os::ServiceOptions(opt));  // the process default
+  ASSERT_EQ(filtered.outline.status, +hullgrind::outline_t::STATUS_OK);
+  EXPECT_EQ(filtered.holes_dropped, 1);
+  int holes = 0;
+  for (const auto& l : filtered.outline.loops) {
+    holes += l.hole;
+    if (l.hole) EXPECT_GT(l.area, 25 * p * p);
+  }
+  EXPECT_EQ(holes, 2);
 }
 
 TEST(OutlineServiceCompute, OuterOnlyFillsTheHole) {
