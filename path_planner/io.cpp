@@ -26,7 +26,7 @@ std::vector<Param> planner_params() {
       {"z_offset", "0", "height of the grind points above the plate's top surface, m"},
       {"pixel_pitch", "0", "pixel pitch of the outline, m; 0: estimated from the loops' staircase"},
       {"smooth_window", "4", "residual windows of the smoothing fits are 2x this many vertices"},
-      {"corner_scale", "8", "length of the corner detector's line fits, in pixel pitches"},
+      {"corner_scale", "8", "length of the corner detector's line fits, in pixel pitches (at least 60 noise levels of a window mean)"},
       {"corner_angle", "0.5235987755982988", "smallest turn treated as a corner, rad (30 deg)"},
       {"edge_compensation", "true", "move loops from the outermost pixel centres to the edge (half a pitch)"},
       {"arc_tolerance", "1e-5", "Clipper round-join tolerance, m"},

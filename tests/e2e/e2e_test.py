@@ -35,7 +35,8 @@ JOB_TIMEOUT = 120  # s: capture + outline + plan + a 10x simulated run is ~15 s;
 OFFSET_TOLERANCE = 1.0e-3
 SLOT_TOLERANCE = 1.5e-3  # see test_slot_path_matches_ground_truth
 # A neighbourhood of a true corner (turn >= 20 deg) left out of the offset check: the planner fits corners
-# over corner_scale = 8 pitches (~11 mm at the pm806's 1.34 mm pitch) and smoothing rounds what is inside.
+# over corner_scale = 8 pitches (~11 mm at the pm806's 1.34 mm pitch; ~18 mm on its noisy frames, where the
+# scale is raised to 60 noise levels) and smoothing rounds what is inside.
 CORNER_TURN = math.radians(20)
 CORNER_EXCLUSION = 0.010
 # The grind points lie on the plate's top face (z_offset 0): the camera's fitted plane, within 1 mm.
