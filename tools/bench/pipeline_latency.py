@@ -19,7 +19,7 @@ here (LCM log format and the few header fields needed, decoded by hand):
   render   = cloud logged - cloud utime - the camera's own processing time (heartbeat last_latency:
              segmentation + publish). The synthetic source stamps header.utime once the frame is rendered
              (as a camera stamps a frame it has captured; the rendering stands in for exposure and transfer),
-             so this is ~0 now; before 2026-11-22 it stamped before rendering and the render was in here;
+             so this is ~0 now; before commit 8369fa6 it stamped before rendering and the render was in here;
   stages   = cloud utime -> cloud logged (segmentation + send), cloud -> outline logged (outline
              service), outline -> path logged (planner).
 
