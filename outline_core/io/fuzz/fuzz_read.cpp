@@ -1,5 +1,6 @@
-// libFuzzer target: the ply reader on arbitrary bytes. A ReadError is the expected answer to garbage;
-// anything else (crash, sanitizer report, other exception, absurd allocation) is a bug.
+// libFuzzer target: one point-cloud reader (HG_FUZZ_PARSE, set per target in CMakeLists.txt) on arbitrary
+// bytes. A ReadError is the expected answer to garbage; anything else (crash, sanitizer report, other
+// exception, absurd allocation) is a bug.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -9,7 +10,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
-    auto cloud = hg::outline::io::parse_ply(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.ply");
+    auto cloud = hg::outline::io::HG_FUZZ_PARSE(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz");
     if (cloud.size() == 0) __builtin_trap();  // readers promise at least one point or an error
     // The plane fit runs on whatever a reader accepts: finite plane coordinates or a ReadError.
     auto planar = hg::outline::io::to_plane(cloud, "fuzz");
