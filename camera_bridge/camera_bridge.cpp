@@ -75,7 +75,8 @@ runtime::ProcessInfo process_info() {
               {"ransac-threshold", "0.004", "table inlier distance, metres"},
               {"min-height", "0.003", "part pixels: at least this high above the table, metres"},
               {"max-height", "0.040", "part pixels: at most this high above the table, metres"},
-              {"morph-size", "3", "opening/closing kernel size in pixels (0: none)"},
+              {"open-size", "2", "opening kernel against specks, pixels (0: none; no-depth pixels spared)"},
+              {"close-size", "3", "closing kernel against pin holes, pixels (0: none)"},
               {"min-area", "0.002", "smallest part, m^2"},
               {"top-tolerance", "0", "cloud points: within this of the top plane, metres (0: 4 sigma, >= 1 mm)"},
               {"depth-rate", "1", "HG_DEPTH messages per second at most (0: none)"},
@@ -111,7 +112,8 @@ BridgeOptions options_from(const runtime::Node& node) {
   s.ransac_threshold = node.param_double("ransac-threshold");
   s.min_height = node.param_double("min-height");
   s.max_height = node.param_double("max-height");
-  s.morph_size = static_cast<int>(node.param_int("morph-size"));
+  s.open_size = static_cast<int>(node.param_int("open-size"));
+  s.close_size = static_cast<int>(node.param_int("close-size"));
   s.min_area = node.param_double("min-area");
   s.top_tolerance = node.param_double("top-tolerance");
   o.depth_rate = node.param_double("depth-rate");

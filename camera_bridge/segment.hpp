@@ -33,7 +33,8 @@ struct SegmentParams {
   // Part mask: height above the table within [min_height, max_height].
   double min_height = 0.003;
   double max_height = 0.040;
-  int morph_size = 3;               // square kernel of the opening (specks) and closing (pin holes); 0: none
+  int open_size = 2;                // square kernel of the opening against specks (pixels); 0 or 1: none
+  int close_size = 3;               // square kernel of the closing of pin holes (pixels); 0 or 1: none
   double min_area = 0.002;          // m^2 on the table; smaller components are ignored
   bool all_parts = false;           // false: the largest part only
   // A mask pixel becomes a cloud point only when its height is within this of the fitted top plane
