@@ -15,6 +15,8 @@
 //  3. corners are re-placed at the intersection of the primitives on both sides (their angle comes from the
 //     whole runs); a candidate whose primitives meet far from it, or at a shallow angle, is a tight arc or
 //     noise, not a corner: it is dropped and the runs beside it are fitted as one;
+//  3b. fillets: where two straights meet at a bend the pieces between them (or a corner, or two) do not
+//     explain as well as straight - tangent arc - straight, the arc is fitted (fit_fillet) and replaces them;
 //  4. edge compensation moves each primitive outward by half the pitch times max(|t_x|, |t_y|) for its
 //     tangent t: the mean gap between the outermost pixel centres and an edge of that direction, assuming
 //     the pixel grid is aligned with the plate's u, v axes (top-down camera).
@@ -318,6 +320,142 @@ bool intersect(const Primitive& a, const Primitive& b, double pitch, double bias
   return true;
 }
 
+// A fillet between two straights: an arc tangent to both. Under camera noise the greedy pieces share a
+// short fillet out between the straights beside it (a line misses an R15 arc by less than the misfit
+// tolerance for a third of its length at each end, and the middle alone bows too little to be told from a
+// line), or the corner detector takes it for a corner at its scale; joining the straights at their
+// intersection would then cut the corner the fillet rounds -- into the material at a concave one.
+struct Fillet {
+  Line a, b;           // the straights, refitted without the fillet's vertices
+  long a_last = 0;     // last vertex of a, first of b (unwrapped)
+  long b_first = 0;
+  Primitive arc;       // the fillet: a circle tangent to both
+  Vec2 t1 = Vec2::Zero(), t2 = Vec2::Zero();  // its tangent points on a and b
+};
+
+// Signed distance (left of travel positive) of q from straight a, fillet, straight b, whichever is nearest.
+double fillet_residual(const Line& a, const Line& b, const Primitive& arc, const Vec2& t1, const Vec2& t2, const Vec2& q) {
+  const double s1 = (q - t1).dot(a.dir), s2 = (q - t2).dot(b.dir);
+  double best = s1 <= 0 ? cross(a.dir, q - t1) : std::numeric_limits<double>::max();
+  auto take = [&](double d) {
+    if (std::abs(d) < std::abs(best)) best = d;
+  };
+  if (s2 >= 0) take(cross(b.dir, q - t2));
+  const Vec2 r1 = t1 - arc.centre, r2 = t2 - arc.centre, rq = q - arc.centre;
+  const double sense = cross(r1, r2);
+  if (cross(r1, rq) * sense >= 0 && cross(rq, r2) * sense >= 0) take(arc.ccw ? arc.radius - rq.norm() : rq.norm() - arc.radius);
+  if (best == std::numeric_limits<double>::max()) {  // between the pieces' ranges (a sharp bend): the nearer end
+    const double d1 = (q - t1).norm(), d2 = (q - t2).norm();
+    best = d1 < d2 ? (cross(a.dir, q - t1) >= 0 ? d1 : -d1) : (cross(b.dir, q - t2) >= 0 ? d2 : -d2);
+  }
+  return best;
+}
+
+// Fits straight, fillet, straight to vertices w0..w1, the straights starting from vertices w0..a1 and
+// b0..w1, the tangent points at most max_tangent from the bend: the radius by a 1-D search of the squared
+// distances (coarse scan, then golden section) with the straights held, then each straight refitted on its
+// vertices outside the fillet; four rounds. Accepted
+// when the model explains the vertices as the pieces must (no window of `win` vertices with a mean
+// residual above `tolerance`) and the fillet is real: under 15 deg of bend it bows too little to matter,
+// a radius under 3 units is what pixels and the alpha shape make of a sharp corner, and the fit must be
+// significantly better than the sharp bend (below).
+bool fit_fillet(const Unrolled& u, long w0, long a1, long b0, long w1, double unit, double tolerance, int win,
+                double max_tangent, Fillet& f) {
+  if (a1 - w0 < 5 || w1 - b0 < 5 || b0 <= a1) return false;
+  Line la = fit_line(u, w0, a1), lb = fit_line(u, b0, w1);
+  double r = 0, phi = 0;
+  long i1 = a1, i2 = b0;
+  Vec2 x;
+  thread_local std::vector<long> near;
+  auto bend = [&] {
+    phi = turn(la.dir, lb.dir);
+    const double den = cross(la.dir, lb.dir);
+    if (std::abs(phi) < 15 * M_PI / 180 || std::abs(den) < 1e-9) return false;
+    x = la.centre + (cross(lb.centre - la.centre, lb.dir) / den) * la.dir;
+    return true;
+  };
+  for (int round = 0; round < 4; ++round) {
+    if (!bend()) return false;
+    const double tan_half = std::tan(std::abs(phi) / 2);
+    // The tangent points stay within the window (most of each side of it), and within max_tangent of the
+    // bend: a longer fillet is an arc the greedy segmentation fits by itself.
+    const double reach = std::min(max_tangent, 0.8 * std::min((x - u.at(w0)).dot(la.dir), (u.at(w1) - x).dot(lb.dir)));
+    const double r_max = reach / tan_half;
+    if (!(r_max > unit)) return false;
+    const Vec2 side = phi > 0 ? Vec2(-la.dir.y(), la.dir.x()) : Vec2(la.dir.y(), -la.dir.x());  // towards the centre
+    // Only vertices near the bend depend on r: beyond the farthest tangent point they are scored against
+    // the same straight for every r, and leaving them out does not move the minimum (a 10 k vertex loop has
+    // straights of thousands).
+    near.clear();
+    for (long j = w0; j <= w1; ++j)
+      if ((u.at(j) - x).norm() <= reach + 2 * unit) near.push_back(j);
+    auto cost = [&](double rr) {
+      const double l = rr * tan_half;
+      const Vec2 p1 = x - l * la.dir, p2 = x + l * lb.dir;
+      Primitive arc;
+      arc.centre = p1 + rr * side, arc.radius = rr, arc.ccw = phi > 0;
+      double sum = 0;
+      for (const long j : near) sum += std::pow(fillet_residual(la, lb, arc, p1, p2, u.at(j)), 2);
+      return sum;
+    };
+    const int steps = 32;
+    int best = 1;
+    double best_cost = std::numeric_limits<double>::max();
+    for (int k = 1; k <= steps; ++k)
+      if (const double c = cost(r_max * k / steps); c < best_cost) best_cost = c, best = k;
+    double lo = r_max * (best - 1) / steps, hi = r_max * std::min(best + 1, steps) / steps;
+    const double g = 0.5 * (std::sqrt(5.0) - 1);
+    double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo), c1 = cost(m1), c2 = cost(m2);
+    for (int it = 0; it < 20; ++it) {
+      if (c1 < c2) hi = m2, m2 = m1, c2 = c1, m1 = hi - g * (hi - lo), c1 = cost(m1);
+      else lo = m1, m1 = m2, c1 = c2, m2 = lo + g * (hi - lo), c2 = cost(m2);
+    }
+    r = 0.5 * (lo + hi);
+    // Each straight refitted on its vertices up to its tangent point.
+    const double l = r * tan_half;
+    i1 = w0, i2 = w1;
+    while (i1 < w1 && (u.at(i1 + 1) - x).dot(la.dir) < -l) ++i1;
+    while (i2 > w0 && (u.at(i2 - 1) - x).dot(lb.dir) > l) --i2;
+    if (i1 - w0 < 5 || w1 - i2 < 5 || i2 <= i1) return false;
+    la = fit_line(u, w0, i1), lb = fit_line(u, i2, w1);
+  }
+  if (!bend()) return false;
+  if (!(r >= 3 * unit)) return false;
+  const double l = r * std::tan(std::abs(phi) / 2);
+  const Vec2 side = phi > 0 ? Vec2(-la.dir.y(), la.dir.x()) : Vec2(la.dir.y(), -la.dir.x());
+  f.a = la, f.b = lb, f.a_last = i1, f.b_first = i2;
+  f.t1 = x - l * la.dir, f.t2 = x + l * lb.dir;
+  f.arc = Primitive{};
+  f.arc.circle = true;
+  f.arc.centre = f.t1 + r * side;
+  f.arc.radius = r;
+  f.arc.ccw = phi > 0;
+  f.arc.first = i1, f.arc.last = i2;
+  // The misfit test of the pieces (worst_window_mean) applied to the whole model, and the fillet's
+  // significance: the sum of squares it saves over the sharp bend of the same straights, against the
+  // residual variance (an F statistic of one parameter). At the alpha shape's rounding of sharp corners
+  // it stays under 15 (pm806, lsr-l and the noisy accuracy parts); the l-bracket's R15 fillet gives over
+  // 130 at pm806, an R10 fillet about 20-30.
+  const long m = w1 - w0 + 1, w = std::min<long>(win, m);
+  Primitive tip = f.arc;
+  tip.radius = 0, tip.centre = x;
+  double sum = 0, sharp_ss = 0, fillet_ss = 0;
+  thread_local std::vector<double> res;
+  res.resize(m);
+  for (long j = w0; j <= w1; ++j) {
+    res[j - w0] = fillet_residual(la, lb, f.arc, f.t1, f.t2, u.at(j));
+    fillet_ss += res[j - w0] * res[j - w0];
+    sharp_ss += std::pow(fillet_residual(la, lb, tip, x, x, u.at(j)), 2);
+  }
+  if (!(m > 10 && (sharp_ss - fillet_ss) > 25 * fillet_ss / double(m - 5))) return false;
+  for (long k = 0; k < m; ++k) {
+    sum += res[k];
+    if (k >= w) sum -= res[k - w];
+    if (k >= w - 1 && std::abs(sum) / double(w) > tolerance) return false;
+  }
+  return true;
+}
+
 int window_of(const SmoothOptions& o) { return std::max(5, int(std::lround(2 * o.window_pitches))); }
 
 // Noise of a window mean (the mean of `win` consecutive vertices): from five adjacent window means M-2..M2
@@ -544,6 +682,8 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       piece_run.erase(piece_run.begin() + long(i) + 1);
     }
   };
+  // A straight long enough to hold a fillet's tangent: the pieces a noisy fillet is split into are shorter.
+  auto long_line = [&](const Primitive& p) { return !p.circle && p.last - p.first + 1 >= 4 * min_piece; };
   std::vector<Vec2> corner_pos;
   for (int attempt = 0;; ++attempt) {
     if (attempt == 8) corners.clear();  // give up on corners: the loop as one smooth run
@@ -603,22 +743,46 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
         for (long j = c; j > c - n + 1 && u.S(c) - u.S(j) <= reach; --j) closest = std::min(closest, (u.at(j) - x).norm());
         for (long j = c; j < c + n - 1 && u.S(j) - u.S(c) <= reach; ++j) closest = std::min(closest, (u.at(j) - x).norm());
       }
+      // A fillet that the closest vertex alone does not reveal (noise brought one near the tip) shows in a
+      // fit of straight, fillet, straight from the last long straight before to the first after, over at
+      // most three short pieces (the greedy fit may have made them of parts of the fillet). A wide fillet
+      // may also have been taken for two corners with short pieces between: both go.
+      bool fillet = false;
+      if (met) {
+        const long np = long(prims.size()), pa_seq = (after == 0 ? np : long(after)) - 1;
+        // piece at sequence position `seq` (one loop on: vertices n further)
+        auto at = [&](long seq) { return ((seq % np) + np) % np; };
+        auto first = [&](long seq) { return prims[at(seq)].first + (seq - at(seq)) / np * n; };
+        auto last = [&](long seq) { return prims[at(seq)].last + (seq - at(seq)) / np * n; };
+        auto is_long_line = [&](long seq) { return long_line(prims[at(seq)]); };
+        long ia = pa_seq, ib = pa_seq + 1;
+        for (int step = 0; step < 2 && !is_long_line(ia); ++step) --ia;
+        for (int step = 0; step < 3 && !is_long_line(ib); ++step) ++ib;
+        std::vector<int> crossed;  // the corners between: run r starts at corner r
+        for (long q = ia; q < ib; ++q)
+          if (piece_run[at(q)] != piece_run[at(q + 1)]) crossed.push_back(piece_run[at(q + 1)]);
+        Fillet f;
+        fillet = ib - ia < np && crossed.size() <= 2 && is_long_line(ia) && is_long_line(ib) &&
+                 fit_fillet(u, first(ia), last(ia), first(ib), last(ib), unit, tolerance, win, 3 * scale, f);
+        if (fillet) drop.insert(drop.end(), crossed.begin(), crossed.end());
+      }
       if (!met || (x - near).norm() > gap[k] + 2 * unit / std::sin(interior / 2) || angle < 0.6 * o.corner_angle ||
-          closest > 0.5 * gap[k] + unit)
+          closest > 0.5 * gap[k] + unit || fillet)
         drop.push_back(k);
       else
         corner_pos[k] = x;
     }
+    std::sort(drop.begin(), drop.end());
+    drop.erase(std::unique(drop.begin(), drop.end()), drop.end());
     if (drop.empty()) break;
     for (auto it = drop.rbegin(); it != drop.rend(); ++it) corners.erase(corners.begin() + *it);
   }
 
-  // Arcs tangent to the straights beside them in the same run; the corners beside refitted arcs re-placed.
+  // Arcs tangent to the straights beside them in the same run (the corners beside them are re-placed below).
   std::vector<char> tangent_junction(prims.size(), 0);  // [i]: prims[i] and its successor made tangent
   {
     const std::size_t np = prims.size();
     const bool one_run = corners.empty();
-    std::vector<char> refitted(np, 0);
     for (std::size_t i = 0; i < np && np >= 2; ++i) {
       if (!prims[i].circle) continue;
       std::vector<const Primitive*> lines;
@@ -636,13 +800,80 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       if (after != before && piece_run[after] == piece_run[i] && (!wraps_after || one_run) && tangent_line(after))
         lines.push_back(&prims[after]), tangent_junction[i] = 1;
       refit_tangent(u, prims[i], lines);
-      refitted[i] = !lines.empty();
     }
+  }
+
+  // Fillets (fit_fillet). First a run between two corners as a whole: straight, fillet, straight (the
+  // greedy pieces of a noisy fillet and its straights can be anything, a long flat arc over the fillet's end
+  // and half a straight included). Then, within runs, between a straight and the next straight past at
+  // most two short pieces, each taken with the nearly collinear straights beyond it (a noise bump may have
+  // split one). Every piece between is replaced by the refitted straights and the fillet. No fillet is
+  // looked for across the start of a loop without corners.
+  std::vector<char> has_fillet(prims.size(), 0);  // [i]: a fillet joins prims[i] to prims[i + 1]
+  std::vector<Fillet> fillets(prims.size());
+  {
+    auto is_long_line = [&](std::size_t i) { return long_line(prims[i]); };
+    // Replaces prims[ia..ib] by the fillet's two straights.
+    auto replace = [&](std::size_t ia, std::size_t ib, const Fillet& f) {
+      const int run = piece_run[ia];
+      Primitive a = prims[ia], b = prims[ib];
+      a.circle = b.circle = false;
+      a.centre = f.a.centre, a.dir = f.a.dir, a.last = f.a_last;
+      b.centre = f.b.centre, b.dir = f.b.dir, b.first = f.b_first;
+      const char tangent_after = tangent_junction[ib];
+      const long from = long(ia), to = long(ib) + 1;
+      prims.erase(prims.begin() + from, prims.begin() + to);
+      prims.insert(prims.begin() + from, {a, b});
+      piece_run.erase(piece_run.begin() + from, piece_run.begin() + to);
+      piece_run.insert(piece_run.begin() + from, {run, run});
+      tangent_junction.erase(tangent_junction.begin() + from, tangent_junction.begin() + to);
+      tangent_junction.insert(tangent_junction.begin() + from, {0, tangent_after});
+      has_fillet.erase(has_fillet.begin() + from, has_fillet.begin() + to);
+      has_fillet.insert(has_fillet.begin() + from, {1, 0});
+      fillets.erase(fillets.begin() + from, fillets.begin() + to);
+      fillets.insert(fillets.begin() + from, {f, Fillet{}});
+    };
+    if (!corners.empty())
+      for (std::size_t i0 = 0; i0 < prims.size();) {
+        std::size_t i1 = i0;
+        while (i1 + 1 < prims.size() && piece_run[i1 + 1] == piece_run[i0]) ++i1;
+        if (i1 > i0) {
+          const long w0 = prims[i0].first, w1 = prims[i1].last, third = (w1 - w0) / 3;
+          const long a1 = is_long_line(i0) ? prims[i0].last : w0 + third;
+          const long b0 = is_long_line(i1) ? prims[i1].first : w1 - third;
+          Fillet f;
+          if (fit_fillet(u, w0, a1, b0, w1, unit, tolerance, win, 3 * scale, f)) {
+            replace(i0, i1, f);
+            i1 = i0 + 1;
+          }
+        }
+        i0 = i1 + 1;
+      }
+    const double collinear = 5 * M_PI / 180;
+    for (std::size_t i = 0; i + 1 < prims.size(); ++i) {
+      const int run = piece_run[i];
+      if (!is_long_line(i) || has_fillet[i]) continue;
+      std::size_t j = i + 1;
+      while (j < prims.size() && j <= i + 3 && piece_run[j] == run && !is_long_line(j)) ++j;
+      if (j >= prims.size() || j > i + 3 || piece_run[j] != run) continue;
+      std::size_t ia = i, ib = j;
+      while (ia > 0 && piece_run[ia - 1] == run && is_long_line(ia - 1) && !has_fillet[ia - 1] &&
+             !(ia >= 2 && has_fillet[ia - 2]) && std::abs(turn(prims[ia - 1].dir, prims[i].dir)) < collinear)
+        --ia;
+      while (ib + 1 < prims.size() && piece_run[ib + 1] == run && is_long_line(ib + 1) &&
+             std::abs(turn(prims[j].dir, prims[ib + 1].dir)) < collinear)
+        ++ib;
+      Fillet f;
+      if (!fit_fillet(u, prims[ia].first, prims[i].last, prims[j].first, prims[ib].last, unit, tolerance, win, 3 * scale, f)) continue;
+      replace(ia, ib, f);
+      i = ia;  // on from the straight after the fillet
+    }
+    // Corners re-placed where the refitted arcs and straights beside them now meet (if still near).
+    const std::size_t np = prims.size();
     std::size_t after = 0;
     for (std::size_t k = 0; k < corners.size(); ++k) {
       while (piece_run[after] != int(k)) ++after;
       const std::size_t before = after == 0 ? np - 1 : after - 1;
-      if (!refitted[before] && !refitted[after]) continue;
       Vec2 x;
       if (intersect(prims[before], prims[after], pitch, bias_scale, corner_pos[k], x) &&
           (x - corner_pos[k]).norm() <= 2 * unit)
@@ -705,14 +936,20 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   // A circle fitted to an arc that runs into a tangent straight keeps curving past the tangent point, and the
   // split between the pieces lands wherever the noise puts it: emitting the arc up to its own end vertex
   // then dents the edge by up to (overshoot)^2 / 2R before the line resumes.
+  // Straights joined by a fillet: the piece before it ends at jin, the one after starts at jout.
   const std::size_t np = prims.size();
-  std::vector<Vec2> junction(np);  // junction[i]: between prims[i] and its successor in the same run
+  std::vector<Vec2> jin(np), jout(np);  // [i]: between prims[i] and its successor in the same run
   std::vector<char> has_junction(np, 0);
   for (std::size_t i = 0; i < np; ++i) {
     const std::size_t j = (i + 1) % np;
     if (np < 2 || piece_run[i] != piece_run[j] || (j == 0 && nc > 0)) continue;
     const Primitive& pa = prims[i];
     const Primitive& pb = prims[j];
+    if (has_fillet[i]) {
+      jin[i] = project(pa, fillets[i].t1), jout[i] = project(pb, fillets[i].t2);
+      has_junction[i] = 1;
+      continue;
+    }
     const Vec2 ea = project(pa, u.at(pa.last)), sb = project(pb, u.at(pb.first));
     const Vec2 near = 0.5 * (ea + sb);
     // A tangent pair meets at the tangent point wherever the noise put the split between their vertices.
@@ -729,17 +966,27 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       x = 0.5 * (foot + on_circle);
       ok = (foot - on_circle).norm() <= tolerance + 0.5 * unit && (x - near).norm() <= reach;
     }
-    if (ok) junction[i] = x, has_junction[i] = 1;
+    if (ok) jin[i] = jout[i] = x, has_junction[i] = 1;
   }
-  // emit_piece() leaves out the `from` and `to` points it is given: corners and junctions are emitted here.
+  // The joint after piece i: its start, the fillet between, and (with_out) its end where the next piece starts.
+  auto emit_joint = [&](std::size_t i, bool with_out) {
+    emit(jin[i], false);
+    if (!has_fillet[i]) return;
+    emit_piece(fillets[i].arc, &jin[i], &jout[i]);
+    if (with_out) emit(jout[i], false);
+  };
+  // emit_piece() leaves out the `from` and `to` points it is given: corners and joints are emitted here.
   if (nc == 0) {
     const bool wraps = np >= 2 && has_junction[np - 1];
-    if (wraps) emit(junction[np - 1], false);
+    if (wraps) emit(jout[np - 1], false);
     for (std::size_t i = 0; i < np; ++i) {
-      const Vec2* from = i == 0 ? (wraps ? &junction[np - 1] : nullptr) : has_junction[i - 1] ? &junction[i - 1] : nullptr;
-      const Vec2* to = has_junction[i] ? &junction[i] : nullptr;
+      const Vec2* from = i == 0 ? (wraps ? &jout[np - 1] : nullptr) : has_junction[i - 1] ? &jout[i - 1] : nullptr;
+      const Vec2* to = has_junction[i] ? &jin[i] : nullptr;
       emit_piece(prims[i], from, to);
-      if (to && i + 1 < np) emit(*to, false);
+      if (to) {
+        if (i + 1 < np) emit_joint(i, true);
+        else if (has_fillet[i]) emit_joint(i, false);  // the wrap-around joint: its end was emitted first
+      }
     }
     return out;
   }
@@ -750,10 +997,10 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       const bool first = i == 0 || piece_run[i - 1] != k;
       const bool last = i + 1 == np || piece_run[i + 1] != k;
       // arcs next to a corner start / end exactly at it; lines run through it anyway
-      const Vec2* from = first ? &corner_pos[k] : has_junction[i - 1] ? &junction[i - 1] : nullptr;
-      const Vec2* to = last ? &corner_pos[(k + 1) % nc] : has_junction[i] ? &junction[i] : nullptr;
+      const Vec2* from = first ? &corner_pos[k] : has_junction[i - 1] ? &jout[i - 1] : nullptr;
+      const Vec2* to = last ? &corner_pos[(k + 1) % nc] : has_junction[i] ? &jin[i] : nullptr;
       emit_piece(prims[i], from, to);
-      if (!last && to) emit(*to, false);
+      if (!last && has_junction[i]) emit_joint(i, true);
     }
   }
   return out;

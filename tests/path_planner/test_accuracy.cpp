@@ -80,14 +80,14 @@ struct Case {
   int holes = 0;
 };
 
-Case make_case(const std::string& shape, double rotation, bool noisy) {
+Case make_case(const std::string& shape, double rotation, bool noisy, unsigned seed) {
   const pg::Scene scene = pg::single_part_scene(pg::make_shape(shape), rotation);
   pg::CloudOptions o;
   o.pitch = kPitch;
   if (noisy) {
     o.in_plane_sigma = 0.0003;
     o.jagged = true;
-    o.seed = 11;
+    o.seed = seed;
   }
   const pg::Cloud cloud = pg::synthesize(scene, o);
   std::vector<hg::outline::Vec2> pts(cloud.size());
@@ -118,8 +118,8 @@ struct Stats {
   }
 };
 
-void check_shape(const std::string& shape, bool noisy, double smooth_limit, double offset_limit) {
-  const Case c = make_case(shape, 0.3, noisy);
+void check_shape(const std::string& shape, bool noisy, double smooth_limit, double offset_limit, unsigned seed = 11) {
+  const Case c = make_case(shape, 0.3, noisy, seed);
   // Noise-free staircases give the pitch by themselves. Noise of 0.6 pitch erases the lattice from the
   // boundary (docs/path_planner.md): the estimate must say so (0) rather than guess, and the pitch is
   // configured (pixel_pitch), as a deployment does from the camera's intrinsics and distance.
@@ -169,11 +169,11 @@ void check_shape(const std::string& shape, bool noisy, double smooth_limit, doub
   for (std::size_t k = 0; k < found.size(); ++k)
     EXPECT_TRUE(found[k]) << shape << ": corner at " << c.truth.straight_corners[k].first.transpose() << " not found";
   std::printf("  %-16s %-10s smoothed max %.3f mm (%d pts)  offset max %.3f mm (%d pts)  corners %d  (worst at %.4f %.4f / %.4f %.4f)\n",
-              shape.c_str(), noisy ? "noisy" : "noise-free", smooth.max * 1e3, smooth.n, offset.max * 1e3, offset.n,
+              shape.c_str(), noisy ? ("noisy/" + std::to_string(seed)).c_str() : "noise-free", smooth.max * 1e3, smooth.n, offset.max * 1e3, offset.n,
               corners_checked, smooth.at.x(), smooth.at.y(), offset.at.x(), offset.at.y());
   EXPECT_GT(smooth.n, 100);
-  EXPECT_LE(smooth.max, smooth_limit) << shape;
-  EXPECT_LE(offset.max, offset_limit) << shape;
+  EXPECT_LE(smooth.max, smooth_limit) << shape << " seed " << seed;
+  EXPECT_LE(offset.max, offset_limit) << shape << " seed " << seed;
 
   // The whole pipeline: every hole gets a grind loop.
   OutlineInput in;
@@ -252,6 +252,9 @@ TEST(PathPlannerAccuracy, NoiseFreeParts) {
   for (const std::string& s : pg::shape_names()) check_shape(s, false, 0.0005, 0.0003);
 }
 
+// Six noise draws each: the targets must hold for the noise, not for one draw of it (the l-bracket's R15
+// fillet met 0.5 mm with seed 11 but reached 0.9-1.0 mm with seeds 12, 14 and 16 before fillets were fitted).
 TEST(PathPlannerAccuracy, NoisyParts) {
-  for (const std::string& s : pg::shape_names()) check_shape(s, true, 0.0005, 0.001);
+  for (unsigned seed = 11; seed <= 16; ++seed)
+    for (const std::string& s : pg::shape_names()) check_shape(s, true, 0.0005, 0.001, seed);
 }
