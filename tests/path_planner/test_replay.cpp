@@ -16,6 +16,7 @@
 #include "camera_bridge/scene.hpp"
 #include "camera_bridge/segment.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
+#include "partgen/shapes.hpp"
 #include "outline_service/outline_service.hpp"
 #include "path_planner/io.hpp"
 #include "robot_bridge/path.hpp"
@@ -188,34 +189,36 @@ TEST(PathPlannerReplay, MakeRunSceneFramesPassTheRobotBridgesCheck) {
   EXPECT_GT(lowered, 0);
 }
 
-// Accuracy of `make run`'s paths against the scene's ground truth, frame by frame (the whole-pipeline e2e
-// test checks one frame): every grind waypoint away from the true corners lies the tool radius from the
-// true edge of the ring it grinds. Outer edge and round hole: within issue 5's 1.0 mm for noisy parts on
-// every frame. The slot (straights running tangentially into 20 mm end arcs, pm806 edge noise of ~0.6 mm
-// per vertex) is where line/arc segmentation dented the path by up to 2.8 mm on these frames; now 18 of
-// the 20 are within 1.0 mm and the other two within 1.5 mm, where the raw outline itself runs 1-2 mm off
-// the edge for a stretch (mixed pixels): asserted <= 1.5 mm, the frames over 1.0 mm counted and printed.
-TEST(PathPlannerReplay, MakeRunSceneFramesMatchTheGroundTruth) {
+namespace {
+
+// Frames of a rendered scene through the camera bridge's segmentation, the outline service's computation
+// and the planner, against the scene's ground truth: every grind waypoint away from the true corners
+// (vertices turning >= 20 deg, a tool radius + 10 mm around them) lies the tool radius from the true edge of
+// the ring it grinds. Returns the worst error per ring over the frames; checks that every ring was ground.
+std::vector<double> ground_truth_errors(const std::string& scene, const std::string& camera, int frames) {
   namespace cb = hg::camera_bridge;
-  const cb::SceneSpec spec = cb::scene_preset("plate-hole-slot");
-  const cb::CameraProfile profile = cb::camera_profile("pm806");
-  double worst_other = 0, worst_slot = 0;
-  int slot_over = 0;
-  for (std::uint64_t k = 0; k < 20; ++k) {
-    const cb::RenderedFrame f = cb::render(spec, profile, k);
-    ASSERT_EQ(f.part_polygons.size(), 1u);
+  const cb::SceneSpec spec = cb::scene_preset(scene);
+  const cb::CameraProfile profile = cb::camera_profile(camera);
+  std::vector<double> worst_all;
+  for (int k = 0; k < frames; ++k) {
+    const cb::RenderedFrame f = cb::render(spec, profile, std::uint64_t(k));
+    EXPECT_EQ(f.part_polygons.size(), 1u) << scene;
     // The pixel pitch on the plate, as config/pipeline.toml gives it to the planner: plate top distance / fx.
     const double pitch = (std::abs(f.table_offset) - f.part_thickness[0]) / f.intrinsics.fx;
-    const PlannerConfig cfg = planner_config(
-        {{"camera_xyz", "0.5,0,1.5"}, {"small_hole", "skip"}, {"pixel_pitch", std::to_string(pitch)}});
+    // The camera above the table origin, looking down (config/pipeline.toml's hand-eye for the pm806).
+    const PlannerConfig cfg = planner_config({{"camera_xyz", "0.5,0," + std::to_string(profile.mount_height)},
+                                              {"small_hole", "skip"},
+                                              {"pixel_pitch", std::to_string(pitch)}});
     const cb::Segmentation seg = cb::segment(f.depth, f.intrinsics, cb::SegmentParams{});
-    ASSERT_EQ(seg.status, cb::SegmentStatus::Ok) << seg.text;
+    EXPECT_EQ(seg.status, cb::SegmentStatus::Ok) << seg.text;
+    if (seg.status != cb::SegmentStatus::Ok) return {};
     hullgrind::plate_cloud_t cloud;
     cb::fill_plate_cloud(seg, cloud);
     const hullgrind::outline_t outline = hg::outline_service::compute(cloud, service_options()).outline;
-    ASSERT_EQ(outline.status, +hullgrind::outline_t::STATUS_OK) << outline.error_text;
+    EXPECT_EQ(outline.status, +hullgrind::outline_t::STATUS_OK) << outline.error_text;
     const PlanResult r = plan(from_lcm(outline), JobParams{}, cfg, std::nullopt);
-    ASSERT_TRUE(r.ok) << r.reason;
+    EXPECT_TRUE(r.ok) << r.reason;
+    if (!r.ok) return {};
     const double tool = r.params.tool_radius;
 
     const auto& poly = f.part_polygons[0];
@@ -253,18 +256,42 @@ TEST(PathPlannerReplay, MakeRunSceneFramesMatchTheGroundTruth) {
       worst[ring] = std::max(worst[ring], std::abs(d - tool));
       ++checked[ring];
     }
-    std::printf("  frame %2llu: worst offset error outer %.2f mm", (unsigned long long)k, 1e3 * worst[0]);
+    std::printf("  %s@%s frame %2d: worst offset error outer %.2f mm", scene.c_str(), camera.c_str(), k, 1e3 * worst[0]);
     for (std::size_t j = 1; j < rings.size(); ++j) std::printf(", hole %zu %.2f mm", j, 1e3 * worst[j]);
     std::printf("\n");
-    ASSERT_EQ(rings.size(), 3u) << "outer edge, round hole, slot";
+    worst_all.resize(rings.size(), 0);
     for (std::size_t j = 0; j < rings.size(); ++j) {
-      EXPECT_GT(checked[j], 20) << "frame " << k << " ring " << j << " has (almost) no grind waypoints";
-      const bool slot = j == 2;
-      EXPECT_LE(worst[j], slot ? 0.0015 : 0.001) << "frame " << k << " ring " << j;
-      (slot ? worst_slot : worst_other) = std::max(slot ? worst_slot : worst_other, worst[j]);
-      slot_over += slot && worst[j] > 0.001;
+      // A 30 mm hole ground with the 10 mm tool leaves a short loop; every ring still gets waypoints.
+      EXPECT_GE(checked[j], 10) << scene << "@" << camera << " frame " << k << " ring " << j << " has (almost) no grind waypoints";
+      worst_all[j] = std::max(worst_all[j], worst[j]);
     }
   }
-  std::printf("  worst over 20 frames: outer edge and round hole %.2f mm, slot %.2f mm (%d frames over 1.0 mm)\n",
-              1e3 * worst_other, 1e3 * worst_slot, slot_over);
+  return worst_all;
+}
+
+}  // namespace
+
+// `make run`'s scene, 20 frames: within issue 5's 1.0 mm for noisy parts on every ring of every frame (the
+// whole-pipeline e2e test checks one frame). The slot (straights running tangentially into 20 mm end arcs)
+// was the hard ring: line/arc segmentation dented it by up to 2.8 mm, and where the camera bridge's opening
+// ate edge pixels beside dropouts and mixed pixels the raw outline ran 1-2 mm into the material for a
+// stretch (up to 1.6 mm over 80 frames).
+TEST(PathPlannerReplay, MakeRunSceneFramesMatchTheGroundTruth) {
+  const std::vector<double> worst = ground_truth_errors("plate-hole-slot", "pm806", 20);
+  ASSERT_EQ(worst.size(), 3u) << "outer edge, round hole, slot";
+  for (std::size_t j = 0; j < worst.size(); ++j) EXPECT_LE(worst[j], 0.001) << "ring " << j;
+}
+
+// Every other catalogue part, alone on the table, through both camera profiles: the same 1.0 mm. The
+// l-bracket's R15 inner fillet was cut to a corner on pm806 frames (1.1-1.4 mm here, 0.41 R at the fillet's
+// middle) until the planner fitted fillets between straights.
+TEST(PathPlannerReplay, CatalogueScenesMatchTheGroundTruthAtBothCameras) {
+  for (const std::string& scene : hg::partgen::shape_names()) {
+    if (scene == "plate-hole-slot") continue;  // the test above
+    for (const std::string camera : {"pm806", "lsr-l"}) {
+      const std::vector<double> worst = ground_truth_errors(scene, camera, 3);
+      ASSERT_FALSE(worst.empty()) << scene << "@" << camera;
+      for (std::size_t j = 0; j < worst.size(); ++j) EXPECT_LE(worst[j], 0.001) << scene << "@" << camera << " ring " << j;
+    }
+  }
 }
