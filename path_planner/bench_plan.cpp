@@ -1,8 +1,9 @@
 // hg-plan-bench: time plan() (smooth, offset, resample, orient, leads, base frame, validate) on a pixel
-// staircase of a 0.6 x 0.4 m plate rotated 0.3 rad with a D100 hole, made here on the pixel lattice at a
+// staircase of a 0.6 x 0.4 m plate rotated 0.3 rad with a D100 hole (partgen::pixel_staircase) at a
 // pitch that gives about the requested vertex count; and on the same staircase with Gaussian jitter of
 // 0.6 pitch on every vertex (a noisy boundary, pixel_pitch configured). Prints median, min, max in ms.
 //   hg-plan-bench [vertices=10000] [runs=21]
+#include "partgen/synth.hpp"
 #include "path_planner/pipeline.hpp"
 
 #include <algorithm>
@@ -16,30 +17,6 @@ using namespace hg::path_planner;
 
 namespace {
 
-// Boundary sampled every pitch/8 and snapped to the pixel centres ((k + 0.5) pitch), repeats and
-// back-and-forth spikes removed (a stack, so O(n)).
-Ring staircase(const Ring& poly, double pitch) {
-  Ring out;
-  auto snap = [&](const Vec2& p) {
-    return Vec2((std::floor(p.x() / pitch) + 0.5) * pitch, (std::floor(p.y() / pitch) + 0.5) * pitch);
-  };
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
-    const int m = int(std::ceil((b - a).norm() / (pitch / 8)));
-    for (int k = 0; k < m; ++k) {
-      const Vec2 q = snap(a + (b - a) * (double(k) / m));
-      if (!out.empty() && (q - out.back()).norm() < 1e-12) continue;
-      if (out.size() >= 2 && (q - out[out.size() - 2]).norm() < 1e-12) {
-        out.pop_back();
-        continue;
-      }
-      out.push_back(q);
-    }
-  }
-  while (out.size() > 2 && (out.front() - out.back()).norm() < 1e-12) out.pop_back();
-  return out;
-}
-
 std::vector<Loop> plate(double pitch) {
   const Eigen::Rotation2Dd R(0.3);
   Ring outer;
@@ -49,7 +26,7 @@ std::vector<Loop> plate(double pitch) {
     const double t = -2 * M_PI * k / 400;
     hole.push_back(Vec2(0.1, 0.02) + 0.05 * Vec2(std::cos(t), std::sin(t)));
   }
-  std::vector<Loop> loops{{false, staircase(outer, pitch)}, {true, staircase(hole, pitch)}};
+  std::vector<Loop> loops{{false, hg::partgen::pixel_staircase(outer, pitch)}, {true, hg::partgen::pixel_staircase(hole, pitch)}};
   return loops;
 }
 

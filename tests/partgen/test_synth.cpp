@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -266,5 +269,38 @@ TEST(PartgenSynth, FitPitchHitsTarget) {
     const double p = fit_pitch(scene, target);
     const double n = double(count_pixel_centres(scene, p));
     EXPECT_LE(std::abs(n - target), 0.01 * target) << target;
+  }
+}
+
+// The staircase of a rotated rectangle and of a circle: every vertex a pixel centre within pitch/sqrt(2)
+// of the ring, each step to a neighbouring pixel (one pitch in x, y or both), no step straight back, and
+// the enclosed area within half a pitch times the perimeter of the ring's.
+TEST(PartgenSynth, PixelStaircaseStepsThroughNeighbouringPixelCentresAlongTheRing) {
+  const double p = 0.001;
+  Ring rect;
+  for (const Vec2& q : {Vec2(-0.1, -0.05), Vec2(0.1, -0.05), Vec2(0.1, 0.05), Vec2(-0.1, 0.05)})
+    rect.push_back(Eigen::Rotation2Dd(0.3) * q + Vec2(0.0123, 0.0456));
+  Ring circle;
+  for (int k = 0; k < 720; ++k) circle.push_back(Vec2(0.3, 0.2) + 0.04 * Vec2(std::cos(k * deg / 2), std::sin(k * deg / 2)));
+  for (const Ring* ring : {&rect, &circle}) {
+    const Ring s = pixel_staircase(*ring, p);
+    ASSERT_GT(s.size(), 100u);
+    double perimeter = 0;
+    for (size_t i = 0; i < ring->size(); ++i) perimeter += ((*ring)[(i + 1) % ring->size()] - (*ring)[i]).norm();
+    for (size_t i = 0; i < s.size(); ++i) {
+      const Vec2 v = s[i], next = s[(i + 1) % s.size()], prev = s[(i + s.size() - 1) % s.size()];
+      EXPECT_NEAR(std::remainder(v.x() / p - 0.5, 1.0), 0.0, 1e-6) << i;
+      EXPECT_NEAR(std::remainder(v.y() / p - 0.5, 1.0), 0.0, 1e-6) << i;
+      const Vec2 step = next - v;
+      EXPECT_NEAR(std::max(std::abs(step.x()), std::abs(step.y())), p, 1e-9) << i;
+      EXPECT_GT((next - prev).norm(), 1e-9) << "step back at " << i;
+      double d = 1e9;
+      for (size_t k = 0; k < ring->size(); ++k) {
+        const Vec2 a = (*ring)[k], ab = (*ring)[(k + 1) % ring->size()] - a;
+        d = std::min(d, (a + std::clamp((v - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) * ab - v).norm());
+      }
+      EXPECT_LE(d, p / std::sqrt(2.0) + 1e-9) << i;
+    }
+    EXPECT_NEAR(std::abs(signed_area(s)), std::abs(signed_area(*ring)), 0.5 * p * perimeter);
   }
 }

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "partgen/synth.hpp"
 #include "path_planner/io.hpp"
 #include "path_planner/pipeline.hpp"
 #include "robot_bridge/path.hpp"
@@ -64,37 +65,9 @@ Ring circle(const Vec2& c, double R, int n, bool cw = false) {
   return o;
 }
 
-// A pixel staircase of a polygon: its boundary sampled densely and snapped to the nearest pixel centre
-// (lattice (k + 0.5) pitch), consecutive repeats and back-and-forth spikes removed. Symmetric +-pitch/2
-// error, no inward bias (so tests of it turn edge compensation off).
-Ring staircase(const Ring& poly, double pitch) {
-  Ring out;
-  auto snap = [&](const Vec2& p) {
-    return Vec2((std::floor(p.x() / pitch) + 0.5) * pitch, (std::floor(p.y() / pitch) + 0.5) * pitch);
-  };
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
-    const int m = int(std::ceil((b - a).norm() / (pitch / 8)));
-    for (int k = 0; k < m; ++k) {
-      const Vec2 q = snap(a + (b - a) * (double(k) / m));
-      if (out.empty() || (q - out.back()).norm() > 1e-12) out.push_back(q);
-    }
-  }
-  bool changed = true;
-  while (changed) {
-    changed = false;
-    if (out.size() > 2 && (out.front() - out.back()).norm() < 1e-12) out.pop_back(), changed = true;
-    for (std::size_t i = 0; out.size() > 3 && i < out.size(); ++i) {
-      const std::size_t n = out.size();
-      if ((out[(i + n - 1) % n] - out[(i + 1) % n]).norm() < 1e-12) {
-        out.erase(out.begin() + long(i));
-        changed = true;
-        break;
-      }
-    }
-  }
-  return out;
-}
+// A pixel staircase of a polygon (partgen::pixel_staircase): symmetric +-pitch/2 error, no inward bias (so
+// tests of it turn edge compensation off).
+Ring staircase(const Ring& poly, double pitch) { return hg::partgen::pixel_staircase(poly, pitch); }
 
 double turn(const Vec2& a, const Vec2& b) { return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)); }
 

@@ -253,4 +253,26 @@ double fit_pitch(const Scene& scene, std::size_t target) {
   return best;
 }
 
+Ring pixel_staircase(const Ring& ring, double pitch) {
+  Ring out;
+  auto snap = [&](const Vec2& p) {
+    return Vec2((std::floor(p.x() / pitch) + 0.5) * pitch, (std::floor(p.y() / pitch) + 0.5) * pitch);
+  };
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const Vec2 a = ring[i], b = ring[(i + 1) % ring.size()];
+    const int m = int(std::ceil((b - a).norm() / (pitch / 8)));
+    for (int k = 0; k < m; ++k) {
+      const Vec2 q = snap(a + (b - a) * (double(k) / m));
+      if (!out.empty() && (q - out.back()).norm() < 1e-12) continue;
+      if (out.size() >= 2 && (q - out[out.size() - 2]).norm() < 1e-12) {
+        out.pop_back();
+        continue;
+      }
+      out.push_back(q);
+    }
+  }
+  while (out.size() > 2 && (out.front() - out.back()).norm() < 1e-12) out.pop_back();
+  return out;
+}
+
 }  // namespace hg::partgen

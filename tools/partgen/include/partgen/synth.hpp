@@ -98,4 +98,11 @@ std::size_t count_pixel_centres(const Scene& scene, double pitch);
 // Pitch at which count_pixel_centres is as close as possible to target (secant steps on n ~ area/p^2).
 double fit_pitch(const Scene& scene, std::size_t target);
 
+// The pixel staircase of a ring: what an outline through the outermost pixel centres looks like, without
+// running an outline. The ring is sampled every pitch / 8 and each sample snapped to the nearest pixel
+// centre on the lattice ((k + 0.5) pitch); repeats and back-and-forth spikes are removed (a stack, O(n)).
+// Every vertex is a pixel centre within pitch / sqrt(2) of the ring; no inward bias (the snapping is
+// symmetric). For the path planner's tests and benchmark, which need staircases of known polygons.
+Ring pixel_staircase(const Ring& ring, double pitch);
+
 }  // namespace hg::partgen
