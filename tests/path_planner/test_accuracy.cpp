@@ -11,6 +11,7 @@
 #include "partgen/synth.hpp"
 #include "path_planner/pipeline.hpp"
 #include "robot_bridge/path.hpp"
+#include "tests/path_planner/truth.hpp"
 
 using namespace hg::path_planner;
 namespace pg = hg::partgen;
@@ -27,7 +28,7 @@ struct Truth {
   std::vector<std::pair<Vec2, double>> straight_corners;  // corners between two edges >= 15 mm, with their turn
 };
 
-double turn(const Vec2& a, const Vec2& b) { return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)); }
+using hg::path_planner::test::turn;
 
 Truth truth_of(const pg::PolygonWithHoles& poly) {
   Truth t;
@@ -62,17 +63,9 @@ std::pair<double, bool> to_truth(const Vec2& p, const Truth& t) {
   return {best, near};
 }
 
-// The polyline sampled every 0.25 mm along its segments (vertices included): a smoothed ring represents a
-// straight run by its end points, so the error is checked along the whole run, not only at vertices.
-Ring densify(const Ring& r) {
-  Ring o;
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    const Vec2 a = r[i], b = r[(i + 1) % r.size()];
-    const int m = std::max(1, int(std::ceil((b - a).norm() / 0.00025)));
-    for (int k = 0; k < m; ++k) o.push_back(a + (b - a) * (double(k) / m));
-  }
-  return o;
-}
+// Result polylines are checked every 0.25 mm along their segments: a smoothed ring represents a straight
+// run by its end points, so the error is checked along the whole run, not only at vertices.
+Ring densify(const Ring& r) { return hg::path_planner::test::densify(r, 0.00025); }
 
 struct Case {
   std::vector<Loop> loops;

@@ -21,6 +21,7 @@
 #include "path_planner/io.hpp"
 #include "robot_bridge/path.hpp"
 #include "runtime/config.hpp"
+#include "tests/path_planner/truth.hpp"
 
 using namespace hg::path_planner;
 namespace rb = hg::robot_bridge;
@@ -224,21 +225,7 @@ std::vector<double> ground_truth_errors(const std::string& scene, const std::str
     const auto& poly = f.part_polygons[0];
     std::vector<Ring> rings{poly.outer};
     rings.insert(rings.end(), poly.holes.begin(), poly.holes.end());
-    std::vector<Vec2> corners;
-    for (const Ring& ring : rings)
-      for (std::size_t i = 0, n = ring.size(); i < n; ++i) {
-        const Vec2 a = ring[i] - ring[(i + n - 1) % n], b = ring[(i + 1) % n] - ring[i];
-        if (std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b))) >= 20 * M_PI / 180) corners.push_back(ring[i]);
-      }
-    auto ring_distance = [](const Vec2& p, const Ring& ring) {
-      double best = 1e300;
-      for (std::size_t i = 0; i < ring.size(); ++i) {
-        const Vec2 a = ring[i], ab = ring[(i + 1) % ring.size()] - a;
-        const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-        best = std::min(best, (a + t * ab - p).norm());
-      }
-      return best;
-    };
+    const std::vector<Vec2> corners = hg::path_planner::test::corners_of(rings, 20 * M_PI / 180);
     const Eigen::Isometry3d base_to_table = (cfg.camera_to_base * f.camera_from_table).inverse();
     std::vector<double> worst(rings.size(), 0);
     std::vector<int> checked(rings.size(), 0);
@@ -252,7 +239,7 @@ std::vector<double> ground_truth_errors(const std::string& scene, const std::str
       std::size_t ring = 0;
       double d = 1e300;
       for (std::size_t j = 0; j < rings.size(); ++j)
-        if (const double dj = ring_distance(q, rings[j]); dj < d) d = dj, ring = j;
+        if (const double dj = hg::path_planner::test::ring_distance(q, rings[j]); dj < d) d = dj, ring = j;
       worst[ring] = std::max(worst[ring], std::abs(d - tool));
       ++checked[ring];
     }

@@ -12,6 +12,7 @@
 #include "path_planner/io.hpp"
 #include "path_planner/pipeline.hpp"
 #include "robot_bridge/path.hpp"
+#include "tests/path_planner/truth.hpp"
 
 using namespace hg::path_planner;
 
@@ -20,33 +21,14 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 double deg(double d) { return d * kPi / 180; }
 
-double seg_dist(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
-double ring_dist(const Vec2& p, const Ring& r) {
-  double d = 1e300;
-  for (std::size_t i = 0; i < r.size(); ++i) d = std::min(d, seg_dist(p, r[i], r[(i + 1) % r.size()]));
-  return d;
-}
-// Distance from p to the nearest vertex of `r` among `idx`.
+using hg::path_planner::test::densify;
+using hg::path_planner::test::turn;
+double ring_dist(const Vec2& p, const Ring& r) { return hg::path_planner::test::ring_distance(p, r); }
+// Distance from p to the nearest vertex of `r`.
 double vertex_dist(const Vec2& p, const Ring& r) {
   double d = 1e300;
   for (const Vec2& v : r) d = std::min(d, (p - v).norm());
   return d;
-}
-
-// The polyline sampled every `step` along its segments (vertices included): a smoothed ring may represent
-// a straight run by its two end points, and the error must be checked along the whole run.
-Ring densify(const Ring& r, double step) {
-  Ring o;
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    const Vec2 a = r[i], b = r[(i + 1) % r.size()];
-    const int m = std::max(1, int(std::ceil((b - a).norm() / step)));
-    for (int k = 0; k < m; ++k) o.push_back(a + (b - a) * (double(k) / m));
-  }
-  return o;
 }
 
 Ring rect(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
@@ -69,7 +51,6 @@ Ring circle(const Vec2& c, double R, int n, bool cw = false) {
 // tests of it turn edge compensation off).
 Ring staircase(const Ring& poly, double pitch) { return hg::partgen::pixel_staircase(poly, pitch); }
 
-double turn(const Vec2& a, const Vec2& b) { return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)); }
 
 // Turn at each detected corner of a smoothed ring, measured from the corner to the ring points `reach`
 // away on both sides (the fitted straight runs).
