@@ -28,6 +28,7 @@
 #include "camera_bridge/sources.hpp"
 #include "hullgrind/depth_frame_t.hpp"
 #include "hullgrind/heartbeat_t.hpp"
+#include "tests/common/child_process.hpp"
 #include "hullgrind/job_request_t.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
 
@@ -75,33 +76,13 @@ struct Bus {
   }
 };
 
-struct Process {
-  pid_t pid = -1;
-  explicit Process(std::vector<std::string> args) {
-    args.insert(args.begin(), kExe);
-    pid = fork();
-    if (pid == 0) {
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(kExe.c_str(), argv.data());
-      _exit(127);
-    }
-  }
-  int stop() {
-    if (pid <= 0) return -1;
-    kill(pid, SIGTERM);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    pid = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  }
-  ~Process() {
-    if (pid > 0) {
-      kill(pid, SIGKILL);
-      waitpid(pid, nullptr, 0);
-    }
-  }
+// The bridge with these arguments.
+struct Process : hg::test::ChildProcess {
+  explicit Process(std::vector<std::string> args)
+      : ChildProcess([&] {
+          args.insert(args.begin(), kExe);
+          return args;
+        }()) {}
 };
 
 // Image position (row, col, not rounded) of each cloud point, recomputed independently: (u, v) -> camera

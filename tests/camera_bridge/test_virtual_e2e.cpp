@@ -17,6 +17,7 @@
 #include "camera_bridge/segment.hpp"
 #include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
+#include "tests/common/child_process.hpp"
 
 using namespace std::chrono_literals;
 using namespace hg::camera_bridge;
@@ -44,32 +45,18 @@ struct Bus {
   }
 };
 
-struct Bridge {
-  pid_t pid = -1;
-  explicit Bridge(const std::string& uri, const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> args{std::string(HG_BIN_DIR) + "/hg-camera-bridge", "--source", "openni2", "--uri", uri,
-                                  "--parts", "all", "--rate", "0", "--log-level", "warn"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    pid = fork();
-    if (pid == 0) {
-      setenv("LD_LIBRARY_PATH", HG_OPENNI2_PRIVATE_DIR, 1);  // libOpenNI2 + OpenNI2/Drivers/libhg-virtual.so.0
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(argv[0], argv.data());
-      _exit(127);
-    }
-  }
-  int stop() {
-    kill(pid, SIGTERM);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    pid = -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  }
-  ~Bridge() {
-    if (pid > 0) kill(pid, SIGKILL), waitpid(pid, nullptr, 0);
-  }
+// hg-camera-bridge on the virtual OpenNI2 device at `uri`, every part published, frames as they come.
+struct Bridge : hg::test::ChildProcess {
+  explicit Bridge(const std::string& uri, const std::vector<std::string>& extra = {})
+      : ChildProcess(
+            [&] {
+              std::vector<std::string> args{std::string(HG_BIN_DIR) + "/hg-camera-bridge", "--source", "openni2", "--uri",
+                                            uri, "--parts", "all", "--rate", "0", "--log-level", "warn"};
+              args.insert(args.end(), extra.begin(), extra.end());
+              return args;
+            }(),
+            // libOpenNI2 + OpenNI2/Drivers/libhg-virtual.so.0
+            hg::test::ChildOptions().set_env("LD_LIBRARY_PATH", HG_OPENNI2_PRIVATE_DIR)) {}
 };
 
 void expect_matches_recomputed(const hullgrind::plate_cloud_t& m, const std::string& scene, const std::string& profile) {

@@ -65,7 +65,9 @@ class DdsGatewayBridge : public testing::Test {
     robot_status.reset();
     health.reset();
     if (pp > 0) dds_delete(pp);
-    if (gateway) EXPECT_TRUE(gateway->running()) << "the gateway died during the test";
+    if (gateway) {
+      EXPECT_TRUE(gateway->running()) << "the gateway died during the test";
+    }
     gateway.reset();
   }
   virtual std::vector<std::string> extra_args() { return {"--robot-status-max-rate", "0"}; }
@@ -143,11 +145,11 @@ TEST_F(DdsGatewayBridge, ReplayedLogCrossesWithEqualContent) {
                           e.robot_status.size() + e.heartbeat.size())
       << "the log holds channels this test does not check";
 
-  pid_t player = spawn({"/usr/bin/lcm-logplayer", log});
-  ASSERT_GT(player, 0);
-  int status = 0;
-  ASSERT_TRUE(wait_until([&] { return waitpid(player, &status, WNOHANG) == player; }, [&] { pump(); }, 60s));
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "lcm-logplayer failed";
+  hg::test::ChildProcess player({"/usr/bin/lcm-logplayer", log});
+  ASSERT_TRUE(player.started());
+  std::optional<int> played;
+  ASSERT_TRUE(wait_until([&] { return (played = player.wait()).has_value(); }, [&] { pump(); }, 60s));
+  ASSERT_EQ(*played, 0) << "lcm-logplayer failed";
 
   auto replayed_health = [&] {
     std::vector<const hgdds_Health*> out;

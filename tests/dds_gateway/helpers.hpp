@@ -1,4 +1,4 @@
-// Shared pieces of the DdsGateway suites: the gateway as a child process, LCM collectors, DDS readers that
+// Shared pieces of the DdsGateway suites: the gateway as a child process (tests/common/child_process.hpp), LCM collectors, DDS readers that
 // keep what they take, and waiting with a pump. Everything runs inside tests/netns.sh.
 #pragma once
 
@@ -10,15 +10,14 @@
 #include <functional>
 #include <memory>
 #include <string>
-#include <sys/wait.h>
 #include <thread>
-#include <unistd.h>
 #include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 
 #include "dds_gateway/dds_support.hpp"
 #include "runtime/node.hpp"
+#include "tests/common/child_process.hpp"
 
 namespace hgtest {
 
@@ -27,52 +26,22 @@ using Clock = std::chrono::steady_clock;
 
 inline std::string cyclone_config() { return "file://" + hg::dds_gateway::shipped_cyclone_config(); }
 
-inline pid_t spawn(const std::vector<std::string>& args, int stdout_fd = -1) {
-  pid_t pid = fork();
-  if (pid == 0) {
-    if (stdout_fd >= 0) dup2(stdout_fd, 1);
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-// The gateway process; killed (SIGTERM, then SIGKILL) when it goes out of scope.
-class GatewayProcess {
+// The gateway process; asked to stop (SIGTERM, then SIGKILL after 3 s) when it goes out of scope.
+class GatewayProcess : public hg::test::ChildProcess {
  public:
-  GatewayProcess(int domain, std::vector<std::string> extra = {}) {
+  GatewayProcess(int domain, std::vector<std::string> extra = {}) : ChildProcess(arguments(domain, std::move(extra))) {}
+  ~GatewayProcess() { stop(); }
+  bool running() { return started() && !wait().has_value(); }
+  // SIGTERM; returns the exit code (-1 if it had to be killed).
+  int stop() { return ChildProcess::stop(SIGTERM, 3s); }
+
+ private:
+  static std::vector<std::string> arguments(int domain, std::vector<std::string> extra) {
     std::vector<std::string> args = {std::string(HG_BIN_DIR) + "/hg-dds-gateway", "--log-level", "warn",
                                      "--dds-domain", std::to_string(domain), "--dds-config", cyclone_config()};
     args.insert(args.end(), extra.begin(), extra.end());
-    pid_ = spawn(args);
+    return args;
   }
-  ~GatewayProcess() { stop(); }
-  pid_t pid() const { return pid_; }
-  bool running() const { return pid_ > 0 && waitpid(pid_, nullptr, WNOHANG) == 0; }
-  // SIGTERM; returns the exit status (or -1 if it had to be killed).
-  int stop() {
-    if (pid_ <= 0) return -1;
-    kill(pid_, SIGTERM);
-    int status = 0;
-    auto end = Clock::now() + 3s;
-    while (Clock::now() < end) {
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      }
-      std::this_thread::sleep_for(10ms);
-    }
-    kill(pid_, SIGKILL);
-    waitpid(pid_, nullptr, 0);
-    pid_ = -1;
-    return -1;
-  }
-
- private:
-  pid_t pid_ = -1;
 };
 
 // Keeps every message of type T received on a channel.

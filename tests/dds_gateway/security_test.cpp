@@ -15,6 +15,7 @@
 #include <netinet/ip.h>
 #include <netinet/udp.h>
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -55,8 +56,9 @@ PeerResult parse(const std::string& out) {
   return r;
 }
 
+// A dds_peer process and the read end of its stdout.
 struct Peer {
-  pid_t pid = -1;
+  hg::test::ChildProcess process;
   int fd = -1;
 };
 
@@ -69,18 +71,19 @@ Peer start_peer(const std::string& job_id, double seconds, const std::string& se
     args.push_back(sec_dir);
     args.push_back(identity);
   }
-  pid_t pid = spawn(args, p[1]);
+  Peer peer{hg::test::ChildProcess(args, hg::test::ChildOptions().stdout_to_fd(p[1])), p[0]};
   close(p[1]);
-  return {pid, p[0]};
+  return peer;
 }
 
+// Everything the peer printed, once it has closed its stdout; it is reaped (killed after 60 s more).
 std::string finish_peer(Peer& peer) {
   std::string out;
   char buf[512];
   ssize_t n;
   while ((n = read(peer.fd, buf, sizeof buf)) > 0) out.append(buf, std::size_t(n));
   close(peer.fd);
-  waitpid(peer.pid, nullptr, 0);
+  if (!peer.process.wait(60s)) peer.process.kill_now();
   return out;
 }
 

@@ -3,9 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <csignal>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -13,6 +10,7 @@
 #include "hullgrind/outline_t.hpp"
 #include "hullgrind/part_pose_t.hpp"
 #include "runtime/node.hpp"
+#include "tests/common/child_process.hpp"
 #include "test_clouds.hpp"
 
 using namespace std::chrono_literals;
@@ -38,20 +36,11 @@ class OutlineServiceProcess : public testing::Test {
     lcm.subscribe("HG_OUTLINE", &Inbox::on_outline, &inbox);
     lcm.subscribe("HG_PART_POSE", &Inbox::on_pose, &inbox);
     lcm.subscribe("HG_HEARTBEAT", &Inbox::on_beat, &inbox);
-    pid = fork();
-    if (pid == 0) {
-      std::string exe = std::string(HG_BIN_DIR) + "/hg-outline-service";
-      execl(exe.c_str(), exe.c_str(), "--alpha-radius", "0.012", "--log-level", "warn", (char*)nullptr);
-      _exit(127);
-    }
+    service = hg::test::ChildProcess(
+        {std::string(HG_BIN_DIR) + "/hg-outline-service", "--alpha-radius", "0.012", "--log-level", "warn"});
     ASSERT_TRUE(until([&] { return !inbox.beats.empty(); }, 5s)) << "service did not start";
   }
-  void TearDown() override {
-    kill(pid, SIGTERM);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "did not stop cleanly";
-  }
+  void TearDown() override { EXPECT_EQ(service.stop(), 0) << "did not stop cleanly"; }
   template <class F>
   bool until(F done, std::chrono::milliseconds limit) {
     auto end = Clock::now() + limit;
@@ -63,7 +52,7 @@ class OutlineServiceProcess : public testing::Test {
   }
   lcm::LCM lcm{hg::runtime::default_lcm_url()};
   Inbox inbox;
-  pid_t pid = -1;
+  hg::test::ChildProcess service;
 };
 
 TEST_F(OutlineServiceProcess, CloudInOutlineAndPoseOut) {
@@ -120,7 +109,7 @@ TEST_F(OutlineServiceProcess, GarbageAndEmptyCloudsGiveErrorsNotCrashes) {
   EXPECT_EQ(inbox.outlines.back().num_loops, 0);
   EXPECT_NE(inbox.outlines.back().error_text.find("no part on the table"), std::string::npos);
   ASSERT_TRUE(until([&] { return !inbox.beats.empty() && inbox.beats.back().decode_errors == 1; }, 3s));
-  EXPECT_EQ(waitpid(pid, nullptr, WNOHANG), 0);
+  EXPECT_FALSE(service.wait().has_value()) << "the service died";
   // Still serving.
   auto cloud = hg::test::plate_with_hole(0.2, 0.2, 1, 1, 1, 1, 0.005);
   cloud.header.seq = 4;

@@ -5,10 +5,7 @@
 
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <optional>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -18,6 +15,7 @@
 #include "hullgrind/job_status_t.hpp"
 #include "hullgrind/outline_t.hpp"
 #include "runtime/node.hpp"
+#include "tests/common/child_process.hpp"
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
@@ -74,22 +72,15 @@ class PathPlannerProcess : public testing::Test {
  protected:
   void SetUp() override {
     ASSERT_TRUE(lcm.good()) << "no LCM: the test must run inside tests/netns.sh";
-    pid = fork();
-    if (pid == 0) {
-      const std::string exe = std::string(HG_BIN_DIR) + "/hg-path-planner";
-      execl(exe.c_str(), exe.c_str(), "--log-level", "warn", "--outline_max_age", "30", (char*)nullptr);
-      _exit(127);
-    }
-    ASSERT_GT(pid, 0);
+    planner = hg::test::ChildProcess(
+        {std::string(HG_BIN_DIR) + "/hg-path-planner", "--log-level", "warn", "--outline_max_age", "30"});
+    ASSERT_TRUE(planner.started());
     // Subscribed once it beats.
     ASSERT_TRUE(wait_for([&] { return !bus.beats.empty(); }, 5s)) << "no heartbeat from hg-path-planner";
   }
   void TearDown() override {
-    if (pid > 0) {
-      kill(pid, SIGTERM);
-      int st = 0;
-      waitpid(pid, &st, 0);
-      EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << "unclean exit";
+    if (planner.started()) {
+      EXPECT_EQ(planner.stop(), 0) << "unclean exit";
     }
   }
   template <class Pred>
@@ -115,7 +106,7 @@ class PathPlannerProcess : public testing::Test {
   }
   lcm::LCM lcm{hg::runtime::default_lcm_url()};
   Bus bus{lcm};
-  pid_t pid = -1;
+  hg::test::ChildProcess planner;
 };
 
 }  // namespace
@@ -204,5 +195,5 @@ TEST_F(PathPlannerProcess, ErrorOutlineBadOutlineAndGarbageGiveErrorStatuses) {
   bus.beats.clear();
   ASSERT_TRUE(wait_for([&] { return !bus.beats.empty(); }, 3s));
   EXPECT_GE(bus.beats.back().decode_errors, 2);
-  EXPECT_EQ(waitpid(pid, nullptr, WNOHANG), 0);
+  EXPECT_FALSE(planner.wait().has_value()) << "the planner died";
 }

@@ -11,7 +11,6 @@
 #include <functional>
 #include <mutex>
 #include <sstream>
-#include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
 
@@ -19,6 +18,7 @@
 #include "hullgrind/job_status_t.hpp"
 #include "hullgrind/robot_status_t.hpp"
 #include "test_paths.hpp"
+#include "tests/common/child_process.hpp"
 
 using hullgrind::job_request_t;
 using hullgrind::job_status_t;
@@ -27,18 +27,6 @@ using hullgrind::robot_status_t;
 namespace {
 
 const char* kUrl = "udpm://239.255.76.67:7667?ttl=0";
-
-pid_t spawn(const std::vector<std::string>& args) {
-  pid_t pid = fork();
-  if (pid == 0) {
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
 
 struct Bus {
   lcm::LCM lcm{kUrl};
@@ -82,9 +70,9 @@ struct Bus {
 TEST(RobotBridgeProcess, SimJobFaultResetAndCleanExit) {
   Bus bus;
   ASSERT_TRUE(bus.lcm.good());
-  pid_t pid = spawn({std::string(HG_BIN_DIR) + "/hg-robot-bridge", "--driver", "sim", "--sim-time-scale", "10",
-                     "--lcm-url", kUrl});
-  ASSERT_GT(pid, 0);
+  hg::test::ChildProcess bridge(
+      {std::string(HG_BIN_DIR) + "/hg-robot-bridge", "--driver", "sim", "--sim-time-scale", "10", "--lcm-url", kUrl});
+  ASSERT_TRUE(bridge.started());
   ASSERT_TRUE(bus.wait([&] { return bus.robot.size() > 5; })) << "no robot_status_t from the bridge";
   bus.send("e1", job_request_t::ACTION_START);
   ASSERT_TRUE(bus.wait([&] { return bus.has("e1", job_status_t::STATE_ACCEPTED); }));
@@ -113,16 +101,13 @@ TEST(RobotBridgeProcess, SimJobFaultResetAndCleanExit) {
   auto back = rbtest::make_path("e3", {{0.5, 0, 0.1, 0.02, 0}, {0.5, 0, 0.3, 0.02, 4}});
   bus.lcm.publish("HG_GRIND_PATH", &back);
   ASSERT_TRUE(bus.wait([&] { return bus.has("e3", job_status_t::STATE_RUNNING); }));
-  kill(pid, SIGUSR1);
+  bridge.signal(SIGUSR1);
   ASSERT_TRUE(bus.wait([&] { return bus.has("e3", job_status_t::STATE_ABORTED); }));
   ASSERT_TRUE(bus.wait([&] { return !bus.robot.empty() && bus.robot.back().mode == robot_status_t::MODE_FAULT; }));
   bus.send("r1", job_request_t::ACTION_RESET);
   ASSERT_TRUE(bus.wait([&] { return bus.has("r1", job_status_t::STATE_DONE); }));
   ASSERT_TRUE(bus.wait([&] { return bus.robot.back().mode == robot_status_t::MODE_IDLE; }));
-  kill(pid, SIGTERM);
-  int status = 0;
-  ASSERT_EQ(waitpid(pid, &status, 0), pid);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  EXPECT_EQ(bridge.stop(), 0);
 }
 
 TEST(RobotBridgeProcess, ExportWritesTheScriptOfAPathFile) {

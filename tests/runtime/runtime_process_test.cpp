@@ -4,10 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <optional>
 #include <csignal>
-#include <sys/wait.h>
 #include <thread>
-#include <unistd.h>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -15,6 +14,7 @@
 #include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/job_request_t.hpp"
 #include "runtime/node.hpp"
+#include "tests/common/child_process.hpp"
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
@@ -34,15 +34,6 @@ class Listener {
   }
   std::vector<Beat> beats;
 };
-
-pid_t spawn(const std::string& exe) {
-  pid_t pid = fork();
-  if (pid == 0) {
-    execl(exe.c_str(), exe.c_str(), "--log-level", "warn", (char*)nullptr);
-    _exit(127);
-  }
-  return pid;
-}
 
 void pump(lcm::LCM& lcm, std::chrono::milliseconds d) {
   auto end = Clock::now() + d;
@@ -67,18 +58,14 @@ class RuntimeProcess : public testing::Test {
  protected:
   void SetUp() override {
     ASSERT_TRUE(lcm.good()) << "no LCM: the test must run inside tests/netns.sh";
-    pid = spawn(std::string(HG_BIN_DIR) + "/hg-robot-bridge");
+    process = hg::test::ChildProcess({std::string(HG_BIN_DIR) + "/hg-robot-bridge", "--log-level", "warn"});
+    pid = process.pid();
     ASSERT_GT(pid, 0);
-  }
-  void TearDown() override {
-    if (pid > 0) {
-      kill(pid, SIGKILL);
-      waitpid(pid, nullptr, 0);
-    }
   }
   lcm::LCM lcm{hg::runtime::default_lcm_url()};
   Listener listener{lcm};
-  pid_t pid = -1;
+  hg::test::ChildProcess process;  // killed at the end of the test if still running
+  pid_t pid = -1;                  // its heartbeats' pid, kept after it has exited
 };
 
 TEST_F(RuntimeProcess, HeartbeatAtOneHertzWithIdentity) {
@@ -126,7 +113,7 @@ TEST_F(RuntimeProcess, GarbageIsCountedAndSurvived) {
   auto after = wait_beat(lcm, listener, pid, [](auto& m) { return m.decode_errors >= 4; }, 4s);
   ASSERT_TRUE(after) << "decode errors not reported in the heartbeat";
   EXPECT_EQ(after->decode_errors, 4);
-  EXPECT_EQ(waitpid(pid, nullptr, WNOHANG), 0) << "the process died on garbage";
+  EXPECT_FALSE(process.wait().has_value()) << "the process died on garbage";
 
   hullgrind::job_request_t good{};
   good.job_id = "after-garbage";
@@ -139,32 +126,24 @@ TEST_F(RuntimeProcess, GarbageIsCountedAndSurvived) {
 TEST_F(RuntimeProcess, SigtermStopsCleanlyWithinOneSecond) {
   ASSERT_TRUE(wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s));
   auto t0 = Clock::now();
-  kill(pid, SIGTERM);
-  int status = 0;
-  pid_t done = 0;
-  while (Clock::now() - t0 < 3s && (done = waitpid(pid, &status, WNOHANG)) == 0) std::this_thread::sleep_for(5ms);
+  process.signal(SIGTERM);
+  const std::optional<int> code = process.wait(3s);
   double took = std::chrono::duration<double>(Clock::now() - t0).count();
-  ASSERT_EQ(done, pid) << "still running 3 s after SIGTERM";
+  ASSERT_TRUE(code.has_value()) << "still running 3 s after SIGTERM";
   EXPECT_LT(took, 1.0);
-  EXPECT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(*code, 0);
   auto last = wait_beat(lcm, listener, pid, [](auto& m) { return m.state == hullgrind::heartbeat_t::STATE_STOPPING; }, 500ms);
   bool stopping_seen = last.has_value();
   for (auto& b : listener.beats) stopping_seen |= b.msg.pid == pid && b.msg.state == hullgrind::heartbeat_t::STATE_STOPPING;
   EXPECT_TRUE(stopping_seen) << "no STOPPING heartbeat before exit";
-  pid = -1;
 }
 
 TEST_F(RuntimeProcess, SigintStopsCleanlyToo) {
   ASSERT_TRUE(wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s));
-  kill(pid, SIGINT);
-  int status = 0;
-  auto t0 = Clock::now();
-  pid_t done = 0;
-  while (Clock::now() - t0 < 3s && (done = waitpid(pid, &status, WNOHANG)) == 0) std::this_thread::sleep_for(5ms);
-  ASSERT_EQ(done, pid);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-  pid = -1;
+  process.signal(SIGINT);
+  const std::optional<int> code = process.wait(3s);
+  ASSERT_TRUE(code.has_value()) << "still running 3 s after SIGINT";
+  EXPECT_EQ(*code, 0);
 }
 
 }  // namespace

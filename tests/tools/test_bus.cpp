@@ -2,9 +2,7 @@
 // runs inside tests/netns.sh (its own network namespace), so the multicast stays private to it.
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -17,6 +15,7 @@
 
 #include "registry.hpp"
 #include "sample.hpp"
+#include "tests/common/child_process.hpp"
 
 namespace fs = std::filesystem;
 using namespace hg::lcmtools;
@@ -32,28 +31,20 @@ const Schema& schema() {
   return s;
 }
 
+// A tool run by a test, its stdout and stderr in files.
 struct Proc {
-  pid_t pid = -1;
+  hg::test::ChildProcess process;
   fs::path out, err;
 };
 
 // Starts argv with stdout and stderr in files; the child gets LCM_DEFAULT_URL = the ttl=0 URL.
 Proc start(const std::vector<std::string>& argv, const fs::path& dir, const std::string& tag) {
-  Proc p{-1, dir / (tag + ".out"), dir / (tag + ".err")};
-  pid_t pid = fork();
-  if (pid == 0) {
-    setenv("LCM_DEFAULT_URL", kUrl.c_str(), 1);
-    int o = open(p.out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    int e = open(p.err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(o, 1);
-    dup2(e, 2);
-    std::vector<char*> args;
-    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    execvp(args[0], args.data());
-    _exit(127);
-  }
-  p.pid = pid;
+  Proc p{{}, dir / (tag + ".out"), dir / (tag + ".err")};
+  p.process = hg::test::ChildProcess(argv, hg::test::ChildOptions()
+                                               .set_env("LCM_DEFAULT_URL", kUrl)
+                                               .stdout_to(p.out.string())
+                                               .stderr_to(p.err.string())
+                                               .search_in_path());
   return p;
 }
 
@@ -66,14 +57,8 @@ std::string slurp(const fs::path& f) {
 
 // Exit status of p; a hang guard (not a timing check) kills it after 120 s and fails.
 int wait_exit(Proc& p) {
-  for (int i = 0; i < 1200; ++i) {
-    int status = 0;
-    pid_t r = waitpid(p.pid, &status, WNOHANG);
-    if (r == p.pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  kill(p.pid, SIGKILL);
-  waitpid(p.pid, nullptr, 0);
+  if (const std::optional<int> code = p.process.wait(std::chrono::seconds(120))) return *code;
+  p.process.kill_now();
   ADD_FAILURE() << "process did not exit; stderr: " << slurp(p.err);
   return -1;
 }
@@ -265,7 +250,7 @@ TEST(ToolsBus, TypeFilterJobCommandAndExitCodes) {
 
   // SIGTERM: clean exit 0 with the summary printed.
   Proc idle = start_dump({"--summary"}, dir.path, "idle");
-  kill(idle.pid, SIGTERM);
+  idle.process.signal(SIGTERM);
   EXPECT_EQ(wait_exit(idle), 0);
   EXPECT_NE(slurp(idle.err).find("summary total decoded 0"), std::string::npos) << slurp(idle.err);
 }
@@ -292,7 +277,7 @@ TEST(ToolsBus, RecordedSamplesReplayAndDecode) {
   for (int i = 0; i < 300 && count_log_events(log, &bad)["MARK"] == 0; ++i)
     run({kBin + "/hg-lcm-send", "sample", "--type", "heartbeat_t", "--channel", "MARK", "--count", "1"}, dir.path,
         "mark");
-  kill(rec.pid, SIGINT);
+  rec.process.signal(SIGINT);
   EXPECT_EQ(wait_exit(rec), 0) << slurp(rec.err);
 
   std::map<std::string, int> in_log = count_log_events(log, &bad);
