@@ -332,6 +332,12 @@ class E2ETwoHosts(PipelineCase):
 
     def setUp(self):
         self.holders = []
+        # The veth pair and its 10.77.0.x addresses must only ever exist inside the test's private namespace:
+        # refuse to build them in the machine's own (run through tests/netns.sh, as CTest does).
+        links = E.run(["ip", "-o", "link", "show"], timeout=10).stdout.splitlines()
+        names = [l.split(":")[1].strip().split("@")[0] for l in links if ":" in l]
+        self.assertEqual(names, ["lo"], "E2ETwoHosts must run in a network namespace of its own, with only "
+                         "loopback (tests/netns.sh python3 -m unittest ...); this one has %s" % names)
 
     def tearDown(self):
         super().tearDown()
