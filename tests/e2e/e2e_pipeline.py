@@ -63,6 +63,29 @@ def shipped_pipeline():
         return tomllib.load(f)
 
 
+def scene_truth(scene, profile, path):
+    """The ground truth of a rendered scene (part polygons, camera pose, profile) through the camera bridge's
+    own --write-truth. The bridge keeps running afterwards: it is stopped once the file is there."""
+    with open(path + ".log", "w") as log:
+        p = subprocess.Popen([bin_path("hg-camera-bridge"), "--source", "synthetic", "--scene", scene, "--profile",
+                              profile, "--trigger", "job", "--write-truth", path], stdout=log, stderr=subprocess.STDOUT)
+    try:
+        end = time.monotonic() + 60
+        while time.monotonic() < end and not (os.path.exists(path) and os.path.getsize(path) > 0):
+            if p.poll() is not None:
+                raise RuntimeError("hg-camera-bridge --write-truth exited: " + Pipeline.read(path + ".log"))
+            time.sleep(0.05)
+    finally:
+        p.terminate()
+        try:
+            p.wait(10)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.wait()
+    with open(path) as f:
+        return json.load(f)
+
+
 def process_command(name):
     """The command of one process in the shipped pipeline file, as written there."""
     for p in shipped_pipeline()["process"]:

@@ -65,27 +65,8 @@ def camera_scene():
 
 
 def write_truth(path):
-    """The scene's ground truth through the camera bridge's own --write-truth (the virtual OpenNI2 device
-    serves the same renderer's frames). The bridge keeps running afterwards: stopped once the file is there."""
-    scene, profile = camera_scene()
-    with open(path + ".log", "w") as log:
-        p = subprocess.Popen([E.bin_path("hg-camera-bridge"), "--source", "synthetic", "--scene", scene, "--profile",
-                              profile, "--trigger", "job", "--write-truth", path], stdout=log, stderr=subprocess.STDOUT)
-    try:
-        end = time.monotonic() + 60
-        while time.monotonic() < end and not (os.path.exists(path) and os.path.getsize(path) > 0):
-            if p.poll() is not None:
-                raise RuntimeError("hg-camera-bridge --write-truth exited: " + E.Pipeline.read(path + ".log"))
-            time.sleep(0.05)
-    finally:
-        p.terminate()
-        try:
-            p.wait(10)
-        except subprocess.TimeoutExpired:
-            p.kill()
-            p.wait()
-    with open(path) as f:
-        return json.load(f)
+    """The shipped scene's ground truth (the virtual OpenNI2 device serves the same renderer's frames)."""
+    return E.scene_truth(*camera_scene(), path)
 
 
 def planner_extra_args(truth):

@@ -7,7 +7,6 @@ calibration, offset by the tool radius."""
 import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -44,27 +43,10 @@ def corner_points(ring, within):
     return out
 
 
-def truth_of(scene, profile, path):
-    with open(path + ".log", "w") as log:
-        p = subprocess.Popen([E.bin_path("hg-camera-bridge"), "--source", "synthetic", "--scene", scene, "--profile",
-                              profile, "--trigger", "job", "--write-truth", path], stdout=log, stderr=subprocess.STDOUT)
-    try:
-        end = time.monotonic() + 60
-        while time.monotonic() < end and not (os.path.exists(path) and os.path.getsize(path) > 0):
-            if p.poll() is not None:
-                raise RuntimeError("hg-camera-bridge --write-truth exited")
-            time.sleep(0.05)
-    finally:
-        p.terminate()
-        p.wait(10)
-    with open(path) as f:
-        return json.load(f)
-
-
 class ReplayCameraLog(unittest.TestCase):
     def test_replayed_clouds_give_paths_matching_the_ground_truth(self):
         tmp = tempfile.mkdtemp(prefix="hg-replay-")
-        truth = truth_of("three-parts", "pm806", os.path.join(tmp, "truth.json"))
+        truth = E.scene_truth("three-parts", "pm806", os.path.join(tmp, "truth.json"))
         cam = truth["camera"]
         pitch = (cam["mount_height"] - max(p["thickness"] for p in truth["parts"])) / cam["fx"]
         p = E.Pipeline("replay5", without=("camera", "robot", "dds"),
