@@ -9,24 +9,6 @@
 
 namespace hg::outline {
 
-const char* to_string(Mode m) {
-  switch (m) {
-    case Mode::Ordinary: return "ordinary";
-    case Mode::DS: return "ds";
-    case Mode::DSHI: return "dshi";
-  }
-  return "?";
-}
-
-const char* to_string(Order o) {
-  switch (o) {
-    case Order::AsIs: return "as-is";
-    case Order::Hilbert: return "hilbert";
-    case Order::Brio: return "brio";
-  }
-  return "?";
-}
-
 Mode parse_mode(const std::string& s) {
   if (s == "ordinary") return Mode::Ordinary;
   if (s == "ds") return Mode::DS;

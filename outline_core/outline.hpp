@@ -24,8 +24,23 @@ enum class Mode { Ordinary, DS, DSHI };
 // the current mesh, so cavities stay small (about 4.4 triangles instead of 6.8 on camera grids).
 enum class Order { AsIs, Hilbert, Brio };
 
-const char* to_string(Mode);
-const char* to_string(Order);
+// Option names. Inline, so that readers and writers (hg_outline_io) use them without linking the core.
+inline const char* to_string(Mode m) {
+  switch (m) {
+    case Mode::Ordinary: return "ordinary";
+    case Mode::DS: return "ds";
+    case Mode::DSHI: return "dshi";
+  }
+  return "?";
+}
+inline const char* to_string(Order o) {
+  switch (o) {
+    case Order::AsIs: return "as-is";
+    case Order::Hilbert: return "hilbert";
+    case Order::Brio: return "brio";
+  }
+  return "?";
+}
 Mode parse_mode(const std::string&);    // "ordinary" | "ds" | "dshi"; throws OutlineError
 Order parse_order(const std::string&);  // "as-is" | "hilbert" | "brio"; throws OutlineError
 

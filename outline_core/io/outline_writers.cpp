@@ -18,26 +18,6 @@ namespace hg::outline::io {
 
 namespace {
 
-// Local names: the writers need only the core's types, not its library.
-const char* mode_name(Mode m) {
-  switch (m) {
-    case Mode::Ordinary: return "ordinary";
-    case Mode::DS: return "ds";
-    case Mode::DSHI: return "dshi";
-  }
-  return "?";
-}
-// Every order by its option name (the same names as to_string(Order) in the core; hg_outline_io does not
-// link the core library, so outline_io_tests would not link with a call to it).
-const char* order_name(Order o) {
-  switch (o) {
-    case Order::AsIs: return "as-is";
-    case Order::Hilbert: return "hilbert";
-    case Order::Brio: return "brio";
-  }
-  return "?";
-}
-
 nlohmann::ordered_json arr3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
 // Page transform: world (x, y) -> picture (px, py), fitted to about 1200 px, y up.
@@ -82,8 +62,8 @@ nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar,
   j["alpha_radius"] = r.alpha_radius;
   j["alpha_automatic"] = r.alpha_automatic;
   j["nn_spacing_median"] = r.nn_spacing_median;
-  j["mode"] = mode_name(r.mode);
-  j["order"] = order_name(r.order);
+  j["mode"] = to_string(r.mode);
+  j["order"] = to_string(r.order);
   j["triangles"] = r.triangles;
   j["search_cost"] = r.search_cost;
   j["incircle_tests"] = r.incircle_tests;

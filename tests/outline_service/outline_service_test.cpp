@@ -143,12 +143,16 @@ TEST(OutlineServiceCompute, GapsOfMissingPixelsAreNotHoles) {
   EXPECT_EQ(holes(kept), 2);  // the cut-out and the gap
   EXPECT_EQ(kept.holes_dropped, 0);
   for (const auto& l : kept.outline.loops)
-    if (l.hole && l.area < 0.001) EXPECT_NEAR(l.area, 7 * p * p, 1e-9);
+    if (l.hole && l.area < 0.001) {
+      EXPECT_NEAR(l.area, 7 * p * p, 1e-9);
+    }
   auto filtered = os::compute(cloud, os::ServiceOptions(opt));  // the process default, 5 spacings
   EXPECT_EQ(holes(filtered), 1);  // the cut-out only: 0.1 m wide, far above (5 p)^2
   EXPECT_EQ(filtered.holes_dropped, 1);
   for (const auto& l : filtered.outline.loops)
-    if (l.hole) EXPECT_GT(l.area, 0.009);
+    if (l.hole) {
+      EXPECT_GT(l.area, 0.009);
+    }
 }
 
 TEST(OutlineServiceCompute, ThreeByThreeDropoutIsNotAHoleButASmallCutOutIs) {
@@ -190,7 +194,9 @@ TEST(OutlineServiceCompute, ThreeByThreeDropoutIsNotAHoleButASmallCutOutIs) {
   int holes = 0;
   for (const auto& l : filtered.outline.loops) {
     holes += l.hole;
-    if (l.hole) EXPECT_GT(l.area, 25 * p * p);
+    if (l.hole) {
+      EXPECT_GT(l.area, 25 * p * p);
+    }
   }
   EXPECT_EQ(holes, 2);
 }

@@ -117,8 +117,11 @@ void check_shape(const std::string& shape, bool noisy, double smooth_limit, doub
   // boundary (docs/path_planner.md): the estimate must say so (0) rather than guess, and the pitch is
   // configured (pixel_pitch), as a deployment does from the camera's intrinsics and distance.
   const double estimated = estimate_pitch(c.loops);
-  if (noisy) EXPECT_EQ(estimated, 0.0) << shape;
-  else ASSERT_NEAR(estimated, kPitch, 0.02 * kPitch) << shape;
+  if (noisy) {
+    EXPECT_EQ(estimated, 0.0) << shape;
+  } else {
+    ASSERT_NEAR(estimated, kPitch, 0.02 * kPitch) << shape;
+  }
   const double pitch = noisy ? kPitch : estimated;
   int holes = 0;
   for (const Loop& l : c.loops) holes += l.hole;
