@@ -71,21 +71,22 @@ class Reader:
     def __init__(self, data):
         self.d, self.i = data, 8
 
+    def _take(self, fmt):
+        value = struct.unpack_from(fmt, self.d, self.i)[0]
+        self.i += struct.calcsize(fmt)
+        return value
+
     def int64(self):
-        self.i += 8
-        return struct.unpack_from(">q", self.d, self.i - 8)[0]
+        return self._take(">q")
 
     def int32(self):
-        self.i += 4
-        return struct.unpack_from(">i", self.d, self.i - 4)[0]
+        return self._take(">i")
 
     def int8(self):
-        self.i += 1
-        return struct.unpack_from(">b", self.d, self.i - 1)[0]
+        return self._take(">b")
 
     def double(self):
-        self.i += 8
-        return struct.unpack_from(">d", self.d, self.i - 8)[0]
+        return self._take(">d")
 
     def string(self):
         n = self.int32()
