@@ -745,8 +745,8 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
       }
       // A fillet that the closest vertex alone does not reveal (noise brought one near the tip) shows in a
       // fit of straight, fillet, straight from the last long straight before to the first after, over at
-      // most three short pieces (the greedy fit may have made them of parts of the fillet). A wide fillet
-      // may also have been taken for two corners with short pieces between: both go.
+      // most two short pieces on each side (the greedy fit may have made them of parts of the fillet). A
+      // wide fillet may also have been taken for two corners with short pieces between: both go.
       bool fillet = false;
       if (met) {
         const long np = long(prims.size()), pa_seq = (after == 0 ? np : long(after)) - 1;
@@ -757,7 +757,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
         auto is_long_line = [&](long seq) { return long_line(prims[at(seq)]); };
         long ia = pa_seq, ib = pa_seq + 1;
         for (int step = 0; step < 2 && !is_long_line(ia); ++step) --ia;
-        for (int step = 0; step < 3 && !is_long_line(ib); ++step) ++ib;
+        for (int step = 0; step < 2 && !is_long_line(ib); ++step) ++ib;
         std::vector<int> crossed;  // the corners between: run r starts at corner r
         for (long q = ia; q < ib; ++q)
           if (piece_run[at(q)] != piece_run[at(q + 1)]) crossed.push_back(piece_run[at(q + 1)]);
