@@ -424,13 +424,12 @@ std::size_t Triangulation::finite_count() const {
 
 namespace {
 
-// The insertion order of the points translated by -origin (computed on the fly, as fl(p - origin),
-// so no translated copy is needed).
-std::vector<std::uint32_t> order_translated(std::span<const Vec2> pts, Vec2 origin, Order order) {
-  const std::size_t n = pts.size();
-  auto at = [&](std::size_t i) { return Vec2{pts[i].x - origin.x, pts[i].y - origin.y}; };
-  std::vector<std::uint32_t> idx(n);
-  for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<std::uint32_t>(i);
+// The insertion order of the points idx (finite, increasing) translated by -origin (computed on the fly,
+// as fl(p - origin): only an ordering, so rounding is harmless; equal points get equal keys).
+std::vector<std::uint32_t> order_translated(std::span<const Vec2> pts, std::vector<std::uint32_t> idx, Vec2 origin,
+                                            Order order) {
+  const std::size_t n = idx.size();
+  auto at = [&](std::size_t k) { return Vec2{pts[idx[k]].x - origin.x, pts[idx[k]].y - origin.y}; };
   if (order == Order::AsIs || n < 3) return idx;
   double minx = at(0).x, maxx = minx, miny = at(0).y, maxy = miny;
   for (std::size_t i = 0; i < n; ++i) {
@@ -496,14 +495,16 @@ std::vector<std::uint32_t> order_translated(std::span<const Vec2> pts, Vec2 orig
   std::vector<std::uint32_t> rc(static_cast<std::size_t>(rounds) + 2, 0);
   for (std::size_t i = 0; i < n; ++i) ++rc[round[i] + 1u];
   for (std::size_t r = 1; r < rc.size(); ++r) rc[r] += rc[r - 1];
-  for (std::size_t k = 0; k < n; ++k) idx2[rc[round[idx[k]]]++] = idx[k];
+  for (std::size_t k = 0; k < n; ++k) idx2[rc[round[k]]++] = idx[k];
   return idx2;
 }
 
 }  // namespace
 
 std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order) {
-  return order_translated(xy, Vec2{0, 0}, order);  // p - 0 == p
+  std::vector<std::uint32_t> idx(xy.size());
+  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<std::uint32_t>(i);
+  return order_translated(xy, std::move(idx), Vec2{0, 0}, order);  // p - 0 == p
 }
 
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) {
@@ -512,75 +513,98 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) 
 
 namespace {
 
-// The triangulation; `release`, when given, is the vector `points` views: it is emptied (memory returned)
-// once the translated copy exists, if every point equals its translated copy plus the origin exactly.
+struct Box {
+  double minx, maxx, miny, maxy;
+};
+
+Box bounding_box(std::span<const Vec2> points, const std::vector<std::uint32_t>& finite) {
+  const Vec2& p0 = points[finite[0]];
+  Box b{p0.x, p0.x, p0.y, p0.y};
+  for (std::uint32_t i : finite) {
+    const Vec2& p = points[i];
+    b.minx = std::min(b.minx, p.x), b.maxx = std::max(b.maxx, p.x), b.miny = std::min(b.miny, p.y), b.maxy = std::max(b.maxy, p.y);
+  }
+  return b;
+}
+
+// The predicates are exact while their products neither overflow nor underflow (predicates.hpp): a
+// cloud spanning more than 1e60, or a coordinate with a set bit below 2^-170, is refused (naming the
+// point) rather than triangulated wrongly.
+void check_range(std::span<const Vec2> points, const std::vector<std::uint32_t>& finite, const Box& b) {
+  if (!(b.maxx - b.minx <= 1e60 && b.maxy - b.miny <= 1e60)) {
+    // The point farthest from the mean (the box's centre if the sum overflows) is the odd one out.
+    double sx = 0, sy = 0;
+    for (std::uint32_t i : finite) sx += points[i].x, sy += points[i].y;
+    Vec2 c{sx / static_cast<double>(finite.size()), sy / static_cast<double>(finite.size())};
+    if (!std::isfinite(c.x) || !std::isfinite(c.y)) c = {b.minx / 2 + b.maxx / 2, b.miny / 2 + b.maxy / 2};
+    auto dist = [&](std::uint32_t i) { return std::max(std::fabs(points[i].x - c.x), std::fabs(points[i].y - c.y)); };
+    const std::uint32_t extreme = *std::max_element(finite.begin(), finite.end(), [&](std::uint32_t i, std::uint32_t j) { return dist(i) < dist(j); });
+    throw OutlineError("point " + std::to_string(extreme) + " (x=" + fmt(points[extreme].x) + ", y=" + fmt(points[extreme].y) +
+                       ") is too far from the others: the cloud must span less than 1e60 for exact predicates");
+  }
+  for (std::uint32_t i : finite)
+    if (!pred::within_exact_resolution(points[i].x) || !pred::within_exact_resolution(points[i].y))
+      throw OutlineError("point " + std::to_string(i) + " (x=" + fmt(points[i].x) + ", y=" + fmt(points[i].y) +
+                         ") has a coordinate too finely resolved for exact predicates (a set bit below 2^-170, about 7e-52)");
+}
+
+// The translation: the centroid rounded to a multiple of a power of two about 2^-20 of the extent (a
+// negligible shift). It then has few significant bits, so for coordinates with few bits themselves
+// (float32 camera data) the translated coordinates keep few bits; products of their differences are then
+// exact doubles and the exact fallback of the predicates (frequent on noise-free grids, where every cell
+// is nearly cocircular) works on one-component expansions. Used only if every translated coordinate is
+// exact (the error term of each subtraction is zero), so that the triangulation is that of the input as
+// given; otherwise the origin is 0 and the points are triangulated as they are.
+Vec2 exact_origin(std::span<const Vec2> points, const std::vector<std::uint32_t>& finite, const Box& b) {
+  double sx = 0, sy = 0;
+  for (std::uint32_t i : finite) sx += points[i].x, sy += points[i].y;
+  const double n = static_cast<double>(finite.size());
+  Vec2 o{sx / n, sy / n};
+  if (!std::isfinite(o.x) || !std::isfinite(o.y)) o = {b.minx / 2 + b.maxx / 2, b.miny / 2 + b.maxy / 2};  // the sum overflowed
+  const double extent = std::max(b.maxx - b.minx, b.maxy - b.miny);
+  if (!(std::isfinite(extent) && extent > 0)) return {0, 0};
+  const double unit = std::ldexp(1.0, std::ilogb(extent) - 20);
+  o = {std::round(o.x / unit) * unit, std::round(o.y / unit) * unit};
+  if (!std::isfinite(o.x) || !std::isfinite(o.y)) return {0, 0};
+  for (std::uint32_t i : finite)
+    if (!pred::difference_is_exact(points[i].x, o.x) || !pred::difference_is_exact(points[i].y, o.y)) return {0, 0};
+  return o;
+}
+
+// The triangulation of the finite points; `release`, when given, is the vector `points` views: it is
+// emptied (memory returned) once the translated copy exists (every point is xy + origin exactly).
 Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom,
                                std::vector<Vec2>* release) {
-  const std::size_t n = points.size();
-  if (n > 500'000'000) throw OutlineError("too many points: " + std::to_string(n));
-  double sx = 0, sy = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(points[i].x) || !std::isfinite(points[i].y))
-      throw OutlineError("point " + std::to_string(i) + " is not finite (x=" + fmt(points[i].x) + ", y=" + fmt(points[i].y) + ")");
-    sx += points[i].x;
-    sy += points[i].y;
-  }
-  if (n < 3) throw OutlineError("need at least 3 distinct points, got " + std::to_string(n) + " points");
+  const std::size_t n_in = points.size();
+  if (n_in > 500'000'000) throw OutlineError("too many points: " + std::to_string(n_in));
+  if (!custom.empty() && custom.size() != n_in) throw OutlineError("custom insertion order has the wrong size");
+  auto is_finite = [&](std::size_t i) { return std::isfinite(points[i].x) && std::isfinite(points[i].y); };
+  std::vector<std::uint32_t> finite;
+  finite.reserve(n_in);
+  for (std::size_t i = 0; i < n_in; ++i)
+    if (is_finite(i)) finite.push_back(static_cast<std::uint32_t>(i));
   Triangulation T;
-  T.origin = {sx / static_cast<double>(n), sy / static_cast<double>(n)};
-  if (!std::isfinite(T.origin.x) || !std::isfinite(T.origin.y)) {
-    // The sum overflowed (coordinates near the double range): fall back to the midpoint of the box.
-    double minx = points[0].x, maxx = minx, miny = points[0].y, maxy = miny;
-    for (const Vec2& p : points) {
-      minx = std::min(minx, p.x); maxx = std::max(maxx, p.x);
-      miny = std::min(miny, p.y); maxy = std::max(maxy, p.y);
-    }
-    T.origin = {minx / 2 + maxx / 2, miny / 2 + maxy / 2};
+  T.skipped = n_in - finite.size();
+  const std::size_t n = finite.size();
+  if (n < 3)
+    throw OutlineError("need at least 3 distinct points, got " + std::to_string(n) + " finite points" +
+                       (T.skipped ? " (" + std::to_string(T.skipped) + " non-finite skipped)" : std::string()));
+  const Box box = bounding_box(points, finite);
+  check_range(points, finite, box);
+  T.origin = exact_origin(points, finite, box);
+  if (custom.empty()) {
+    T.ids = order_translated(points, std::move(finite), T.origin, order);
+  } else {
+    std::erase_if(custom, [&](std::uint32_t i) { return i >= n_in || !is_finite(i); });
+    if (custom.size() != n) throw OutlineError("custom insertion order is not a permutation");
+    T.ids = std::move(custom);
   }
-  // The origin is rounded to a multiple of a power of two about 2^-20 of the extent (a negligible shift):
-  // it then has few significant bits, so for coordinates with few bits themselves (float32 camera data)
-  // the translation is exact and the translated coordinates keep few bits; products of their differences
-  // are then exact doubles and the exact fallback of the predicates (frequent on noise-free grids, where
-  // every cell is nearly cocircular) works on one-component expansions.
-  {
-    double minx = points[0].x, maxx = minx, miny = points[0].y, maxy = miny;
-    for (const Vec2& p : points) {
-      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
-    }
-    const double extent = std::max(maxx - minx, maxy - miny);
-    if (std::isfinite(extent) && extent > 0) {
-      const double unit = std::ldexp(1.0, std::ilogb(extent) - 20);
-      const Vec2 r{std::round(T.origin.x / unit) * unit, std::round(T.origin.y / unit) * unit};
-      if (std::isfinite(r.x) && std::isfinite(r.y)) T.origin = r;
-    }
-  }
-  // The predicates are exact while their degree-4 products neither overflow nor underflow; a cloud
-  // spanning more than 1e60 would break that, so it is refused (naming its most extreme point) rather
-  // than triangulated wrongly.
-  {
-    double minx = points[0].x, maxx = minx, miny = points[0].y, maxy = miny;
-    std::size_t extreme = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec2& p = points[i];
-      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
-      if (std::max(std::fabs(p.x - T.origin.x), std::fabs(p.y - T.origin.y)) >
-          std::max(std::fabs(points[extreme].x - T.origin.x), std::fabs(points[extreme].y - T.origin.y)))
-        extreme = i;
-    }
-    if (!(maxx - minx <= 1e60 && maxy - miny <= 1e60))
-      throw OutlineError("point " + std::to_string(extreme) + " (x=" + fmt(points[extreme].x) + ", y=" + fmt(points[extreme].y) +
-                         ") is too far from the others: the cloud must span less than 1e60 for exact predicates");
-  }
-  if (!custom.empty() && custom.size() != n) throw OutlineError("custom insertion order has the wrong size");
-  T.ids = custom.empty() ? order_translated(points, T.origin, order) : std::move(custom);
   T.xy.resize(n);
-  bool recoverable = true;
   for (std::size_t v = 0; v < n; ++v) {
     const Vec2& p = points[T.ids[v]];
-    T.xy[v] = {p.x - T.origin.x, p.y - T.origin.y};
-    recoverable &= T.xy[v].x + T.origin.x == p.x && T.xy[v].y + T.origin.y == p.y;
+    T.xy[v] = {p.x - T.origin.x, p.y - T.origin.y};  // exact (exact_origin)
   }
-  if (release && recoverable) std::vector<Vec2>().swap(*release);
+  if (release) std::vector<Vec2>().swap(*release);
   T.ghost = static_cast<std::uint32_t>(n);
   T.vrep.resize(n);
   for (std::size_t v = 0; v < n; ++v) T.vrep[v] = static_cast<std::uint32_t>(v);

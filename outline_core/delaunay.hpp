@@ -2,17 +2,22 @@
 // (section 3.1): Ordinary (test every triangle), DS (directive walk from a fixed triangle), DSHI
 // (directive walk from a triangle made by the previous insertion).
 //
-// Exactness: coordinates are first translated to their centroid (fl(p[i] - origin); this subtraction
-// rounds). The triangulation is exactly Delaunay for the translated coordinates `xy`: every orientation
-// and incircle decision is exact on them. Points equal after translation are merged.
+// Exactness: the triangulation is exactly Delaunay for the input coordinates as given: every orientation
+// and incircle decision is exact on `xy`, and xy[v] + origin == input[ids[v]] exactly. The translation to a
+// rounded centroid (kept for speed: float32 data then stays few-bit, see delaunay.cpp) is made only when
+// every translated coordinate is exact; otherwise origin = 0 and xy are the input coordinates. Only points
+// with equal coordinates (as numbers: 0.0 == -0.0) are merged; 1 ulp apart are two points.
+// Limits (predicates.hpp): the cloud must span less than 1e60 and every coordinate be a multiple of
+// 2^-170 (any double of magnitude >= 1e-35); otherwise OutlineError names the point.
+// Points with a non-finite coordinate are skipped (counted in `skipped`): they get no vertex.
 //
 // Vertex ids are positions in the insertion order (xy is stored in that order, so points near in the
 // order are near in memory: a shuffled cloud sorted along a Hilbert curve keeps its cache locality);
 // ids[v] maps a vertex back to the input.
 //
 // The vertex at infinity: instead of a finite super triangle, every convex-hull edge (u, v) has a "ghost"
-// triangle (v, u, ghost) whose third vertex is the symbolic vertex `ghost` (= number of input points,
-// so it is never an input index and has no coordinates). The finite triangles are then exactly the
+// triangle (v, u, ghost) whose third vertex is the symbolic vertex `ghost` (= number of vertices,
+// so it is never a vertex id and has no coordinates). The finite triangles are then exactly the
 // Delaunay triangulation of the points, hull included.
 #pragma once
 
@@ -35,9 +40,9 @@ struct DelaunayStats {
 };
 
 struct Triangulation {
-  Vec2 origin;                    // the translation: xy[v] = fl(input[ids[v]] - origin)
-  std::vector<Vec2> xy;           // translated coordinates, by vertex id (insertion order)
-  std::vector<std::uint32_t> ids; // vertex id -> index in the input
+  Vec2 origin;                    // the translation: xy[v] = input[ids[v]] - origin, exactly (often 0)
+  std::vector<Vec2> xy;           // translated coordinates, by vertex id (insertion order), finite points only
+  std::vector<std::uint32_t> ids; // vertex id -> index in the input as given
   std::uint32_t ghost = 0;        // the vertex at infinity (= xy.size())
   // Triangle t has vertices tri[3t], tri[3t+1], tri[3t+2], counter-clockwise for finite triangles.
   // Half-edge h = 3t+i runs from tri[h] to tri[next(h)]; twin[h] is the same edge in the neighbour.
@@ -52,6 +57,7 @@ struct Triangulation {
   std::vector<float> nn2;
   std::size_t inserted = 0;
   std::size_t duplicates = 0;
+  std::size_t skipped = 0;  // input points with a non-finite coordinate (not triangulated, no vertex)
   DelaunayStats stats;
 
   static std::uint32_t next(std::uint32_t h) { return h % 3 == 2 ? h - 2 : h + 1; }
@@ -67,15 +73,15 @@ struct Triangulation {
 // over the bounding box, stable, so equal points keep their input order).
 std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order);
 
-// Validates (finite coordinates, >= 3 distinct points, not all collinear; throws OutlineError naming the
-// index) and triangulates.
+// Skips non-finite points, validates (>= 3 distinct finite points, not all collinear, the limits above;
+// throws OutlineError naming the index) and triangulates.
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order);
 // Same, and empties `points` (returning its memory) as soon as the triangulation holds its translated
-// copy, when every point is recoverable from it exactly (points[ids[v]] == xy[v] + origin; true for
-// float32 camera data, whose translation to the rounded origin is exact); otherwise `points` is kept.
+// copy, from which every finite point is recovered exactly (points[ids[v]] == xy[v] + origin).
 // Saves one copy of the cloud at the peak (25 MB for 1.59 M points).
 Triangulation triangulate_releasing(std::vector<Vec2>& points, Mode mode, Order order);
-// Same with an explicit insertion order (a permutation of 0..n-1; for experiments and benchmarks).
+// Same with an explicit insertion order (a permutation of 0..n-1, non-finite points dropped from it; for
+// experiments and benchmarks).
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom);
 
 }  // namespace hg::outline

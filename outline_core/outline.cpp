@@ -45,6 +45,7 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   if (owned) points = *owned;  // empty if released
   const auto t1 = Clock::now();
 
+  res.points_skipped = T.skipped;
   res.points_used = T.inserted;
   res.duplicates_merged = T.duplicates;
   res.search_cost = T.stats.search_cost();

@@ -44,7 +44,8 @@ inline const char* to_string(Order o) {
 Mode parse_mode(const std::string&);    // "ordinary" | "ds" | "dshi"; throws OutlineError
 Order parse_order(const std::string&);  // "as-is" | "hilbert" | "brio"; throws OutlineError
 
-// Bad input (NaN/Inf point, fewer than 3 distinct points, all collinear, bad option): message says what and where.
+// Bad input (fewer than 3 distinct finite points, all collinear, out of the exact range, bad option):
+// message says what and where. Non-finite points are no error: they are skipped and counted.
 struct OutlineError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -63,7 +64,7 @@ struct Loop {
   double area = 0;                    // positive
   double perimeter = 0;
   std::vector<Vec2> points;           // closing edge last -> first implicit
-  std::vector<uint32_t> point_index;  // index of each point in the input as given
+  std::vector<uint32_t> point_index;  // index of each point in the input as given (skipped points included)
 };
 
 struct Timings {
@@ -72,7 +73,8 @@ struct Timings {
 
 struct Result {
   std::size_t points_read = 0;        // as given
-  std::size_t points_used = 0;        // distinct points triangulated
+  std::size_t points_skipped = 0;     // with a NaN or infinite coordinate: left out
+  std::size_t points_used = 0;        // distinct (finite) points triangulated
   std::size_t duplicates_merged = 0;
   double alpha_radius = 0;            // R actually used
   bool alpha_automatic = false;
@@ -95,8 +97,8 @@ struct Result {
 
 Result compute_outline(std::span<const Vec2> points, const Options& options = {});
 // The same result, consuming the points: their memory is returned as soon as the triangulation holds its
-// translated copy, if the points can be recovered from it exactly (float32 camera data can), which lowers
-// the peak by one copy of the cloud (16 bytes per point). For callers that no longer need the points.
+// (exact) copy, which lowers the peak by one copy of the cloud (16 bytes per point). For callers that no
+// longer need the points.
 Result compute_outline(std::vector<Vec2>&& points, const Options& options = {});
 
 }  // namespace hg::outline

@@ -362,6 +362,7 @@ double incircle_few_bits(double ax, double ay, double bx, double by, double cx, 
   int lo;
   if (!few_bits(d, 6, lo)) return 0;
   done = true;
+  if (lo > 240) return 0;  // every difference is zero (few_bits leaves lo unset): a, b, c, d coincide
   // In units of 2^lo the differences are integers below 2^26 (scaling by a power of two is exact): the
   // lifts and cross products are integers below 2^53, their products below 2^106, the sum of three
   // below 2^108: exact in 128-bit integers.

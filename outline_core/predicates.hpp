@@ -2,15 +2,39 @@
 // Adaptive: a floating-point evaluation with a proven error bound decides almost always; when the bound
 // cannot decide, the sign is computed exactly with floating-point expansions (Shewchuk's method:
 // error-free two-sum / two-product, sums of non-overlapping components). Written from the published
-// method. Exact as long as no intermediate overflows or underflows (coordinate differences roughly in
-// [1e-60, 1e60]). The library is compiled with -ffp-contract=off: a fused multiply-add would break the
+// method. The library is compiled with -ffp-contract=off: a fused multiply-add would break the
 // error-free transforms.
+// Limits (exact as long as no intermediate overflows or underflows; only coordinate differences enter):
+// with every coordinate a multiple of 2^-170 (no set bit below 2^-170, about 7e-52: true of any double of
+// magnitude >= 1e-35 and of 0), every expansion component of a product of up to six differences is zero
+// or at least 2^-1020, so nothing underflows. orient2d and incircle (degree 2 and 4) are then exact for
+// differences up to 2^250 (1.8e75); circumradius_vs (degree 6, and R^2 D^2) for differences and R up to
+// 2^165 (4.7e49), R also a multiple of 2^-170 (any R >= 1e-35). triangulate() enforces the resolution and a
+// span below 1e60 (within the first bound); a larger span than 4.7e49 with the alpha test is not checked.
 #pragma once
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 namespace hg::outline::pred {
+
+// a - b is a double exactly: the error term of the rounded subtraction (two-diff tail) is zero.
+inline bool difference_is_exact(double a, double b) {
+  const double x = a - b, bv = a - x, av = x + bv;
+  return (a - av) + (bv - b) == 0;
+}
+
+// v is 0 or a multiple of 2^-170 (no set bit below 2^-170; subnormals never are): see the limits above.
+inline bool within_exact_resolution(double v) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &v, 8);
+  const int e = static_cast<int>((bits >> 52) & 0x7ff);
+  const std::uint64_t mant = bits & ((std::uint64_t{1} << 52) - 1);
+  if (e == 0) return mant == 0;                                   // zero, or subnormal
+  return e - 1075 + __builtin_ctzll(mant | (std::uint64_t{1} << 52)) >= -170;  // v = mant' 2^(e - 1075)
+}
 
 inline constexpr double kEps = 1.1102230246251565e-16;  // 2^-53, half an ulp of 1
 inline constexpr double kOrientBound = (3.0 + 16.0 * kEps) * kEps;

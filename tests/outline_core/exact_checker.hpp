@@ -67,37 +67,42 @@ inline mpq_class hull_area2_q(std::vector<Q2> p) {
   return a2;
 }
 
-// Checks that T is exactly the Delaunay triangulation of the translated input. Returns "" when it is,
-// else what is wrong. Independent of the triangulator: only T's arrays and the input are read.
+// Checks that T is exactly the Delaunay triangulation of the input points as given (the finite ones;
+// non-finite points must be skipped). Returns "" when it is, else what is wrong. Independent of the
+// triangulator: only T's arrays and the input are read, every geometric test in GMP rationals on the
+// input coordinates, and T's coordinates must be the input exactly (xy + origin == input, rationally).
 inline std::string check_delaunay(std::span<const Vec2> input, const Triangulation& T) {
-  const std::size_t n = input.size();
-  if (T.xy.size() != n || T.ids.size() != n || T.vrep.size() != n) return "array sizes";
+  std::vector<char> finite_input(input.size());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < input.size(); ++i)
+    n += finite_input[i] = std::isfinite(input[i].x) && std::isfinite(input[i].y);
+  if (T.xy.size() != n || T.ids.size() != n || T.vrep.size() != n) return "array sizes (not one vertex per finite input point)";
   if (T.ghost != n) return "ghost id is not n";
-  // Same coordinates: xy[v] is the rounded translation of input[ids[v]], ids a permutation.
-  std::vector<std::uint32_t> vertex_of(n, 0xffffffffu);
+  // Same coordinates: xy[v] + origin is input[ids[v]] exactly, ids one-to-one onto the finite points.
+  const Q2 origin = exact(T.origin);
+  std::vector<std::uint32_t> vertex_of(input.size(), 0xffffffffu);
+  std::vector<Q2> q(n);
   for (std::size_t v = 0; v < n; ++v) {
     const std::uint32_t i = T.ids[v];
-    if (i >= n || vertex_of[i] != 0xffffffffu) return "ids is not a permutation";
+    if (i >= input.size() || !finite_input[i] || vertex_of[i] != 0xffffffffu) return "ids is not a one-to-one map onto the finite input points";
     vertex_of[i] = static_cast<std::uint32_t>(v);
-    if (T.xy[v].x != input[i].x - T.origin.x || T.xy[v].y != input[i].y - T.origin.y) return "xy is not the translated input";
+    q[v] = exact(input[i]);
+    const Q2 t = exact(T.xy[v]);
+    if (t.x + origin.x != q[v].x || t.y + origin.y != q[v].y) return "xy + origin is not exactly input point " + std::to_string(i);
   }
-  // Distinct points and the expected first occurrence of each (by input index).
+  // Distinct points (equal as numbers: -0.0 == 0.0) and the expected first occurrence of each.
   std::map<std::pair<double, double>, std::uint32_t> first;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 p = T.xy[vertex_of[i]];
-    first.emplace(std::make_pair(p.x + 0.0, p.y + 0.0), static_cast<std::uint32_t>(i));
-  }
+  for (std::size_t i = 0; i < input.size(); ++i)
+    if (finite_input[i]) first.emplace(std::make_pair(input[i].x + 0.0, input[i].y + 0.0), static_cast<std::uint32_t>(i));
   if (T.inserted != first.size()) return "inserted " + std::to_string(T.inserted) + " != distinct " + std::to_string(first.size());
   if (T.duplicates != n - first.size()) return "duplicate count";
   for (std::size_t v = 0; v < n; ++v) {
-    const Vec2 p = T.xy[v];
+    const Vec2 p = input[T.ids[v]];
     const std::uint32_t f = first.at({p.x + 0.0, p.y + 0.0});
     const bool is_first = T.ids[v] == f;
     if (is_first != (T.vrep[v] == v)) return "vertex " + std::to_string(v) + ": merged/kept wrongly";
     if (!is_first && T.ids[T.vrep[v]] != f) return "duplicate not mapped to its first occurrence";
   }
-  std::vector<Q2> q(n);
-  for (std::size_t v = 0; v < n; ++v) q[v] = exact(T.xy[v]);
 
   const std::size_t slots = T.slots();
   if (T.twin.size() != T.tri.size() || T.tri.size() % 3) return "tri/twin sizes";
@@ -164,8 +169,8 @@ inline std::string check_delaunay(std::span<const Vec2> input, const Triangulati
     do {
       const std::uint32_t v = hull_next.at(u), w = hull_next.at(v);
       if (sgn(orient_q(q[u], q[v], q[w])) < 0) return "boundary turns right: not convex";
-      const double ax = T.xy[v].x - T.xy[u].x, ay = T.xy[v].y - T.xy[u].y;
-      const double bx = T.xy[w].x - T.xy[v].x, by = T.xy[w].y - T.xy[v].y;
+      const Vec2 &pu = input[T.ids[u]], &pv = input[T.ids[v]], &pw = input[T.ids[w]];
+      const double ax = pv.x - pu.x, ay = pv.y - pu.y, bx = pw.x - pv.x, by = pw.y - pv.y;
       turning += std::atan2(ax * by - ay * bx, ax * bx + ay * by);
       u = v;
       if (++steps > ghosts) return "boundary is not a cycle";

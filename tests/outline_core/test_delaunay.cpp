@@ -216,17 +216,46 @@ TEST(OutlineDelaunay, CircumradiusComparisonIsExact) {
   }
 }
 
+TEST(OutlineDelaunay, NonFinitePointsAreSkippedAndCounted) {
+  // NaN or infinite coordinates: the point is left out (no vertex), the others keep their input indices.
+  auto pts = random_cloud(40, 1);
+  pts[7].y = std::nan("");
+  pts[13].x = -INFINITY;
+  pts[21] = {INFINITY, std::nan("")};
+  for (Mode m : {Mode::Ordinary, Mode::DS, Mode::DSHI})
+    for (Order o : {Order::AsIs, Order::Hilbert, Order::Brio}) {
+      const Triangulation T = triangulate(pts, m, o);
+      EXPECT_EQ(T.skipped, 3u);
+      EXPECT_EQ(T.inserted, 37u);
+      EXPECT_EQ(check_delaunay(pts, T), "");  // checks ids map one-to-one onto the finite points
+    }
+  std::vector<std::uint32_t> custom(pts.size());
+  for (std::size_t i = 0; i < custom.size(); ++i) custom[i] = static_cast<std::uint32_t>(custom.size() - 1 - i);
+  const Triangulation T = triangulate(pts, Mode::DSHI, Order::AsIs, custom);
+  EXPECT_EQ(check_delaunay(pts, T), "");
+  // Fewer than 3 finite points: an error saying so.
+  const std::vector<Vec2> two{{0, 0}, {std::nan(""), 1}, {1, 1}, {INFINITY, 2}, {2, -INFINITY}};
+  try {
+    triangulate(two, Mode::DSHI, Order::AsIs);
+    FAIL() << "no error";
+  } catch (const OutlineError& e) {
+    EXPECT_NE(std::string(e.what()).find("got 2 finite points (3 non-finite skipped)"), std::string::npos) << e.what();
+  }
+}
+
 TEST(OutlineDelaunay, BadInputIsRejectedWithTheIndex) {
   auto pts = random_cloud(20, 1);
-  pts[7].y = std::nan("");
+  pts[7] = {1e70, 0.5};  // the span limit (1e60)
   try {
     triangulate(pts, Mode::DSHI, Order::AsIs);
     FAIL() << "no error";
   } catch (const OutlineError& e) {
     EXPECT_NE(std::string(e.what()).find("point 7 "), std::string::npos) << e.what();
   }
-  pts[7].y = 0;
-  pts[13].x = -INFINITY;
+  pts[7] = {0.5, 0.5};
+  pts[13].x = 0.25 + 1e-60;  // 0.25 + 1e-60 rounds to 0.25: fine
+  EXPECT_NO_THROW(triangulate(pts, Mode::DSHI, Order::AsIs));
+  pts[13].x = 3e-60;  // a set bit below 2^-170: the predicates could underflow
   try {
     triangulate(pts, Mode::DSHI, Order::AsIs);
     FAIL() << "no error";
