@@ -1,6 +1,7 @@
 // hullgrind outline I/O: point-cloud readers (.xyz/.txt/.csv, .pcd, .ply) and the best-fit plane.
 // Every reader works on the whole file in memory, checks every count against the bytes present before
 // allocating, and throws ReadError "FILE: line N: ..." (text) or "FILE: byte N: ..." (binary) on any defect.
+// NaN and infinite values ("nan", "inf" in text) are no defect: the point is counted in Cloud::nonfinite.
 #pragma once
 
 #include <array>
@@ -26,6 +27,9 @@ struct Cloud {
   std::vector<double> xyz;  // x, y, z interleaved, one triple per point in file order (z = 0 without z)
   bool has_z = false;       // the file gives a z coordinate
   std::string format;       // e.g. "xyz", "pcd binary_compressed", "ply binary_little_endian"
+  // Points with a NaN or infinite coordinate (no-return pixels of depth cameras): kept in xyz as they are,
+  // so indices stay positions in the file; to_plane and the core skip them.
+  std::size_t nonfinite = 0;
   std::size_t size() const { return xyz.size() / 3; }
 };
 
@@ -57,9 +61,11 @@ struct PlanarPoints {
   double max_distance = 0;
 };
 
-// Planar input (no z, or every z equal) keeps x, y as they are; otherwise least-squares plane (PCA),
-// points given as plane coordinates about the centroid. Throws ReadError (naming `name`) if the
-// coordinates are too large for the least-squares sums.
+// Planar input (no z, or every finite z equal) keeps x, y as they are; otherwise least-squares plane (PCA)
+// of the finite points, points given as plane coordinates about the centroid. A point with a non-finite
+// coordinate becomes (NaN, NaN) (the core skips it). Throws ReadError (naming `name`) if the coordinates
+// are too large for the least-squares sums, OutlineError if the finite points are collinear in space
+// (the core's message for collinear 2-D input).
 PlanarPoints to_plane(const Cloud& cloud, const std::string& name = "input");
 std::array<double, 3> plane_to_3d(const Plane& plane, Vec2 p);
 

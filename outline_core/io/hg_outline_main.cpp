@@ -26,6 +26,10 @@ INPUT  .xyz .txt .csv  one point per line: x y [z] (blanks or commas; '#' commen
        .ply            ascii or binary_little_endian; vertex x y [z]; other elements skipped
        3-D input is projected onto its least-squares plane; loops are then in plane coordinates
        (plus "points_3d" and "plane" in the JSON). Planar input (no z, or all z equal) keeps x, y.
+       Points with a NaN or infinite coordinate (no-return pixels, e.g. of an organized PCD with
+       is_dense false) are skipped and counted: "points_skipped" in the JSON and the summary line;
+       indices (loops, --triangles) stay positions in the file. Error: fewer than 3 distinct finite
+       points, or all of them collinear (in the plane or in space).
 
 options
   --alpha-radius R      triangles with circumradius > R are outside (input units; R > 0)
@@ -215,8 +219,8 @@ int main(int argc, char** argv) {
     } else {
       std::size_t holes = 0;
       for (auto& l : result.loops) holes += l.hole;
-      std::printf("hg-outline: %s: %zu points (%zu used), %zu outer loops, %zu holes, R = %g%s, %.1f ms -> %s\n",
-                  args.input.c_str(), result.points_read, result.points_used, result.loops.size() - holes, holes,
+      std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes, R = %g%s, %.1f ms -> %s\n",
+                  args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes, holes,
                   result.alpha_radius, result.alpha_automatic ? " (automatic)" : "",
                   info.project_ms + result.time.total_ms, args.json_out.c_str());
     }

@@ -20,16 +20,20 @@ namespace {
 
 nlohmann::ordered_json arr3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
+bool drawable(const Vec2& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+
 // Page transform: world (x, y) -> picture (px, py), fitted to about 1200 px, y up.
 struct View {
   double minx = 0, miny = 0, scale = 1;
   int width = 1200, height = 1200;
   static constexpr double margin = 40, target = 1120;
   explicit View(std::span<const Vec2> pts) {
-    if (pts.empty()) return;
-    double maxx = pts[0].x, maxy = pts[0].y;
-    minx = pts[0].x, miny = pts[0].y;
+    const auto first = std::find_if(pts.begin(), pts.end(), drawable);  // skipped (NaN) points are not drawn
+    if (first == pts.end()) return;
+    double maxx = first->x, maxy = first->y;
+    minx = first->x, miny = first->y;
     for (auto& p : pts) {
+      if (!drawable(p)) continue;
       minx = std::min(minx, p.x), maxx = std::max(maxx, p.x);
       miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
     }
@@ -57,6 +61,7 @@ nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar,
   nlohmann::ordered_json j;
   j["input"] = {{"file", info.input}, {"format", info.format}, {"has_z", info.has_z}, {"projected", planar.projected}};
   j["points_read"] = r.points_read;
+  j["points_skipped"] = r.points_skipped;
   j["points_used"] = r.points_used;
   j["duplicates_merged"] = r.duplicates_merged;
   j["alpha_radius"] = r.alpha_radius;
@@ -139,6 +144,7 @@ std::string render_svg(std::span<const Vec2> points, const Result& r, bool draw_
   const std::size_t step = std::max<std::size_t>(1, (points.size() + 249999) / 250000);
   s += "<path fill=\"none\" stroke=\"#404040\" stroke-width=\"2\" stroke-linecap=\"round\" d=\"";
   for (std::size_t i = 0; i < points.size(); i += step) {
+    if (!drawable(points[i])) continue;
     s += 'M';
     append_num(s, view.px(points[i]));
     s += ' ';
@@ -186,6 +192,7 @@ std::vector<unsigned char> render_png(std::span<const Vec2> points, const Result
   }
   const bool big_dots = points.size() < 20000;
   for (auto& p : points) {
+    if (!drawable(p)) continue;
     if (big_dots) {
       cv::circle(img, pt(p), 2 << shift, cv::Scalar(64, 64, 64), cv::FILLED, cv::LINE_AA, shift);
     } else {

@@ -168,6 +168,14 @@ inline std::uint64_t load_count(Scalar s, const char* p, bool& ok) {
   }
 }
 
+// Counts the points with a non-finite coordinate (Cloud::nonfinite); every reader ends with it.
+inline Cloud& count_nonfinite(Cloud& c) {
+  c.nonfinite = 0;
+  for (std::size_t i = 0; i < c.size(); ++i)
+    c.nonfinite += !(std::isfinite(c.xyz[3 * i]) && std::isfinite(c.xyz[3 * i + 1]) && std::isfinite(c.xyz[3 * i + 2]));
+  return c;
+}
+
 inline const char* axis_name(int k) { return k == 0 ? "x" : k == 1 ? "y" : "z"; }
 
 }  // namespace hg::outline::io::detail

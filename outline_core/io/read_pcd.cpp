@@ -222,10 +222,9 @@ Cloud parse_pcd(std::string_view data, const std::string& name) {
       for (int k = 0; k < (has_z ? 3 : 2); ++k) {
         std::string_view s = tok[axis_tok[k]];
         switch (parse_number(s, v[k])) {
-          case Num::Ok: break;
+          case Num::Ok: case Num::NonFinite: break;  // NaN: a no-return pixel, kept and counted
           case Num::Bad: fail_line(name, cur.line_no, std::string("bad number ") + quote(s) + " for " + axis_name(k));
           case Num::Range: fail_line(name, cur.line_no, std::string("number out of range ") + quote(s) + " for " + axis_name(k));
-          case Num::NonFinite: fail_line(name, cur.line_no, std::string("NaN/Inf value for ") + axis_name(k) + " (point " + std::to_string(n) + ")");
         }
       }
       cloud.xyz.insert(cloud.xyz.end(), v, v + 3);
@@ -233,7 +232,7 @@ Cloud parse_pcd(std::string_view data, const std::string& name) {
     }
     if (n != points)
       fail_line(name, cur.line_no, "truncated data: " + std::to_string(n) + " points found, header declares " + std::to_string(points));
-    return cloud;
+    return count_nonfinite(cloud);
   }
 
   // Binary layouts: every count is checked against the bytes present before anything is allocated.
@@ -243,7 +242,6 @@ Cloud parse_pcd(std::string_view data, const std::string& name) {
   std::string decompressed;
   const char* base = nullptr;
   bool soa = false;
-  std::size_t base_offset = data_start;
   if (data_kind == "binary") {
     if (data_bytes > remaining)
       fail_byte(name, data.size(), "truncated data: " + std::to_string(points) + " points of " + std::to_string(record) + " bytes need " + std::to_string(data_bytes) + " bytes from byte " + std::to_string(data_start) + ", file has " + std::to_string(remaining));
@@ -278,19 +276,9 @@ Cloud parse_pcd(std::string_view data, const std::string& name) {
     // AoS: record i at i * record; SoA: field block at points * offset, element stride size * count.
     const std::uint64_t start = soa ? points * f.offset : f.offset;
     const std::uint64_t stride = soa ? f.size * f.count : record;
-    const bool is_float = scalar_is_float(f.scalar);
-    for (std::uint64_t i = 0; i < points; ++i) {
-      const std::uint64_t off = start + i * stride;
-      double v = load_scalar(f.scalar, base + off);
-      if (is_float && !std::isfinite(v)) {
-        if (soa)
-          fail_byte(name, data_start, std::string("NaN/Inf value for ") + axis_name(k) + " at point " + std::to_string(i) + " (in the compressed block)");
-        fail_byte(name, base_offset + off, std::string("NaN/Inf value for ") + axis_name(k) + " at point " + std::to_string(i));
-      }
-      cloud.xyz[3 * i + k] = v;
-    }
+    for (std::uint64_t i = 0; i < points; ++i) cloud.xyz[3 * i + k] = load_scalar(f.scalar, base + start + i * stride);
   }
-  return cloud;
+  return count_nonfinite(cloud);
 }
 
 }  // namespace hg::outline::io

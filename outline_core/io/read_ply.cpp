@@ -143,7 +143,6 @@ Cloud parse_ply(std::string_view data, const std::string& name) {
               const std::size_t at = pos + i * rec + off[k];
               const Scalar t = el.props[axis_prop[k]].type;
               double v = load_scalar(t, data.data() + at);
-              if (!std::isfinite(v)) fail_byte(name, at, std::string("NaN/Inf value for ") + axis_name(k) + " of vertex " + std::to_string(i));
               cloud.xyz[3 * i + k] = v;
             }
           }
@@ -163,7 +162,6 @@ Cloud parse_ply(std::string_view data, const std::string& name) {
               for (int k = 0; k < naxes; ++k)
                 if (axis_prop[k] == static_cast<int>(p)) {
                   double v = load_scalar(pr.type, data.data() + pos);
-                  if (!std::isfinite(v)) fail_byte(name, pos, std::string("NaN/Inf value for ") + axis_name(k) + " of vertex " + std::to_string(i));
                   cloud.xyz[3 * i + k] = v;
                 }
             pos += sz;
@@ -184,7 +182,7 @@ Cloud parse_ply(std::string_view data, const std::string& name) {
     }
     if (pos != data.size())
       fail_byte(name, pos, "wrong counts: " + std::to_string(data.size() - pos) + " bytes of unexpected data after the last element");
-    return cloud;
+    return count_nonfinite(cloud);
   }
 
   // ascii
@@ -219,10 +217,9 @@ Cloud parse_ply(std::string_view data, const std::string& name) {
             if (axis_prop[k] == static_cast<int>(p)) {
               double v;
               switch (parse_number(tok[t], v)) {
-                case Num::Ok: break;
+                case Num::Ok: case Num::NonFinite: break;  // a NaN/Inf vertex is kept and counted
                 case Num::Bad: fail_line(name, cur.line_no, std::string("bad number ") + quote(tok[t]) + " for " + axis_name(k));
                 case Num::Range: fail_line(name, cur.line_no, std::string("number out of range ") + quote(tok[t]) + " for " + axis_name(k));
-                case Num::NonFinite: fail_line(name, cur.line_no, std::string("NaN/Inf value for ") + axis_name(k) + " of vertex " + std::to_string(i));
               }
               cloud.xyz[3 * i + k] = v;
             }
@@ -235,7 +232,7 @@ Cloud parse_ply(std::string_view data, const std::string& name) {
   while (cur.next(line))
     if (!trim(line).empty()) fail_line(name, cur.line_no, "wrong counts: data after the last element");
   (void)format_line;
-  return cloud;
+  return count_nonfinite(cloud);
 }
 
 }  // namespace hg::outline::io

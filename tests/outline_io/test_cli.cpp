@@ -55,8 +55,8 @@ class OutlineIoCli : public ::testing::Test {
 
 // One outer loop of area 400 and one hole of area 64; a boundary off by up to half a spacing would
 // change an area by at most half the perimeter x spacing.
-void expect_square_with_hole(const nlohmann::json& j) {
-  EXPECT_EQ(j["points_read"], kGridPoints);
+void expect_square_with_hole(const nlohmann::json& j, int points_read = kGridPoints) {
+  EXPECT_EQ(j["points_read"], points_read);
   ASSERT_EQ(j["loops"].size(), 2u) << j["loops"].dump();
   const auto& outer = j["loops"][0];
   const auto& hole = j["loops"][1];
@@ -202,7 +202,8 @@ TEST_F(OutlineIoCli, BadOptionsExitTwoAndHelpTellsTheOptions) {
   CliRun h = run("--help");
   EXPECT_EQ(h.code, 0);
   for (const char* opt : {"--alpha-radius", "--auto-factor", "--mode", "ordinary", "ds", "dshi", "--order", "as-is", "hilbert",
-                          "--outer-only", "-o FILE", "--svg", "--png", "--triangles", "--draw-triangles", ".pcd", ".ply", ".csv"})
+                          "--outer-only", "-o FILE", "--svg", "--png", "--triangles", "--draw-triangles", ".pcd", ".ply", ".csv",
+                          "points_skipped", "NaN"})
     EXPECT_NE(h.out.find(opt), std::string::npos) << opt;
 }
 
@@ -212,4 +213,68 @@ TEST_F(OutlineIoCli, OuterOnlyKeepsTheHoleFilled) {
   auto j = nlohmann::json::parse(r.out);
   ASSERT_EQ(j["loops"].size(), 1u);
   EXPECT_NEAR(j["loops"][0]["area"].get<double>(), 400.0, 40);
+}
+
+namespace {
+
+// An organized binary PCD (WIDTH 21 x HEIGHT 21, fields x y z) of the 20 x 20 square whose hole pixels
+// (strictly inside [6, 14]^2) gave no return: NaN x y z there, as depth cameras write them.
+std::string organized_square_with_nan_hole() {
+  std::string s = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 21\nHEIGHT 21\nPOINTS 441\nDATA binary\n";
+  const float nan = std::nanf("");
+  for (int j = 0; j <= 20; ++j)
+    for (int i = 0; i <= 20; ++i) {
+      const bool hole = i > 6 && i < 14 && j > 6 && j < 14;
+      const float p[3] = {hole ? nan : static_cast<float>(i), hole ? nan : static_cast<float>(j), hole ? nan : 0.5f};
+      s.append(reinterpret_cast<const char*>(p), sizeof p);
+    }
+  return s;
+}
+
+}  // namespace
+
+TEST_F(OutlineIoCli, NoReturnPixelsAreSkippedAndCountedInJsonAndSummary) {
+  std::ofstream(dir / "org.pcd", std::ios::binary) << organized_square_with_nan_hole();
+  CliRun r = run("'" + (dir / "org.pcd").string() + "' --alpha-radius 1.5");
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["points_read"], 441);
+  EXPECT_EQ(j["points_skipped"], 49);
+  EXPECT_EQ(j["points_used"], kGridPoints);
+  expect_square_with_hole(j, 441);  // the same outline as the fixture without the hole's pixels
+  for (const auto& loop : j["loops"])
+    for (const auto& idx : loop["point_index"]) {  // indices are file positions of returned pixels
+      const int k = idx.get<int>(), i = k % 21, jj = k / 21;
+      EXPECT_FALSE(i > 6 && i < 14 && jj > 6 && jj < 14) << k;
+    }
+  r = run("'" + (dir / "org.pcd").string() + "' --alpha-radius 1.5 -o '" + out("o.json") + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find(": 441 points (49 skipped, " + std::to_string(kGridPoints) + " used), 1 outer loops, 1 holes"),
+            std::string::npos) << r.out;
+  // Text with NaN/Inf values: skipped the same way.
+  std::ofstream(dir / "nan.xyz") << "0 0\nnan 1\n4 0\n2 inf\n0 4\n";
+  r = run("'" + (dir / "nan.xyz").string() + "' --alpha-radius 100");
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["points_skipped"], 2);
+  EXPECT_EQ(j["points_used"], 3);
+}
+
+TEST_F(OutlineIoCli, CollinearInSpaceAndTooFewFinitePointsAreErrors) {
+  // A 3-D cloud on one line in space fails like the collinear 2-D cloud: exit 1, the same message.
+  std::ofstream(dir / "line3d.xyz") << "0 0 0\n1 2 3\n2 4 6\n3 6 9\n";
+  std::ofstream(dir / "line2d.xyz") << "0 0\n1 2\n2 4\n3 6\n";
+  const CliRun r3 = run("'" + (dir / "line3d.xyz").string() + "' -o '" + out("o.json") + "'");
+  const CliRun r2 = run("'" + (dir / "line2d.xyz").string() + "' -o '" + out("o.json") + "'");
+  EXPECT_EQ(r3.code, 1);
+  EXPECT_EQ(r2.code, 1);
+  const std::string msg = ": all 4 distinct points are collinear\n";
+  EXPECT_EQ(r3.err, "hg-outline: error: " + (dir / "line3d.xyz").string() + msg);
+  EXPECT_EQ(r2.err, "hg-outline: error: " + (dir / "line2d.xyz").string() + msg);
+  EXPECT_TRUE(fs::is_empty(dir / "out"));
+  // Fewer than 3 finite points.
+  std::ofstream(dir / "few.xyz") << "0 0 1\nnan 0 1\n1 1 1\n0 inf 1\n";
+  const CliRun f = run("'" + (dir / "few.xyz").string() + "'");
+  EXPECT_EQ(f.code, 1);
+  EXPECT_NE(f.err.find("few.xyz: need at least 3 distinct points, got 2 finite points (2 non-finite skipped)"), std::string::npos) << f.err;
 }

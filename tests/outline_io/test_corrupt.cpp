@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <cmath>
+#include <limits>
 #include <cstring>
 #include <fstream>
 #include <random>
@@ -45,6 +47,15 @@ std::string ply(std::string_view s) { return error_of([&] { parse_ply(s, "bad.pl
 
 const std::string kPcdHead = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\n";
 
+// NaN/Inf values are no error: the point is kept (indices stay file positions) and counted once.
+void expect_kept(const Cloud& c, std::size_t points, std::size_t point, int axis, double value) {
+  ASSERT_EQ(c.size(), points);
+  EXPECT_EQ(c.nonfinite, 1u);
+  const double v = c.xyz[3 * point + axis];
+  if (std::isnan(value)) EXPECT_TRUE(std::isnan(v)) << v;
+  else EXPECT_EQ(v, value);
+}
+
 std::string f32s(std::initializer_list<float> v) {
   std::string s(v.size() * 4, '\0');
   std::memcpy(s.data(), std::data(v), s.size());
@@ -61,8 +72,8 @@ TEST(OutlineIoCorrupt, TextBadNumberNamesLineAndToken) {
 }
 
 TEST(OutlineIoCorrupt, TextNanInfAndCounts) {
-  expect_error(text("1 2\n# c\nnan 3\n"), "bad.xyz", "line 3", "NaN/Inf value 'nan' for x");
-  expect_error(text("1 2 inf\n"), "bad.xyz", "line 1", "NaN/Inf value 'inf' for z");
+  expect_kept(parse_text_cloud("1 2\n# c\nnan 3\n", "t.xyz"), 2, 1, 0, std::nan(""));
+  expect_kept(parse_text_cloud("1 2 inf\n", "t.xyz"), 1, 0, 2, INFINITY);
   expect_error(text("1 2 3\n4 5\n"), "bad.xyz", "line 2", "wrong number of values: 2 (earlier lines have 3)");
   expect_error(text("1\n"), "bad.xyz", "line 1", "expected x y [z]");
   expect_error(text("1,,2\n"), "bad.xyz", "line 1", "empty field in column 2");
@@ -95,7 +106,7 @@ TEST(OutlineIoCorrupt, PcdAsciiDataErrors) {
   expect_error(pcd(head + "1 2 3\n"), "bad.pcd", "line 10", "truncated data: 1 points found, header declares 2");
   expect_error(pcd(head + "1 2 3\n4 5\n"), "bad.pcd", "line 11", "wrong number of values: 2");
   expect_error(pcd(head + "1 2 3\n4 5 6\n7 8 9\n"), "bad.pcd", "line 12", "more data lines than the 2 points");
-  expect_error(pcd(head + "1 2 3\nnan 5 6\n"), "bad.pcd", "line 11", "NaN/Inf value for x (point 1)");
+  expect_kept(parse_pcd(head + "1 2 3\nnan 5 6\n", "t.pcd"), 2, 1, 0, std::nan(""));
   expect_error(pcd(head + "1 2 3\n4 five 6\n"), "bad.pcd", "line 11", "bad number 'five' for y");
 }
 
@@ -107,10 +118,9 @@ TEST(OutlineIoCorrupt, PcdBinaryErrorsNameTheByte) {
   expect_error(pcd(cut), "bad.pcd", "byte " + std::to_string(cut.size()), "truncated data: 2 points of 12 bytes need 24 bytes");
   // Extra bytes after the declared points.
   expect_error(pcd(head + body + "XYZ"), "bad.pcd", "byte " + std::to_string(head.size() + 24), "3 bytes of unexpected data");
-  // NaN y of point 1: byte offset = header + record 1 + 4.
+  // NaN y of point 1 (a no-return pixel): kept and counted.
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  expect_error(pcd(head + f32s({1, 2, 3, 4, nan, 6})), "bad.pcd", "byte " + std::to_string(head.size() + 12 + 4),
-               "NaN/Inf value for y at point 1");
+  expect_kept(parse_pcd(head + f32s({1, 2, 3, 4, nan, 6}), "t.pcd"), 2, 1, 1, std::nan(""));
   // A header that claims far more points than the file holds must not allocate them.
   std::string huge = "FIELDS x y\nSIZE 8 8\nTYPE F F\nWIDTH 1000000000000\nHEIGHT 1\nDATA binary\n" + body;
   expect_error(pcd(huge), "bad.pcd", "byte " + std::to_string(huge.size()), "truncated data: 1000000000000 points");
@@ -165,7 +175,7 @@ TEST(OutlineIoCorrupt, PlyErrors) {
   expect_error(ply(ahead + "1 2\n3\n"), "bad.ply", "line 10", "line ends before property 'y'");
   expect_error(ply(ahead + "1 2\n3 4 5\n"), "bad.ply", "line 10", "wrong number of values: 3");
   expect_error(ply(ahead + "1 2\n3 y\n"), "bad.ply", "line 10", "bad number 'y' for y");
-  expect_error(ply(ahead + "1 2\n-inf 4\n"), "bad.ply", "line 10", "NaN/Inf value for x of vertex 1");
+  expect_kept(parse_ply(ahead + "1 2\n-inf 4\n3 0 1 1\n", "t.ply"), 2, 1, 0, -INFINITY);
   expect_error(ply(ahead + "1 2\n3 4\n4 0 1 2\n"), "bad.ply", "line 11", "list 'vertex_indices' declares 4 items, line has 3");
   expect_error(ply(ahead + "1 2\n3 4\n"), "bad.ply", "line 10", "truncated data: file ends at element 'face' 0 of 1");
   expect_error(ply(ahead + "1 2\n3 4\n3 0 1 1\n9 9\n"), "bad.ply", "line 12", "data after the last element");
@@ -185,8 +195,7 @@ TEST(OutlineIoCorrupt, PlyBinaryErrorsNameTheByte) {
   std::string no_face = head + verts;
   expect_error(ply(no_face), "bad.ply", "byte " + std::to_string(no_face.size()), "truncated data in element 'face' 0");
   const float inf = std::numeric_limits<float>::infinity();
-  expect_error(ply(head + f32s({1, 2, 3, inf}) + std::string(1, 0)), "bad.ply", "byte " + std::to_string(head.size() + 12),
-               "NaN/Inf value for y of vertex 1");
+  expect_kept(parse_ply(head + f32s({1, 2, 3, inf}) + std::string(1, 0), "t.ply"), 2, 1, 1, INFINITY);
   expect_error(ply(head + verts + std::string(1, 0) + "JUNK"), "bad.ply", "byte " + std::to_string(head.size() + 17),
                "4 bytes of unexpected data");
   std::string neg = "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
