@@ -321,7 +321,7 @@ TEST(OutlineAlpha, CoordinatesBeyondTheExactRangeAreRefused) {
   }
 }
 
-TEST(OutlineAlpha, ConsumingOverloadGivesTheSameOutlineAndReleasesRecoverablePoints) {
+TEST(OutlineAlpha, ConsumingOverloadGivesTheSameOutlineAndReleasesThePoints) {
   // A jittered plate with a hole, coordinates on a 2^-20 grid (like float32 data): the translation to the
   // rounded origin is exact, so triangulate_releasing empties the vector, and the loops (coordinates
   // rebuilt from xy + origin) equal those computed from the points themselves.
@@ -338,8 +338,8 @@ TEST(OutlineAlpha, ConsumingOverloadGivesTheSameOutlineAndReleasesRecoverablePoi
       ASSERT_EQ(T.xy[v].y + T.origin.y, pts[T.ids[v]].y);
     }
   }
-  // Full-precision coordinates in [0, 1000]: translating those near zero to the origin (about 500) rounds
-  // away their low bits, so the points stay.
+  // Full-precision coordinates in [0, 1000]: translating those near zero to the origin (about 500) would
+  // round away their low bits, so they are triangulated untranslated, and released all the same.
   const auto far = random_cloud(500, 3, 1000);
   const std::vector<Vec2>* clouds[] = {&pts, &far};
   for (const std::vector<Vec2>* cloud : clouds) {
@@ -348,8 +348,14 @@ TEST(OutlineAlpha, ConsumingOverloadGivesTheSameOutlineAndReleasesRecoverablePoi
     const Result a = compute_outline(std::span<const Vec2>(*cloud), o);
     if (cloud == &far) {
       std::vector<Vec2> copy = far;
-      triangulate_releasing(copy, Mode::DSHI, Order::Brio);
-      EXPECT_EQ(copy.size(), far.size());
+      const Triangulation T = triangulate_releasing(copy, Mode::DSHI, Order::Brio);
+      EXPECT_TRUE(copy.empty());
+      EXPECT_EQ(T.origin.x, 0.0);
+      EXPECT_EQ(T.origin.y, 0.0);
+      for (std::size_t v = 0; v < T.xy.size(); ++v) {
+        ASSERT_EQ(T.xy[v].x, far[T.ids[v]].x);
+        ASSERT_EQ(T.xy[v].y, far[T.ids[v]].y);
+      }
     }
     const Result b = compute_outline(std::vector<Vec2>(*cloud), o);
     ASSERT_EQ(a.loops.size(), b.loops.size());

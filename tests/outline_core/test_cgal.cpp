@@ -1,6 +1,6 @@
 // Agreement with CGAL: for the same R, our boundary edges equal the REGULAR edges of CGAL's
 // Alpha_shape_2 in REGULARIZED mode with alpha = R^2, computed with exact rational arithmetic on the
-// same (translated) coordinates. CGAL classifies a face interior when its squared radius <= alpha, the
+// same coordinates (as given). CGAL classifies a face interior when its squared radius <= alpha, the
 // same convention as ours (r == R stays inside); the grid clouds make r == R happen on purpose.
 #include <gtest/gtest.h>
 
@@ -34,12 +34,12 @@ using Edge = std::pair<std::uint32_t, std::uint32_t>;
 Edge undirected(std::uint32_t a, std::uint32_t b) { return a < b ? Edge{a, b} : Edge{b, a}; }
 
 std::set<Edge> cgal_boundary(const std::vector<Vec2>& pts, double R) {
-  // CGAL gets the same translated coordinates our triangulation uses (exact rationals of those doubles),
-  // with the input index of each distinct point's first occurrence as info.
+  // CGAL gets the input coordinates as given (exact rationals of those doubles), with the input index of
+  // each distinct point's first occurrence as info.
   const Triangulation T = triangulate(pts, Mode::DSHI, Order::AsIs);
   std::vector<std::pair<K::Point_2, std::uint32_t>> in;
   for (std::size_t v = 0; v < T.xy.size(); ++v)
-    if (T.vrep[v] == v) in.push_back({K::Point_2(T.xy[v].x, T.xy[v].y), T.ids[v]});
+    if (T.vrep[v] == v) in.push_back({K::Point_2(pts[T.ids[v]].x, pts[T.ids[v]].y), T.ids[v]});
   const CGAL::Exact_rational alpha = CGAL::Exact_rational(R) * CGAL::Exact_rational(R);
   AlphaShape as(in.begin(), in.end(), alpha, AlphaShape::REGULARIZED);
   std::set<Edge> out;

@@ -243,6 +243,52 @@ TEST(OutlineDelaunay, NonFinitePointsAreSkippedAndCounted) {
   }
 }
 
+TEST(OutlineDelaunay, ComputeOutlineSkipsNonFinitePointsAndKeepsInputIndices) {
+  // The same cloud with NaN/Inf points spread among its points: the outline and the triangles are those
+  // of the finite points, their indices positions in the input with the skipped points included.
+  const auto base = grid_cloud(30, 24, 1, {3, -2}, 0.3, 5);
+  std::mt19937_64 rng(9);
+  std::vector<Vec2> mixed;
+  std::vector<std::uint32_t> where;  // base index -> index in mixed
+  std::size_t bad = 0;
+  for (const Vec2& p : base) {
+    while (rng() % 4 == 0) {
+      const double kinds[3] = {std::nan(""), INFINITY, -INFINITY};
+      mixed.push_back(rng() % 2 ? Vec2{kinds[rng() % 3], p.y} : Vec2{p.x, kinds[rng() % 3]});
+      ++bad;
+    }
+    where.push_back(static_cast<std::uint32_t>(mixed.size()));
+    mixed.push_back(p);
+  }
+  ASSERT_GT(bad, 50u);
+  Options opt;
+  opt.alpha_radius = 1.2;
+  opt.keep_triangles = true;
+  const Result a = compute_outline(base, opt);
+  for (bool consume : {false, true}) {
+    std::vector<Vec2> copy = mixed;
+    const Result b = consume ? compute_outline(std::move(copy), opt) : compute_outline(mixed, opt);
+    EXPECT_EQ(b.points_read, mixed.size());
+    EXPECT_EQ(b.points_skipped, bad);
+    EXPECT_EQ(b.points_used, a.points_used);
+    ASSERT_EQ(b.loops.size(), a.loops.size());
+    ASSERT_GE(a.loops.size(), 1u);
+    for (std::size_t l = 0; l < a.loops.size(); ++l) {
+      ASSERT_EQ(b.loops[l].point_index.size(), a.loops[l].point_index.size());
+      for (std::size_t k = 0; k < a.loops[l].point_index.size(); ++k) {
+        EXPECT_EQ(b.loops[l].point_index[k], where[a.loops[l].point_index[k]]);
+        EXPECT_EQ(b.loops[l].points[k].x, base[a.loops[l].point_index[k]].x);
+        EXPECT_EQ(b.loops[l].points[k].y, base[a.loops[l].point_index[k]].y);
+      }
+    }
+    ASSERT_EQ(b.delaunay_triangles.size(), a.delaunay_triangles.size());
+    for (std::size_t t = 0; t < a.delaunay_triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(b.delaunay_triangles[t][k], where[a.delaunay_triangles[t][k]]);
+  }
+  // Fewer than 3 finite points: the core's error.
+  EXPECT_THROW(compute_outline(std::vector<Vec2>{{0, 0}, {1, std::nan("")}, {1, 1}}), OutlineError);
+}
+
 TEST(OutlineDelaunay, BadInputIsRejectedWithTheIndex) {
   auto pts = random_cloud(20, 1);
   pts[7] = {1e70, 0.5};  // the span limit (1e60)
