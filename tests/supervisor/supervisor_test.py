@@ -137,11 +137,13 @@ class TestLifecycle(SupervisorCase):
         self.stop(sup)
 
     def test_log_rotation(self):
-        path = self.pipeline([{"name": "chatty", "command": ["/bin/sh", "-c", "i=0; while [ $i -lt 3000 ]; do echo line $i xxxxxxxxxxxxxxxxxxxxxxxx; i=$((i+1)); done; sleep 30"]}],
+        # About 350 kB of output: even when a loaded machine lets the pipe fill so that every read takes a
+        # whole 64 KiB, that is more than three rotations, so both backups must exist.
+        path = self.pipeline([{"name": "chatty", "command": ["/bin/sh", "-c", "i=0; while [ $i -lt 10000 ]; do echo line $i xxxxxxxxxxxxxxxxxxxxxxxx; i=$((i+1)); done; sleep 30"]}],
                              log_max_bytes=20000, log_backups=2)
         sup = self.start(path)
         logs = os.path.join(self.dir, "logs")
-        last_line = "line 2999 xxxxxxxxxxxxxxxxxxxxxxxx"
+        last_line = "line 9999 xxxxxxxxxxxxxxxxxxxxxxxx"
 
         def tail():
             try:
