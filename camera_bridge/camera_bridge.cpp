@@ -66,7 +66,7 @@ runtime::ProcessInfo process_info() {
               {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
               {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame"},
               {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)"},
-              {"trigger", "continuous", "continuous | job (one capture per job_request_t ACTION_START on HG_JOB_REQUEST)"},
+              {"trigger", "continuous", "continuous | job (one capture per job id of a job_request_t ACTION_START on HG_JOB_REQUEST)"},
               {"parts", "largest", "largest | all: publish the largest part or every part (labelled)"},
               {"plane", "ransac", "ransac | calibrated (then --plane-normal and --plane-offset)"},
               {"plane-normal", "0,0,-1", "calibrated table normal in the camera frame, towards the camera"},
@@ -226,6 +226,11 @@ void Bridge::stop() {
 void Bridge::on_job(const std::string& job_id) {
   {
     std::lock_guard lock(mutex_);
+    if (captured_.find(job_id)) {
+      logf(Level::Info, "job '%s': repeated START, captured once already", job_id.c_str());
+      return;
+    }
+    captured_.set(job_id, "", 0, 0, "capture requested");
     jobs_.push_back(job_id);
   }
   logf(Level::Info, "job '%s': capture requested", job_id.c_str());

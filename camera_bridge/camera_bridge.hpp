@@ -19,6 +19,7 @@
 #include "camera_bridge/depth_source.hpp"
 #include "camera_bridge/segment.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
+#include "runtime/job_ledger.hpp"
 #include "runtime/node.hpp"
 
 
@@ -27,7 +28,7 @@ namespace hg::camera_bridge {
 runtime::ProcessInfo process_info();
 
 struct BridgeOptions {
-  bool job_trigger = false;        // true: one capture per job_request_t ACTION_START; false: continuous
+  bool job_trigger = false;        // true: one capture per job id (job_request_t ACTION_START); false: continuous
   double rate = 2.0;               // continuous: at most this many frames processed per second (<= 0: all)
   SegmentParams segment;
   double depth_rate = 1.0;         // HG_DEPTH messages per second at most (0: none)
@@ -71,6 +72,7 @@ class Bridge {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<std::string> jobs_;  // pending job ids (job trigger)
+  runtime::JobLedger captured_;   // job ids already captured for: a repeated START takes no second frame
   std::atomic<std::int64_t> processed_{0}, corrupt_{0};
   std::chrono::steady_clock::time_point last_processed_{}, last_depth_{};
   int corrupt_in_a_row_ = 0;

@@ -12,6 +12,7 @@
 #include "hullgrind/robot_status_t.hpp"
 #include "path_planner/io.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/job_ledger.hpp"
 
 namespace hg::path_planner {
 
@@ -30,7 +31,10 @@ runtime::ProcessInfo process_info() {
           "on the next one, publishes grind_path_t on HG_GRIND_PATH and then PLANNED, or FAILED with the reason\n"
           "(outline with an error status, bad outline, hole too small for the tool, validation). Zero-valued job\n"
           "parameters take the configured defaults below. The path starts at the loop point nearest to the\n"
-          "robot's TCP (HG_ROBOT_STATUS) or to `home` until the robot has been heard. See docs/path_planner.md.",
+          "robot's TCP (HG_ROBOT_STATUS) or to `home` until the robot has been heard. A job id is planned once:\n"
+          "a repeated START (or an ABORT) of a job id already seen is answered with the job's state while the\n"
+          "planner holds or ended it (PLANNING, FAILED, ABORTED, REFUSED) and changes nothing; once PLANNED the\n"
+          "robot bridge answers. See docs/path_planner.md.",
           params};
 }
 
@@ -52,22 +56,24 @@ class Planner {
   }
 
   void on_request(const hullgrind::job_request_t& r, const runtime::Delivery&) {
-    if (r.action == hullgrind::job_request_t::ACTION_ABORT) {
-      if (pending_ && pending_->job_id == r.job_id) {
-        status(*pending_, hullgrind::job_status_t::STATE_ABORTED, 0, "aborted before planning finished");
+    using S = hullgrind::job_status_t;
+    if (const runtime::JobLedger::Entry* e = ledger_.find(r.job_id)) {
+      // Seen before: answer with the job's state while the planner holds it or ended it; once PLANNED the
+      // robot bridge holds it and answers. Never planned twice, never aborted twice.
+      if (r.action == hullgrind::job_request_t::ACTION_ABORT && pending_ && pending_->job_id == r.job_id) {
+        status(*pending_, S::STATE_ABORTED, 0, "aborted before planning finished");
         pending_.reset();
+      } else if (e->state != S::STATE_PLANNED) {
+        status(r, e->state, e->progress, runtime::repeat_answer(r.action, r.job_id, *e), false);
       }
       return;
     }
-    if (r.action != hullgrind::job_request_t::ACTION_START) return;  // RESET is the robot bridge's business
-    if (pending_) {
-      status(r, hullgrind::job_status_t::STATE_REFUSED, 0, "planner busy with job '" + pending_->job_id + "'");
-      return;
-    }
+    if (r.action != hullgrind::job_request_t::ACTION_START) return;  // ABORT of a job never seen, RESET: not ours
+    if (r.job_id.empty()) return status(r, S::STATE_REFUSED, 0, "refused: empty job id");
+    if (pending_) return status(r, S::STATE_REFUSED, 0, "planner busy with job '" + pending_->job_id + "'");
     pending_ = r;
     pending_since_ = runtime::now_utime();
-    status(r, hullgrind::job_status_t::STATE_PLANNING, 0,
-           latest_fresh() ? "planning on the latest outline" : "waiting for an outline");
+    status(r, S::STATE_PLANNING, 0, latest_fresh() ? "planning on the latest outline" : "waiting for an outline");
     if (latest_fresh()) plan_now();
   }
 
@@ -90,10 +96,14 @@ class Planner {
     return latest_ && double(runtime::now_utime() - latest_utime_) * 1e-6 <= max_age_;
   }
 
-  void status(const hullgrind::job_request_t& r, std::int8_t state, double progress, const std::string& msg) {
+  // Publishes a status of the job; `record` false for an answer to a repeat (the ledger keeps the state).
+  void status(const hullgrind::job_request_t& r, std::int8_t state, double progress, const std::string& msg,
+              bool record = true) {
+    if (record && !r.job_id.empty()) ledger_.set(r.job_id, r.part_id, state, progress, msg);
     hullgrind::job_status_t s{};
     s.job_id = r.job_id;
     s.part_id = r.part_id;
+    if (const runtime::JobLedger::Entry* e = ledger_.find(r.job_id); e && s.part_id.empty()) s.part_id = e->part_id;
     s.source = node_.name();
     s.state = state;
     s.progress = progress;
@@ -152,6 +162,7 @@ class Planner {
   std::optional<hullgrind::job_request_t> pending_;
   std::int64_t pending_since_ = 0;
   std::optional<Vec3> robot_;
+  runtime::JobLedger ledger_;  // every job id seen, with the planner's last word on it
 };
 
 }  // namespace

@@ -27,26 +27,42 @@ const char* state_name(Bridge::State s) {
 
 Bridge::Bridge(BridgeConfig config, std::unique_ptr<Driver> driver, BridgeOutputs outputs, double now)
     : cfg_(std::move(config)), driver_(std::move(driver)), out_(std::move(outputs)) {
-  // A job that was running when a previous bridge died: the robot may have stopped anywhere. Report the job
-  // and hold in FAULT until an operator checked the cell and sent RESET.
-  if (!cfg_.state_file.empty()) {
-    std::ifstream in(cfg_.state_file);
-    std::string job;
-    if (in && std::getline(in, job) && !job.empty()) {
-      job_id_ = job;
-      state_ = State::Running;
-      enter_fault(robot_status_t::FAULT_UNEXPECTED_MODE,
-                  "hg-robot-bridge restarted while job " + job + " was running; robot stopped", now);
-    }
-  }
+  recover(now);
   update_health();
 }
 
-void Bridge::report(const std::string& job_id, std::int8_t state, double progress, const std::string& message) {
+// A job that was running when a previous bridge died: the robot may have stopped anywhere. Report the job
+// and hold in FAULT until an operator checked the cell and sent RESET. A simulated robot of another run
+// (HG_RUN_ID) ended with that run: report the job and start clean.
+void Bridge::recover(double now) {
+  if (cfg_.state_file.empty()) return;
+  std::ifstream in(cfg_.state_file);
+  std::string job, run;
+  if (!in || !std::getline(in, job) || job.empty()) return;
+  std::getline(in, run);
+  job_id_ = job;
+  state_ = State::Running;
+  if (std::string(driver_->name()) == "sim" && !cfg_.run_id.empty() && run != cfg_.run_id) {
+    report(job, job_status_t::STATE_ABORTED, 0,
+           "interrupted: the run " + (run.empty() ? std::string("before") : run) +
+               " stopped while the job was running; the simulated robot of this run starts clean");
+    state_ = State::Idle;
+    job_id_.clear();
+    save_state();
+    return;
+  }
+  enter_fault(robot_status_t::FAULT_UNEXPECTED_MODE, "hg-robot-bridge restarted while job " + job + " was running; robot stopped",
+              now);
+}
+
+void Bridge::report(const std::string& job_id, std::int8_t state, double progress, const std::string& message,
+                    bool record) {
   job_status_t s{};
   s.header.frame_id = "";
   s.job_id = job_id;
   s.part_id = job_id == job_id_ ? part_id_ : "";
+  if (record && !job_id.empty()) ledger_.set(job_id, s.part_id, state, progress, message);
+  if (const runtime::JobLedger::Entry* e = ledger_.find(job_id); e && s.part_id.empty()) s.part_id = e->part_id;
   s.source = cfg_.source;
   s.state = state;
   s.progress = progress;
@@ -61,7 +77,7 @@ void Bridge::save_state() {
   if (cfg_.state_file.empty()) return;
   if (state_ == State::Running) {
     std::ofstream out(cfg_.state_file, std::ios::trunc);
-    out << job_id_ << "\n";
+    out << job_id_ << "\n" << cfg_.run_id << "\n";
     if (!out) logf(Level::Warn, "cannot write state file %s", cfg_.state_file.c_str());
   } else {
     std::remove(cfg_.state_file.c_str());
@@ -101,56 +117,66 @@ void Bridge::enter_fault(std::int32_t code, const std::string& text, double now)
 
 void Bridge::on_job_request(const job_request_t& req, double now) {
   driver_->update(now);
-  const RobotState& st = driver_->state();
+  if (const runtime::JobLedger::Entry* seen = ledger_.find(req.job_id)) return on_repeat(req, *seen, now);
   switch (req.action) {
-    case job_request_t::ACTION_START: {
-      if (req.job_id.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: empty job id");
-      if ((state_ == State::Accepted || state_ == State::Running) && req.job_id == job_id_) return;  // repeated START
-      if (state_ == State::Fault)
-        return report(req.job_id, job_status_t::STATE_REFUSED, 0,
-                      "refused: robot bridge in FAULT (" + fault_text_ + "); check the cell and send RESET");
-      if (state_ != State::Idle)
-        return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: busy with job " + job_id_);
-      if (!st.ready) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: robot not ready: " + st.not_ready);
-      state_ = State::Accepted;
-      job_id_ = req.job_id;
-      part_id_ = req.part_id;
-      accepted_at_ = now;
-      progress_ = 0;
-      return report(job_id_, job_status_t::STATE_ACCEPTED, 0, "accepted; waiting for the grind path");
-    }
-    case job_request_t::ACTION_ABORT:
-      if ((state_ == State::Accepted || state_ == State::Running) && req.job_id == job_id_) {
-        driver_->stop(now);
-        finish(job_status_t::STATE_ABORTED,
-               state_ == State::Running ? "aborted by request; robot stopped" : "aborted by request before the path arrived", now);
-      }
-      return;  // an abort for a job we do not hold is someone else's
-    case job_request_t::ACTION_RESET: {
-      if (state_ == State::Accepted || state_ == State::Running)
-        return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: job " + job_id_ + " is running (ABORT it)");
-      if (state_ != State::Fault) return report(req.job_id, job_status_t::STATE_DONE, 1, "reset: nothing to clear");
-      const std::string why = driver_->reset(now);
-      if (!why.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: " + why);
-      const std::string was = fault_text_;
-      state_ = State::Idle;
-      fault_code_ = 0;
-      fault_text_.clear();
-      update_health();
-      return report(req.job_id, job_status_t::STATE_DONE, 1, "reset: FAULT cleared (was: " + was + ")");
-    }
+    case job_request_t::ACTION_START: return start_job(req, now);
+    case job_request_t::ACTION_ABORT: return;  // an abort for a job never seen here is another stage's
+    case job_request_t::ACTION_RESET: return reset_fault(req, now);
     default:
       return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: unknown action " + std::to_string(int(req.action)));
   }
 }
 
+// A job id seen before: a retrying writer, or an operator repeating. Only the ABORT of the job being held
+// acts; everything else is answered with the id's state.
+void Bridge::on_repeat(const job_request_t& req, runtime::JobLedger::Entry seen, double now) {
+  const bool held = (state_ == State::Accepted || state_ == State::Running) && req.job_id == job_id_;
+  if (req.action == job_request_t::ACTION_ABORT && held) {
+    driver_->stop(now);
+    return finish(job_status_t::STATE_ABORTED,
+                  state_ == State::Running ? "aborted by request; robot stopped" : "aborted by request before the path arrived", now);
+  }
+  report(req.job_id, seen.state, seen.progress, runtime::repeat_answer(req.action, req.job_id, seen), false);
+}
+
+void Bridge::start_job(const job_request_t& req, double now) {
+  const RobotState& st = driver_->state();
+  if (req.job_id.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: empty job id");
+  if (state_ == State::Fault)
+    return report(req.job_id, job_status_t::STATE_REFUSED, 0,
+                  "refused: robot bridge in FAULT (" + fault_text_ + "); check the cell and send RESET");
+  if (state_ != State::Idle) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: busy with job " + job_id_);
+  if (!st.ready) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: robot not ready: " + st.not_ready);
+  state_ = State::Accepted;
+  job_id_ = req.job_id;
+  part_id_ = req.part_id;
+  accepted_at_ = now;
+  progress_ = 0;
+  report(job_id_, job_status_t::STATE_ACCEPTED, 0, "accepted; waiting for the grind path");
+}
+
+void Bridge::reset_fault(const job_request_t& req, double now) {
+  if (state_ == State::Accepted || state_ == State::Running)
+    return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: job " + job_id_ + " is running (ABORT it)");
+  if (state_ != State::Fault) return report(req.job_id, job_status_t::STATE_DONE, 1, "reset: nothing to clear");
+  const std::string why = driver_->reset(now);
+  if (!why.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: " + why);
+  const std::string was = fault_text_;
+  state_ = State::Idle;
+  fault_code_ = 0;
+  fault_text_.clear();
+  update_health();
+  report(req.job_id, job_status_t::STATE_DONE, 1, "reset: FAULT cleared (was: " + was + ")");
+}
+
 void Bridge::on_grind_path(const hullgrind::grind_path_t& msg, double now) {
   driver_->update(now);
   if (state_ != State::Accepted || msg.job_id != job_id_) {
-    if (state_ == State::Running && msg.job_id == job_id_) {
-      logf(Level::Warn, "job %s: another path while running; ignored", msg.job_id.c_str());
-      return;
-    }
+    if (const runtime::JobLedger::Entry* seen = ledger_.find(msg.job_id))  // a second path never runs
+      return report(msg.job_id, seen->state, seen->progress,
+                    "grind path for job " + msg.job_id + " ignored: it is " + runtime::job_state_name(seen->state) +
+                        (seen->message.empty() ? "" : " (" + seen->message + ")"),
+                    false);
     return report(msg.job_id, job_status_t::STATE_REFUSED, 0,
                   "path refused: job " + msg.job_id + " was not accepted by the robot bridge (" + state_name(state_) +
                       (job_id_.empty() ? "" : ", holding job " + job_id_) + ")");
@@ -183,10 +209,23 @@ void Bridge::on_job_status(const job_status_t& s, double) {
   if (s.state == job_status_t::STATE_FAILED || s.state == job_status_t::STATE_ABORTED || s.state == job_status_t::STATE_REFUSED) {
     logf(Level::Warn, "job %s ended upstream (%s: %s); no longer waiting for its path", s.job_id.c_str(), s.source.c_str(),
          s.message.c_str());
+    ledger_.set(s.job_id, part_id_, s.state, 0, "ended upstream: " + s.source + ": " + s.message);
     state_ = State::Idle;
     job_id_.clear();
     part_id_.clear();
   }
+}
+
+void Bridge::shutdown(double now) {
+  if (state_ != State::Accepted && state_ != State::Running) return;
+  driver_->stop(now);
+  const bool running = state_ == State::Running;
+  report(job_id_, job_status_t::STATE_ABORTED, progress_,
+         std::string("hg-robot-bridge stopped while the job was ") + (running ? "running; robot stopped" : "waiting for its path"));
+  if (!running) {
+    state_ = State::Idle;
+    job_id_.clear();
+  }  // running: the state file stays, and the next bridge holds FAULT until the cell is checked
 }
 
 void Bridge::tick(double now) {

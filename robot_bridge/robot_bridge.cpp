@@ -4,6 +4,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 
@@ -63,7 +64,12 @@ runtime::ProcessInfo process_info() {
           "Job protocol: a START job_request_t is ACCEPTED (or REFUSED: busy, FAULT, robot not ready); the grind_path_t\n"
           "with that job id is checked (workspace box, table height, speed, corner acceleration) and run: RUNNING with\n"
           "progress, then DONE, or FAILED/ABORTED with the reason. A fault (protective/emergency stop, lost connection,\n"
-          "unexpected robot mode) puts the bridge in FAULT until a RESET request. ABORT stops the job.\n"
+          "unexpected robot mode) puts the bridge in FAULT until a RESET request. ABORT stops the job. A job id is\n"
+          "one job: a request with an id seen before (a retrying writer) is answered with that job's state and\n"
+          "changes nothing; only the ABORT of the held job acts. A RESET needs an id of its own.\n"
+          "Stopped (SIGTERM) mid-job: the robot is stopped, the job ABORTED, and the state file kept.\n"
+          "HG_RUN_ID (set by tools/run.sh): with --driver sim, a state file of another run is the last run's\n"
+          "simulated robot: its job is reported ABORTED (interrupted) and the bridge starts clean.\n"
           "Sim faults on demand: SIGUSR1 = protective stop, SIGUSR2 = connection loss.\n"
           "One-shot: --export FILE.script --path PATH.json writes the URScript of a path file and exits.\n"
           "Details: docs/robot_bridge.md.",
@@ -80,7 +86,7 @@ runtime::ProcessInfo process_info() {
               {"blend-radius", "0.001", "UR blend radius between moves (capped at 40% of the shorter segment), m"},
               {"path-timeout", "60", "an accepted job FAILS if its path does not arrive within this, s"},
               {"progress-period", "0.2", "RUNNING progress reports at most this often, s"},
-              {"state-file", "", "file remembering the running job across a crash (a restart reports it ABORTED and holds FAULT)"},
+              {"state-file", "", "file remembering the running job and HG_RUN_ID across a crash (a restart reports it ABORTED and holds FAULT)"},
               {"frame", "robot_base", "robot base frame name (robot_status_t header.frame_id)"},
               {"sim-time-scale", "1", "sim: simulated seconds per real second"},
               {"sim-home", "0.5,0,0.3", "sim: TCP position at start-up, m"},
@@ -110,6 +116,7 @@ class Process {
     cfg.path_timeout = node.param_double("path-timeout");
     cfg.progress_period = node.param_double("progress-period");
     cfg.state_file = node.param("state-file");
+    if (const char* run = std::getenv("HG_RUN_ID")) cfg.run_id = run;
     cfg.export_file = node.param("export");
     cfg.frame = node.param("frame");
     cfg.source = node.name();
@@ -178,11 +185,14 @@ class Process {
       }
       bridge_->tick(mono_now());
     });
+    if (!cfg.run_id.empty()) logf(Level::Info, "run %s", cfg.run_id.c_str());
     logf(Level::Info, "driver %s; workspace (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f), table z %.3f, max %.3f m/s, %.2f m/s^2",
          driver.c_str(), cfg.limits.workspace_min.x(), cfg.limits.workspace_min.y(), cfg.limits.workspace_min.z(),
          cfg.limits.workspace_max.x(), cfg.limits.workspace_max.y(), cfg.limits.workspace_max.z(), cfg.limits.table_z,
          cfg.limits.max_speed, cfg.limits.max_accel);
   }
+
+  ~Process() { bridge_->shutdown(mono_now()); }
 
  private:
   runtime::Node& node_;

@@ -2,10 +2,14 @@
 # `make run`: the whole pipeline on a generated part, with no input needed.
 #
 # In a network namespace of its own (loopback only), starts the pipeline of config/pipeline.toml under
-# tools/supervisor (camera bridge on the virtual OpenNI2 device, outline service, path planner, simulated
-# robot, DDS gateway with DDS Security), records the bus, sends one job request, waits until the job ends, and writes out/:
-# outline.json, path.json, overview.png, summary.json, run.lcmlog and the processes' logs. Prints the
-# timings of each stage and the job's final state; exits non-zero if the job did not end DONE.
+# tools/supervisor (job recorder, camera bridge on the virtual OpenNI2 device, outline service, path planner,
+# simulated robot, DDS gateway with DDS Security), records the bus, sends one job request, waits until the job
+# ends, and writes out/: outline.json, path.json, overview.png, summary.json, run.lcmlog, the processes' logs,
+# and the job's record in out/jobs/ (kept across runs; tools/hg-jobs). Prints the timings of each stage and the
+# job's final state; exits non-zero if the job did not end DONE.
+#
+# Every run has its own HG_RUN_ID: the simulated robot of a run that was stopped mid-job reports that job
+# ABORTED (interrupted) and starts clean; a real robot (--driver ur) keeps its FAULT until RESET.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
@@ -61,6 +65,9 @@ while [[ $# -gt 0 ]]; do
     *) echo "run.sh: unknown option $1" >&2; usage >&2; exit 2 ;;
   esac
 done
+
+# This run, for the simulated robot's state file (robot_bridge: a state file of another run is stale).
+export HG_RUN_ID=${HG_RUN_ID:-run-$(date -u +%Y%m%dT%H%M%S)-$$}
 
 # Everything below runs in a private network namespace: LCM and DDS stay on this machine by construction.
 if [[ "${HG_IN_NETNS:-}" != "1" ]]; then
@@ -163,5 +170,5 @@ cp "$OUT/supervisor.out" "$OUT/logs/status.txt" 2>/dev/null || true
 echo "== results"
 rc=0
 "$BIN/hg-overview" "$OUT/run.lcmlog" --out "$OUT" --job-id "$JOB_ID" --planner-config "$ROOT/config/path_planner.yaml" || rc=$?
-echo "bus recorded in $OUT/run.lcmlog; process logs in $OUT/logs/"
+echo "bus recorded in $OUT/run.lcmlog; process logs in $OUT/logs/; the job's record: tools/hg-jobs --dir $OUT/jobs show $JOB_ID"
 exit $rc

@@ -1,7 +1,7 @@
 // hg-camera-bridge on the bus, inside a private network namespace (hg_add_netns_gtest):
 //  - the real process with --source synthetic: HG_PLATE_CLOUD decoded, status, labels, scan-line order
 //    (recovered independently by projecting every (u, v) back into the image), HG_DEPTH decoded;
-//  - job trigger: nothing without a request, one cloud per ACTION_START;
+//  - job trigger: nothing without a request, one cloud per job id however often its START comes;
 //  - --source files with corrupt files: counted as dropped in the heartbeat, skipped, the good ones
 //    published (a table-only frame as NO_PART);
 //  - device loss and recovery with a fault-injecting DepthSource in this process: heartbeat ERROR with the
@@ -160,7 +160,7 @@ TEST(CameraBridgeProcess, SyntheticCloudsInScanOrder) {
   EXPECT_EQ(proc.stop(), 0);
 }
 
-TEST(CameraBridgeProcess, JobTriggerCapturesOncePerStart) {
+TEST(CameraBridgeProcess, JobTriggerCapturesOncePerJobId) {
   Bus bus;
   Process proc({"--source", "synthetic", "--scene", "l-bracket", "--trigger", "job", "--log-level", "warn"});
   // Running (a heartbeat) but publishing no cloud until asked.
@@ -179,7 +179,11 @@ TEST(CameraBridgeProcess, JobTriggerCapturesOncePerStart) {
   request(hullgrind::job_request_t::ACTION_ABORT, "job-1");
   bus.pump(1500ms);
   EXPECT_EQ(bus.clouds.size(), 1u) << "ABORT must not capture";
-  request(hullgrind::job_request_t::ACTION_START, "job-2");
+  // A retrying writer repeats START with the same job id: one capture per job id.
+  for (int i = 0; i < 5; ++i) request(hullgrind::job_request_t::ACTION_START, "job-1");
+  bus.pump(1500ms);
+  EXPECT_EQ(bus.clouds.size(), 1u) << "a repeated START of job-1 captured again";
+  for (int i = 0; i < 5; ++i) request(hullgrind::job_request_t::ACTION_START, "job-2");
   ASSERT_TRUE(bus.until([&] { return bus.clouds.size() >= 2; }));
   bus.pump(1500ms);
   EXPECT_EQ(bus.clouds.size(), 2u);

@@ -288,6 +288,26 @@ class Pipeline:
                                 s["state"] in ("FAILED", "ABORTED", "REFUSED"), timeout,
                                 "job %s to end (DONE, FAILED, ABORTED or REFUSED)" % job_id)
 
+    def record(self, job_id):
+        """The job history's summary of a job (hg-job-recorder's job.json; ids of these tests need no escaping)."""
+        with open(os.path.join(self.dir, "jobs", job_id, "job.json")) as f:
+            return json.load(f)
+
+    def wait_record(self, job_id, pred, timeout, what):
+        found = []
+
+        def seen():
+            try:
+                r = self.record(job_id)
+            except (OSError, ValueError):
+                return False
+            if pred(r):
+                found.append(r)
+                return True
+            return False
+        self.wait(seen, timeout, what)
+        return found[0]
+
     def overview(self, job_id, out_dir):
         """hg-overview on the recorded log (flushed by lcm-logger every 100 ms)."""
         os.makedirs(out_dir, exist_ok=True)

@@ -3,9 +3,13 @@ the shipped config/pipeline.toml (private paths, see e2e_pipeline.py). One CTest
 a network namespace of its own (tests/netns.sh):
 
   E2EWholePipeline  a job goes DONE; its grind path matches the scene's ground truth carried to the robot
-                    base frame and offset by the tool radius; every hole is ground.
+                    base frame and offset by the tool radius; every hole is ground; its START repeated
+                    afterwards is answered DONE and plans and runs nothing more.
   E2EKill           kill -9 of each process in turn mid-job: restarted by the supervisor, the job ends
-                    (DONE, or FAILED/ABORTED with a reason) within a bound, and a new job goes DONE.
+                    (DONE, or FAILED/ABORTED with a reason) within a bound, and a new job goes DONE; the
+                    job recorder killed mid-job still records the job's end.
+  E2EInterruptedRun tools/run.sh stopped mid-job (Ctrl-C), then run again: the second run ends DONE; the job
+                    history has the first job ABORTED and the second DONE.
   E2EReplay         the recorded run log, replayed into a fresh outline service + planner, gives the same
                     outline and path.
   E2ETwoHosts       the camera bridge in one network namespace, the rest in another, joined by a veth pair,
@@ -109,6 +113,7 @@ class E2EWholePipeline(PipelineCase):
         self.assert_done(final, p)
         states = [(s["source"], s["state"]) for s in p.statuses("e2e-whole-1") if s["state"] != "RUNNING"]
         self.assertIn(("hg-path-planner", "PLANNED"), states)
+        self.check_repeated_start(p, "e2e-whole-1")
         time.sleep(0.5)  # lcm-logger flushes every 100 ms
         out_dir = os.path.join(p.dir, "out")
         ov = p.overview("e2e-whole-1", out_dir)
@@ -116,6 +121,20 @@ class E2EWholePipeline(PipelineCase):
         with open(os.path.join(out_dir, "path.json")) as f:
             path = json.load(f)
         self.check_path_against_truth(path, truth)
+
+    def check_repeated_start(self, p, job):
+        """A retrying writer sends the START of a finished job again: answered, never planned or run again."""
+        for _ in range(5):
+            p.send(job, extra=JOB_ARGS)
+        answers = lambda: [s for s in p.statuses(job) if s["source"] == E.ROBOT and "repeated START" in s["message"]]
+        p.wait(lambda: len(answers()) >= 5, 60, "the robot bridge's answers to the repeated START")
+        self.assertTrue(all(s["state"] == "DONE" for s in answers()), str(answers()))
+        time.sleep(1.0)  # what a wrongly restarted job would have said by now (capture + plan take < 1 s)
+        st = p.statuses(job)
+        planned = [s for s in st if s["source"] == "hg-path-planner" and s["state"] == "PLANNED"]
+        started = [s for s in st if s["source"] == E.ROBOT and s["state"] == "RUNNING" and s["message"].startswith("running ")]
+        self.assertEqual(len(planned), 1, "planned %d times: %s" % (len(planned), planned))
+        self.assertEqual(len(started), 1, "run %d times" % len(started))
 
     def check_path_against_truth(self, path, truth):
         # Expected frames: table --(truth camera_from_table)--> camera --(planner hand-eye config)--> base.
@@ -177,7 +196,8 @@ class E2EKill(PipelineCase):
             ("outline", ("hg-path-planner", "PLANNING")),  # planner waits for the outline
             ("planner", ("hg-path-planner", "PLANNING")),  # planning
             ("robot", (E.ROBOT, "RUNNING")),               # robot moving
-            ("dds", (E.ROBOT, "RUNNING"))]                 # gateway forwarding statuses
+            ("dds", (E.ROBOT, "RUNNING")),                 # gateway forwarding statuses
+            ("recorder", (E.ROBOT, "RUNNING"))]            # job history being written
     # A job hit by a kill ends within the pipeline's own bounds: robot path-timeout 60 s (+ margin).
     KILLED_JOB_TIMEOUT = 120
 
@@ -212,13 +232,61 @@ class E2EKill(PipelineCase):
                 p.send(reset, action="reset")
                 r = p.wait_status(reset, lambda s: s["source"] == E.ROBOT and s["state"] in E.FINAL, 30, "RESET answer")
                 self.assertEqual(r["state"], "DONE", str(r))
-            elif name in ("dds",):
+            elif name in ("dds", "recorder"):
                 # Not on the job's path: the job is not disturbed.
                 self.assert_done(final, p)
+            if name == "recorder":
+                # The restarted recorder marked the job interrupted, then heard its end: nothing lost.
+                rec = p.wait_record(job, lambda r: r.get("final"), 30, "the record of %s to end" % job)
+                self.assertEqual(rec["state"], "DONE", str(rec))
+                self.assertIn("resumed_after_interruption", rec, str(rec))
             report.append("%s: %s %s" % (name, final["state"], final["message"]))
             after = "e2e-kill-%d-after" % n
             self.assert_done(self.run_job(p, after), p)
         sys.stderr.write("e2e kill: " + "; ".join(report) + "\n")
+
+
+class E2EInterruptedRun(PipelineCase):
+    """`make run` (tools/run.sh) interrupted while the robot runs the job, then `make run` again."""
+
+    def run_sh(self, p, job_id, **kw):
+        env = dict(os.environ, OUT=p.dir, BIN=E.BIN)
+        return [os.path.join(E.SRC, "tools", "run.sh"), "--pipeline", p.toml, "--job-id", job_id], env
+
+    def test_run_after_an_interrupted_run_ends_done(self):
+        # Only for its private pipeline file and directory: run.sh starts the pipeline itself (OUT = p.dir).
+        self.pipeline = p = E.Pipeline("rerun")
+        cmd, env = self.run_sh(p, "e2e-rerun-1")
+        with open(os.path.join(p.dir, "run1.out"), "w") as out:
+            first = subprocess.Popen(cmd, env=env, stdout=out, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                     start_new_session=True)
+            try:
+                p.wait(lambda: os.path.exists(p.status_file) and
+                       any(s["state"] == "RUNNING" for s in p.statuses("e2e-rerun-1")) or first.poll() is not None,
+                       JOB_TIMEOUT, "the first run's robot RUNNING")
+                self.assertIsNone(first.poll(), "the first run ended before it was interrupted:\n" +
+                                  p.read(out.name))
+                os.killpg(first.pid, signal.SIGINT)  # Ctrl-C
+                first.wait(120)
+            finally:
+                if first.poll() is None:
+                    os.killpg(first.pid, signal.SIGKILL)
+                    first.wait()
+        # The interrupted run left its job in the robot's state file, as a real robot's would be.
+        self.assertTrue(os.path.exists(os.path.join(p.dir, "robot.state")), p.read(out.name))
+        cmd, env = self.run_sh(p, "e2e-rerun-2")
+        second = E.run(cmd, timeout=600, env=env)
+        self.assertEqual(second.returncode, 0, "the run after an interrupted one:\n" + second.stdout + second.stderr)
+        self.assertRegex(second.stdout, r"hg-robot-bridge DONE")
+        self.assertNotIn("REFUSED", second.stdout)
+        first_rec, second_rec = p.record("e2e-rerun-1"), p.record("e2e-rerun-2")
+        self.assertEqual((first_rec["state"], first_rec["final"]), ("ABORTED", True), str(first_rec))
+        self.assertEqual((second_rec["state"], second_rec["final"]), ("DONE", True), str(second_rec))
+        for f in ("path.json", "outline.json", "events.jsonl"):
+            self.assertTrue(os.path.exists(os.path.join(p.dir, "jobs", "e2e-rerun-2", f)), f)
+        show = E.run([os.path.join(E.SRC, "tools", "hg-jobs"), "--dir", os.path.join(p.dir, "jobs"), "list"], timeout=60)
+        self.assertRegex(show.stdout, r"e2e-rerun-1 .* ABORTED")
+        self.assertRegex(show.stdout, r"e2e-rerun-2 .* DONE")
 
 
 class E2EReplay(PipelineCase):

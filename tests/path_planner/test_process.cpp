@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <optional>
 
 #include <lcm/lcm-cpp.hpp>
@@ -196,4 +197,72 @@ TEST_F(PathPlannerProcess, ErrorOutlineBadOutlineAndGarbageGiveErrorStatuses) {
   ASSERT_TRUE(wait_for([&] { return !bus.beats.empty(); }, 3s));
   EXPECT_GE(bus.beats.back().decode_errors, 2);
   EXPECT_FALSE(planner.wait().has_value()) << "the planner died";
+}
+
+// A retrying writer repeats START with the same job id; another requester's job is interleaved. Each job id
+// is planned once (one HG_GRIND_PATH per id), every repeat is answered with the job's state, and the ABORT of
+// a planned job changes nothing here (the robot bridge holds it).
+TEST_F(PathPlannerProcess, RepeatedStartPlansOncePerJobId) {
+  auto o = plate_outline(11);
+  lcm.publish("HG_OUTLINE", &o);
+  auto a = start("job-a"), b = start("job-b");
+  for (int i = 0; i < 10; ++i) {
+    lcm.publish("HG_JOB_REQUEST", &a);
+    lcm.publish("HG_JOB_REQUEST", &b);
+  }
+  auto planned = [&](const std::string& id) {
+    int n = 0;
+    for (const auto& s : bus.statuses) n += s.job_id == id && s.state == hullgrind::job_status_t::STATE_PLANNED;
+    return n;
+  };
+  ASSERT_TRUE(wait_for([&] { return planned("job-a") >= 1 && planned("job-b") >= 1; }, 10s));
+  // Both planned; then the repeats once more, and an ABORT of each, after they were planned.
+  for (int i = 0; i < 10; ++i) {
+    lcm.publish("HG_JOB_REQUEST", &a);
+    lcm.publish("HG_JOB_REQUEST", &b);
+  }
+  auto abort = a;
+  abort.action = +hullgrind::job_request_t::ACTION_ABORT;
+  lcm.publish("HG_JOB_REQUEST", &abort);
+  // A third job after all that, so that everything before it has been handled when its path comes.
+  auto c = start("job-c");
+  lcm.publish("HG_JOB_REQUEST", &c);
+  ASSERT_TRUE(wait_for([&] { return planned("job-c") >= 1; }, 10s));
+  wait_for([] { return false; }, 500ms);
+  std::map<std::string, int> paths;
+  for (const auto& p : bus.paths) ++paths[p.job_id];
+  EXPECT_EQ(paths["job-a"], 1);
+  EXPECT_EQ(paths["job-b"], 1);
+  EXPECT_EQ(paths["job-c"], 1);
+  EXPECT_EQ(paths.size(), 3u);
+  EXPECT_EQ(planned("job-a"), 1);
+  EXPECT_EQ(planned("job-b"), 1);
+  for (const auto& s : bus.statuses)  // nothing aborted, refused or failed
+    EXPECT_LE(s.state, +hullgrind::job_status_t::STATE_PLANNED) << s.job_id << ": " << s.message;
+}
+
+// A job waiting for its outline: a repeated START is answered PLANNING (not "busy"), a repeated ABORT
+// after the first is answered ABORTED, and a START after the abort does not plan it.
+TEST_F(PathPlannerProcess, RepeatedStartAndAbortOfAWaitingJobAnswerItsState) {
+  auto w = start("job-w");
+  for (int i = 0; i < 5; ++i) lcm.publish("HG_JOB_REQUEST", &w);
+  auto count = [&](std::int8_t state) {
+    int n = 0;
+    for (const auto& s : bus.statuses) n += s.job_id == "job-w" && s.state == state;
+    return n;
+  };
+  ASSERT_TRUE(wait_for([&] { return count(hullgrind::job_status_t::STATE_PLANNING) >= 5; }, 5s));
+  EXPECT_EQ(count(hullgrind::job_status_t::STATE_REFUSED), 0);
+  auto abort = w;
+  abort.action = +hullgrind::job_request_t::ACTION_ABORT;
+  for (int i = 0; i < 5; ++i) lcm.publish("HG_JOB_REQUEST", &abort);
+  ASSERT_TRUE(wait_for([&] { return count(hullgrind::job_status_t::STATE_ABORTED) >= 5; }, 5s));
+  lcm.publish("HG_JOB_REQUEST", &w);
+  auto o = plate_outline(12);
+  lcm.publish("HG_OUTLINE", &o);
+  ASSERT_TRUE(wait_for([&] { return count(hullgrind::job_status_t::STATE_ABORTED) >= 6; }, 5s));
+  wait_for([] { return false; }, 500ms);
+  EXPECT_TRUE(bus.paths.empty()) << "an aborted job was planned";
+  EXPECT_EQ(count(hullgrind::job_status_t::STATE_PLANNING), 5);
+  EXPECT_EQ(count(hullgrind::job_status_t::STATE_PLANNED), 0);
 }

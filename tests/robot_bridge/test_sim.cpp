@@ -350,3 +350,165 @@ TEST(RobotBridgeSim, RestartDuringAJobReportsItAndHoldsFault) {
   EXPECT_EQ(h2.bridge->state(), Bridge::State::Idle);
   EXPECT_FALSE(std::ifstream(cfg.state_file).good());
 }
+
+namespace {
+
+// Requests of the test that the bridge acted on, not answers to repeats.
+int count(const std::vector<job_status_t>& v, const std::string& job, std::int8_t state, bool answers) {
+  int n = 0;
+  for (const auto& s : v)
+    n += s.job_id == job && s.state == state && (s.message.find("repeated") != std::string::npos ||
+                                                  s.message.find("ignored") != std::string::npos) == answers;
+  return n;
+}
+
+// Times the robot started moving a path (robot_status_t mode going to RUNNING).
+int executions(const std::vector<robot_status_t>& v) {
+  int n = 0;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    n += v[i].mode == robot_status_t::MODE_RUNNING && (i == 0 || v[i - 1].mode != robot_status_t::MODE_RUNNING);
+  return n;
+}
+
+}  // namespace
+
+TEST(RobotBridgeJobIds, RepeatedStartRunsTheJobOnce) {
+  Harness h;
+  for (int i = 0; i < 10; ++i) {  // a retrying writer, interleaved with another requester's job
+    h.send("j", job_request_t::ACTION_START);
+    h.send("k", job_request_t::ACTION_START);
+  }
+  EXPECT_EQ(count(h.statuses, "j", job_status_t::STATE_ACCEPTED, false), 1);
+  EXPECT_EQ(count(h.statuses, "j", job_status_t::STATE_ACCEPTED, true), 9);  // each repeat answered
+  EXPECT_EQ(count(h.statuses, "k", job_status_t::STATE_REFUSED, false), 1);  // busy with j
+  EXPECT_EQ(count(h.statuses, "k", job_status_t::STATE_REFUSED, true), 9);
+  h.path(rbtest::three_segment_path("j"));
+  h.path(rbtest::three_segment_path("j"));  // the planner of old planned once per START
+  h.tick(100);
+  for (int i = 0; i < 10; ++i) h.send("j", job_request_t::ACTION_START);
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_RUNNING);
+  ASSERT_TRUE(h.run_until("j", job_status_t::STATE_DONE));
+  // Done: repeats, and another path for it, are answered DONE and nothing moves.
+  for (int i = 0; i < 10; ++i) {
+    h.send("j", job_request_t::ACTION_START);
+    EXPECT_EQ(h.last().state, +job_status_t::STATE_DONE);
+    EXPECT_EQ(h.bridge->state(), Bridge::State::Idle);
+  }
+  h.path(rbtest::three_segment_path("j"));
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_DONE);
+  h.path(rbtest::three_segment_path("k"));  // k was refused: its path never runs either
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_REFUSED);
+  h.tick(500);
+  EXPECT_EQ(executions(h.robot), 1);
+  EXPECT_EQ(count(h.statuses, "j", job_status_t::STATE_DONE, false), 1);
+  EXPECT_NEAR(h.robot.back().tcp_position[0], 0.8, 1e-12);  // where the one run ended
+  // A new id is a new job.
+  h.send("l", job_request_t::ACTION_START);
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_ACCEPTED);
+}
+
+TEST(RobotBridgeJobIds, RepeatedAbortAndResetAnswerWithTheStateAndChangeNothing) {
+  SimOptions so;
+  so.fault = SimFault::ProtectiveStop;
+  so.fault_at_index = 1;
+  so.fault_every_job = true;
+  Harness h(so);
+  h.send("a", job_request_t::ACTION_START);
+  h.send("a", job_request_t::ACTION_ABORT);
+  EXPECT_EQ(count(h.statuses, "a", job_status_t::STATE_ABORTED, false), 1);
+  for (int i = 0; i < 5; ++i) {
+    h.send("a", job_request_t::ACTION_ABORT);
+    EXPECT_EQ(h.last().state, +job_status_t::STATE_ABORTED);
+    EXPECT_NE(h.last().message.find("repeated ABORT"), std::string::npos) << h.last().message;
+  }
+  h.send("a", job_request_t::ACTION_START);  // an aborted job id is not started again
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_ABORTED);
+  EXPECT_EQ(h.bridge->state(), Bridge::State::Idle);
+  // A fault, cleared by r1.
+  h.send("b", job_request_t::ACTION_START);
+  h.path(rbtest::three_segment_path("b"));
+  ASSERT_TRUE(h.run_until("b", job_status_t::STATE_ABORTED, 30));
+  ASSERT_EQ(h.bridge->state(), Bridge::State::Fault);
+  h.send("r1", job_request_t::ACTION_RESET);
+  ASSERT_EQ(h.last().state, +job_status_t::STATE_DONE) << h.last().message;
+  const std::string cleared = h.last().message;
+  ASSERT_EQ(h.bridge->state(), Bridge::State::Idle);
+  // A second fault; a repeat of r1 answers r1's result and does not clear it.
+  h.send("c", job_request_t::ACTION_START);
+  h.path(rbtest::make_path("c", {{0.5, 0, 0.2, 0.02, 0}, {0.6, 0, 0.2, 0.02, 2}}));  // from where b stopped
+  ASSERT_TRUE(h.run_until("c", job_status_t::STATE_ABORTED, 60)) << h.last().message;
+  ASSERT_EQ(h.bridge->state(), Bridge::State::Fault);
+  for (int i = 0; i < 5; ++i) {
+    h.send("r1", job_request_t::ACTION_RESET);
+    EXPECT_EQ(h.last().state, +job_status_t::STATE_DONE);
+    EXPECT_NE(h.last().message.find(cleared), std::string::npos) << h.last().message;
+    EXPECT_EQ(h.bridge->state(), Bridge::State::Fault);
+  }
+  h.send("c", job_request_t::ACTION_RESET);  // the faulted job's own id names that job, not a reset
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_ABORTED);
+  EXPECT_EQ(h.bridge->state(), Bridge::State::Fault);
+  h.send("r2", job_request_t::ACTION_RESET);
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_DONE);
+  EXPECT_EQ(h.bridge->state(), Bridge::State::Idle);
+  EXPECT_EQ(count(h.statuses, "r2", job_status_t::STATE_DONE, false), 1);
+}
+
+namespace {
+// The simulated robot under another driver's name: the bridge treats it as a real robot.
+struct RealRobot : Driver {
+  SimDriver sim{SimOptions{}};
+  const char* name() const override { return "ur"; }
+  void update(double now) override { sim.update(now); }
+  const RobotState& state() const override { return sim.state(); }
+  std::string start(const Path& path, double now) override { return sim.start(path, now); }
+  void stop(double now) override { sim.stop(now); }
+  std::string reset(double now) override { return sim.reset(now); }
+};
+}  // namespace
+
+TEST(RobotBridgeJobIds, SimStartsCleanAfterAnotherRunARealRobotStaysInFault) {
+  BridgeConfig cfg;
+  cfg.state_file = ::testing::TempDir() + "rb_run_state_" + std::to_string(getpid());
+  cfg.run_id = "run-1";
+  auto crash = [&](const std::string& job) {
+    Harness h({}, cfg);
+    h.send(job, job_request_t::ACTION_START);
+    h.path(rbtest::three_segment_path(job));
+    h.tick(10);
+    ASSERT_TRUE(std::ifstream(cfg.state_file).good());
+  };
+  crash("x1");
+  {  // the same run (a supervisor restart): FAULT as before
+    Harness h({}, cfg);
+    EXPECT_EQ(h.bridge->state(), Bridge::State::Fault);
+    ASSERT_FALSE(h.statuses.empty());
+    EXPECT_NE(h.statuses[0].message.find("restarted"), std::string::npos) << h.statuses[0].message;
+  }
+  crash("x2");
+  cfg.run_id = "run-2";
+  {  // the next run of the simulated robot: the job reported interrupted, and the robot ready
+    Harness h({}, cfg);
+    EXPECT_EQ(h.bridge->state(), Bridge::State::Idle);
+    ASSERT_FALSE(h.statuses.empty());
+    EXPECT_EQ(h.statuses[0].job_id, "x2");
+    EXPECT_EQ(h.statuses[0].state, +job_status_t::STATE_ABORTED);
+    EXPECT_NE(h.statuses[0].message.find("interrupted"), std::string::npos) << h.statuses[0].message;
+    EXPECT_FALSE(std::ifstream(cfg.state_file).good());
+    h.send("x3", job_request_t::ACTION_START);
+    EXPECT_EQ(h.last().state, +job_status_t::STATE_ACCEPTED);
+    h.path(rbtest::three_segment_path("x3"));
+    EXPECT_TRUE(h.run_until("x3", job_status_t::STATE_RUNNING));
+  }  // dies mid-job again, in run-2
+  cfg.run_id = "run-3";
+  {  // a real robot may have stopped anywhere: FAULT whatever the run
+    std::vector<job_status_t> statuses;
+    BridgeOutputs out;
+    out.job_status = [&](job_status_t& s) { statuses.push_back(s); };
+    Bridge b(cfg, std::make_unique<RealRobot>(), out, 0);
+    EXPECT_EQ(b.state(), Bridge::State::Fault);
+    ASSERT_FALSE(statuses.empty());
+    EXPECT_EQ(statuses[0].job_id, "x3");
+    EXPECT_NE(statuses[0].message.find("restarted"), std::string::npos) << statuses[0].message;
+  }
+  std::remove(cfg.state_file.c_str());
+}

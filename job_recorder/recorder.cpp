@@ -1,0 +1,260 @@
+#include "job_recorder/recorder.hpp"
+
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+
+#include "runtime/job_ledger.hpp"
+#include "runtime/log.hpp"
+#include "tools/overview/overview.hpp"
+
+namespace hg::job_recorder {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using runtime::Level;
+using runtime::logf;
+
+namespace {
+
+constexpr std::size_t kMaxName = 120, kKeptPrefix = 100;
+constexpr std::size_t kOutlinesKept = 8;
+constexpr std::size_t kRecordsInMemory = 1024;  // beyond this, ended records are dropped (reloaded from disk)
+
+std::uint64_t fnv1a(const std::string& s) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+bool plain(unsigned char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Who ends a job: the robot bridge's DONE, or FAILED/ABORTED/REFUSED from anyone (as tools/run.sh reads it).
+bool ends_job(const hullgrind::job_status_t& s) {
+  return (s.state == hullgrind::job_status_t::STATE_DONE && s.source == "hg-robot-bridge") ||
+         (runtime::job_state_final(s.state) && s.state != hullgrind::job_status_t::STATE_DONE);
+}
+
+}  // namespace
+
+std::string job_dir_name(const std::string& job_id) {
+  if (job_id.empty()) return "";
+  std::string name;
+  for (std::size_t i = 0; i < job_id.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(job_id[i]);
+    if (plain(c) || (c == '.' && i > 0)) {
+      name += char(c);
+    } else {
+      char buf[4];
+      std::snprintf(buf, sizeof buf, "%%%02X", c);
+      name += buf;
+    }
+  }
+  if (name.size() > kMaxName) {
+    std::size_t keep = kKeptPrefix;
+    while (keep > 0 && name[keep - 1] == '%') --keep;             // never cut an escape in two
+    if (keep >= 2 && name[keep - 2] == '%') keep -= 2;
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "~%016llx", static_cast<unsigned long long>(fnv1a(job_id)));
+    name = name.substr(0, keep) + buf;
+  }
+  return name;
+}
+
+std::string iso_time(std::int64_t utime) {
+  const std::time_t secs = static_cast<std::time_t>(utime / 1000000);
+  std::tm tm{};
+  gmtime_r(&secs, &tm);
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday,
+                tm.tm_hour, tm.tm_min, tm.tm_sec, int((utime % 1000000) / 1000));
+  return buf;
+}
+
+json request_json(const hullgrind::job_request_t& r) {
+  return {{"action", runtime::job_action_name(r.action)}, {"job_id", r.job_id}, {"part_id", r.part_id},
+          {"tool_radius", r.tool_radius}, {"chamfer_angle", r.chamfer_angle}, {"grind_speed", r.grind_speed},
+          {"travel_speed", r.travel_speed}, {"step", r.step}, {"safe_height", r.safe_height},
+          {"direction", r.direction == hullgrind::job_request_t::DIRECTION_CONVENTIONAL ? "conventional" : "climb"},
+          {"flipped", r.flipped}};
+}
+
+Recorder::Recorder(fs::path root, std::int64_t now_utime) : root_(std::move(root)) {
+  fs::create_directories(root_);
+  load_open_records(now_utime);
+}
+
+void Recorder::load_open_records(std::int64_t now_utime) {
+  for (const auto& entry : fs::directory_iterator(root_)) {
+    const fs::path file = entry.path() / "job.json";
+    if (!entry.is_directory() || !fs::exists(file)) continue;
+    json rec = json::parse(read_text(file), nullptr, false);
+    if (rec.is_discarded() || !rec.is_object() || !rec.contains("job_id") || !rec["job_id"].is_string() ||
+        job_dir_name(rec["job_id"].get<std::string>()) != entry.path().filename().string()) {
+      ++stats_.bad_records;
+      logf(Level::Warn, "%s: not a job record; skipped", file.c_str());
+      continue;
+    }
+    if (rec.value("final", false) || rec.contains("interrupted")) continue;
+    const std::string id = rec["job_id"];
+    records_[id] = std::move(rec);
+    mark_interrupted(records_[id], "hg-job-recorder was not running when the job ended (or it has not ended)", now_utime);
+  }
+}
+
+json* Recorder::record(const std::string& job_id, std::int64_t utime) {
+  if (job_id.empty()) {
+    ++stats_.rejected_ids;
+    return nullptr;
+  }
+  if (auto it = records_.find(job_id); it != records_.end()) return &it->second;
+  const fs::path dir = dir_of(job_id);
+  std::error_code ec;
+  if (fs::exists(dir / "job.json", ec)) {  // recorded before (an ended job dropped from memory, or before a restart)
+    json rec = json::parse(read_text(dir / "job.json"), nullptr, false);
+    if (!rec.is_discarded() && rec.is_object()) return &(records_[job_id] = std::move(rec));
+  }
+  fs::create_directories(dir, ec);
+  if (ec) {
+    ++stats_.write_errors;
+    logf(Level::Error, "cannot make %s: %s", dir.c_str(), ec.message().c_str());
+    return nullptr;
+  }
+  if (records_.size() >= kRecordsInMemory)
+    std::erase_if(records_, [](const auto& kv) { return kv.second.value("final", false); });
+  ++stats_.records;
+  return &(records_[job_id] = json{{"job_id", job_id}, {"part_id", ""}, {"created", iso_time(utime)},
+                                   {"created_utime", utime}, {"state", "NONE"}, {"final", false}, {"requests", 0}});
+}
+
+void Recorder::write_file(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      ++stats_.write_errors;
+      logf(Level::Error, "cannot write %s", tmp.c_str());
+      return;
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);  // whole or not at all, whenever the process dies
+  if (ec) {
+    ++stats_.write_errors;
+    logf(Level::Error, "cannot rename %s: %s", tmp.c_str(), ec.message().c_str());
+  }
+}
+
+void Recorder::save(const std::string& job_id) { write_file(dir_of(job_id) / "job.json", records_[job_id].dump(1) + "\n"); }
+
+void Recorder::append_event(const std::string& job_id, const json& event) {
+  std::ofstream out(dir_of(job_id) / "events.jsonl", std::ios::app);
+  out << event.dump() << "\n";
+  out.flush();
+  if (!out) ++stats_.write_errors;
+}
+
+void Recorder::mark_interrupted(json& rec, const std::string& why, std::int64_t utime) {
+  rec["interrupted"] = {{"at", iso_time(utime)}, {"at_utime", utime}, {"why", why},
+                        {"last_state", rec.value("state", "NONE")}, {"last_update", rec.value("updated", "")}};
+  const std::string id = rec["job_id"];
+  append_event(id, {{"time", iso_time(utime)}, {"utime", utime}, {"event", "interrupted"}, {"why", why}});
+  save(id);
+}
+
+void Recorder::on_request(const hullgrind::job_request_t& r, std::int64_t utime) {
+  json* rec = record(r.job_id, utime);
+  if (!rec) return;
+  json req = request_json(r);
+  append_event(r.job_id, {{"time", iso_time(utime)}, {"utime", utime}, {"event", "request"}, {"request", req}});
+  (*rec)["requests"] = rec->value("requests", 0) + 1;
+  if (!rec->contains("request")) {  // the first request says what the job is; repeats are events
+    (*rec)["request"] = req;
+    (*rec)["requested"] = iso_time(utime);
+    (*rec)["requested_utime"] = utime;
+    if (!r.part_id.empty()) (*rec)["part_id"] = r.part_id;
+  }
+  save(r.job_id);
+}
+
+void Recorder::on_status(const hullgrind::job_status_t& s, std::int64_t utime) {
+  json* rec = record(s.job_id, utime);
+  if (!rec) return;
+  const std::string state = runtime::job_state_name(s.state);
+  append_event(s.job_id, {{"time", iso_time(utime)}, {"utime", utime}, {"event", "status"}, {"source", s.source},
+                          {"state", state}, {"progress", s.progress}, {"message", s.message}});
+  if ((*rec)["part_id"] == "" && !s.part_id.empty()) (*rec)["part_id"] = s.part_id;
+  if (rec->value("final", false)) return save(s.job_id);  // the first end stands; later words are events
+  // A status after an interruption: the job went on (the recorder was the one that died).
+  if (rec->contains("interrupted")) {
+    (*rec)["resumed_after_interruption"] = (*rec)["interrupted"];
+    rec->erase("interrupted");
+  }
+  const bool progress_only = s.state == hullgrind::job_status_t::STATE_RUNNING && (*rec)["state"] == "RUNNING";
+  (*rec)["state"] = state;
+  (*rec)["source"] = s.source;
+  (*rec)["progress"] = s.progress;
+  if (!progress_only || s.progress >= 1) (*rec)["message"] = s.message;
+  (*rec)["updated"] = iso_time(utime);
+  (*rec)["updated_utime"] = utime;
+  if (ends_job(s)) {
+    (*rec)["final"] = true;
+    (*rec)["ended"] = iso_time(utime);
+    (*rec)["ended_utime"] = utime;
+    (*rec)["reason"] = s.message;
+  }
+  save(s.job_id);
+}
+
+void Recorder::on_outline(const hullgrind::outline_t& o, std::int64_t) {
+  outlines_.push_back(o);
+  if (outlines_.size() > kOutlinesKept) outlines_.pop_front();
+}
+
+void Recorder::on_path(const hullgrind::grind_path_t& p, std::int64_t utime) {
+  json* rec = record(p.job_id, utime);
+  if (!rec) return;
+  const fs::path dir = dir_of(p.job_id);
+  const bool first = !rec->contains("path");
+  append_event(p.job_id, {{"time", iso_time(utime)}, {"utime", utime}, {"event", "path"}, {"waypoints", p.n},
+                          {"outline_seq", p.outline_seq}, {"kept", first}});
+  if (!first) return save(p.job_id);  // a job has one path: the first
+  write_file(dir / "path.json", overview::path_json(p).dump(1) + "\n");
+  (*rec)["path"] = {{"file", "path.json"}, {"waypoints", p.n}, {"outline_seq", p.outline_seq},
+                    {"tool_radius", p.tool_radius}, {"frame", p.frame}, {"time", iso_time(utime)}};
+  for (auto it = outlines_.rbegin(); it != outlines_.rend(); ++it) {
+    if (it->header.seq != p.outline_seq) continue;
+    overview::JobTrace trace;
+    trace.job_id = p.job_id;
+    trace.outline = overview::Logged<hullgrind::outline_t>{*it, utime};
+    write_file(dir / "outline.json", overview::outline_json(trace).dump(1) + "\n");
+    int holes = 0;
+    for (const auto& l : it->loops) holes += l.hole;
+    (*rec)["outline"] = {{"file", "outline.json"}, {"seq", it->header.seq}, {"loops", it->num_loops}, {"holes", holes},
+                         {"time", iso_time(it->header.utime)}};
+    break;
+  }
+  if (!rec->contains("outline"))
+    (*rec)["outline"] = {{"seq", p.outline_seq}, {"missing", "the outline was not heard by the recorder"}};
+  save(p.job_id);
+}
+
+void Recorder::stop(std::int64_t utime) {
+  for (auto& [id, rec] : records_)
+    if (!rec.value("final", false) && !rec.contains("interrupted"))
+      mark_interrupted(rec, "hg-job-recorder stopped while the job was " + rec.value("state", std::string("NONE")), utime);
+}
+
+}  // namespace hg::job_recorder
