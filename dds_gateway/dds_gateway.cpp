@@ -91,6 +91,11 @@ Gateway::Gateway(runtime::Node& node, Options options)
   logf(Level::Info, "DDS domain %d, topics %s*, Cyclone config %s", options_.domain, prefix.c_str(),
        options_.cyclone_config.c_str());
 
+  // While the loop is held up (a write waiting up to 1 s for a slow reliable reader, or the process short
+  // of CPU) LCM must keep what arrives: its default queue of 30 is 30 ms of a 1 kHz part-pose stream, and
+  // it drops the newest, so even a state topic would end on a stale state. 10000: 10 s of that stream.
+  node_.set_queue_capacity(10000);
+
   node_.subscribe<hullgrind::outline_t>(channels::kOutline, [this](const hullgrind::outline_t& m, const runtime::Delivery&) {
     OutlineSample s;
     to_dds(m, s);

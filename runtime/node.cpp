@@ -195,7 +195,8 @@ std::vector<double> Node::param_doubles(const std::string& name) const {
 void Node::add_handler(const std::string& channel,
                        std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn) {
   handlers_.push_back(std::make_unique<Handler>(Handler{std::move(fn)}));
-  lcm_->subscribe(channel, &Handler::on, handlers_.back().get());
+  lcm::Subscription* sub = lcm_->subscribe(channel, &Handler::on, handlers_.back().get());
+  if (sub && queue_capacity_ > 0) sub->setQueueCapacity(queue_capacity_);
 }
 
 void Node::subscribe_raw(const std::string& channel,

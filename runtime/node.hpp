@@ -82,6 +82,9 @@ class Node {
   void subscribe(const std::string& channel, std::function<void(const T&, const Delivery&)> handler);
   // Raw subscription (bytes), counted as received.
   void subscribe_raw(const std::string& channel, std::function<void(const lcm::ReceiveBuffer&, const Delivery&)> handler);
+  // LCM silently drops a message that arrives while a subscription already has this many waiting for
+  // the loop (LCM's default: 30). Applies to the subscriptions made after the call; 0 keeps LCM's default.
+  void set_queue_capacity(int messages) { queue_capacity_ = messages; }
 
   // Publish; fills header.seq (per channel) and header.utime (if 0) of messages that have a header.
   // Thread-safe. Returns false (and logs) if LCM refused it.
@@ -140,6 +143,7 @@ class Node {
   std::int64_t heartbeat_seq_ = 0;
   std::chrono::steady_clock::time_point start_;
   RateLimiter decode_log_limit_;
+  int queue_capacity_ = 0;
 };
 
 // ---- templates ----
