@@ -56,6 +56,7 @@ constexpr const char* kHoleColour = "#d02020";
 nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar, const RunInfo& info) {
   nlohmann::ordered_json j;
   j["input"] = {{"file", info.input}, {"format", info.format}, {"has_z", info.has_z}, {"projected", planar.projected}};
+  j["frame"] = info.frame;
   j["points_read"] = r.points_read;
   j["points_used"] = r.points_used;
   j["duplicates_merged"] = r.duplicates_merged;
