@@ -18,8 +18,9 @@ void usage(std::FILE* f) {
   std::fprintf(f,
                "usage: hg-plan [options] OUTLINE.json\n"
                "Plans a grind path from an outline JSON file (hg-outline's format: loops [{hole, points [[x, y], ...]}],\n"
-               "plane {origin, normal, u, v} optional) and writes {\"job_id\", \"frame\", \"waypoints\": [{position,\n"
-               "orientation [w, x, y, z], speed, kind, loop}], tool_radius, tilt, flipped} in the robot base frame, metres.\n"
+               "plane {origin, normal, u, v} optional, frame optional) and writes a path file (docs/path_file.md:\n"
+               "{\"job_id\", \"frame\", \"outline_seq\", \"tool_radius\", \"tilt\", \"flipped\", \"waypoints\": [{position,\n"
+               "orientation [w, x, y, z], speed, kind, loop}]}) in the robot base frame, metres.\n"
                "Loops without a plane (a 2-D outline) are placed on the plane given by plane_* below (camera frame).\n"
                "Frames: the outline file's \"frame\" says which frame its plane is in: camera (camera_to_base is\n"
                "applied), robot_base (the base_frame: used as it is) or cloud (hg-outline: the input cloud's own\n"
