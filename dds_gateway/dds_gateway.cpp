@@ -1,5 +1,7 @@
 #include "dds_gateway/dds_gateway.hpp"
 
+#include <unistd.h>
+
 #include <cstdlib>
 
 #include "runtime/channels.hpp"
@@ -120,6 +122,7 @@ Gateway::Gateway(runtime::Node& node, Options options)
                                              [this](const hullgrind::robot_status_t& m, const runtime::Delivery&) { on_robot_status(m); });
   node_.subscribe<hullgrind::heartbeat_t>(channels::kHeartbeat, [this](const hullgrind::heartbeat_t& m, const runtime::Delivery&) {
     hgdds_Health s = to_dds(m);
+    if (m.process == node_.name() && m.pid == ::getpid()) s.thinned = thinned_;
     write(w_health_, &s, "health");
   });
   // Job requests and the rate-limited robot status are served from the LCM loop, so every LCM publish
@@ -150,14 +153,14 @@ void Gateway::on_robot_status(const hullgrind::robot_status_t& m) {
   auto now = std::chrono::steady_clock::now();
   double rate = options_.robot_status_max_rate;
   if (rate <= 0 || now - last_robot_status_ >= std::chrono::duration<double>(1.0 / rate)) {
-    if (pending_robot_status_) node_.count_dropped();  // superseded by this newer one
+    if (pending_robot_status_) ++thinned_;  // superseded by this newer one
     pending_robot_status_.reset();
     last_robot_status_ = now;
     hgdds_RobotStatus s = to_dds(m);
     write(w_robot_status_, &s, "robot status");
     return;
   }
-  if (pending_robot_status_) node_.count_dropped();
+  if (pending_robot_status_) ++thinned_;
   pending_robot_status_ = m;  // the newest waits for its slot, so the last state always crosses
 }
 

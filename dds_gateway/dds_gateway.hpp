@@ -55,6 +55,9 @@ class Gateway {
                w_health_ = 0, r_job_request_ = 0;
   std::chrono::steady_clock::time_point last_robot_status_{};
   std::optional<hullgrind::robot_status_t> pending_robot_status_;
+  // Robot statuses superseded while waiting for their rate-limit slot: deliberate, not a loss, so not in
+  // the heartbeat's `dropped`; reported as `thinned` in the gateway's own Health sample.
+  std::int64_t thinned_ = 0;
   runtime::RateLimiter write_error_log_;
 };
 

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "path_planner/io.hpp"
@@ -17,9 +18,14 @@ void usage(std::FILE* f) {
   std::fprintf(f,
                "usage: hg-plan [options] OUTLINE.json\n"
                "Plans a grind path from an outline JSON file (hg-outline's format: loops [{hole, points [[x, y], ...]}],\n"
-               "plane {origin, normal, u, v} optional) and writes {\"job_id\", \"frame\", \"waypoints\": [{position,\n"
-               "orientation [w, x, y, z], speed, kind, loop}], tool_radius, tilt, flipped} in the robot base frame, metres.\n"
-               "Loops without a plane are placed on the plane given by plane_* below (camera frame).\n"
+               "plane {origin, normal, u, v} optional, frame optional) and writes a path file (docs/path_file.md:\n"
+               "{\"job_id\", \"frame\", \"outline_seq\", \"tool_radius\", \"tilt\", \"flipped\", \"waypoints\": [{position,\n"
+               "orientation [w, x, y, z], speed, kind, loop}]}) in the robot base frame, metres.\n"
+               "Loops without a plane (a 2-D outline) are placed on the plane given by plane_* below (camera frame).\n"
+               "Frames: the outline file's \"frame\" says which frame its plane is in: camera (camera_to_base is\n"
+               "applied), robot_base (the base_frame: used as it is) or cloud (hg-outline: the input cloud's own\n"
+               "coordinates, taken as the camera frame). --outline_frame overrides it: a cloud in robot base\n"
+               "coordinates plans with --outline_frame robot_base. The transform applied is printed on stderr.\n"
                "The start point is the loop point nearest to `home` (no robot is heard here).\n"
                "Prints a one-line summary on stderr. Exit status: 0 planned, 1 planning failed (reason on stderr),\n"
                "2 bad command line, config or input file.\n\n"
@@ -83,49 +89,43 @@ int main(int argc, char** argv) {
   }
   PlannerConfig cfg;
   OutlineInput outline;
+  OutlineFrame frame;
   try {
     hg::runtime::Config config = config_path.empty() ? hg::runtime::Config() : hg::runtime::Config::load(config_path);
-    ParamLookup lookup{[&](const std::string& k) -> std::string {
-                         if (auto it = cli.find(k); it != cli.end()) return it->second;
-                         if (auto v = config.get_string(k)) return *v;
-                         const auto* p = find(k);
-                         return p->is_flag && p->default_value.empty() ? "false" : p->default_value;
-                       },
-                       [&](const std::string& k) -> std::vector<double> {
-                         std::string text;
-                         if (auto it = cli.find(k); it != cli.end()) text = it->second;
-                         else if (config.has(k)) {
-                           if (auto v = config.get_doubles(k)) return *v;
-                         } else text = find(k)->default_value;
-                         std::vector<double> out;
-                         std::stringstream ss(text);
-                         std::string item;
-                         while (std::getline(ss, item, ',')) {
-                           char* end = nullptr;
-                           const double d = std::strtod(item.c_str(), &end);
-                           if (item.empty() || *end != '\0')
-                             throw hg::runtime::ConfigError("parameter '" + k + "': '" + item + "' is not a number");
-                           out.push_back(d);
-                         }
-                         return out;
-                       }};
+    const ParamLookup lookup = lookup_from(cli, config);
     cfg = config_from(lookup);
     std::ifstream f(input, std::ios::binary);
     if (!f) throw std::runtime_error("cannot open");
     std::stringstream ss;
     ss << f.rdbuf();
     outline = read_outline_json(ss.str(), cfg.default_plane);
+    frame = resolve_outline_frame(outline.frame, lookup.text("outline_frame"), cfg);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hg-plan: %s: %s\n", input.c_str(), e.what());
     return 2;
   }
+  if (!outline.plane_given && frame.used == cfg.base_frame) {
+    // The default plane is a camera-frame plane: put it where the calibration says, in the base frame.
+    const Eigen::Isometry3d& T = cfg.camera_to_base;
+    outline.plane = {T * outline.plane.origin, T.linear() * outline.plane.u, T.linear() * outline.plane.v,
+                     T.linear() * outline.plane.normal};
+    std::fprintf(stderr, "hg-plan: the outline has no plane: the configured plane_* (camera frame) is used\n");
+  }
+  cfg.camera_to_base = frame.camera_to_base;
+  std::fprintf(stderr, "hg-plan: outline plane in frame '%s' (the file says %s); camera-to-base applied: %s\n",
+               frame.used.c_str(), frame.declared.c_str(),
+               frame.used == cfg.base_frame ? "none (identity)" : matrix_text(cfg.camera_to_base).c_str());
+  if (!frame.note.empty()) std::fprintf(stderr, "hg-plan: note: %s\n", frame.note.c_str());
   const PlanResult r = plan(outline, cfg.defaults, cfg, std::nullopt);
   for (const std::string& w : r.warnings) std::fprintf(stderr, "hg-plan: warning: %s\n", w.c_str());
   if (!r.ok) {
     std::fprintf(stderr, "hg-plan: planning failed: %s\n", r.reason.c_str());
+    if (r.reason.find("workspace box") != std::string::npos && frame.used != cfg.base_frame)
+      std::fprintf(stderr, "hg-plan: is the outline in robot base coordinates? then give --outline_frame %s\n",
+                   cfg.base_frame.c_str());
     return 1;
   }
-  const std::string text = path_json(job_id, cfg.base_frame, r).dump(1) + "\n";
+  const std::string text = path_json(job_id, cfg.base_frame, r, outline.seq).dump(1) + "\n";
   if (output.empty()) {
     std::cout << text;
   } else {

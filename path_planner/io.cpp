@@ -1,6 +1,9 @@
 #include "path_planner/io.hpp"
 
+#include "runtime/path_file.hpp"
+
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -40,6 +43,8 @@ std::vector<Param> planner_params() {
       {"plane_v", "0,-1,0", "... v axis"},
       {"plane_normal", "0,0,-1", "... normal (u, v, normal right-handed)"},
       {"base_frame", "robot_base", "name of the robot base frame in the path"},
+      {"outline_frame", "", "hg-plan: frame of the outline file's plane: camera (camera_to_base applied) | robot_base "
+                            "(the base_frame: none applied); default: the file's \"frame\" (cloud or none: camera)"},
       {"home", "0.5,0,0.3", "robot position (base frame) used as the start reference until HG_ROBOT_STATUS is heard"},
       {"workspace_min", "-1,-1,0", "workspace box, base frame, m: lower corner"},
       {"workspace_max", "1.5,1,1", "workspace box, base frame, m: upper corner"},
@@ -52,6 +57,36 @@ std::vector<Param> planner_params() {
 ParamLookup lookup_from(const runtime::Node& node) {
   return {[&node](const std::string& k) { return node.param(k); },
           [&node](const std::string& k) { return node.param_doubles(k); }};
+}
+
+ParamLookup lookup_from(const std::map<std::string, std::string>& cli, const runtime::Config& config) {
+  auto fallback = [](const std::string& k) -> std::string {
+    for (const auto& p : planner_params())
+      if (p.name == k) return p.is_flag && p.default_value.empty() ? "false" : p.default_value;
+    throw ConfigError("no planner parameter '" + k + "'");
+  };
+  return {[=, &config](const std::string& k) -> std::string {
+            if (auto it = cli.find(k); it != cli.end()) return it->second;
+            if (auto v = config.get_string(k)) return *v;
+            return fallback(k);
+          },
+          [=, &config](const std::string& k) -> std::vector<double> {
+            std::string text;
+            if (auto it = cli.find(k); it != cli.end()) text = it->second;
+            else if (config.has(k)) {
+              if (auto v = config.get_doubles(k)) return *v;
+            } else text = fallback(k);
+            std::vector<double> out;
+            std::stringstream ss(text);
+            std::string item;
+            while (std::getline(ss, item, ',')) {
+              char* end = nullptr;
+              const double d = std::strtod(item.c_str(), &end);
+              if (item.empty() || *end != '\0') throw ConfigError("parameter '" + k + "': '" + item + "' is not a number");
+              out.push_back(d);
+            }
+            return out;
+          }};
 }
 
 namespace {
@@ -154,6 +189,10 @@ OutlineInput read_outline_json(const std::string& text, const Plane& default_pla
       throw std::runtime_error(where + ": expected [x, y, z] numbers");
     return Vec3(a[0].get<double>(), a[1].get<double>(), a[2].get<double>());
   };
+  if (j.contains("frame")) {
+    if (!j["frame"].is_string()) throw std::runtime_error("frame: expected a string");
+    in.frame = j["frame"].get<std::string>();
+  }
   if (j.contains("plane")) {
     const auto& p = j["plane"];
     if (!p.is_object()) throw std::runtime_error("plane: expected an object");
@@ -161,6 +200,7 @@ OutlineInput read_outline_json(const std::string& text, const Plane& default_pla
       if (!p.contains(k)) throw std::runtime_error(std::string("plane: no \"") + k + "\"");
     in.plane = {vec(p["origin"], "plane.origin"), vec(p["u"], "plane.u"), vec(p["v"], "plane.v"),
                 vec(p["normal"], "plane.normal")};
+    in.plane_given = true;
   }
   const auto& loops = j["loops"];
   for (std::size_t k = 0; k < loops.size(); ++k) {
@@ -186,37 +226,43 @@ OutlineInput read_outline_json(const std::string& text, const Plane& default_pla
   return in;
 }
 
-const char* kind_name(std::int8_t kind) {
-  switch (kind) {
-    case kApproach: return "approach";
-    case kLeadIn: return "lead_in";
-    case kGrind: return "grind";
-    case kLeadOut: return "lead_out";
-    case kRetract: return "retract";
-    case kTravel: return "travel";
+OutlineFrame resolve_outline_frame(const std::string& file_frame, const std::string& chosen, const PlannerConfig& cfg) {
+  OutlineFrame f;
+  f.declared = file_frame.empty() ? "(none)" : file_frame;
+  f.used = chosen.empty() ? file_frame : chosen;
+  if (f.used.empty() || f.used == "cloud") {
+    f.used = "camera";
+    f.note = "an outline in its cloud's own coordinates is taken as the camera's view; give --outline_frame " +
+             cfg.base_frame + " if the cloud is in robot base coordinates";
   }
-  return "unknown";
+  if (f.used == cfg.base_frame) {
+    f.camera_to_base = Eigen::Isometry3d::Identity();
+  } else if (f.used == "camera") {
+    f.camera_to_base = cfg.camera_to_base;
+  } else {
+    throw ConfigError("outline frame '" + f.used + "' is neither camera nor " + cfg.base_frame +
+                      " (the base_frame); give --outline_frame camera or --outline_frame " + cfg.base_frame);
+  }
+  return f;
 }
 
-nlohmann::ordered_json path_json(const std::string& job_id, const std::string& frame, const PlanResult& r) {
-  nlohmann::ordered_json j;
-  j["job_id"] = job_id;
-  j["frame"] = frame;
-  auto wps = nlohmann::ordered_json::array();
-  for (const Waypoint& w : r.path) {
-    nlohmann::ordered_json jw;
-    jw["position"] = {w.position.x(), w.position.y(), w.position.z()};
-    jw["orientation"] = {w.orientation.w(), w.orientation.x(), w.orientation.y(), w.orientation.z()};
-    jw["speed"] = w.speed;
-    jw["kind"] = kind_name(w.kind);
-    jw["loop"] = w.loop;
-    wps.push_back(std::move(jw));
-  }
-  j["waypoints"] = std::move(wps);
-  j["tool_radius"] = r.params.tool_radius;
-  j["tilt"] = r.params.chamfer_angle;
-  j["flipped"] = r.params.flipped;
-  return j;
+std::string matrix_text(const Eigen::Isometry3d& T) {
+  std::string s = "[";
+  char buf[40];
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      std::snprintf(buf, sizeof buf, "%.6g%s", std::abs(T.matrix()(r, c)) < 1e-12 ? 0.0 : T.matrix()(r, c),
+                    c < 3 ? " " : (r < 3 ? "; " : "]"));
+      s += buf;
+    }
+  return s;
+}
+
+const char* kind_name(std::int8_t kind) { return path_file::kind_name(kind); }
+
+nlohmann::ordered_json path_json(const std::string& job_id, const std::string& frame, const PlanResult& r,
+                                 std::int64_t outline_seq) {
+  return path_file::to_json(to_lcm(r, job_id, outline_seq, frame, 0));
 }
 
 OutlineInput from_lcm(const hullgrind::outline_t& m) {

@@ -6,6 +6,7 @@
 #include "runtime/node.hpp"
 
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "hullgrind/grind_path_t.hpp"
@@ -22,16 +23,34 @@ struct ParamLookup {
   std::function<std::vector<double>(const std::string&)> list;
 };
 ParamLookup lookup_from(const runtime::Node& node);
+// The same outside a process (hg-plan, hg-overview): `cli` (name -> value, lists as "a,b,c") > `config`
+// (must outlive the lookup) > the default of planner_params().
+ParamLookup lookup_from(const std::map<std::string, std::string>& cli, const runtime::Config& config);
 // Throws runtime::ConfigError naming the parameter when a value is unusable.
 PlannerConfig config_from(const ParamLookup& lookup);
 
 // Outline JSON as hg-outline writes it: {"loops": [{"hole", "points": [[x, y], ...]}, ...], "plane"?:
-// {"origin", "normal", "u", "v"}}. Without a plane, default_plane is used. Throws std::runtime_error
-// naming the byte (parse errors) or the loop and point index.
+// {"origin", "normal", "u", "v"}, "frame"?: the frame the plane is in}. Without a plane, default_plane is
+// used. Throws std::runtime_error naming the byte (parse errors) or the key, loop and point index.
 OutlineInput read_outline_json(const std::string& text, const Plane& default_plane);
 
-// {"job_id", "frame", "waypoints": [{"position", "orientation" [w, x, y, z], "speed", "kind"}]}
-nlohmann::ordered_json path_json(const std::string& job_id, const std::string& frame, const PlanResult& result);
+// Which frame an outline file's plane is taken to be in, and the camera-to-base transform that follows:
+// `chosen` (the outline_frame parameter) if given, else what the file says. camera: the configured
+// calibration; the base_frame: identity (the plane is in robot base coordinates already); cloud (hg-outline:
+// the input cloud's own coordinates) or nothing: camera, with a note saying so. Anything else: ConfigError.
+struct OutlineFrame {
+  std::string declared;   // what the file says ("(none)" when it says nothing)
+  std::string used;       // camera or the base_frame
+  Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();
+  std::string note;       // set when the choice was a guess
+};
+OutlineFrame resolve_outline_frame(const std::string& file_frame, const std::string& chosen, const PlannerConfig& cfg);
+// A 4x4 transform as "[r00 r01 r02 t0; ...; 0 0 0 1]" (the camera_to_base parameter's order, row-major).
+std::string matrix_text(const Eigen::Isometry3d& T);
+
+// The path file (runtime/path_file.hpp, docs/path_file.md) of a planned path.
+nlohmann::ordered_json path_json(const std::string& job_id, const std::string& frame, const PlanResult& result,
+                                 std::int64_t outline_seq = -1);
 const char* kind_name(std::int8_t kind);
 
 OutlineInput from_lcm(const hullgrind::outline_t& msg);

@@ -38,7 +38,9 @@ struct Plane {
 };
 
 struct OutlineInput {
-  Plane plane;              // camera frame
+  Plane plane;              // camera frame (plan() applies camera_to_base to it)
+  std::string frame;        // the frame an outline file says its plane is in ("" when it does not say)
+  bool plane_given = false; // an outline file had a plane (else: the configured default plane)
   std::vector<Loop> loops;
   std::int64_t seq = -1;    // outline header.seq, copied into the path
 };

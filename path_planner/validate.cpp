@@ -80,8 +80,10 @@ std::string validate(const std::vector<Waypoint>& path, const Limits& L, const V
     if (!w.position.allFinite() || !w.orientation.coeffs().allFinite() || !std::isfinite(w.speed))
       return at + "non-finite value";
     if ((w.position.array() < L.workspace_min.array()).any() || (w.position.array() > L.workspace_max.array()).any())
-      return at + fmt("position (%.4f, %.4f, %.4f) m is outside the workspace box", w.position.x(), w.position.y(),
-                      w.position.z());
+      return at + fmt("position (%.4f, %.4f, %.4f) m", w.position.x(), w.position.y(), w.position.z()) +
+             fmt(" is outside the workspace box (%.4f, %.4f, %.4f)", L.workspace_min.x(), L.workspace_min.y(),
+                 L.workspace_min.z()) +
+             fmt(" .. (%.4f, %.4f, %.4f) m (base frame)", L.workspace_max.x(), L.workspace_max.y(), L.workspace_max.z());
     if (!(w.position.z() > L.table_z))
       return at + fmt("z = %.4f m is not above the table (z = %.4f m)", w.position.z(), L.table_z);
     if (!(w.speed > 0) || w.speed > L.max_speed)

@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 
-#include <nlohmann/json.hpp>
-
 #include "hullgrind/grind_path_t.hpp"
+#include "runtime/path_file.hpp"
 
 namespace hg::robot_bridge {
 
@@ -26,51 +24,9 @@ Path from_lcm(const hullgrind::grind_path_t& msg) {
   return p;
 }
 
-const char* kind_name(std::int8_t kind) {
-  static const char* names[] = {"approach", "lead_in", "grind", "lead_out", "retract", "travel"};
-  return kind >= 0 && kind < 6 ? names[kind] : "unknown";
-}
+const char* kind_name(std::int8_t kind) { return path_file::kind_name(kind); }
 
-Path read_path_json(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw std::runtime_error(file + ": cannot open");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(file + ": not JSON: " + e.what());
-  }
-  Path p;
-  try {
-    p.job_id = j.value("job_id", std::string());
-    p.frame = j.value("frame", std::string());
-    const auto& wps = j.at("waypoints");
-    for (std::size_t i = 0; i < wps.size(); ++i) {
-      const auto& w = wps[i];
-      try {
-        auto pos = w.at("position").get<std::vector<double>>();
-        auto q = w.at("orientation").get<std::vector<double>>();
-        if (pos.size() != 3 || q.size() != 4) throw std::runtime_error("position needs 3 numbers, orientation 4");
-        p.position.emplace_back(pos[0], pos[1], pos[2]);
-        p.orientation.emplace_back(q[0], q[1], q[2], q[3]);
-        p.speed.push_back(w.at("speed").get<double>());
-        std::int8_t kind = -1;
-        const auto& k = w.at("kind");
-        if (k.is_number_integer()) kind = std::int8_t(k.get<int>());
-        else
-          for (std::int8_t c = 0; c < 6; ++c)
-            if (k.get<std::string>() == kind_name(c)) kind = c;
-        if (kind < 0 || kind > 5) throw std::runtime_error("unknown kind " + k.dump());
-        p.kind.push_back(kind);
-      } catch (const std::exception& e) {
-        throw std::runtime_error("waypoint " + std::to_string(i) + ": " + e.what());
-      }
-    }
-  } catch (const std::exception& e) {
-    throw std::runtime_error(file + ": " + e.what());
-  }
-  return p;
-}
+Path read_path_json(const std::string& file) { return from_lcm(path_file::read_file(file)); }
 
 namespace {
 

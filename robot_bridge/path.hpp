@@ -34,9 +34,8 @@ struct Path {
 };
 
 Path from_lcm(const hullgrind::grind_path_t& msg);
-// Reads issue 8's path.json ({"job_id", "frame", "waypoints": [{"position", "orientation" [w,x,y,z],
-// "speed", "kind"}]}); kind may be a number or a name ("grind", ...). Throws std::runtime_error naming the
-// file and the waypoint index.
+// Reads a path file (runtime/path_file.hpp, docs/path_file.md) with the one path-file reader. Throws
+// std::runtime_error naming the file, the key and the waypoint index.
 Path read_path_json(const std::string& file);
 const char* kind_name(std::int8_t kind);
 

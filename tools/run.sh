@@ -169,6 +169,22 @@ cp "$OUT/supervisor.out" "$OUT/logs/status.txt" 2>/dev/null || true
 
 echo "== results"
 rc=0
-"$BIN/hg-overview" "$OUT/run.lcmlog" --out "$OUT" --job-id "$JOB_ID" --planner-config "$ROOT/config/path_planner.yaml" || rc=$?
+# The picture needs the calibration the planner ran with: its command line from the pipeline file.
+mapfile -t planner_args < <(python3 - "$PIPELINE" <<'PY'
+import os, sys, tomllib
+path = sys.argv[1]
+with open(path, "rb") as f:
+    pipeline = tomllib.load(f)
+for p in pipeline.get("process", []):
+    cmd = p["command"]
+    if os.path.basename(cmd[0]) == "hg-path-planner":
+        cwd = p.get("cwd", os.path.dirname(path))  # the supervisor runs a process there
+        for i, a in enumerate(cmd[1:]):
+            print(os.path.join(cwd, a) if i > 0 and cmd[i] == "--config" else a)
+        break
+PY
+)
+"$BIN/hg-overview" "$OUT/run.lcmlog" --out "$OUT" --job-id "$JOB_ID" --planner-config "$ROOT/config/path_planner.yaml" \
+  --planner-args "${planner_args[@]}" || rc=$?
 echo "bus recorded in $OUT/run.lcmlog; process logs in $OUT/logs/; the job's record: tools/hg-jobs --dir $OUT/jobs show $JOB_ID"
 exit $rc

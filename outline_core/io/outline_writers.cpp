@@ -60,6 +60,7 @@ constexpr const char* kHoleColour = "#d02020";
 nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar, const RunInfo& info) {
   nlohmann::ordered_json j;
   j["input"] = {{"file", info.input}, {"format", info.format}, {"has_z", info.has_z}, {"projected", planar.projected}};
+  j["frame"] = info.frame;
   j["points_read"] = r.points_read;
   j["points_skipped"] = r.points_skipped;
   j["points_used"] = r.points_used;
@@ -169,7 +170,9 @@ std::string render_svg(std::span<const Vec2> points, const Result& r, bool draw_
   s += std::to_string(points.size()) + " points" + (step > 1 ? " (every " + std::to_string(step) + "th drawn)" : std::string()) + ", ";
   s += "<tspan fill=\"" + std::string(kOuterColour) + "\">" + std::to_string(r.loops.size() - holes) + " outer</tspan>, ";
   s += "<tspan fill=\"" + std::string(kHoleColour) + "\">" + std::to_string(holes) + " holes</tspan>, R = ";
-  append_num(s, r.alpha_radius);
+  char radius[32];  // in the input's units, as the PNG legend: metres need more than one decimal
+  std::snprintf(radius, sizeof radius, "%.4g", r.alpha_radius);
+  s += radius;
   s += "</text>\n</svg>\n";
   return s;
 }

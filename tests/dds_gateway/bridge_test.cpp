@@ -390,4 +390,32 @@ TEST_F(DdsGatewayRateLimit, RobotStatusIsThinnedAndTheLastAlwaysCrosses) {
     EXPECT_GT(robot_status->samples[i]->s.header.seq, robot_status->samples[i - 1]->s.header.seq);
 }
 
+// Thinning is deliberate, not a loss: every robot status either crossed or was thinned, and the gateway's
+// Health says which, with nothing counted as dropped.
+TEST_F(DdsGatewayRateLimit, ThinnedStatusesAreCountedApartFromDropped) {
+  constexpr int kCount = 100;
+  // The warm-up's statuses were thinned too: start from a heartbeat sent after the warm-up was over.
+  ASSERT_TRUE(gateway_health());
+  const auto seq0 = gateway_health()->header.seq;
+  ASSERT_TRUE(wait_until([&] { return gateway_health()->header.seq >= seq0 + 2; }, [&] { pump(); }, 10s));
+  const long long thinned0 = gateway_health()->thinned;
+  EXPECT_EQ(gateway_health()->dropped, 0);
+  for (int i = 0; i < kCount; ++i) {
+    hullgrind::robot_status_t r{};
+    r.header.seq = i;
+    r.path_index = i;
+    lcm.publish("HG_ROBOT_STATUS", &r);
+    std::this_thread::sleep_for(1ms);
+  }
+  ASSERT_TRUE(wait_until([&] { return !robot_status->samples.empty() && robot_status->samples.back()->s.header.seq == kCount - 1; },
+                         [&] { pump(); }, 10s));
+  const long long crossed = static_cast<long long>(robot_status->samples.size());
+  // The gateway's next heartbeat (1 Hz) carries the counters of all of them.
+  ASSERT_TRUE(wait_until([&] { return gateway_health()->thinned - thinned0 + crossed == kCount; },
+                         [&] { pump(); }, 10s))
+      << "thinned " << gateway_health()->thinned - thinned0 << ", crossed " << crossed;
+  EXPECT_GT(gateway_health()->thinned - thinned0, 0);
+  EXPECT_EQ(gateway_health()->dropped, 0) << "thinning counted as loss";
+}
+
 }  // namespace

@@ -147,6 +147,8 @@ class Pipeline:
             p["command"] += extra_args.get(p["name"], [])
             p["cwd"] = self.dir
             procs.append(p)
+            if p["name"] == "planner":
+                self.planner_command = list(p["command"])  # for hg-overview: the calibration this run uses
         self.names = [p["name"] for p in procs]
         if any("dds-security" in a for p in procs for a in p["command"]):
             out = run([os.path.join(SRC, "tools", "make-dds-security.sh"), os.path.join(self.dir, "dds-security")],
@@ -311,8 +313,10 @@ class Pipeline:
     def overview(self, job_id, out_dir):
         """hg-overview on the recorded log (flushed by lcm-logger every 100 ms)."""
         os.makedirs(out_dir, exist_ok=True)
+        planner = getattr(self, "planner_command", [])[1:]
         return run([bin_path("hg-overview"), self.log, "--out", out_dir, "--job-id", job_id,
-                    "--planner-config", os.path.join(CONFIG, "path_planner.yaml")], timeout=120)
+                    "--planner-config", os.path.join(CONFIG, "path_planner.yaml"), "--planner-args"] + planner,
+                   timeout=120)
 
     # ---- diagnostics ----
     def tail(self, name, lines=25):

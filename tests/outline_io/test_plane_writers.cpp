@@ -235,6 +235,16 @@ TEST(OutlineIoWriters, StagedFilesAreWholeOrAbsent) {
   fs::remove_all(dir);
 }
 
+// The caption's R in the input's units with four significant digits: a radius in metres is not "0.0".
+TEST(OutlineIoWriters, SvgCaptionPrintsTheRadius) {
+  Result r = two_loop_result();
+  std::vector<Vec2> pts = {{0, 0}, {0.4, 0}, {0.4, 0.4}, {0, 0.4}};
+  r.alpha_radius = 0.00273431;
+  EXPECT_NE(render_svg(pts, r, false).find("R = 0.002734</text>"), std::string::npos);
+  r.alpha_radius = 12.5;
+  EXPECT_NE(render_svg(pts, r, false).find("R = 12.5</text>"), std::string::npos);
+}
+
 TEST(OutlineIoWriters, PicturesShowPointsLoopsAndHoles) {
   Result r = two_loop_result();
   std::vector<Vec2> pts = {{0, 0}, {4, 0}, {4, 4}, {0, 4}, {1, 1}, {1, 3}, {3, 3}, {3, 1}, {2, 0}};

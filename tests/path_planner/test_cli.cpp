@@ -1,6 +1,8 @@
-// hg-plan: outline JSON file in, path.json out (the schema make run writes), errors and --help.
+// hg-plan: outline JSON file in, path.json out (the schema make run writes), errors and --help; the README's
+// chain hg-gen -> hg-outline -> hg-plan -> hg-robot-bridge --export.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -77,4 +79,87 @@ TEST(PathPlannerCli, FailuresAndHelp) {
   EXPECT_EQ(run(tmp("outline.json") + " --workspace_max 0.6,1,1", &out), 1);
   EXPECT_NE(out.find("outside the workspace box"), std::string::npos) << out;
   EXPECT_EQ(run(tmp("outline.json") + " --no_such_option 1", &out), 2);
+}
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::stringstream ss;
+  ss << std::ifstream(path).rdbuf();
+  return ss.str();
+}
+int run_tool(const std::string& command, std::string* out) {
+  const std::string log = tmp("tool.txt");
+  const int rc = std::system((std::string(HG_BIN_DIR) + "/" + command + " >" + log + " 2>&1").c_str());
+  *out = slurp(log);
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+double segment_distance(double px, double py, const nlohmann::json& a, const nlohmann::json& b) {
+  const double ax = a[0], ay = a[1], dx = double(b[0]) - ax, dy = double(b[1]) - ay;
+  const double L2 = dx * dx + dy * dy;
+  const double t = L2 == 0 ? 0 : std::clamp(((px - ax) * dx + (py - ay) * dy) / L2, 0.0, 1.0);
+  return std::hypot(ax + t * dx - px, ay + t * dy - py);
+}
+double ring_distance(double px, double py, const nlohmann::json& ring) {
+  double d = INFINITY;
+  for (std::size_t i = 0; i < ring.size(); ++i) d = std::min(d, segment_distance(px, py, ring[i], ring[(i + 1) % ring.size()]));
+  return d;
+}
+
+}  // namespace
+
+// The README's chain on a generated 3-D cloud (table frame = robot base frame, table top at z = 0):
+// hg-gen -> hg-outline -> hg-plan --outline_frame robot_base -> hg-robot-bridge --export. Without the flag
+// hg-plan takes the cloud as the camera's view and fails, printing the transform and the workspace box.
+// The grind waypoints are checked against hg-gen's ground truth: a tool radius from the true edge, on the
+// plate's top surface.
+TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
+  const double pitch = 0.002, noise = 0.0002, radius = 0.006;
+  // Along the edges: the outline runs through the outermost pixel centres (no edge compensation without a
+  // known pitch), which lie within one pitch inside the true edge, plus noise; at the corners, which the
+  // alpha shape and the smoothing round off, within two pitches.
+  const double tolerance = pitch + 4 * noise, corner_tolerance = 2 * pitch;
+  for (int seed : {1, 2, 3}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const std::string cloud = tmp("cloud.xyz"), outline = tmp("o.json"), path = tmp("p.json"), script = tmp("job.script");
+    std::string out;
+    ASSERT_EQ(run_tool("hg-gen --shape plate-hole-slot --pitch 0.002 --noise 0.0002 --depth-noise 0.0005 --seed " +
+                           std::to_string(seed) + " -o " + cloud, &out), 0) << out;
+    ASSERT_EQ(run_tool("hg-outline " + cloud + " -o " + outline, &out), 0) << out;
+    const nlohmann::json o = nlohmann::json::parse(slurp(outline));
+    EXPECT_EQ(o["frame"], "cloud");
+    ASSERT_TRUE(o.contains("plane")) << "a cloud with depth noise is projected onto its plane";
+
+    EXPECT_EQ(run_tool("hg-plan " + outline + " -o " + path, &out), 1) << out;
+    EXPECT_NE(out.find("camera-to-base applied: [1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.2; 0 0 0 1]"), std::string::npos) << out;
+    EXPECT_NE(out.find("outside the workspace box (-1.0000, -1.0000, 0.0000) .. (1.5000, 1.0000, 1.0000)"), std::string::npos) << out;
+    EXPECT_NE(out.find("--outline_frame robot_base"), std::string::npos) << out;
+
+    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline_frame robot_base --tool_radius " + std::to_string(radius) +
+                           " -o " + path, &out), 0) << out;
+    EXPECT_NE(out.find("camera-to-base applied: none (identity)"), std::string::npos) << out;
+    ASSERT_EQ(run_tool("hg-robot-bridge --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml --export " +
+                           script + " --path " + path, &out), 0) << out;
+
+    const nlohmann::json p = nlohmann::json::parse(slurp(path));
+    const nlohmann::json truth = nlohmann::json::parse(slurp(cloud + ".truth.json"))["parts"][0];
+    const double top = truth["thickness"];
+    const std::string s = slurp(script);
+    std::size_t moves = 0;
+    for (std::size_t at = s.find("  move"); at != std::string::npos; at = s.find("  move", at + 1)) ++moves;
+    EXPECT_EQ(moves, p["waypoints"].size()) << "one move per waypoint in the exported script";
+    std::vector<double> errors;
+    for (const auto& w : p["waypoints"]) {
+      if (w["kind"] != "grind") continue;
+      const double x = w["position"][0], y = w["position"][1], z = w["position"][2];
+      double d = ring_distance(x, y, truth["outer"]);
+      for (const auto& h : truth["holes"]) d = std::min(d, ring_distance(x, y, h));
+      ASSERT_NEAR(d, radius, corner_tolerance) << "grind waypoint at (" << x << ", " << y << ")";
+      errors.push_back(std::abs(d - radius));
+      ASSERT_NEAR(z, top, 4 * 0.0005 / std::sqrt(1000.0) + 1e-4) << "on the plate's top surface (plane fit of ~20k points)";
+    }
+    ASSERT_GT(errors.size(), 300u);
+    std::nth_element(errors.begin(), errors.begin() + long(errors.size() * 9 / 10), errors.end());
+    EXPECT_LT(errors[errors.size() * 9 / 10], tolerance) << "90 % of the grind waypoints a tool radius from the edge";
+  }
 }

@@ -10,33 +10,54 @@
 
 #include "outline_core/io/outline_writers.hpp"
 #include "path_planner/io.hpp"
+#include "runtime/path_file.hpp"
 #include "tools/overview/overview.hpp"
 
 namespace {
 
 const char* kUsage = R"(usage: hg-overview LOG.lcmlog --out DIR [--job-id J] [--planner-config FILE]
+                   [--NAME VALUE ...] [--planner-args ARG ...]
 Reads a recorded run (tools/record) and writes, for one job (default: the last START request):
-  DIR/outline.json   the outline the job was planned on, in hg-outline's JSON schema
-  DIR/path.json      {"job_id", "frame", "waypoints": [{"position", "orientation" [w,x,y,z], "speed", "kind"}]}
-  DIR/overview.png   top view on the plate: cloud, outline (holes red), grind path, legend
+  DIR/outline.json   the outline the job was planned on, in hg-outline's JSON schema ("frame": "camera")
+  DIR/path.json      the grind path, in the path file schema (docs/path_file.md)
+  DIR/overview.png   top view on the plate: cloud, outline (holes red), grind path, scale bar, frames, legend
   DIR/summary.json   stage timings (ms) and every job status
---planner-config: the path planner's config, for the camera-to-base calibration that brings the path back
-onto the plate in the picture [default: config/path_planner.yaml].
+The picture brings the path (robot base frame) back onto the plate with the camera-to-base calibration the
+planner used; give the planner's settings as the run gave them:
+  --planner-config FILE  the planner's config file [default: config/path_planner.yaml]
+  --NAME VALUE           any planner parameter (hg-plan --help lists them), e.g. --camera_xyz 0.5,0,1.5
+  --planner-args ARG...  the rest of the command line is the planner's own (as in the pipeline file, without
+                         the program): its --config and its planner parameters are taken, other options skipped
+The calibration used is printed; a grind path more than 5 mm off the outline's plane is warned about (on
+stderr and in the picture): the settings given are not the ones the planner ran with.
 Exit status: 0 the job is DONE, 1 it is not (or not in the log), 2 bad usage or unreadable log.
 )";
 
-std::vector<double> parse_list(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) out.push_back(std::stod(item));
-  return out;
+bool is_planner_param(const std::string& name) {
+  for (const auto& p : hg::path_planner::planner_params())
+    if (p.name == name) return true;
+  return false;
+}
+
+// The planner's own command line: --config and planner parameters are kept, other options (the
+// process's: --lcm-url, ...) skipped with their value.
+void take_planner_args(int argc, char** argv, int first, std::string& config, std::map<std::string, std::string>& cli) {
+  for (int i = first; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--", 0) != 0) continue;
+    const bool has_value = i + 1 < argc && std::string(argv[i + 1]).rfind("--", 0) != 0;
+    const std::string value = has_value ? argv[i + 1] : "true";
+    if (a == "--config") config = value;
+    else if (is_planner_param(a.substr(2))) cli[a.substr(2)] = value;
+    if (has_value) ++i;
+  }
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string log_path, out_dir, job_id, planner_config = "config/path_planner.yaml";
+  std::map<std::string, std::string> planner_cli;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -52,6 +73,10 @@ int main(int argc, char** argv) {
     } else if (a == "--out") out_dir = value();
     else if (a == "--job-id") job_id = value();
     else if (a == "--planner-config") planner_config = value();
+    else if (a == "--planner-args") {
+      take_planner_args(argc, argv, i + 1, planner_config, planner_cli);
+      break;
+    } else if (a.rfind("--", 0) == 0 && is_planner_param(a.substr(2))) planner_cli[a.substr(2)] = value();
     else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "hg-overview: unknown option %s\n%s", a.c_str(), kUsage);
       return 2;
@@ -62,17 +87,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    // Camera -> base from the planner's own configuration code, so the picture uses what planning used.
-    hg::runtime::Config cfg = hg::runtime::Config::load(planner_config);
-    std::map<std::string, std::string> defaults;
-    for (const auto& p : hg::path_planner::planner_params()) defaults[p.name] = p.default_value;
-    hg::path_planner::ParamLookup lookup{
-        [&](const std::string& k) { return cfg.get_string(k).value_or(defaults[k]); },
-        [&](const std::string& k) {
-          if (auto v = cfg.get_doubles(k)) return *v;
-          return parse_list(defaults[k]);
-        }};
-    auto camera_to_base = hg::path_planner::config_from(lookup).camera_to_base;
+    // Camera -> base through the planner's own configuration code, from the settings the run gave it.
+    const hg::runtime::Config cfg = hg::runtime::Config::load(planner_config);
+    const auto planner = hg::path_planner::config_from(hg::path_planner::lookup_from(planner_cli, cfg));
+    const Eigen::Isometry3d camera_to_base = planner.camera_to_base;
+    std::printf("camera-to-base calibration (from %s%s): %s\n", planner_config.c_str(),
+                planner_cli.empty() ? "" : " and the planner's command line",
+                hg::path_planner::matrix_text(camera_to_base).c_str());
 
     auto log = hg::overview::read_run_log(log_path);
     auto job = hg::overview::trace_job(log, job_id);
@@ -83,8 +104,14 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(out_dir);
     hg::outline::io::StagedFiles files;
     if (job.outline) files.stage(out_dir + "/outline.json", hg::overview::outline_json(job).dump(1) + "\n");
-    if (job.path) files.stage(out_dir + "/path.json", hg::overview::path_json(job.path->msg).dump(1) + "\n");
-    auto png = hg::overview::overview_png(job, camera_to_base);
+    if (job.path) files.stage(out_dir + "/path.json", hg::path_file::to_text(job.path->msg));
+    const double off_plane = hg::overview::path_on_plate(job, camera_to_base).grind_height_median();
+    if (off_plane > hg::overview::kOffPlaneWarning)
+      std::fprintf(stderr,
+                   "hg-overview: warning: the grind path lies %.1f mm off the outline's plane with this calibration: "
+                   "the planner ran with other settings (give them: --planner-args)\n",
+                   off_plane * 1e3);
+    auto png = hg::overview::overview_png(job, camera_to_base, planner.base_frame);
     files.stage(out_dir + "/overview.png", png.data(), png.size());
     auto summary = hg::overview::summary_json(job);
     files.stage(out_dir + "/summary.json", summary.dump(1) + "\n");

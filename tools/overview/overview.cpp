@@ -14,18 +14,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-const char* kind_name(int k) {
-  switch (k) {
-    case hullgrind::grind_path_t::KIND_APPROACH: return "approach";
-    case hullgrind::grind_path_t::KIND_LEAD_IN: return "lead-in";
-    case hullgrind::grind_path_t::KIND_GRIND: return "grind";
-    case hullgrind::grind_path_t::KIND_LEAD_OUT: return "lead-out";
-    case hullgrind::grind_path_t::KIND_RETRACT: return "retract";
-    case hullgrind::grind_path_t::KIND_TRAVEL: return "travel";
-  }
-  return "unknown";
-}
-
 const char* state_name(int s) {
   static const char* names[] = {"ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED"};
   return s >= 0 && s < 8 ? names[s] : "?";
@@ -70,28 +58,10 @@ Json outline_json(const JobTrace& job) {
   info.input = "HG_PLATE_CLOUD seq " + std::to_string(o.cloud_seq);
   info.format = "lcm";
   info.has_z = true;
+  info.frame = "camera";  // the planner places HG_OUTLINE's plane in the camera frame
   Json j = outline::io::outline_json(r, planar, info);
   j["status"] = o.status;
   if (!o.error_text.empty()) j["error"] = o.error_text;
-  return j;
-}
-
-Json path_json(const hullgrind::grind_path_t& p) {
-  Json j;
-  j["job_id"] = p.job_id;
-  j["frame"] = p.frame;
-  Json wps = Json::array();
-  for (int i = 0; i < p.n; ++i) {
-    const auto k = std::size_t(i);
-    wps.push_back({{"position", {p.position[k][0], p.position[k][1], p.position[k][2]}},
-                   {"orientation", {p.orientation[k][0], p.orientation[k][1], p.orientation[k][2], p.orientation[k][3]}},
-                   {"speed", p.speed[k]},
-                   {"kind", kind_name(p.kind[k])}});
-  }
-  j["waypoints"] = std::move(wps);
-  j["tool_radius"] = p.tool_radius;
-  j["tilt"] = p.tilt;
-  j["flipped"] = p.flipped;
   return j;
 }
 
@@ -129,68 +99,79 @@ Json summary_json(const JobTrace& job) {
   return j;
 }
 
-std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isometry3d& camera_to_base) {
-  std::vector<Eigen::Vector2d> cloud;
-  if (job.cloud)
-    for (int i = 0; i < job.cloud->msg.n; ++i)
-      cloud.emplace_back(job.cloud->msg.u[std::size_t(i)], job.cloud->msg.v[std::size_t(i)]);
-  // Path from the robot base frame back into the plate plane of the outline.
-  std::vector<Eigen::Vector2d> path;
-  std::vector<int> kinds;
-  if (job.path && job.outline) {
-    const auto& o = job.outline->msg;
-    Eigen::Vector3d origin(o.plane_origin), u(o.plane_u_axis), v(o.plane_v_axis);
-    Eigen::Isometry3d base_to_camera = camera_to_base.inverse();
-    for (int i = 0; i < job.path->msg.n; ++i) {
-      Eigen::Vector3d p = base_to_camera * Eigen::Vector3d(job.path->msg.position[std::size_t(i)].data());
-      path.emplace_back((p - origin).dot(u), (p - origin).dot(v));
-      kinds.push_back(job.path->msg.kind[std::size_t(i)]);
+double PlatePath::grind_height_median() const {
+  std::vector<double> h;
+  for (std::size_t i = 0; i < height.size(); ++i)
+    if (kind[i] == hullgrind::grind_path_t::KIND_GRIND) h.push_back(std::abs(height[i]));
+  if (h.empty()) return 0;
+  std::nth_element(h.begin(), h.begin() + long(h.size() / 2), h.end());
+  return h[h.size() / 2];
+}
+
+PlatePath path_on_plate(const JobTrace& job, const Eigen::Isometry3d& camera_to_base) {
+  PlatePath out;
+  if (!job.path || !job.outline) return out;
+  const auto& o = job.outline->msg;
+  const Eigen::Vector3d origin(o.plane_origin), u(o.plane_u_axis), v(o.plane_v_axis), n(o.plane_normal);
+  const Eigen::Isometry3d base_to_camera = camera_to_base.inverse();
+  for (int i = 0; i < job.path->msg.n; ++i) {
+    const Eigen::Vector3d p = base_to_camera * Eigen::Vector3d(job.path->msg.position[std::size_t(i)].data()) - origin;
+    out.uv.emplace_back(p.dot(u), p.dot(v));
+    out.height.push_back(p.dot(n));
+    out.kind.push_back(job.path->msg.kind[std::size_t(i)]);
+  }
+  return out;
+}
+
+double scale_bar_mm(double span) {
+  const double limit = span * 1e3 / 4;
+  double best = 1;
+  for (double decade = 1e-3; decade <= 1e6; decade *= 10)
+    for (double m : {1.0, 2.0, 5.0})
+      if (m * decade <= limit) best = m * decade;
+  return best;
+}
+
+namespace {
+
+// Picture transform: plate (u, v) in metres -> pixel, y up, fitted to the content.
+struct Canvas {
+  Eigen::Vector2d lo, hi;
+  double scale = 1;
+  int width = 1400, height = 0;
+  static constexpr int margin = 40, legend = 180;
+  explicit Canvas(const std::vector<Eigen::Vector2d>& pts) {
+    lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
+    hi = -lo;
+    for (const auto& p : pts) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    if (lo.x() > hi.x()) lo = {0, 0}, hi = {1, 1};
+    scale = (width - 2 * margin) / std::max(hi.x() - lo.x(), 1e-9);
+    height = int((hi.y() - lo.y()) * scale) + 2 * margin + legend;
+    if (height > 2400) {  // very tall parts: fit the height instead
+      scale = (2400 - 2 * margin - legend) / std::max(hi.y() - lo.y(), 1e-9);
+      height = 2400;
     }
   }
-  Eigen::Vector2d lo(std::numeric_limits<double>::max(), std::numeric_limits<double>::max()), hi = -lo;
-  auto grow = [&](const Eigen::Vector2d& p) { lo = lo.cwiseMin(p), hi = hi.cwiseMax(p); };
-  for (const auto& p : cloud) grow(p);
-  for (const auto& p : path) grow(p);
-  if (job.outline)
-    for (const auto& l : job.outline->msg.loops)
-      for (int i = 0; i < l.n; ++i) grow({l.u[std::size_t(i)], l.v[std::size_t(i)]});
-  if (lo.x() > hi.x()) lo = {0, 0}, hi = {1, 1};
-
-  const int width = 1400, margin = 40, legend = 150;
-  double scale = (width - 2 * margin) / std::max(hi.x() - lo.x(), 1e-9);
-  int height = int((hi.y() - lo.y()) * scale) + 2 * margin + legend;
-  if (height > 2400) {  // very tall parts: fit the height instead
-    scale = (2400 - 2 * margin - legend) / std::max(hi.y() - lo.y(), 1e-9);
-    height = 2400;
-  }
-  cv::Mat img(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
-  auto px = [&](const Eigen::Vector2d& p) {  // y up
+  cv::Point px(const Eigen::Vector2d& p) const {
     return cv::Point(int(std::lround(margin + (p.x() - lo.x()) * scale)),
                      int(std::lround(height - legend - margin - (p.y() - lo.y()) * scale)));
-  };
-  for (const auto& p : cloud) {
-    cv::Point q = px(p);
-    if (q.x >= 0 && q.y >= 0 && q.x < width && q.y < height) img.at<cv::Vec3b>(q) = cv::Vec3b(170, 170, 170);
   }
-  int holes = 0, outers = 0;
-  if (job.outline)
-    for (const auto& l : job.outline->msg.loops) {
-      std::vector<cv::Point> pts;
-      for (int i = 0; i < l.n; ++i) pts.push_back(px({l.u[std::size_t(i)], l.v[std::size_t(i)]}));
-      cv::polylines(img, pts, true, l.hole ? cv::Scalar(40, 40, 220) : cv::Scalar(200, 90, 20), 2, cv::LINE_AA);
-      (l.hole ? holes : outers)++;
-    }
-  for (std::size_t i = 1; i < path.size(); ++i) {
-    int k = kinds[i];
-    cv::Scalar color = k == hullgrind::grind_path_t::KIND_GRIND ? cv::Scalar(40, 160, 40)
-                       : (k == hullgrind::grind_path_t::KIND_LEAD_IN || k == hullgrind::grind_path_t::KIND_LEAD_OUT)
-                           ? cv::Scalar(200, 160, 0)
-                           : cv::Scalar(0, 140, 255);
-    cv::line(img, px(path[i - 1]), px(path[i]), color, k == hullgrind::grind_path_t::KIND_GRIND ? 2 : 1, cv::LINE_AA);
-  }
-  if (!path.empty()) cv::circle(img, px(path.front()), 7, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
+};
 
-  Json s = summary_json(job);
+void draw_scale_bar(cv::Mat& img, const Canvas& c) {
+  const double mm = scale_bar_mm((img.cols - 2 * Canvas::margin) / c.scale);
+  const int len = int(std::lround(mm * 1e-3 * c.scale));
+  const cv::Point a(img.cols - Canvas::margin - len, c.height - Canvas::legend + 8), b(a.x + len, a.y);
+  cv::line(img, a, b, cv::Scalar(0, 0, 0), 3);
+  for (const cv::Point& e : {a, b}) cv::line(img, e - cv::Point(0, 6), e + cv::Point(0, 6), cv::Scalar(0, 0, 0), 2);
+  char text[32];
+  std::snprintf(text, sizeof text, "%g mm", mm);
+  cv::putText(img, text, cv::Point(a.x, a.y + 24), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+}
+
+std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std::size_t cloud_points, int outers,
+                                 int holes, const std::string& base_frame) {
+  const Json s = summary_json(job);
   std::vector<std::string> lines;
   std::string outcome = "job " + job.job_id + ": " + s["final_state"].get<std::string>() +
                         (job.final_status && !job.final_status->msg.message.empty() ? " (" + job.final_status->msg.message + ")" : "");
@@ -198,8 +179,16 @@ std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isomet
   lines.push_back(outcome);
   char buf[256];
   std::snprintf(buf, sizeof buf, "cloud %zu points; outline %d outer + %d holes (blue, red), R = %.2f mm; path %zu waypoints",
-                cloud.size(), outers, holes, job.outline ? job.outline->msg.alpha_radius * 1e3 : 0.0, path.size());
+                cloud_points, outers, holes, job.outline ? job.outline->msg.alpha_radius * 1e3 : 0.0, path.uv.size());
   lines.push_back(buf);
+  const std::string camera = job.outline && !job.outline->msg.header.frame_id.empty() ? job.outline->msg.header.frame_id : "camera";
+  lines.push_back("view: the plate plane (u right, v up) of frame '" + camera + "'; path from frame '" + base_frame +
+                  "' through the camera-to-base calibration");
+  if (path.grind_height_median() > kOffPlaneWarning) {
+    std::snprintf(buf, sizeof buf, "WARNING: the grind path is %.1f mm off the plate: not the planner's calibration",
+                  path.grind_height_median() * 1e3);
+    lines.push_back(buf);
+  }
   lines.push_back("path: grind (green), lead-in/out (cyan), approach/retract/travel (orange); circle: start");
   std::string t = "stages:";
   for (auto& [k, v] : s["stages"].items()) {
@@ -207,9 +196,51 @@ std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isomet
     t += buf;
   }
   lines.push_back(t);
+  return lines;
+}
+
+}  // namespace
+
+std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isometry3d& camera_to_base,
+                                        const std::string& base_frame) {
+  std::vector<Eigen::Vector2d> cloud;
+  if (job.cloud)
+    for (int i = 0; i < job.cloud->msg.n; ++i)
+      cloud.emplace_back(job.cloud->msg.u[std::size_t(i)], job.cloud->msg.v[std::size_t(i)]);
+  const PlatePath path = path_on_plate(job, camera_to_base);
+  std::vector<Eigen::Vector2d> all = cloud;
+  all.insert(all.end(), path.uv.begin(), path.uv.end());
+  if (job.outline)
+    for (const auto& l : job.outline->msg.loops)
+      for (int i = 0; i < l.n; ++i) all.emplace_back(l.u[std::size_t(i)], l.v[std::size_t(i)]);
+  const Canvas c(all);
+  cv::Mat img(c.height, c.width, CV_8UC3, cv::Scalar(255, 255, 255));
+  for (const auto& p : cloud) {
+    cv::Point q = c.px(p);
+    if (q.x >= 0 && q.y >= 0 && q.x < c.width && q.y < c.height) img.at<cv::Vec3b>(q) = cv::Vec3b(170, 170, 170);
+  }
+  int holes = 0, outers = 0;
+  if (job.outline)
+    for (const auto& l : job.outline->msg.loops) {
+      std::vector<cv::Point> pts;
+      for (int i = 0; i < l.n; ++i) pts.push_back(c.px({l.u[std::size_t(i)], l.v[std::size_t(i)]}));
+      cv::polylines(img, pts, true, l.hole ? cv::Scalar(40, 40, 220) : cv::Scalar(200, 90, 20), 2, cv::LINE_AA);
+      (l.hole ? holes : outers)++;
+    }
+  for (std::size_t i = 1; i < path.uv.size(); ++i) {
+    const int k = path.kind[i];
+    cv::Scalar color = k == hullgrind::grind_path_t::KIND_GRIND ? cv::Scalar(40, 160, 40)
+                       : (k == hullgrind::grind_path_t::KIND_LEAD_IN || k == hullgrind::grind_path_t::KIND_LEAD_OUT)
+                           ? cv::Scalar(200, 160, 0)
+                           : cv::Scalar(0, 140, 255);
+    cv::line(img, c.px(path.uv[i - 1]), c.px(path.uv[i]), color, k == hullgrind::grind_path_t::KIND_GRIND ? 2 : 1, cv::LINE_AA);
+  }
+  if (!path.uv.empty()) cv::circle(img, c.px(path.uv.front()), 7, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
+  draw_scale_bar(img, c);
+  const auto lines = caption(job, path, cloud.size(), outers, holes, base_frame);
   for (std::size_t i = 0; i < lines.size(); ++i)
-    cv::putText(img, lines[i], cv::Point(margin, height - legend + 30 + int(i) * 28), cv::FONT_HERSHEY_SIMPLEX, 0.55,
-                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    cv::putText(img, lines[i], cv::Point(Canvas::margin, c.height - Canvas::legend + 50 + int(i) * 22),
+                cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   std::vector<unsigned char> png;
   cv::imencode(".png", img, png);
   return png;

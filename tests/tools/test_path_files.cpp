@@ -1,0 +1,260 @@
+// Path files between the tools: every path file a tool writes (hg-plan, hg-overview, the path_file writer)
+// is read back by every reader (the path_file reader, the robot bridge's, hg-robot-bridge --export), and
+// hg-overview draws the path with the calibration the run used. The recorded run is made here: a job's
+// cloud, outline, path (planned with a camera pose that overrides the config's) and statuses in an LCM log.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <fstream>
+#include <lcm/lcm-cpp.hpp>
+#include <sstream>
+
+#include "hullgrind/job_request_t.hpp"
+#include "hullgrind/job_status_t.hpp"
+#include "path_planner/io.hpp"
+#include "robot_bridge/path.hpp"
+#include "runtime/path_file.hpp"
+#include "tools/overview/overview.hpp"
+
+namespace {
+
+namespace pp = hg::path_planner;
+
+std::string tmp(const std::string& name) {
+  return testing::TempDir() + "/pathfiles_" + testing::UnitTest::GetInstance()->current_test_info()->name() + "_" + name;
+}
+std::string slurp(const std::string& path) {
+  std::stringstream ss;
+  ss << std::ifstream(path).rdbuf();
+  return ss.str();
+}
+int run(const std::string& command, std::string* out) {
+  const std::string log = tmp("tool.txt");
+  const int rc = std::system((std::string(HG_BIN_DIR) + "/" + command + " >" + log + " 2>&1").c_str());
+  *out = slurp(log);
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+const std::string kPlannerConfig = std::string(HG_SOURCE_DIR) + "/config/path_planner.yaml";
+
+// The cell of config/pipeline.toml: camera 1.5 m above the table, looking down (the config file says 1.2).
+const Eigen::Isometry3d kRunCamera = pp::pose_from_xyz_rpy({0.5, 0, 1.5}, {M_PI, 0, 0});
+const Eigen::Isometry3d kConfigCamera = pp::pose_from_xyz_rpy({0.5, 0, 1.2}, {M_PI, 0, 0});
+
+// A 0.3 x 0.2 m plate with a 60 x 40 mm cut-out, 10 mm thick, seen by that camera: plane 1.49 m away.
+struct Scene {
+  hullgrind::outline_t outline{};
+  pp::OutlineInput input;
+  std::vector<pp::Ring> rings;  // plate-plane (u, v)
+};
+Scene scene() {
+  Scene s;
+  s.rings = {{{-0.15, -0.1}, {0.15, -0.1}, {0.15, 0.1}, {-0.15, 0.1}},
+             {{0.02, -0.02}, {0.02, 0.02}, {0.08, 0.02}, {0.08, -0.02}}};
+  auto& o = s.outline;
+  o.header.seq = 7;
+  o.header.frame_id = "camera";
+  o.cloud_seq = 3;
+  const double origin[3] = {0.02, -0.01, 1.49}, normal[3] = {0, 0, -1}, u[3] = {1, 0, 0}, v[3] = {0, -1, 0};
+  for (int k = 0; k < 3; ++k)
+    o.plane_origin[k] = origin[k], o.plane_normal[k] = normal[k], o.plane_u_axis[k] = u[k], o.plane_v_axis[k] = v[k];
+  o.alpha_radius = 0.0027;
+  o.mode = "dshi";
+  o.order = "brio";
+  for (std::size_t k = 0; k < s.rings.size(); ++k) {
+    hullgrind::outline_loop_t l{};
+    l.hole = k > 0;
+    for (const auto& p : s.rings[k]) l.u.push_back(p.x()), l.v.push_back(p.y());
+    l.n = std::int32_t(l.u.size());
+    o.loops.push_back(l);
+  }
+  o.num_loops = std::int32_t(o.loops.size());
+  s.input = pp::from_lcm(o);
+  return s;
+}
+
+pp::PlannerConfig planner_config(const Eigen::Isometry3d& camera_to_base) {
+  const auto file = hg::runtime::Config::load(kPlannerConfig);
+  pp::PlannerConfig cfg = pp::config_from(pp::lookup_from({}, file));
+  cfg.camera_to_base = camera_to_base;
+  return cfg;
+}
+
+template <class T>
+void log_event(lcm::LogFile& log, std::int64_t utime, const std::string& channel, const T& msg) {
+  std::vector<std::uint8_t> buf(std::size_t(msg.getEncodedSize()));
+  msg.encode(buf.data(), 0, int(buf.size()));
+  lcm::LogEvent e{};
+  e.timestamp = utime;
+  e.channel = channel;
+  e.datalen = std::int32_t(buf.size());
+  e.data = buf.data();
+  log.writeEvent(&e);
+}
+
+// A recorded job J1 planned with kRunCamera; returns the path message as it is in the log.
+hullgrind::grind_path_t write_job_log(const std::string& file) {
+  const Scene s = scene();
+  const pp::PlanResult r = pp::plan(s.input, {}, planner_config(kRunCamera), std::nullopt);
+  EXPECT_TRUE(r.ok) << r.reason;
+  hullgrind::grind_path_t path = pp::to_lcm(r, "J1", s.outline.header.seq, "robot_base", 4000);
+  lcm::LogFile log(file, "w");
+  hullgrind::job_request_t req{};
+  req.job_id = "J1";
+  req.action = hullgrind::job_request_t::ACTION_START;
+  log_event(log, 1000, "HG_JOB_REQUEST", req);
+  hullgrind::plate_cloud_t cloud{};
+  cloud.header.seq = 3;
+  for (double u = -0.15; u <= 0.15; u += 0.01)
+    for (double v = -0.1; v <= 0.1; v += 0.01) cloud.u.push_back(float(u)), cloud.v.push_back(float(v)), cloud.part.push_back(0);
+  cloud.n = std::int32_t(cloud.u.size());
+  cloud.num_parts = 1;
+  log_event(log, 2000, "HG_PLATE_CLOUD", cloud);
+  log_event(log, 3000, "HG_OUTLINE", s.outline);
+  log_event(log, 4000, "HG_GRIND_PATH", path);
+  hullgrind::job_status_t done{};
+  done.job_id = "J1";
+  done.source = "hg-robot-bridge";
+  done.state = hullgrind::job_status_t::STATE_DONE;
+  done.progress = 1;
+  log_event(log, 5000, "HG_JOB_STATUS", done);
+  return path;
+}
+
+void expect_same_path(const hullgrind::grind_path_t& a, const hullgrind::grind_path_t& b) {
+  EXPECT_EQ(a.job_id, b.job_id);
+  EXPECT_EQ(a.frame, b.frame);
+  EXPECT_EQ(a.outline_seq, b.outline_seq);
+  EXPECT_EQ(a.tool_radius, b.tool_radius);
+  EXPECT_EQ(a.tilt, b.tilt);
+  EXPECT_EQ(a.flipped, b.flipped);
+  ASSERT_EQ(a.n, b.n);
+  for (std::size_t i = 0; i < std::size_t(a.n); ++i) {
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(a.position[i][k], b.position[i][k]) << "waypoint " << i;
+    for (int k = 0; k < 4; ++k) ASSERT_EQ(a.orientation[i][k], b.orientation[i][k]) << "waypoint " << i;
+    ASSERT_EQ(a.speed[i], b.speed[i]) << "waypoint " << i;
+    ASSERT_EQ(a.kind[i], b.kind[i]) << "waypoint " << i;
+    ASSERT_EQ(a.loop_index[i], b.loop_index[i]) << "waypoint " << i;
+  }
+}
+
+// Every reader takes the file and gets `expected` back (the export: one move per waypoint).
+void every_reader_reads(const std::string& file, const hullgrind::grind_path_t& expected) {
+  SCOPED_TRACE(file);
+  expect_same_path(hg::path_file::read_file(file), expected);
+  const hg::robot_bridge::Path p = hg::robot_bridge::read_path_json(file);
+  ASSERT_EQ(p.size(), std::size_t(expected.n));
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    EXPECT_EQ(p.position[i], Eigen::Vector3d(expected.position[i].data()));
+    EXPECT_EQ(p.kind[i], expected.kind[i]);
+  }
+  std::string out;
+  const std::string script = tmp("job.script");
+  ASSERT_EQ(run("hg-robot-bridge --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml --export " +
+                    script + " --path " + file, &out), 0) << out;
+  const std::string s = slurp(script);
+  int moves = 0;
+  for (std::size_t at = s.find("  move"); at != std::string::npos; at = s.find("  move", at + 1)) ++moves;
+  EXPECT_EQ(moves, expected.n);
+}
+
+double distance_to_rings(const Eigen::Vector2d& p, const std::vector<pp::Ring>& rings) {
+  double best = INFINITY;
+  for (const auto& r : rings)
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const Eigen::Vector2d a = r[i], d = r[(i + 1) % r.size()] - a;
+      const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      best = std::min(best, (a + t * d - p).norm());
+    }
+  return best;
+}
+
+}  // namespace
+
+TEST(PathFiles, EveryWriterIsReadByEveryReader) {
+  const hullgrind::grind_path_t logged = write_job_log(tmp("run.lcmlog"));
+  ASSERT_GT(logged.n, 0);
+
+  // 1. the path_file writer itself
+  std::ofstream(tmp("lib.json")) << hg::path_file::to_text(logged);
+  every_reader_reads(tmp("lib.json"), logged);
+
+  // 2. hg-overview (make run's out/path.json)
+  std::string out;
+  ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov") + " --planner-config " + kPlannerConfig +
+                    " --camera_xyz 0.5,0,1.5", &out), 0) << out;
+  every_reader_reads(tmp("ov") + "/path.json", logged);
+
+  // 3. hg-plan, on the outline hg-overview wrote ("frame": "camera"), with the run's camera pose
+  EXPECT_EQ(nlohmann::json::parse(slurp(tmp("ov") + "/outline.json"))["frame"], "camera");
+  ASSERT_EQ(run("hg-plan " + tmp("ov") + "/outline.json --config " + kPlannerConfig +
+                    " --camera_xyz 0.5,0,1.5 --job-id J1 -o " + tmp("plan.json"), &out), 0) << out;
+  hullgrind::grind_path_t planned = logged;
+  planned.outline_seq = -1;  // an outline file has no bus sequence number
+  // The outline file carries the loops and plane through JSON: the same doubles, so the same plan.
+  every_reader_reads(tmp("plan.json"), planned);
+}
+
+TEST(PathFiles, OneSpellingOfTheKinds) {
+  const hullgrind::grind_path_t logged = write_job_log(tmp("run.lcmlog"));
+  nlohmann::json j = hg::path_file::to_json(logged);
+  std::string kinds;
+  for (const auto& w : j["waypoints"]) kinds += w["kind"].get<std::string>() + " ";
+  EXPECT_NE(kinds.find("lead_in "), std::string::npos);
+  EXPECT_NE(kinds.find("lead_out "), std::string::npos);
+  EXPECT_EQ(kinds.find('-'), std::string::npos) << "kebab-case kind in a path file: " << kinds;
+  j["waypoints"][1]["kind"] = "lead-in";
+  try {
+    hg::path_file::from_json_text(j.dump(), "bad.json");
+    FAIL() << "a kind spelt lead-in must be refused";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bad.json: waypoint 1: kind: unknown kind \"lead-in\""), std::string::npos) << what;
+    EXPECT_NE(what.find("lead_in"), std::string::npos) << "names the spelling it takes: " << what;
+  }
+  j["waypoints"][1]["kind"] = "lead_in";
+  j["waypoints"][2].erase("speed");
+  EXPECT_THROW(hg::path_file::from_json_text(j.dump(), "bad.json"), std::runtime_error);
+}
+
+// The run planned with the camera 1.5 m up (pipeline.toml) while config/path_planner.yaml says 1.2 m:
+// with the run's calibration the path lies on the plate, a tool radius from the outline's edges.
+TEST(Overview, DrawsThePathOnThePlateWithTheRunsCalibration) {
+  write_job_log(tmp("run.lcmlog"));
+  const auto job = hg::overview::trace_job(hg::overview::read_run_log(tmp("run.lcmlog")));
+  ASSERT_TRUE(job.path && job.outline);
+  const double radius = job.path->msg.tool_radius;
+  const auto on_plate = hg::overview::path_on_plate(job, kRunCamera);
+  int grind = 0;
+  for (std::size_t i = 0; i < on_plate.uv.size(); ++i) {
+    if (on_plate.kind[i] != hullgrind::grind_path_t::KIND_GRIND) continue;
+    ++grind;
+    EXPECT_NEAR(distance_to_rings(on_plate.uv[i], scene().rings), radius, 1e-4) << "waypoint " << i;
+    EXPECT_NEAR(on_plate.height[i], 0, 1e-9) << "waypoint " << i;
+  }
+  EXPECT_GT(grind, 100);
+  EXPECT_LT(on_plate.grind_height_median(), hg::overview::kOffPlaneWarning);
+  // The config file's calibration puts it 300 mm off the plate: what the old picture did.
+  EXPECT_NEAR(hg::overview::path_on_plate(job, kConfigCamera).grind_height_median(), 0.3, 1e-9);
+
+  // hg-overview with the planner's command line from the pipeline file: that calibration, no warning.
+  std::string out;
+  ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov") + " --planner-args --config " +
+                    kPlannerConfig + " --camera_xyz 0.5,0,1.5 --pixel_pitch 0.001342 --small_hole skip --lcm-url memq://",
+                &out), 0) << out;
+  EXPECT_NE(out.find("[1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.5; 0 0 0 1]"), std::string::npos) << out;
+  EXPECT_EQ(out.find("warning"), std::string::npos) << out;
+  // Without it: the config file's 1.2 m, and a warning that the path is off the plate.
+  ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov2") + " --planner-config " + kPlannerConfig, &out), 0)
+      << out;
+  EXPECT_NE(out.find("warning: the grind path lies 300.0 mm off the outline's plane"), std::string::npos) << out;
+}
+
+TEST(Overview, ScaleBarIsARoundLengthOfAtMostAQuarterOfThePicture) {
+  EXPECT_EQ(hg::overview::scale_bar_mm(0.5), 100);   // 125 mm allowed
+  EXPECT_EQ(hg::overview::scale_bar_mm(0.3), 50);    // 75 mm allowed
+  EXPECT_EQ(hg::overview::scale_bar_mm(0.79), 100);  // 197.5 mm allowed
+  EXPECT_EQ(hg::overview::scale_bar_mm(0.8), 200);
+  EXPECT_EQ(hg::overview::scale_bar_mm(3.0), 500);
+  EXPECT_EQ(hg::overview::scale_bar_mm(0.01), 2);
+}
