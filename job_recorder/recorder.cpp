@@ -7,6 +7,7 @@
 
 #include "runtime/job_ledger.hpp"
 #include "runtime/log.hpp"
+#include "runtime/path_file.hpp"
 #include "tools/overview/overview.hpp"
 
 namespace hg::job_recorder {
@@ -231,7 +232,7 @@ void Recorder::on_path(const hullgrind::grind_path_t& p, std::int64_t utime) {
   append_event(p.job_id, {{"time", iso_time(utime)}, {"utime", utime}, {"event", "path"}, {"waypoints", p.n},
                           {"outline_seq", p.outline_seq}, {"kept", first}});
   if (!first) return save(p.job_id);  // a job has one path: the first
-  write_file(dir / "path.json", overview::path_json(p).dump(1) + "\n");
+  write_file(dir / "path.json", path_file::to_text(p));  // the one path file writer
   (*rec)["path"] = {{"file", "path.json"}, {"waypoints", p.n}, {"outline_seq", p.outline_seq},
                     {"tool_radius", p.tool_radius}, {"frame", p.frame}, {"time", iso_time(utime)}};
   for (auto it = outlines_.rbegin(); it != outlines_.rend(); ++it) {
