@@ -10,49 +10,127 @@
 
 namespace hg::outline {
 
-double median_nn_spacing(const Triangulation& T) {
-  // Selection by radix on the float bit patterns (for non-negative floats their order is that of the
-  // unsigned integers): a histogram of the top 16 bits finds the bucket of the median, a second one of
-  // the low 16 bits within that bucket finds it exactly. Two passes, no copy of the 1.5 M distances.
-  const std::size_t n = T.nn2.size();
-  auto key = [&](std::size_t v, std::uint32_t& k) {
-    if (T.vrep[v] != v || !std::isfinite(T.nn2[v])) return false;
-    std::memcpy(&k, &T.nn2[v], 4);
-    k &= 0x7fffffffu;  // -0.0f (never produced) as +0.0f
+namespace {
+
+// Median of the non-negative floats key(i), i < count, for which key returns true: selection by radix on
+// the float bit patterns (for non-negative floats their order is that of the unsigned integers): a
+// histogram of the top 16 bits finds the bucket of the median, a second one of the low 16 bits within
+// that bucket finds it exactly. Two passes, no copy of the millions of values. 0 if there are none.
+template <class Key>
+float radix_median(std::size_t count, Key key) {
+  auto bits_of = [&](std::size_t i, std::uint32_t& k) {
+    float f;
+    if (!key(i, f) || !std::isfinite(f)) return false;
+    std::memcpy(&k, &f, 4);
+    k &= 0x7fffffffu;  // -0.0f as +0.0f
     return true;
   };
   std::vector<std::uint32_t> hist(1u << 16, 0);
   std::size_t used = 0;
-  for (std::size_t v = 0; v < n; ++v) {
+  for (std::size_t i = 0; i < count; ++i) {
     std::uint32_t k;
-    if (key(v, k)) ++hist[k >> 16], ++used;
+    if (bits_of(i, k)) ++hist[k >> 16], ++used;
   }
   if (used == 0) return 0;
   std::size_t rank = used / 2;  // the element nth_element would put at used / 2
   std::uint32_t top = 0;
   while (rank >= hist[top]) rank -= hist[top++];
   std::fill(hist.begin(), hist.end(), 0);
-  for (std::size_t v = 0; v < n; ++v) {
+  for (std::size_t i = 0; i < count; ++i) {
     std::uint32_t k;
-    if (key(v, k) && (k >> 16) == top) ++hist[k & 0xffffu];
+    if (bits_of(i, k) && (k >> 16) == top) ++hist[k & 0xffffu];
   }
   std::uint32_t low = 0;
   while (rank >= hist[low]) rank -= hist[low++];
   const std::uint32_t bits = (top << 16) | low;
   float f;
   std::memcpy(&f, &bits, 4);
-  return std::sqrt(static_cast<double>(f));
+  return f;
 }
 
-std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only) {
+double triangle_area(const Triangulation& T, std::size_t t) {
+  const Vec2 &a = T.xy[T.tri[3 * t]], &b = T.xy[T.tri[3 * t + 1]], &c = T.xy[T.tri[3 * t + 2]];
+  return std::fabs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) / 2;
+}
+
+// Median of a small buffer (the upper middle for an even count, as radix_median).
+float small_median(std::vector<float>& v) {
+  if (v.empty()) return std::numeric_limits<float>::infinity();
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+double median_nn_spacing(const Triangulation& T) {
+  const float d2 = radix_median(T.nn2.size(), [&](std::size_t v, float& f) {
+    f = T.nn2[v];
+    return T.vrep[v] == v;
+  });
+  return std::sqrt(static_cast<double>(d2));
+}
+
+double median_triangle_spacing(const Triangulation& T) {
+  const float area = radix_median(T.slots(), [&](std::size_t t, float& f) {
+    if (T.is_ghost(t)) return false;
+    f = static_cast<float>(triangle_area(T, t));
+    return true;
+  });
+  return std::sqrt(2.0 * static_cast<double>(area));
+}
+
+std::vector<float> local_spacing(const Triangulation& T) {
+  const std::size_t n = T.xy.size();
+  constexpr std::uint32_t kNone = 0xffffffffu;
+  std::vector<std::uint32_t> out(n, kNone);  // one half-edge leaving each vertex
+  for (std::uint32_t h = 0; h < T.tri.size(); ++h)
+    if (T.tri[h] != T.ghost) out[T.tri[h]] = h;
+  // Visits the half-edges leaving v, once around its fan.
+  auto around = [&](std::uint32_t v, auto&& visit) {
+    const std::uint32_t h0 = out[v];
+    std::uint32_t h = h0;
+    do {
+      visit(h);
+      h = T.twin[Triangulation::prev(h)];
+    } while (h != h0);
+  };
+  std::vector<float> fan_median(n, std::numeric_limits<float>::infinity()), buf;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (out[v] == kNone) continue;
+    buf.clear();
+    around(v, [&](std::uint32_t h) {
+      if (!T.is_ghost(h / 3)) buf.push_back(static_cast<float>(triangle_area(T, h / 3)));
+    });
+    fan_median[v] = small_median(buf);
+  }
+  std::vector<float> spacing(n, 0);
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (out[v] == kNone) continue;
+    buf.assign(1, fan_median[v]);
+    around(v, [&](std::uint32_t h) {
+      const std::uint32_t u = T.tri[Triangulation::next(h)];
+      if (u != T.ghost) buf.push_back(fan_median[u]);
+    });
+    spacing[v] = static_cast<float>(std::sqrt(2.0 * static_cast<double>(small_median(buf))));
+  }
+  return spacing;
+}
+
+double local_radius(std::span<const float> s, double k, std::uint32_t u, std::uint32_t v, std::uint32_t w) {
+  const float a = s[u], b = s[v], c = s[w];
+  const float mid = std::max(std::min(a, b), std::min(std::max(a, b), c));
+  return k * static_cast<double>(mid);
+}
+
+namespace {
+
+// inside[] as documented at classify_alpha, with `big(t)` the exact r > R_t decision.
+template <class Big>
+std::vector<std::uint8_t> classify_with(const Triangulation& T, bool outer_only, Big big) {
   const std::size_t slots = T.slots();
   std::vector<std::uint8_t> inside(slots, 0);
-  // big = finite triangle with r > R (exact).
-  for (std::size_t t = 0; t < slots; ++t) {
-    if (T.is_ghost(t)) continue;
-    const Vec2 &a = T.xy[T.tri[3 * t]], &b = T.xy[T.tri[3 * t + 1]], &c = T.xy[T.tri[3 * t + 2]];
-    inside[t] = pred::circumradius_vs(a.x, a.y, b.x, b.y, c.x, c.y, R) <= 0 ? 1 : 2;  // 2 = big, for now
-  }
+  for (std::size_t t = 0; t < slots; ++t)
+    if (!T.is_ghost(t)) inside[t] = big(t) ? 2 : 1;  // 2 = big, for now
   if (!outer_only) {
     for (auto& s : inside) s = s == 1;
     return inside;
@@ -74,6 +152,24 @@ std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool 
   }
   for (auto& s : inside) s = (s == 1 || s == 2);
   return inside;
+}
+
+bool bigger_than(const Triangulation& T, std::size_t t, double R) {
+  const Vec2 &a = T.xy[T.tri[3 * t]], &b = T.xy[T.tri[3 * t + 1]], &c = T.xy[T.tri[3 * t + 2]];
+  return pred::circumradius_vs(a.x, a.y, b.x, b.y, c.x, c.y, R) > 0;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only) {
+  return classify_with(T, outer_only, [&](std::size_t t) { return bigger_than(T, t, R); });
+}
+
+std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing,
+                                               double k, bool outer_only) {
+  return classify_with(T, outer_only, [&](std::size_t t) {
+    return bigger_than(T, t, local_radius(vertex_spacing, k, T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2]));
+  });
 }
 
 std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::uint8_t>& inside,
