@@ -2,7 +2,9 @@
 // random or clustered (3x3) dropout, outlined with the automatic radius; each loop scored against the
 // generator's truth (outer loops, real holes found, spurious holes) for several hole thresholds.
 // Not a test (no assertions); a measurement, with its command in the doc.
-//   hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode global|local]
+//   hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode global|local] [--boundary]
+//   hg-radius-table --tilted POINTS   (catalogue parts seen by a tilted camera, global vs local mode)
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +13,8 @@
 
 #include "outline_core/alpha.hpp"
 #include "outline_core/bench/synthetic_clouds.hpp"
+#include "outline_core/bench/tilted_camera.hpp"
+#include "partgen/shapes.hpp"
 #include "outline_core/outline.hpp"
 
 using namespace hg::outline;
@@ -81,6 +85,58 @@ void run_one(const synth::PlateSpec& spec, const Options& base, Cell& cell) {
   }
 }
 
+// Largest distance from a loop vertex to the truth boundary, and from the truth's vertices to the loops,
+// in local spacings (the longer side of the pixel footprint).
+double hausdorff_in_spacings(const synth::TiltedView& v, const std::vector<Loop>& loops) {
+  using P = hg::partgen::Vec2;
+  auto seg = [](const P& p, const P& a, const P& b) {
+    const P ab = b - a;
+    const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    return (a + t * ab - p).norm();
+  };
+  std::vector<std::vector<P>> truth{v.truth.outer}, ours;
+  for (const auto& h : v.truth.holes) truth.push_back(h);
+  for (const Loop& L : loops) {
+    ours.emplace_back();
+    for (const Vec2& p : L.points) ours.back().push_back({p.x, p.y});
+  }
+  auto dist = [&](const P& p, const std::vector<std::vector<P>>& rings) {
+    double d = 1e300;
+    for (const auto& r : rings)
+      for (std::size_t i = 0; i < r.size(); ++i) d = std::min(d, seg(p, r[i], r[(i + 1) % r.size()]));
+    return d;
+  };
+  double worst = 0;
+  for (const auto& r : ours)
+    for (const P& p : r) worst = std::max(worst, dist(p, truth) / v.spacing(p, true));
+  for (const auto& r : truth)
+    for (const P& p : r) worst = std::max(worst, dist(p, ours) / v.spacing(p, true));
+  return worst;
+}
+
+// The tilted-camera table: every catalogue part, spacing gradients 1x, 2x and 5x, both alpha modes.
+int tilted_table(const Options& base, double points) {
+  std::printf("| part | gradient | points | truth holes | global: outer / holes / Hausdorff | local: outer / holes / Hausdorff |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  for (double g : {1.0, 2.0, 5.0})
+    for (const hg::partgen::Shape& shape : hg::partgen::catalogue()) {
+      const synth::TiltedView view = synth::tilted_view(shape, g, points, 0.2, 3);
+      std::printf("| %s | %.1f | %zu | %zu |", shape.name.c_str(), view.spacing_far / view.spacing_near, view.points.size(),
+                  view.truth.holes.size());
+      for (AlphaMode m : {AlphaMode::Global, AlphaMode::Local}) {
+        Options o = base;
+        o.alpha_mode = m;
+        const Result r = compute_outline(view.points, o);
+        int outers = 0, holes = 0;
+        for (const Loop& L : r.loops) (L.hole ? holes : outers)++;
+        std::printf(" %d / %d / %.2f |", outers, holes, outers <= 50 ? hausdorff_in_spacings(view, r.loops) : -1.0);
+      }
+      std::printf("\n");
+      std::fflush(stdout);
+    }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -88,17 +144,20 @@ int main(int argc, char** argv) {
   int seeds = 4;
   Options base;
   bool boundary = false;
+  double tilted_points = 0;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--size") && i + 1 < argc) size = argv[++i];
     else if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) seeds = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--k") && i + 1 < argc) base.auto_factor = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--alpha-mode") && i + 1 < argc) base.alpha_mode = parse_alpha_mode(argv[++i]);
     else if (!std::strcmp(argv[i], "--boundary")) boundary = true;
+    else if (!std::strcmp(argv[i], "--tilted") && i + 1 < argc) tilted_points = std::atof(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode M] [--boundary]\n");
+      std::fprintf(stderr, "usage: hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode M] [--boundary] | --tilted POINTS\n");
       return 2;
     }
   }
+  if (tilted_points > 0) return tilted_table(base, tilted_points);
   synth::PlateSpec spec;
   if (size == "2k") spec.W = 60, spec.H = 34, spec.hole_diameters = {4, 5, 8};
   else if (size == "17k") spec.W = 170, spec.H = 100, spec.hole_diameters = {4, 4, 4.5, 5, 6, 8, 12};

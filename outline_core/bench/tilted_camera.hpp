@@ -64,7 +64,8 @@ struct TiltedView {
   }
 };
 
-// The part seen so that the spacing (sqrt of the pixel footprint) at the far edge of its bounding box is
+// The part seen (camera above the near edge of its bounding box, at the height found by bisection) so
+// that the spacing (sqrt of the pixel footprint) at the far edge of its bounding box is
 // `gradient` times that at the near edge, with about `target_points` points; pixel jitter (uniform,
 // +-jitter pixels in the image) gives noise that scales with the local spacing.
 inline TiltedView tilted_view(const partgen::Shape& shape, double gradient, double target_points, double jitter,
@@ -73,17 +74,17 @@ inline TiltedView tilted_view(const partgen::Shape& shape, double gradient, doub
   view.truth = partgen::single_part_scene(shape, 0.05).parts[0].placed;
   const partgen::Box box = partgen::bounding_box(view.truth);
   const double L = box.max_y - box.min_y, xm = (box.min_x + box.max_x) / 2;
-  const double height = 0.25 * L;
-  auto ratio = [&](double offset) {
-    const TiltedCamera cam(box, offset, height);
+  // The camera stands above the near edge, aimed at the centre; the lower it is, the steeper the gradient.
+  auto ratio = [&](double height) {
+    const TiltedCamera cam(box, 0, height);
     double l, a_near, a_far;
     cam.footprint({xm, box.min_y}, 1e-3, l, a_near);
     cam.footprint({xm, box.max_y}, 1e-3, l, a_far);
     return a_far / a_near;
   };
-  double lo = 0, hi = 50 * L;  // the ratio falls as the camera moves back
-  for (int i = 0; i < 60; ++i) (ratio((lo + hi) / 2) > gradient ? lo : hi) = (lo + hi) / 2;
-  view.camera = TiltedCamera(box, (lo + hi) / 2, height);
+  double lo = 0.02 * L, hi = 1000 * L;
+  for (int i = 0; i < 80; ++i) (ratio(std::sqrt(lo * hi)) > gradient ? lo : hi) = std::sqrt(lo * hi);
+  view.camera = TiltedCamera(box, 0, std::sqrt(lo * hi));
   auto render = [&](double delta) {
     std::vector<Vec2> pts;
     std::mt19937_64 rng(seed);
