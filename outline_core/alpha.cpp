@@ -71,17 +71,39 @@ double median_nn_spacing(const Triangulation& T) {
 }
 
 double median_triangle_spacing(const Triangulation& T) {
-  const float area = radix_median(T.slots(), [&](std::size_t t, float& f) {
-    if (T.is_ghost(t)) return false;
-    f = static_cast<float>(triangle_area(T, t));
-    return true;
-  });
+  // One pass over the 3 M triangles (each area is computed once: the pass costs what its memory reads
+  // cost): a histogram of the top 20 bits of the float areas (exponent and 11 mantissa bits, 2 MB), the
+  // median read off as its bucket's lower edge: within 2^-11 of the true median area (the spacing within
+  // 0.03 %), and exact for areas with few mantissa bits, like the 0.5 of a unit grid's triangles.
+  std::vector<std::uint32_t> hist(1u << 19, 0);
+  std::size_t used = 0;
+  const std::size_t slots = T.slots();
+  for (std::size_t t = 0; t < slots; ++t) {
+    if (T.is_ghost(t)) continue;
+    const float a = static_cast<float>(triangle_area(T, t));
+    if (!std::isfinite(a)) continue;
+    std::uint32_t k;
+    std::memcpy(&k, &a, 4);
+    ++hist[(k & 0x7fffffffu) >> 12];
+    ++used;
+  }
+  if (used == 0) return 0;
+  std::size_t rank = used / 2;
+  std::uint32_t b = 0;
+  while (rank >= hist[b]) rank -= hist[b++];
+  const std::uint32_t bits = b << 12;
+  float area;
+  std::memcpy(&area, &bits, 4);
   return std::sqrt(2.0 * static_cast<double>(area));
 }
 
 std::vector<float> local_spacing(const Triangulation& T) {
-  const std::size_t n = T.xy.size();
+  const std::size_t n = T.xy.size(), slots = T.slots();
   constexpr std::uint32_t kNone = 0xffffffffu;
+  // The areas once, in slot order (the fan walks below then read 4 bytes per triangle, not 3 points).
+  std::vector<float> area(slots, std::numeric_limits<float>::infinity());
+  for (std::size_t t = 0; t < slots; ++t)
+    if (!T.is_ghost(t)) area[t] = static_cast<float>(triangle_area(T, t));
   std::vector<std::uint32_t> out(n, kNone);  // one half-edge leaving each vertex
   for (std::uint32_t h = 0; h < T.tri.size(); ++h)
     if (T.tri[h] != T.ghost) out[T.tri[h]] = h;
@@ -99,10 +121,11 @@ std::vector<float> local_spacing(const Triangulation& T) {
     if (out[v] == kNone) continue;
     buf.clear();
     around(v, [&](std::uint32_t h) {
-      if (!T.is_ghost(h / 3)) buf.push_back(static_cast<float>(triangle_area(T, h / 3)));
+      if (std::isfinite(area[h / 3])) buf.push_back(area[h / 3]);
     });
     fan_median[v] = small_median(buf);
   }
+  std::vector<float>().swap(area);
   std::vector<float> spacing(n, 0);
   for (std::uint32_t v = 0; v < n; ++v) {
     if (out[v] == kNone) continue;

@@ -21,7 +21,8 @@ double median_nn_spacing(const Triangulation& T);
 // The point spacing of the automatic radius: sqrt(2 x median area of the finite Delaunay triangles)
 // (= the pitch on a square grid, whose cells split into two triangles). Noise does not shrink it (the
 // triangles still tile the same area with about 2 per point), and dropout, edges and cut-outs only add
-// a minority of larger triangles, which the median ignores. Radix selection: O(n), no copy.
+// a minority of larger triangles, which the median ignores. One pass, a 2 MB histogram; the median
+// area to 2^-11 relative (its bucket's lower edge; exact for a grid's 0.5).
 double median_triangle_spacing(const Triangulation& T);
 
 // Per vertex (by vertex id) the local spacing sqrt(2 x A_v): A_v is the median, over v and its Delaunay
