@@ -44,13 +44,17 @@ ServiceOptions options_from(const runtime::Node& node) {
   if (!(o.min_hole_spacings >= 0) || std::isinf(o.min_hole_spacings)) throw runtime::ConfigError("min-hole-spacings must be a number >= 0");
   o.alpha_radius = node.param_double("alpha-radius");
   o.auto_factor = node.param_double("auto-factor");
-  try {
-    o.mode = outline::parse_mode(node.param("mode"));
-    o.order = outline::parse_order(node.param("order"));
-    o.alpha_mode = outline::parse_alpha_mode(node.param("alpha-mode"));
-  } catch (const outline::OutlineError& e) {
-    throw runtime::ConfigError("alpha-mode/mode/order: " + std::string(e.what()));
-  }
+  // Each key parsed on its own, so that the error names it.
+  auto parsed = [&](const char* key, auto parse) {
+    try {
+      return parse(node.param(key));
+    } catch (const outline::OutlineError& e) {
+      throw runtime::ConfigError(std::string(key) + ": " + e.what());
+    }
+  };
+  o.mode = parsed("mode", outline::parse_mode);
+  o.order = parsed("order", outline::parse_order);
+  o.alpha_mode = parsed("alpha-mode", outline::parse_alpha_mode);
   if (o.alpha_mode == outline::AlphaMode::Local && o.alpha_radius > 0)
     throw runtime::ConfigError("alpha-mode local sets the radius per triangle: alpha-radius must be 0");
   o.outer_only = node.param_bool("outer-only");
