@@ -48,10 +48,6 @@ float radix_median(std::size_t count, Key key) {
   return f;
 }
 
-double triangle_area(const Triangulation& T, std::size_t t) {
-  const Vec2 &a = T.xy[T.tri[3 * t]], &b = T.xy[T.tri[3 * t + 1]], &c = T.xy[T.tri[3 * t + 2]];
-  return std::fabs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) / 2;
-}
 
 // Median of a small buffer (the upper middle for an even count, as radix_median).
 float small_median(std::vector<float>& v) {
@@ -70,31 +66,99 @@ double median_nn_spacing(const Triangulation& T) {
   return std::sqrt(static_cast<double>(d2));
 }
 
-double median_triangle_spacing(const Triangulation& T) {
-  // One pass over the 3 M triangles (each area is computed once: the pass costs what its memory reads
-  // cost): a histogram of the top 20 bits of the float areas (exponent and 11 mantissa bits, 2 MB), the
-  // median read off as its bucket's lower edge: within 2^-11 of the true median area (the spacing within
-  // 0.03 %), and exact for areas with few mantissa bits, like the 0.5 of a unit grid's triangles.
-  std::vector<std::uint32_t> hist(1u << 19, 0);
-  std::size_t used = 0;
-  const std::size_t slots = T.slots();
-  for (std::size_t t = 0; t < slots; ++t) {
-    if (T.is_ghost(t)) continue;
-    const float a = static_cast<float>(triangle_area(T, t));
-    if (!std::isfinite(a)) continue;
+namespace {
+
+// Median area by a histogram of the top 20 bits of the float areas (exponent and 11 mantissa bits,
+// 2 MB), read off as its bucket's lower edge: within 2^-11 of the true median, exact for areas with few
+// mantissa bits, like the 0.5 of a unit grid's triangles. add(area) per triangle, then median().
+class AreaMedian {
+ public:
+  AreaMedian() : hist_(1u << 19, 0) {}
+  void add(double area) {
+    const float a = static_cast<float>(area);
+    if (!std::isfinite(a)) return;
     std::uint32_t k;
     std::memcpy(&k, &a, 4);
-    ++hist[(k & 0x7fffffffu) >> 12];
-    ++used;
+    ++hist_[(k & 0x7fffffffu) >> 12];
+    ++used_;
   }
-  if (used == 0) return 0;
-  std::size_t rank = used / 2;
-  std::uint32_t b = 0;
-  while (rank >= hist[b]) rank -= hist[b++];
-  const std::uint32_t bits = b << 12;
-  float area;
-  std::memcpy(&area, &bits, 4);
-  return std::sqrt(2.0 * static_cast<double>(area));
+  double spacing() const {
+    if (used_ == 0) return 0;
+    std::size_t rank = used_ / 2, b = 0;
+    while (rank >= hist_[b]) rank -= hist_[b++];
+    const std::uint32_t bits = static_cast<std::uint32_t>(b) << 12;
+    float area;
+    std::memcpy(&area, &bits, 4);
+    return std::sqrt(2.0 * static_cast<double>(area));
+  }
+
+ private:
+  std::vector<std::uint32_t> hist_;
+  std::size_t used_ = 0;
+};
+
+constexpr std::uint8_t kUndecided = 255;
+
+// Class of q = r^2 / scale2 > 0 from its bits: 16 per octave (exponent and top 4 mantissa bits), 1 at
+// q < 2^-8 ... 254 at q >= 2^7.9. Monotone in q; a class spans 3-6 % of q.
+std::uint8_t r2_class(double q) {
+  if (!(q > 0)) return 1;
+  std::uint64_t bits;
+  std::memcpy(&bits, &q, 8);
+  const long c = static_cast<long>(bits >> 48) - 1023L * 16 + 128;
+  return static_cast<std::uint8_t>(std::clamp(c, 1L, 254L));
+}
+
+struct TriangleMeasure {
+  double area;
+  std::uint8_t rclass;
+};
+
+// Twice the signed area with `c` as the pivot, as orient2d computes it.
+inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) { return (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x); }
+
+// Area and circumradius class of a finite counter-clockwise triangle. The area is the middle of the
+// three pivots' values, a function of the vertex set (the same for every insertion order, whatever
+// rotation the triangle is stored in), without data-dependent branches. The class is kUndecided unless
+// r^2 is accurate to about 2e-6 relative (|D| far above its rounding bound, no overflow or underflow);
+// it needs no such symmetry (it only skips the exact predicate where the decision is certain).
+[[gnu::always_inline]] inline TriangleMeasure measure(const Vec2& a, const Vec2& b, const Vec2& c, double scale2) {
+  const double da = twice_area(b, c, a), db = twice_area(c, a, b), dc = twice_area(a, b, c);
+  const double mid = std::max(std::min(da, db), std::min(std::max(da, db), dc));
+  TriangleMeasure m{std::fabs(mid) / 2, kUndecided};
+  const double abx = a.x - b.x, aby = a.y - b.y, bcx = b.x - c.x, bcy = b.y - c.y, cax = c.x - a.x, cay = c.y - a.y;
+  const double N = (abx * abx + aby * aby) * (bcx * bcx + bcy * bcy) * (cax * cax + cay * cay);
+  const double errD = pred::kOrientBound * (std::fabs((a.x - c.x) * (b.y - c.y)) + std::fabs((a.y - c.y) * (b.x - c.x)));
+  const double den = 4 * (dc * dc) * scale2;
+  if (std::fabs(dc) > 1e6 * errD && std::isnormal(N) && std::isnormal(den)) {
+    const double q = N / den;
+    if (std::isnormal(q)) m.rclass = r2_class(q);
+  }
+  return m;
+}
+
+}  // namespace
+
+double median_triangle_spacing(const Triangulation& T) { return scan_triangles(T).spacing; }
+
+TriangleScan scan_triangles(const Triangulation& T) {
+  TriangleScan scan;
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (std::size_t v = 0; v < T.xy.size(); ++v)
+    if (T.vrep[v] == v) x0 = std::min(x0, T.xy[v].x), x1 = std::max(x1, T.xy[v].x), y0 = std::min(y0, T.xy[v].y), y1 = std::max(y1, T.xy[v].y);
+  scan.scale2 = (x1 - x0) * (y1 - y0) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
+  if (!std::isnormal(scan.scale2)) scan.scale2 = 0;  // no classes: every decision exact
+  const std::size_t slots = T.slots();
+  scan.rclass.assign(slots, 0);
+  AreaMedian median;
+  for (std::size_t t = 0; t < slots; ++t) {
+    if (T.is_ghost(t)) continue;
+    const TriangleMeasure m = measure(T.xy[T.tri[3 * t]], T.xy[T.tri[3 * t + 1]], T.xy[T.tri[3 * t + 2]], scan.scale2);
+    median.add(m.area);
+    scan.rclass[t] = m.rclass;
+  }
+  scan.spacing = median.spacing();
+  return scan;
 }
 
 std::vector<float> local_spacing(const Triangulation& T) {
@@ -103,7 +167,9 @@ std::vector<float> local_spacing(const Triangulation& T) {
   // The areas once, in slot order (the fan walks below then read 4 bytes per triangle, not 3 points).
   std::vector<float> area(slots, std::numeric_limits<float>::infinity());
   for (std::size_t t = 0; t < slots; ++t)
-    if (!T.is_ghost(t)) area[t] = static_cast<float>(triangle_area(T, t));
+    if (!T.is_ghost(t)) {
+      area[t] = static_cast<float>(measure(T.xy[T.tri[3 * t]], T.xy[T.tri[3 * t + 1]], T.xy[T.tri[3 * t + 2]], 0).area);
+    }
   std::vector<std::uint32_t> out(n, kNone);  // one half-edge leaving each vertex
   for (std::uint32_t h = 0; h < T.tri.size(); ++h)
     if (T.tri[h] != T.ghost) out[T.tri[h]] = h;
@@ -186,6 +252,21 @@ bool bigger_than(const Triangulation& T, std::size_t t, double R) {
 
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only) {
   return classify_with(T, outer_only, [&](std::size_t t) { return bigger_than(T, t, R); });
+}
+
+std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only, const TriangleScan& scan) {
+  // A triangle's estimated class is within 1 of its true class (estimate accurate to 2e-6, classes of
+  // 3 % or more), and so is R's: 3 classes apart decide. Near the clamped ends, all exact.
+  const int cR = std::isnormal(scan.scale2) ? r2_class(R * R / scan.scale2) : 0;
+  const bool usable = cR >= 4 && cR <= 250;
+  return classify_with(T, outer_only, [&](std::size_t t) {
+    const int c = scan.rclass[t];
+    if (usable && c != kUndecided) {
+      if (c + 3 <= cR) return false;
+      if (c >= cR + 3) return true;
+    }
+    return bigger_than(T, t, R);
+  });
 }
 
 std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing,

@@ -25,6 +25,17 @@ double median_nn_spacing(const Triangulation& T);
 // area to 2^-11 relative (its bucket's lower edge; exact for a grid's 0.5).
 double median_triangle_spacing(const Triangulation& T);
 
+// The same pass, also giving each triangle a coarse class of its circumradius (16 per octave of r^2, from
+// a floating-point estimate, 255 where the estimate is not accurate to 1e-5): classify_alpha then
+// decides by the classes alone where they are 3 or more apart from R's and calls the exact predicate
+// only near R, so the extra pass costs the classification almost nothing. One byte per triangle.
+struct TriangleScan {
+  double spacing = 0;                // median_triangle_spacing
+  double scale2 = 0;                 // the classes are of r^2 / scale2 (bounding-box area per point)
+  std::vector<std::uint8_t> rclass;  // per triangle slot; 0 for the ghost triangles
+};
+TriangleScan scan_triangles(const Triangulation& T);
+
 // Per vertex (by vertex id) the local spacing sqrt(2 x A_v): A_v is the median, over v and its Delaunay
 // neighbours, of each one's median incident triangle area (a median of medians, so a vertex on the rim
 // of a cut-out, whose own fan half spans the hole, still gets the spacing of the surface around it).
@@ -37,6 +48,8 @@ std::vector<float> local_spacing(const Triangulation& T);
 // holes; equals CGAL's REGULARIZED alpha shape). outer_only: the paper's BFS from the ghost triangles
 // through big triangles only, so big triangles not connected to the outside stay inside.
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only);
+// The same decisions (exact), faster with the classes of scan_triangles.
+std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only, const TriangleScan& scan);
 // The same with a radius per triangle: R_t = k x (middle of the three vertex spacings), a symmetric
 // function of the triangle's vertex set, compared exactly with the circumradius as above.
 std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing,

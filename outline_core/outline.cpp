@@ -106,7 +106,8 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   res.incircle_tests = T.stats.incircle_tests;
   res.orient_tests = T.stats.orient_tests;
   res.nn_spacing_median = median_nn_spacing(T);
-  res.spacing = median_triangle_spacing(T);
+  const TriangleScan scan = scan_triangles(T);
+  res.spacing = scan.spacing;
   res.alpha_mode = options.alpha_mode;
   const double k = options.auto_factor > 0 ? options.auto_factor : kDefaultAutoFactor;
   std::vector<float> local;
@@ -120,7 +121,7 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   } else {
     res.alpha_automatic = !(options.alpha_radius > 0);
     res.alpha_radius = res.alpha_automatic ? k * res.spacing : options.alpha_radius;
-    inside = classify_alpha(T, res.alpha_radius, options.outer_only);
+    inside = classify_alpha(T, res.alpha_radius, options.outer_only, scan);
   }
   const auto t2 = Clock::now();
 

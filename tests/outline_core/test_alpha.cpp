@@ -374,3 +374,24 @@ TEST(OutlineAlpha, ConsumingOverloadGivesTheSameOutlineAndReleasesRecoverablePoi
     }
   }
 }
+
+TEST(OutlineAlpha, CircumradiusClassesGiveTheSameDecisionsAsThePredicateAlone) {
+  // scan_triangles' coarse classes may only skip the exact predicate where it is certain: on clouds with
+  // exact ties (grid cells r = sqrt(1/2), a missing point r = 1), noise, far offsets and tiny scales the
+  // classification with the classes equals the one by the exact predicate for every triangle.
+  std::vector<std::vector<Vec2>> clouds{grid_cloud(40, 30), grid_cloud(50, 40, 2.0, {3, -7}, 0.2, 9),
+                                        random_cloud(3000, 5, 100), random_cloud(2000, 6, 1e-7, {1e6, -2e6})};
+  std::mt19937_64 rng(3);
+  for (std::size_t k = 0; k < clouds.size(); ++k) {
+    auto& c = clouds[k];
+    if (k == 0) std::erase_if(c, [&](const Vec2&) { return rng() % 20 == 0; });
+    const Triangulation T = triangulate(c, Mode::DSHI, Order::Brio);
+    const TriangleScan scan = scan_triangles(T);
+    for (double f : {0.5, std::sqrt(0.5), 0.75, 1.0, 1.3, 1.7, 2.5, 10.0})
+      for (bool outer_only : {false, true}) {
+        const double R = k < 2 ? f * (k == 1 ? 2.0 : 1.0) : f * scan.spacing;
+        SCOPED_TRACE("cloud " + std::to_string(k) + " R " + std::to_string(R));
+        EXPECT_EQ(classify_alpha(T, R, outer_only, scan), classify_alpha(T, R, outer_only));
+      }
+  }
+}
