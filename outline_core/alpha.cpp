@@ -70,7 +70,7 @@ namespace {
 
 // Median area by a histogram of the top 20 bits of the float areas (exponent and 11 mantissa bits,
 // 2 MB), read off as its bucket's lower edge: within 2^-11 of the true median, exact for areas with few
-// mantissa bits, like the 0.5 of a unit grid's triangles. add(area) per triangle, then median().
+// mantissa bits, like the 0.5 of a unit grid's triangles. add(area) per triangle, then spacing().
 class AreaMedian {
  public:
   AreaMedian() : hist_(1u << 19, 0) {}

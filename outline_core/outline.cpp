@@ -80,6 +80,26 @@ std::size_t drop_small_holes(std::vector<Loop>& loops, const Triangulation& T, s
   return before - loops.size();
 }
 
+// The spacings and the radius (global or per triangle) into res; the inside flags of the triangles.
+std::vector<std::uint8_t> classify_by_options(const Triangulation& T, const Options& options, Result& res,
+                                              std::vector<float>& local) {
+  res.nn_spacing_median = median_nn_spacing(T);
+  const TriangleScan scan = scan_triangles(T);
+  res.spacing = scan.spacing;
+  res.alpha_mode = options.alpha_mode;
+  const double k = options.auto_factor > 0 ? options.auto_factor : kDefaultAutoFactor;
+  if (options.alpha_mode == AlphaMode::Local) {
+    // Result::alpha_radius then reports k x the global spacing, for scale; each triangle has its own.
+    local = local_spacing(T);
+    res.alpha_radius = k * res.spacing;
+    res.alpha_automatic = true;
+    return classify_alpha_local(T, local, k, options.outer_only);
+  }
+  res.alpha_automatic = !(options.alpha_radius > 0);
+  res.alpha_radius = res.alpha_automatic ? k * res.spacing : options.alpha_radius;
+  return classify_alpha(T, res.alpha_radius, options.outer_only, scan);
+}
+
 // The pipeline; `owned`, when given, is the vector `points` views and may be released by the
 // triangulation (then the loops take their coordinates from it).
 Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const Options& options) {
@@ -105,24 +125,8 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   res.cavity_triangles = T.stats.cavity_triangles;
   res.incircle_tests = T.stats.incircle_tests;
   res.orient_tests = T.stats.orient_tests;
-  res.nn_spacing_median = median_nn_spacing(T);
-  const TriangleScan scan = scan_triangles(T);
-  res.spacing = scan.spacing;
-  res.alpha_mode = options.alpha_mode;
-  const double k = options.auto_factor > 0 ? options.auto_factor : kDefaultAutoFactor;
-  std::vector<float> local;
-  std::vector<std::uint8_t> inside;
-  if (options.alpha_mode == AlphaMode::Local) {
-    // Result::alpha_radius then reports k x the global spacing, for scale; each triangle has its own.
-    local = local_spacing(T);
-    res.alpha_radius = k * res.spacing;
-    res.alpha_automatic = true;
-    inside = classify_alpha_local(T, local, k, options.outer_only);
-  } else {
-    res.alpha_automatic = !(options.alpha_radius > 0);
-    res.alpha_radius = res.alpha_automatic ? k * res.spacing : options.alpha_radius;
-    inside = classify_alpha(T, res.alpha_radius, options.outer_only, scan);
-  }
+  std::vector<float> local;  // per-vertex spacing, local mode only
+  const std::vector<std::uint8_t> inside = classify_by_options(T, options, res, local);
   const auto t2 = Clock::now();
 
   res.loops = extract_loops(T, inside, points);
