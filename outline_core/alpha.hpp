@@ -10,12 +10,37 @@
 
 namespace hg::outline {
 
-// Default k of the automatic radius R = k x median nearest-neighbour spacing (docs/outline-auto-radius.md).
+// Default k of the automatic radius R = k x point spacing (docs/outline-auto-radius.md).
 inline constexpr double kDefaultAutoFactor = 1.7;
 
 // Median over the triangulated points of the distance to the nearest other point (Triangulation::nn2,
 // read off the Delaunay edges during insertion: the nearest neighbour is always a Delaunay neighbour).
+// Reported only: in-plane noise shrinks it (to ~0.65 of the grid spacing at +-0.5 spacing noise).
 double median_nn_spacing(const Triangulation& T);
+
+// The point spacing of the automatic radius: sqrt(2 x median area of the finite Delaunay triangles)
+// (= the pitch on a square grid, whose cells split into two triangles). Noise does not shrink it (the
+// triangles still tile the same area with about 2 per point), and dropout, edges and cut-outs only add
+// a minority of larger triangles, which the median ignores. One pass, a 2 MB histogram; the median
+// area to 2^-11 relative (its bucket's lower edge; exact for a grid's 0.5).
+double median_triangle_spacing(const Triangulation& T);
+
+// The same pass, also giving each triangle a coarse class of its circumradius (16 per octave of r^2, from
+// a floating-point estimate, 255 where the estimate is not accurate to 1e-5): classify_alpha then
+// decides by the classes alone where they are 3 or more apart from R's and calls the exact predicate
+// only near R, so the extra pass costs the classification almost nothing. One byte per triangle.
+struct TriangleScan {
+  double spacing = 0;                // median_triangle_spacing
+  double scale2 = 0;                 // the classes are of r^2 / scale2 (bounding-box area per point)
+  std::vector<std::uint8_t> rclass;  // per triangle slot; 0 for the ghost triangles
+};
+TriangleScan scan_triangles(const Triangulation& T);
+
+// Per vertex (by vertex id) the local spacing sqrt(2 x A_v): A_v is the median, over v and its Delaunay
+// neighbours, of each one's median incident triangle area (a median of medians, so a vertex on the rim
+// of a cut-out, whose own fan half spans the hole, still gets the spacing of the surface around it).
+// Merged duplicates get 0. Depends only on the triangulation, not on the insertion order.
+std::vector<float> local_spacing(const Triangulation& T);
 
 // inside[t] = 1 for a finite triangle kept in the shape. A finite triangle is "big" when its circumradius
 // r > R, decided exactly (r == R is kept, as CGAL's Alpha_shape_2 does with alpha = R^2: a face is
@@ -23,6 +48,14 @@ double median_nn_spacing(const Triangulation& T);
 // holes; equals CGAL's REGULARIZED alpha shape). outer_only: the paper's BFS from the ghost triangles
 // through big triangles only, so big triangles not connected to the outside stay inside.
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only);
+// The same decisions (exact), faster with the classes of scan_triangles.
+std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only, const TriangleScan& scan);
+// The same with a radius per triangle: R_t = k x (middle of the three vertex spacings), a symmetric
+// function of the triangle's vertex set, compared exactly with the circumradius as above.
+std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing,
+                                               double k, bool outer_only);
+// R_t of classify_alpha_local for the vertices u, v, w.
+double local_radius(std::span<const float> vertex_spacing, double k, std::uint32_t u, std::uint32_t v, std::uint32_t w);
 
 // Chains the free half-edges (inside triangle on the left, outside or ghost on the right) into closed
 // loops. At a pinch vertex the outgoing edge paired with an incoming one is the next free edge of the

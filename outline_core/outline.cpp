@@ -1,6 +1,7 @@
 // compute_outline: triangulate, classify by circumradius, chain loops; plus the option names.
 #include "outline.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -23,17 +24,88 @@ Order parse_order(const std::string& s) {
   throw OutlineError("unknown order '" + s + "' (expected as-is, hilbert or brio)");
 }
 
+AlphaMode parse_alpha_mode(const std::string& s) {
+  if (s == "global") return AlphaMode::Global;
+  if (s == "local") return AlphaMode::Local;
+  throw OutlineError("unknown alpha mode '" + s + "' (expected global or local)");
+}
+
 namespace {
+
+void check_options(const Options& options) {
+  if (!std::isfinite(options.alpha_radius))
+    throw OutlineError("alpha radius must be a finite number");
+  if (std::isnan(options.auto_factor) || std::isinf(options.auto_factor))
+    throw OutlineError("auto factor must be a finite number");
+  if (!(options.min_hole_spacings >= 0) || std::isinf(options.min_hole_spacings))
+    throw OutlineError("min hole spacings must be a finite number >= 0");
+  if (options.alpha_mode == AlphaMode::Local && options.alpha_radius > 0)
+    throw OutlineError("alpha mode local sets the radius per triangle: give no alpha radius");
+}
+
+// Removes the holes smaller than (min_spacings x spacing)^2, the spacing being the global one or, in
+// local mode, the median local spacing at the hole's vertices; returns how many were removed.
+std::size_t drop_small_holes(std::vector<Loop>& loops, const Triangulation& T, std::span<const float> local,
+                             double spacing, double min_spacings) {
+  if (min_spacings <= 0) return 0;
+  // Local mode: the spacing of each hole vertex (input index -> vertex is found by one pass over the
+  // vertices, for the hole vertices only).
+  std::vector<std::pair<std::uint32_t, float>> at;  // (input index, local spacing)
+  if (!local.empty()) {
+    for (const Loop& L : loops)
+      if (L.hole)
+        for (std::uint32_t i : L.point_index) at.push_back({i, 0.0f});
+    std::sort(at.begin(), at.end());
+    for (std::uint32_t v = 0; v < T.xy.size(); ++v) {
+      if (T.vrep[v] != v) continue;
+      auto it = std::lower_bound(at.begin(), at.end(), std::pair<std::uint32_t, float>{T.ids[v], 0.0f});
+      for (; it != at.end() && it->first == T.ids[v]; ++it) it->second = local[v];
+    }
+  }
+  std::vector<float> buf;
+  auto hole_spacing = [&](const Loop& L) {
+    if (local.empty()) return spacing;
+    buf.clear();
+    for (std::uint32_t i : L.point_index)
+      buf.push_back(std::lower_bound(at.begin(), at.end(), std::pair<std::uint32_t, float>{i, 0.0f})->second);
+    std::nth_element(buf.begin(), buf.begin() + buf.size() / 2, buf.end());
+    return static_cast<double>(buf[buf.size() / 2]);
+  };
+  const std::size_t before = loops.size();
+  std::erase_if(loops, [&](const Loop& L) {
+    if (!L.hole) return false;
+    const double m = min_spacings * hole_spacing(L);
+    return L.area < m * m;
+  });
+  return before - loops.size();
+}
+
+// The spacings and the radius (global or per triangle) into res; the inside flags of the triangles.
+std::vector<std::uint8_t> classify_by_options(const Triangulation& T, const Options& options, Result& res,
+                                              std::vector<float>& local) {
+  res.nn_spacing_median = median_nn_spacing(T);
+  const TriangleScan scan = scan_triangles(T);
+  res.spacing = scan.spacing;
+  res.alpha_mode = options.alpha_mode;
+  const double k = options.auto_factor > 0 ? options.auto_factor : kDefaultAutoFactor;
+  if (options.alpha_mode == AlphaMode::Local) {
+    // Result::alpha_radius then reports k x the global spacing, for scale; each triangle has its own.
+    local = local_spacing(T);
+    res.alpha_radius = k * res.spacing;
+    res.alpha_automatic = true;
+    return classify_alpha_local(T, local, k, options.outer_only);
+  }
+  res.alpha_automatic = !(options.alpha_radius > 0);
+  res.alpha_radius = res.alpha_automatic ? k * res.spacing : options.alpha_radius;
+  return classify_alpha(T, res.alpha_radius, options.outer_only, scan);
+}
 
 // The pipeline; `owned`, when given, is the vector `points` views and may be released by the
 // triangulation (then the loops take their coordinates from it).
 Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const Options& options) {
   using Clock = std::chrono::steady_clock;
   auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-  if (!std::isfinite(options.alpha_radius))
-    throw OutlineError("alpha radius must be a finite number");
-  if (std::isnan(options.auto_factor) || std::isinf(options.auto_factor))
-    throw OutlineError("auto factor must be a finite number");
+  check_options(options);
 
   const auto t0 = Clock::now();
   Result res;
@@ -54,18 +126,12 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   res.cavity_triangles = T.stats.cavity_triangles;
   res.incircle_tests = T.stats.incircle_tests;
   res.orient_tests = T.stats.orient_tests;
-  res.nn_spacing_median = median_nn_spacing(T);
-  if (options.alpha_radius > 0) {
-    res.alpha_radius = options.alpha_radius;
-  } else {
-    const double k = options.auto_factor > 0 ? options.auto_factor : kDefaultAutoFactor;
-    res.alpha_radius = k * res.nn_spacing_median;
-    res.alpha_automatic = true;
-  }
-  const std::vector<std::uint8_t> inside = classify_alpha(T, res.alpha_radius, options.outer_only);
+  std::vector<float> local;  // per-vertex spacing, local mode only
+  const std::vector<std::uint8_t> inside = classify_by_options(T, options, res, local);
   const auto t2 = Clock::now();
 
   res.loops = extract_loops(T, inside, points);
+  res.holes_dropped = drop_small_holes(res.loops, T, local, res.spacing, options.min_hole_spacings);
   if (options.keep_triangles) {
     const std::size_t slots = T.slots();
     for (std::size_t t = 0; t < slots; ++t) {

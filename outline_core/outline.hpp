@@ -23,6 +23,9 @@ enum class Mode { Ordinary, DS, DSHI };
 // randomized insertion order (rounds growing 16-fold, each along the Hilbert curve): points land inside
 // the current mesh, so cavities stay small (about 4.4 triangles instead of 6.8 on camera grids).
 enum class Order { AsIs, Hilbert, Brio };
+// Automatic radius: one R for the whole cloud (global), or one per triangle following the local point
+// spacing (local: for clouds whose spacing varies, e.g. seen by a tilted camera). docs/outline-auto-radius.md.
+enum class AlphaMode { Global, Local };
 
 // Option names. Inline, so that readers and writers (hg_outline_io) use them without linking the core.
 inline const char* to_string(Mode m) {
@@ -41,8 +44,16 @@ inline const char* to_string(Order o) {
   }
   return "?";
 }
+inline const char* to_string(AlphaMode a) { return a == AlphaMode::Local ? "local" : "global"; }
 Mode parse_mode(const std::string&);    // "ordinary" | "ds" | "dshi"; throws OutlineError
 Order parse_order(const std::string&);  // "as-is" | "hilbert" | "brio"; throws OutlineError
+AlphaMode parse_alpha_mode(const std::string&);  // "global" | "local"; throws OutlineError
+
+// Default of Options::min_hole_spacings: holes under (4.5 spacings)^2 = 20.25 s^2 are dropped. Measured
+// (docs/outline-auto-radius.md): a 3x3 dropout gap gives at most 17.5 s^2 even at +-0.5 spacing noise;
+// holes 6 spacings wide and more always pass; 4-5 spacings is the boundary (a 3x3 gap is a 4-spacing
+// hole centred on a grid point).
+inline constexpr double kDefaultMinHoleSpacings = 4.5;
 
 // Bad input (fewer than 3 distinct finite points, all collinear, out of the exact range, bad option):
 // message says what and where. Non-finite points are no error: they are skipped and counted.
@@ -51,8 +62,14 @@ struct OutlineError : std::runtime_error {
 };
 
 struct Options {
-  double alpha_radius = 0;     // R in input units; <= 0: automatic, auto_factor x median nearest-neighbour spacing
+  double alpha_radius = 0;     // R in input units; <= 0: automatic, auto_factor x the point spacing
   double auto_factor = 0;      // <= 0: the documented default k
+  // Global: R = k x spacing of the whole cloud; Local: each triangle's R = k x the spacing around its
+  // vertices (automatic radius only: an explicit alpha_radius with Local is refused).
+  AlphaMode alpha_mode = AlphaMode::Global;
+  // Holes with area < (min_hole_spacings x spacing)^2 are dropped as dropout, not cut-outs; the spacing
+  // is Result::spacing (Local: the median spacing at the hole's vertices). 0 keeps every hole.
+  double min_hole_spacings = kDefaultMinHoleSpacings;
   Mode mode = Mode::DSHI;
   Order order = Order::Brio;   // docs/outline-core-performance.md: scan order makes long thin fans
   bool outer_only = false;     // paper's BFS from outside only: big triangles inside are kept (no holes)
@@ -78,7 +95,10 @@ struct Result {
   std::size_t duplicates_merged = 0;
   double alpha_radius = 0;            // R actually used
   bool alpha_automatic = false;
-  double nn_spacing_median = 0;       // median nearest-neighbour distance (input units)
+  double nn_spacing_median = 0;       // median nearest-neighbour distance (input units; shrinks with noise)
+  double spacing = 0;                 // point spacing sqrt(2 x median Delaunay triangle area): the unit of R
+  AlphaMode alpha_mode = AlphaMode::Global;
+  std::size_t holes_dropped = 0;      // holes below Options::min_hole_spacings, not in `loops`
   Mode mode = Mode::DSHI;
   Order order = Order::AsIs;
   std::size_t triangles = 0;          // finite Delaunay triangles

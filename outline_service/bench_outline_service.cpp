@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
     cb::fill_plate_cloud(s, cloud);
     for (const char* order : {"as-is", "hilbert", "brio"}) {
       hg::outline_service::ServiceOptions opt;
-      opt.outline.order = hg::outline::parse_order(order);
+      opt.order = hg::outline::parse_order(order);
       std::vector<double> wall, cpu;
       int loops = 0;
       for (int r = 0; r < runs; ++r) {

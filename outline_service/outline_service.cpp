@@ -2,13 +2,24 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include "hullgrind/heartbeat_t.hpp"
 #include "outline_service/part_pose.hpp"
 #include "runtime/channels.hpp"
 
 namespace hg::outline_service {
+
+namespace {
+// The core's default, as text for the parameter table.
+const std::string kMinHoleDefault = [] {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", outline::kDefaultMinHoleSpacings);
+  return std::string(b);
+}();
+}  // namespace
 
 runtime::ProcessInfo process_info() {
   return {"hg-outline-service",
@@ -19,32 +30,39 @@ runtime::ProcessInfo process_info() {
           "with status NO_LOOP or ERROR and the reason, never a made-up loop. One part_pose_t per part\n"
           "(largest first): area centroid and principal axis with the holes subtracted.",
           {{"alpha-radius", "0", "alpha radius R in metres (triangles with circumradius > R are outside); 0: automatic"},
-           {"auto-factor", "0", "automatic R = factor x median point spacing; 0: the outline core's default"},
+           {"auto-factor", "0", "automatic R = factor x point spacing (sqrt(2 x median Delaunay triangle area)); 0: the outline core's default"},
+           {"alpha-mode", "global", "global: one automatic R for the cloud; local: R per triangle from the spacing around it (spacing varying across the cloud, tilted camera); not with alpha-radius"},
            {"mode", "dshi", "point location: ordinary|ds|dshi"},
            {"order", "brio", "insertion order: brio (default: biased randomized rounds of Hilbert order, 2-3x faster on camera clouds)|hilbert|as-is (the scan order the paper inserts in)"},
            {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true},
-           {"min-hole-spacings", "5", "drop holes smaller in area than (this x median point spacing)^2: dropout, not cut-outs (0: keep all)"}}};
+           {"min-hole-spacings", kMinHoleDefault, "drop holes smaller in area than (this x point spacing)^2: dropout, not cut-outs (0: keep all); the outline core's rule, as hg-outline"}}};
 }
 
 ServiceOptions options_from(const runtime::Node& node) {
-  ServiceOptions so;
-  so.min_hole_spacings = node.param_double("min-hole-spacings");
-  if (!(so.min_hole_spacings >= 0)) throw runtime::ConfigError("min-hole-spacings must be >= 0");
-  outline::Options& o = so.outline;
+  ServiceOptions o;
+  o.min_hole_spacings = node.param_double("min-hole-spacings");
+  if (!(o.min_hole_spacings >= 0) || std::isinf(o.min_hole_spacings)) throw runtime::ConfigError("min-hole-spacings must be a number >= 0");
   o.alpha_radius = node.param_double("alpha-radius");
   o.auto_factor = node.param_double("auto-factor");
-  try {
-    o.mode = outline::parse_mode(node.param("mode"));
-    o.order = outline::parse_order(node.param("order"));
-  } catch (const outline::OutlineError& e) {
-    throw runtime::ConfigError(e.what());
-  }
+  // Each key parsed on its own, so that the error names it.
+  auto parsed = [&](const char* key, auto parse) {
+    try {
+      return parse(node.param(key));
+    } catch (const outline::OutlineError& e) {
+      throw runtime::ConfigError(std::string(key) + ": " + e.what());
+    }
+  };
+  o.mode = parsed("mode", outline::parse_mode);
+  o.order = parsed("order", outline::parse_order);
+  o.alpha_mode = parsed("alpha-mode", outline::parse_alpha_mode);
+  if (o.alpha_mode == outline::AlphaMode::Local && o.alpha_radius > 0)
+    throw runtime::ConfigError("alpha-mode local sets the radius per triangle: alpha-radius must be 0");
   o.outer_only = node.param_bool("outer-only");
-  return so;
+  return o;
 }
 
 Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& service_options) {
-  const outline::Options& options = service_options.outline;
+  const outline::Options& options = service_options;
   Computed c;
   hullgrind::outline_t& out = c.outline;
   out.header.frame_id = cloud.header.frame_id;
@@ -94,13 +112,7 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& se
   out.time_loops = r.time.loops_ms * 1e-3;
   out.triangles = int32_t(r.triangles);
   out.search_cost = int64_t(r.search_cost);
-  // Gaps of a few missing pixels are not cut-outs (see ServiceOptions::min_hole_spacings).
-  const double min_hole = service_options.min_hole_spacings * r.nn_spacing_median;
-  std::erase_if(r.loops, [&](const outline::Loop& l) {
-    bool drop = l.hole && l.area < min_hole * min_hole;
-    c.holes_dropped += drop;
-    return drop;
-  });
+  c.holes_dropped = int(r.holes_dropped);  // gaps of a few missing pixels, dropped by the core's rule
   bool any_outer = false;
   for (const outline::Loop& l : r.loops) {
     hullgrind::outline_loop_t m;

@@ -17,22 +17,15 @@
 namespace hg::outline_service {
 
 runtime::ProcessInfo process_info();
-struct ServiceOptions {
-  ServiceOptions(outline::Options o = {}, double min_hole = 5) : outline(o), min_hole_spacings(min_hole) {}
-  outline::Options outline;
-  // Holes smaller in area than (min_hole_spacings x median point spacing s)^2 are dropped: a gap that
-  // small is a few missing pixels, not a cut-out (a 2x2 block of dropout leaves a 7 s^2 hole, a 3x3 block
-  // 14 s^2; pm806 frames show 3x3 gaps now and then). 5 spacings, 25 s^2: a round cut-out is kept from
-  // about 5.7 s across (7.6 mm at pm806's 1.34 mm pixels), far below any tool that could grind it. 0 keeps
-  // every hole.
-  double min_hole_spacings = 5;
-};
+// The outline core's options: the hole rule (Options::min_hole_spacings) is the core's, so hg-outline and
+// this service give the same outline for one cloud.
+using ServiceOptions = outline::Options;
 ServiceOptions options_from(const runtime::Node& node);  // throws runtime::ConfigError
 
 struct Computed {
   hullgrind::outline_t outline;
   std::vector<hullgrind::part_pose_t> poses;  // one per part, largest first; empty unless status OK
-  int holes_dropped = 0;                       // below the minimum hole size
+  int holes_dropped = 0;                       // below the minimum hole size (Result::holes_dropped)
 };
 
 // The whole computation for one cloud, without LCM: never throws on bad input; a cloud that yields no

@@ -33,8 +33,14 @@ INPUT  .xyz .txt .csv  one point per line: x y [z] (blanks or commas; '#' commen
 
 options
   --alpha-radius R      triangles with circumradius > R are outside (input units; R > 0)
-                        default: automatic, K x median nearest-neighbour spacing
+                        default: automatic, K x point spacing h (h = sqrt(2 x median Delaunay
+                        triangle area), which in-plane noise does not shrink)
   --auto-factor K       the K of the automatic radius (K > 0; default {K}, docs/outline-auto-radius.md)
+  --alpha-mode M        global | local (default global): local gives each triangle its own radius,
+                        K x the spacing around its vertices, for clouds whose spacing varies (tilted
+                        camera); not with --alpha-radius
+  --min-hole-spacings M drop holes smaller in area than (M x h)^2 as dropout gaps (M >= 0; default
+                        {M}: a 3x3 gap of missing points is dropped; 0 keeps every hole)
   --mode M              point location: ordinary | ds | dshi   (default dshi)
   --order O             insertion order: brio | hilbert | as-is   (default brio: biased randomized
                         rounds along a Hilbert curve; as-is inserts in file order, slow on scan-order
@@ -108,6 +114,20 @@ Args parse_args(int argc, char** argv, bool& help) {
     } else if (arg == "--auto-factor") {
       a.opt.auto_factor = positive_number(arg, take());
       a.have_factor = true;
+    } else if (arg == "--alpha-mode") {
+      std::string m = take();
+      try {
+        a.opt.alpha_mode = hg::outline::parse_alpha_mode(m);
+      } catch (const std::exception&) {
+        throw UsageError("--alpha-mode must be global or local, got '" + m + "'");
+      }
+    } else if (arg == "--min-hole-spacings") {
+      const std::string v = take();
+      try {
+        a.opt.min_hole_spacings = std::stod(v) == 0 && v.find_first_not_of("+-0.") == std::string::npos ? 0 : positive_number(arg, v);
+      } catch (const std::exception&) {
+        throw UsageError(arg + " needs a number >= 0, got '" + v + "'");
+      }
     } else if (arg == "--mode") {
       std::string m = take();
       try {
@@ -145,6 +165,8 @@ Args parse_args(int argc, char** argv, bool& help) {
   }
   if (a.input.empty()) throw UsageError("no input file");
   if (a.have_alpha && a.have_factor) throw UsageError("give --alpha-radius or --auto-factor, not both");
+  if (a.have_alpha && a.opt.alpha_mode == hg::outline::AlphaMode::Local)
+    throw UsageError("--alpha-mode local sets the radius per triangle: not with --alpha-radius");
   for (const std::string* out : {&a.json_out, &a.svg_out, &a.png_out, &a.tri_out})
     if (!out->empty() && *out == a.input) throw UsageError("output file '" + *out + "' is the input file");
   return a;
@@ -167,6 +189,8 @@ int main(int argc, char** argv) {
       char k[32];
       std::snprintf(k, sizeof k, "%g", hg::outline::kDefaultAutoFactor);
       usage.replace(usage.find("{K}"), 3, k);
+      std::snprintf(k, sizeof k, "%g", hg::outline::kDefaultMinHoleSpacings);
+      usage.replace(usage.find("{M}"), 3, k);
       std::fputs(usage.c_str(), stdout);
       return 0;
     }
@@ -219,9 +243,13 @@ int main(int argc, char** argv) {
     } else {
       std::size_t holes = 0;
       for (auto& l : result.loops) holes += l.hole;
-      std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes, R = %g%s, %.1f ms -> %s\n",
+      std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s
+",
                   args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes, holes,
-                  result.alpha_radius, result.alpha_automatic ? " (automatic)" : "",
+                  result.holes_dropped, result.alpha_radius,
+                  result.alpha_mode == hg::outline::AlphaMode::Local ? " (local, per triangle)"
+                  : result.alpha_automatic                           ? " (automatic)"
+                                                                     : "",
                   info.project_ms + result.time.total_ms, args.json_out.c_str());
     }
     if (std::fflush(stdout) != 0) {

@@ -67,7 +67,10 @@ nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar,
   j["duplicates_merged"] = r.duplicates_merged;
   j["alpha_radius"] = r.alpha_radius;
   j["alpha_automatic"] = r.alpha_automatic;
+  j["alpha_mode"] = to_string(r.alpha_mode);
+  j["spacing"] = r.spacing;
   j["nn_spacing_median"] = r.nn_spacing_median;
+  j["holes_dropped"] = r.holes_dropped;
   j["mode"] = to_string(r.mode);
   j["order"] = to_string(r.order);
   j["triangles"] = r.triangles;

@@ -196,6 +196,7 @@ TEST(OutlineAlpha, LoopsAreExactlyTheFreeEdgesOfAnExactClassification) {
         opt.alpha_radius = R;
         opt.outer_only = outer_only;
         opt.keep_triangles = true;
+        opt.min_hole_spacings = 0;  // every free edge: the raw alpha shape, no hole rule
         const Result r = compute_outline(pts, opt);
         const Triangulation T = triangulate(pts, Mode::DSHI, Order::AsIs);
         // Independent classification on the same translated coordinates.
@@ -259,14 +260,19 @@ TEST(OutlineAlpha, LoopsAreExactlyTheFreeEdgesOfAnExactClassification) {
 
 TEST(OutlineAlpha, AutomaticRadiusFindsRealHolesAndNoSpuriousOnes) {
   // Noisy scan grids with 2 % dropout (seeds differ from those used to choose k): every hole wider than
-  // 3 spacings is found, dropout makes no hole, the plate is one outer loop.
+  // 3 spacings is found, dropout makes no hole, the plate is one outer loop. The 3.2-spacing hole removes
+  // exactly the 9 points of a 3x3 block, which the default hole rule drops as dropout
+  // (docs/outline-auto-radius.md): this test checks the radius alone, with the hole rule off.
   for (double amp : {0.0, 0.1, 0.2})
     for (std::uint64_t seed : {11, 12}) {
       SCOPED_TRACE("amp " + std::to_string(amp) + " seed " + std::to_string(seed));
       const auto pts = noisy_plate(240, 160, {3.2, 4.0, 6.0, 12.0}, amp, 0.02, seed);
-      const Result r = compute_outline(pts);
+      Options opt;
+      opt.min_hole_spacings = 0;
+      const Result r = compute_outline(pts, opt);
       EXPECT_TRUE(r.alpha_automatic);
-      EXPECT_NEAR(r.alpha_radius, kDefaultAutoFactor * r.nn_spacing_median, 1e-12);
+      EXPECT_NEAR(r.alpha_radius, kDefaultAutoFactor * r.spacing, 1e-12);
+      EXPECT_EQ(r.holes_dropped, 0u);
       EXPECT_GT(r.nn_spacing_median, 1 - 2 * amp - 0.05);
       EXPECT_LE(r.nn_spacing_median, 1.0 + 1e-12);
       std::size_t outers = 0, holes = 0;
@@ -372,5 +378,26 @@ TEST(OutlineAlpha, ConsumingOverloadGivesTheSameOutlineAndReleasesThePoints) {
         EXPECT_EQ(b.loops[k].points[i].y, a.loops[k].points[i].y);
       }
     }
+  }
+}
+
+TEST(OutlineAlpha, CircumradiusClassesGiveTheSameDecisionsAsThePredicateAlone) {
+  // scan_triangles' coarse classes may only skip the exact predicate where it is certain: on clouds with
+  // exact ties (grid cells r = sqrt(1/2), a missing point r = 1), noise, far offsets and tiny scales the
+  // classification with the classes equals the one by the exact predicate for every triangle.
+  std::vector<std::vector<Vec2>> clouds{grid_cloud(40, 30), grid_cloud(50, 40, 2.0, {3, -7}, 0.2, 9),
+                                        random_cloud(3000, 5, 100), random_cloud(2000, 6, 1e-7, {1e6, -2e6})};
+  std::mt19937_64 rng(3);
+  for (std::size_t k = 0; k < clouds.size(); ++k) {
+    auto& c = clouds[k];
+    if (k == 0) std::erase_if(c, [&](const Vec2&) { return rng() % 20 == 0; });
+    const Triangulation T = triangulate(c, Mode::DSHI, Order::Brio);
+    const TriangleScan scan = scan_triangles(T);
+    for (double f : {0.5, std::sqrt(0.5), 0.75, 1.0, 1.3, 1.7, 2.5, 10.0})
+      for (bool outer_only : {false, true}) {
+        const double R = k < 2 ? f * (k == 1 ? 2.0 : 1.0) : f * scan.spacing;
+        SCOPED_TRACE("cloud " + std::to_string(k) + " R " + std::to_string(R));
+        EXPECT_EQ(classify_alpha(T, R, outer_only, scan), classify_alpha(T, R, outer_only));
+      }
   }
 }

@@ -56,6 +56,7 @@ std::set<Edge> our_boundary(const std::vector<Vec2>& pts, double R, Mode m, Orde
   opt.alpha_radius = R;
   opt.mode = m;
   opt.order = o;
+  opt.min_hole_spacings = 0;  // the raw alpha shape, as CGAL's: no hole rule
   const Result r = compute_outline(pts, opt);
   std::set<Edge> out;
   for (const Loop& L : r.loops)

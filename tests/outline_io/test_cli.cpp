@@ -207,6 +207,26 @@ TEST_F(OutlineIoCli, BadOptionsExitTwoAndHelpTellsTheOptions) {
     EXPECT_NE(h.out.find(opt), std::string::npos) << opt;
 }
 
+TEST_F(OutlineIoCli, AlphaModeAndHoleRuleOptions) {
+  const std::string in = "'" + data("grid_hole.xyz") + "'";
+  for (const std::string& args : {in + " --alpha-mode tilted", in + " --alpha-mode local --alpha-radius 1",
+                                  in + " --min-hole-spacings -1", in + " --min-hole-spacings x"}) {
+    CliRun r = run(args);
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_NE(r.err.find("hg-outline: "), std::string::npos) << args;
+  }
+  CliRun h = run("--help");
+  for (const char* opt : {"--alpha-mode", "global", "local", "--min-hole-spacings"}) EXPECT_NE(h.out.find(opt), std::string::npos) << opt;
+  for (const char* mode : {"global", "local"}) {
+    CliRun r = run(in + " --alpha-mode " + mode + " --min-hole-spacings 0");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["alpha_mode"].get<std::string>(), mode);
+    EXPECT_EQ(j["holes_dropped"].get<int>(), 0);
+    EXPECT_GT(j["spacing"].get<double>(), 0);
+  }
+}
+
 TEST_F(OutlineIoCli, OuterOnlyKeepsTheHoleFilled) {
   CliRun r = run("'" + data("grid_hole.xyz") + "' --alpha-radius 1.5 --outer-only");
   ASSERT_EQ(r.code, 0) << r.err;

@@ -138,7 +138,9 @@ TEST(OutlineServiceCompute, GapsOfMissingPixelsAreNotHoles) {
     for (const auto& l : c.outline.loops) n += l.hole;
     return n;
   };
-  auto kept = os::compute(cloud, os::ServiceOptions(opt, 0));
+  hg::outline::Options keep_all = opt;
+  keep_all.min_hole_spacings = 0;
+  auto kept = os::compute(cloud, keep_all);
   ASSERT_EQ(kept.outline.status, +hullgrind::outline_t::STATUS_OK);
   EXPECT_EQ(holes(kept), 2);  // the cut-out and the gap
   EXPECT_EQ(kept.holes_dropped, 0);
@@ -146,8 +148,8 @@ TEST(OutlineServiceCompute, GapsOfMissingPixelsAreNotHoles) {
     if (l.hole && l.area < 0.001) {
       EXPECT_NEAR(l.area, 7 * p * p, 1e-9);
     }
-  auto filtered = os::compute(cloud, os::ServiceOptions(opt));  // the process default, 5 spacings
-  EXPECT_EQ(holes(filtered), 1);  // the cut-out only: 0.1 m wide, far above (5 p)^2
+  auto filtered = os::compute(cloud, opt);  // the process default, the core's 4.5 spacings
+  EXPECT_EQ(holes(filtered), 1);  // the cut-out only: 0.1 m wide, far above (4.5 p)^2
   EXPECT_EQ(filtered.holes_dropped, 1);
   for (const auto& l : filtered.outline.loops)
     if (l.hole) {
@@ -160,7 +162,7 @@ TEST(OutlineServiceCompute, ThreeByThreeDropoutIsNotAHoleButASmallCutOutIs) {
   auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, p);
   // A 3 x 3 block of pixels missing (pm806 frames show such gaps): with R = 1.5 p its hole is the 4 x 4 p
   // square through the neighbours less four corner chamfers of p^2 / 2: 14 p^2 (checked below), under the
-  // default (5 p)^2. And a cut-out 8 x 8 pixels wide (the boundary through its neighbours: 9 x 9 p less the
+  // default (4.5 p)^2. And a cut-out 8 x 8 pixels wide (the boundary through its neighbours: 9 x 9 p less the
   // chamfers, 79 p^2), elsewhere on the plate, is a real small hole: kept.
   auto missing = [&](float u, float v) {
     const bool gap = u > 0.2925f && u < 0.3075f && v > 0.0925f && v < 0.1075f;  // 3 x 3
@@ -180,7 +182,9 @@ TEST(OutlineServiceCompute, ThreeByThreeDropoutIsNotAHoleButASmallCutOutIs) {
   hg::outline::Options opt;
   opt.alpha_radius = 1.5 * p;
   std::vector<double> areas;
-  const auto all = os::compute(kept_points, os::ServiceOptions(opt, 0));
+  hg::outline::Options keep_all = opt;
+  keep_all.min_hole_spacings = 0;
+  const auto all = os::compute(kept_points, keep_all);
   ASSERT_EQ(all.outline.status, +hullgrind::outline_t::STATUS_OK);
   for (const auto& l : all.outline.loops)
     if (l.hole) areas.push_back(l.area);
@@ -188,7 +192,7 @@ TEST(OutlineServiceCompute, ThreeByThreeDropoutIsNotAHoleButASmallCutOutIs) {
   ASSERT_EQ(areas.size(), 3u);  // the gap, the small cut-out, the 0.1 m cut-out
   EXPECT_NEAR(areas[0], 14 * p * p, 1e-9);
   EXPECT_NEAR(areas[1], 79 * p * p, 1e-9);
-  const auto filtered = os::compute(kept_points, os::ServiceOptions(opt));  // the process default
+  const auto filtered = os::compute(kept_points, opt);  // the process default
   ASSERT_EQ(filtered.outline.status, +hullgrind::outline_t::STATUS_OK);
   EXPECT_EQ(filtered.holes_dropped, 1);
   int holes = 0;

@@ -76,6 +76,8 @@ hg::outline::Options service_options() {
     if (p.name == "order") o.order = hg::outline::parse_order(p.default_value);
     if (p.name == "alpha-radius") o.alpha_radius = std::stod(p.default_value);
     if (p.name == "auto-factor") o.auto_factor = std::stod(p.default_value);
+    if (p.name == "alpha-mode") o.alpha_mode = hg::outline::parse_alpha_mode(p.default_value);
+    if (p.name == "min-hole-spacings") o.min_hole_spacings = std::stod(p.default_value);
   }
   return o;
 }

@@ -137,7 +137,7 @@ void write_markdown(const Report& r, const std::string& path) {
     << "- Clouds: " << r.cloud_options << "\n"
     << "- Runs: " << r.runs << " per method (ordinary: " << r.ordinary_runs << "; CGAL Alpha_shape_2 and PCL: "
     << r.slow_runs << " on low/down, " << r.slow_runs_high << " on high)\n"
-    << "- R: the product's automatic radius (1.7 × median nearest-neighbour spacing of the cloud), then the "
+    << "- R: the product's automatic radius (1.7 × the point spacing h = sqrt(2 × median Delaunay triangle area), docs/outline-auto-radius.md), then the "
        "same R for every method and peer (CGAL Alpha_shape_2: alpha = R², REGULARIZED; PCL: setAlpha(R), "
        "which PCL compares with the circumradius)\n"
     << "- Peers: CGAL " << r.cgal_version << ", PCL " << r.pcl_version << "\n\n";

@@ -313,6 +313,7 @@ CloudResult bench_cloud(const BenchCloud& c, const Args& a) {
       o.alpha_radius = R;
       o.mode = mode;
       o.order = order;
+      o.min_hole_spacings = 0;  // the raw alpha shape, comparable edge for edge with the peers'
       const auto t0 = Clock::now();
       const outline::Result r = outline::compute_outline(pts, o);
       m.time.ms.push_back(now_ms_since(t0));
