@@ -30,8 +30,12 @@ PlannerConfig config_from(const ParamLookup& lookup);
 // naming the byte (parse errors) or the loop and point index.
 OutlineInput read_outline_json(const std::string& text, const Plane& default_plane);
 
-// {"job_id", "frame", "waypoints": [{"position", "orientation" [w, x, y, z], "speed", "kind"}]}
+// {"job_id", "frame", "waypoints": [{"position", "orientation" [w, x, y, z], "speed", "kind"}], "tool_radius",
+// "tilt", "flipped", "coverage": coverage_json}
 nlohmann::ordered_json path_json(const std::string& job_id, const std::string& frame, const PlanResult& result);
+// {"tolerance", "unreached_length", "loops": [{"loop", "hole", "length", "reached_fraction", "unreached":
+// [{"start", "length", "concave", "points": [[x, y, z], ...]}]}]}: metres; points in the path's (base) frame.
+nlohmann::ordered_json coverage_json(const PlanResult& result);
 const char* kind_name(std::int8_t kind);
 
 OutlineInput from_lcm(const hullgrind::outline_t& msg);

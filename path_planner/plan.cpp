@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 
 namespace hg::path_planner {
 
@@ -27,6 +29,33 @@ std::string resolve_params(const JobParams& req, const JobParams& def, JobParams
   if (out.direction != Direction::Climb && out.direction != Direction::Conventional)
     return "direction must be 0 (climb) or 1 (conventional)";
   return "";
+}
+
+std::string describe_unreached(const LoopCoverage& c, const Eigen::Isometry3d& plate_to_base, double reach,
+                               double tolerance, const std::string& frame) {
+  const UnreachedStretch* longest = &c.unreached.front();
+  bool concave = false;
+  for (const UnreachedStretch& s : c.unreached) {
+    if (s.length > longest->length) longest = &s;
+    concave |= s.concave;
+  }
+  auto where = [&](const Vec2& p) {
+    const Vec3 b = plate_to_base * Vec3(p.x(), p.y(), 0);
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "(%.1f, %.1f, %.1f)", b.x() * 1e3, b.y() * 1e3, b.z() * 1e3);
+    return std::string(buf);
+  };
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "%s %d: %.1f mm of its %.1f mm edge (%.1f %% reached) is farther than %.1f + %.1f mm from the tool "
+                "path, in %zu stretch%s; the longest %.1f mm from %s to %s mm (%s)",
+                c.hole ? "hole" : "outer loop", c.loop, c.unreached_length * 1e3, c.length * 1e3,
+                100 * c.reached_fraction(), reach * 1e3, tolerance * 1e3, c.unreached.size(),
+                c.unreached.size() == 1 ? "" : "es", longest->length * 1e3, where(longest->from).c_str(),
+                where(longest->to).c_str(), frame.c_str());
+  std::string text = buf;
+  if (concave) text += "; at a concave corner or bend tighter than the tool";
+  return text;
 }
 
 PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig& cfg,
@@ -59,21 +88,26 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   SmoothOptions smooth = cfg.smooth;
   smooth.noise = estimate_noise(in.loops, smooth);
   std::vector<GrindLoop> grind;
+  std::vector<Ring> edges;  // per loop: the smoothed ring, the edge the coverage check holds the path to
+  std::vector<std::size_t> skipped_warning(in.loops.size(), SIZE_MAX);
   for (std::size_t k = 0; k < in.loops.size(); ++k) {
     const Loop& l = in.loops[k];
     const SmoothedRing sm = smooth_ring(l.points, res.pitch, smooth);
+    edges.push_back(sm.points);
     const std::vector<Ring> off = offset_ring(sm.points, l.hole, P.tool_radius, cfg.arc_tolerance);
     if (off.empty()) {
       const std::string why = std::string(l.hole ? "hole" : "outer loop") + " " + std::to_string(k) +
                               " is too small for a tool of radius " + std::to_string(P.tool_radius * 1000) + " mm";
       if (cfg.small_hole == SmallHolePolicy::Fail || !l.hole) return fail("not grindable: " + why);
+      skipped_warning[k] = res.warnings.size();
       res.warnings.push_back("skipped: " + why);
       continue;
     }
     if (off.size() > 1)
       res.warnings.push_back("loop " + std::to_string(k) + " splits into " + std::to_string(off.size()) +
                              " pieces at this tool radius; each is ground, the narrow parts between are not");
-    for (const Ring& r : off) grind.push_back({resample_ring(r, P.step, cfg.resample_corner_angle), l.hole, int(k)});
+    for (const Ring& r : off)
+      grind.push_back({resample_ring(r, P.step, cfg.resample_corner_angle, cfg.resample_chord_error), l.hole, int(k)});
   }
   res.loops_planned = int(grind.size());
 
@@ -98,6 +132,26 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
 
   if (std::string why = validate(res.path, cfg.limits, T.linear().col(2), start_base); !why.empty())
     return fail("validation: " + why);
+  // Coverage of every loop's edge by the path as published (skipped holes included: none of their edge is).
+  const std::vector<Segment2> tool_path = grind_segments(res.path, T);
+  res.plate_to_base = T;
+  res.coverage_tolerance = cfg.coverage_tolerance;
+  std::string unreached;
+  for (std::size_t k = 0; k < in.loops.size(); ++k) {
+    LoopCoverage c = edge_coverage(edges[k], tool_path, P.tool_radius, cfg.coverage_tolerance);
+    c.loop = int(k);
+    c.hole = in.loops[k].hole;
+    res.unreached_length += c.unreached_length;
+    if (!c.unreached.empty()) {
+      const std::string text = describe_unreached(c, T, P.tool_radius, cfg.coverage_tolerance, cfg.base_frame);
+      if (skipped_warning[k] != SIZE_MAX) res.warnings[skipped_warning[k]] += ": " + text;
+      else if (cfg.small_hole == SmallHolePolicy::Skip) res.warnings.push_back("not reached: " + text);
+      unreached += (unreached.empty() ? "" : "; ") + text;
+    }
+    res.coverage.push_back(std::move(c));
+  }
+  if (!unreached.empty() && cfg.small_hole == SmallHolePolicy::Fail)
+    return fail("not grindable: edge out of the tool's reach: " + unreached);
   res.ok = true;
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
