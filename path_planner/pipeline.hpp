@@ -295,5 +295,19 @@ struct PlanResult {
 std::string resolve_params(const JobParams& requested, const JobParams& defaults, JobParams& out);
 PlanResult plan(OutlineInput outline, const JobParams& params, const PlannerConfig& config,
                 const std::optional<Vec3>& robot_position_base);
+// The first steps of plan(): normalize_up, make_canonical, the flip's mirror (in place on `outline`), the
+// pitch (set) and the smoothed ring of every loop: the edges the tool must grind, plate frame.
+std::vector<Ring> edges_to_grind(OutlineInput& outline, bool flipped, const PlannerConfig& config, double& pitch);
+// edge_coverage of every loop's edge by the tool path (loop and hole filled in).
+std::vector<LoopCoverage> loops_coverage(const std::vector<Loop>& loops, const std::vector<Ring>& edges,
+                                         const std::vector<Segment2>& tool_path, double reach, double tolerance);
+// The coverage plan() computed, recomputed from an outline and a published path (the overview draws it):
+// the same edges and the same check, with the plate frame's transform to the base frame.
+struct PathCoverage {
+  std::vector<LoopCoverage> loops;
+  Eigen::Isometry3d plate_to_base = Eigen::Isometry3d::Identity();
+};
+PathCoverage path_coverage(OutlineInput outline, const std::vector<Waypoint>& path, double tool_radius, bool flipped,
+                           const PlannerConfig& config);
 
 }  // namespace hg::path_planner

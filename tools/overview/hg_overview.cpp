@@ -18,10 +18,11 @@ const char* kUsage = R"(usage: hg-overview LOG.lcmlog --out DIR [--job-id J] [--
 Reads a recorded run (tools/record) and writes, for one job (default: the last START request):
   DIR/outline.json   the outline the job was planned on, in hg-outline's JSON schema
   DIR/path.json      {"job_id", "frame", "waypoints": [{"position", "orientation" [w,x,y,z], "speed", "kind"}]}
-  DIR/overview.png   top view on the plate: cloud, outline (holes red), grind path, legend
+  DIR/overview.png   top view on the plate: cloud, outline (holes red), grind path, edge out of the tool's
+                     reach (magenta: the planner's coverage check redone with --planner-config), legend
   DIR/summary.json   stage timings (ms) and every job status
 --planner-config: the path planner's config, for the camera-to-base calibration that brings the path back
-onto the plate in the picture [default: config/path_planner.yaml].
+onto the plate in the picture and for the coverage check [default: config/path_planner.yaml].
 Exit status: 0 the job is DONE, 1 it is not (or not in the log), 2 bad usage or unreadable log.
 )";
 
@@ -72,7 +73,8 @@ int main(int argc, char** argv) {
           if (auto v = cfg.get_doubles(k)) return *v;
           return parse_list(defaults[k]);
         }};
-    auto camera_to_base = hg::path_planner::config_from(lookup).camera_to_base;
+    const hg::path_planner::PlannerConfig planner = hg::path_planner::config_from(lookup);
+    auto camera_to_base = planner.camera_to_base;
 
     auto log = hg::overview::read_run_log(log_path);
     auto job = hg::overview::trace_job(log, job_id);
@@ -84,7 +86,7 @@ int main(int argc, char** argv) {
     hg::outline::io::StagedFiles files;
     if (job.outline) files.stage(out_dir + "/outline.json", hg::overview::outline_json(job).dump(1) + "\n");
     if (job.path) files.stage(out_dir + "/path.json", hg::overview::path_json(job.path->msg).dump(1) + "\n");
-    auto png = hg::overview::overview_png(job, camera_to_base);
+    auto png = hg::overview::overview_png(job, camera_to_base, &planner);
     files.stage(out_dir + "/overview.png", png.data(), png.size());
     auto summary = hg::overview::summary_json(job);
     files.stage(out_dir + "/summary.json", summary.dump(1) + "\n");
