@@ -102,9 +102,9 @@ std::vector<Ring> offset_ring(const Ring& ring, bool hole, double distance, doub
 
 // ---- 3. resample at a fixed step, keeping corners ----
 // Vertices whose turning angle exceeds corner_angle are kept exactly; every piece between them is divided
-// into equal sub-steps no longer than `step`, and (chord_error > 0) short enough that no vertex of the piece
-// is farther than chord_error from its chord: a tight arc (a slot end offset to 1 mm radius) is not cut
-// across by a 2 mm step, which would leave its edge out of the tool's reach.
+// into equal sub-steps no longer than `step`, and (chord_error > 0) a sub-step whose chord strays farther
+// than chord_error from the piece's vertices is halved, there only, until it does not: a tight arc (a slot
+// end offset to 1 mm radius) is not cut across by a 2 mm step, which would leave its edge out of reach.
 struct SampledRing {
   Ring points;
   std::vector<std::uint8_t> corner;

@@ -15,38 +15,39 @@ double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
   return (a + t * ab - p).norm();
 }
 
-// The piece of `count` segments from vertex c0 (wrapping), of total `length`, at m equal sub-steps:
-// the points at 0, h, ..., (m-1) h, and the largest distance of a piece vertex from the chord it falls in.
-double sample_piece(const Ring& ring, std::size_t c0, std::size_t count, double length, std::size_t m,
-                    std::vector<Vec2>& pts) {
-  const std::size_t n = ring.size();
-  auto at = [&](std::size_t j) { return ring[(c0 + j) % n]; };
-  const double h = length / double(m);
-  pts.assign(1, at(0));
-  std::size_t seg = 0;
-  double seg_start = 0;
-  for (std::size_t q = 1; q < m; ++q) {
-    const double target = h * double(q);
-    while (seg + 1 < count) {
-      const double len = (at(seg + 1) - at(seg)).norm();
-      if (seg_start + len >= target) break;
-      seg_start += len;
-      ++seg;
-    }
-    const Vec2 a = at(seg), b = at(seg + 1);
-    const double len = (b - a).norm();
-    const double f = len > 0 ? std::min(1.0, (target - seg_start) / len) : 0.0;
-    pts.push_back(a + f * (b - a));
+// A piece of the ring: `count` segments from vertex c0 (wrapping), with the arc length at each vertex.
+struct Piece {
+  const Ring& ring;
+  std::size_t c0, count;
+  std::vector<double> cum;  // cum[j]: arc length from c0 to vertex c0 + j, j = 0..count
+  Piece(const Ring& r, std::size_t first, std::size_t segments) : ring(r), c0(first), count(segments), cum(segments + 1, 0) {
+    for (std::size_t j = 0; j < count; ++j) cum[j + 1] = cum[j] + (at(j + 1) - at(j)).norm();
   }
-  // Vertex j (1..count-1) lies at arc length s_j, inside chord floor(s_j / h).
-  double worst = 0, s = 0;
-  for (std::size_t j = 1; j < count; ++j) {
-    s += (at(j) - at(j - 1)).norm();
-    const std::size_t q = std::min(m - 1, std::size_t(s / h));
-    const Vec2 end = q + 1 < m ? pts[q + 1] : at(count);
-    worst = std::max(worst, segment_distance(at(j), pts[q], end));
+  Vec2 at(std::size_t j) const { return ring[(c0 + j) % ring.size()]; }
+  Vec2 point(double s) const {  // the point at arc length s
+    const std::size_t j = std::min<std::size_t>(count - 1, std::size_t(std::upper_bound(cum.begin(), cum.end(), s) - cum.begin()) - 1);
+    const double len = cum[j + 1] - cum[j];
+    return len > 0 ? Vec2(at(j) + (at(j + 1) - at(j)) * std::clamp((s - cum[j]) / len, 0.0, 1.0)) : at(j);
   }
-  return worst;
+  // Largest distance of the piece's vertices strictly between arc lengths a and b from the chord a-b.
+  double deviation(double a, double b) const {
+    const Vec2 pa = point(a), pb = point(b);
+    double worst = 0;
+    for (std::size_t j = std::size_t(std::upper_bound(cum.begin(), cum.end(), a) - cum.begin()); j < count && cum[j] < b; ++j)
+      worst = std::max(worst, segment_distance(at(j), pa, pb));
+    return worst;
+  }
+};
+
+// Points at arc lengths from a (included) to b (excluded): halves the chord while it strays farther than
+// chord_error from the piece (a chord's sagitta falls with the square of its length), only where it does.
+void emit_chords(const Piece& piece, double a, double b, double chord_error, int depth, std::vector<Vec2>& out) {
+  if (depth < 12 && chord_error > 0 && piece.deviation(a, b) > chord_error) {
+    emit_chords(piece, a, 0.5 * (a + b), chord_error, depth + 1, out);
+    emit_chords(piece, 0.5 * (a + b), b, chord_error, depth + 1, out);
+    return;
+  }
+  out.push_back(piece.point(a));
 }
 
 }  // namespace
@@ -77,14 +78,10 @@ SampledRing resample_ring(const Ring& ring, double step, double corner_angle, do
     if (count == 0) count = n;
     double length = 0;
     for (std::size_t j = 0; j < count; ++j) length += (ring[(c0 + j + 1) % n] - ring[(c0 + j) % n]).norm();
-    std::size_t m = std::max<std::size_t>(1, std::size_t(std::ceil(length / step - 1e-9)));
-    double dev = sample_piece(ring, c0, count, length, m, pts);
-    // Finer until the chords hug the piece (a chord's sagitta falls with the square of its length); bounded,
-    // since sub-steps far below the ring's own vertex spacing cannot help.
-    for (int round = 0; chord_error > 0 && dev > chord_error && m < 64 * count && round < 16; ++round) {
-      m = std::max(m + 1, std::size_t(std::ceil(double(m) * std::min(4.0, std::sqrt(dev / chord_error) * 1.05))));
-      dev = sample_piece(ring, c0, count, length, m, pts);
-    }
+    const std::size_t m = std::max<std::size_t>(1, std::size_t(std::ceil(length / step - 1e-9)));
+    const Piece piece(ring, c0, count);
+    pts.clear();
+    for (std::size_t q = 0; q < m; ++q) emit_chords(piece, length * q / m, length * (q + 1) / m, chord_error, 0, pts);
     for (std::size_t q = 0; q < pts.size(); ++q) {
       out.points.push_back(pts[q]);
       out.corner.push_back(q == 0 && has_corners ? 1 : 0);
