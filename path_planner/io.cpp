@@ -34,7 +34,9 @@ std::vector<Param> planner_params() {
       {"edge_compensation", "true", "move loops from the outermost pixel centres to the edge (half a pitch)"},
       {"arc_tolerance", "1e-5", "Clipper round-join tolerance, m"},
       {"resample_corner_angle", "0.17453292519943295", "turn kept as a waypoint when resampling, rad"},
-      {"small_hole", "fail", "a hole too small for the tool: fail (job FAILED) | skip (warning)"},
+      {"small_hole", "fail", "a hole too small for the tool, or edge out of its reach: fail (job FAILED) | skip (planned, warning)"},
+      {"coverage_tolerance", "0.0002", "every edge point must be within tool_radius + this of the grind path, m"},
+      {"resample_chord_error", "1e-5", "largest distance of a resampled chord from the offset ring, m"},
       {"camera_to_base", "", "hand-eye calibration as 16 numbers, row-major 4x4; overrides camera_xyz/rpy"},
       {"camera_xyz", "0.5,0,1.2", "camera origin in the robot base frame, m"},
       {"camera_rpy", "3.141592653589793,0,0", "camera roll, pitch, yaw in the base frame, rad (Rz Ry Rx)"},
@@ -140,6 +142,10 @@ PlannerConfig config_from(const ParamLookup& L) {
   c.smooth.edge_compensation = boolean(L, "edge_compensation");
   c.arc_tolerance = num(L, "arc_tolerance");
   c.resample_corner_angle = num(L, "resample_corner_angle");
+  c.coverage_tolerance = num(L, "coverage_tolerance");
+  c.resample_chord_error = num(L, "resample_chord_error");
+  if (!(c.coverage_tolerance > 0) || !(c.resample_chord_error > 0))
+    throw ConfigError("coverage_tolerance and resample_chord_error must be > 0");
   if (!(c.approach_speed > 0) || !(c.lead_radius > 0) || !(c.lead_angle > 0) || !(c.arc_tolerance > 0) ||
       !(c.smooth.window_pitches > 0) || !(c.smooth.corner_scale_pitches > 0))
     throw ConfigError("approach_speed, lead_radius, lead_angle, arc_tolerance, smooth_window and corner_scale must be > 0");
@@ -262,7 +268,41 @@ const char* kind_name(std::int8_t kind) { return path_file::kind_name(kind); }
 
 nlohmann::ordered_json path_json(const std::string& job_id, const std::string& frame, const PlanResult& r,
                                  std::int64_t outline_seq) {
-  return path_file::to_json(to_lcm(r, job_id, outline_seq, frame, 0));
+  nlohmann::ordered_json j = path_file::to_json(to_lcm(r, job_id, outline_seq, frame, 0));
+  j["coverage"] = coverage_json(r);
+  return j;
+}
+
+nlohmann::ordered_json coverage_json(const PlanResult& r) {
+  nlohmann::ordered_json c;
+  c["tolerance"] = r.coverage_tolerance;
+  c["unreached_length"] = r.unreached_length;
+  auto loops = nlohmann::ordered_json::array();
+  for (const LoopCoverage& l : r.coverage) {
+    nlohmann::ordered_json jl;
+    jl["loop"] = l.loop;
+    jl["hole"] = l.hole;
+    jl["length"] = l.length;
+    jl["reached_fraction"] = l.reached_fraction();
+    auto stretches = nlohmann::ordered_json::array();
+    for (const UnreachedStretch& s : l.unreached) {
+      nlohmann::ordered_json js;
+      js["start"] = s.start;
+      js["length"] = s.length;
+      js["concave"] = s.concave;
+      auto pts = nlohmann::ordered_json::array();
+      for (const Vec2& p : s.points) {
+        const Vec3 b = r.plate_to_base * Vec3(p.x(), p.y(), 0);
+        pts.push_back({b.x(), b.y(), b.z()});
+      }
+      js["points"] = std::move(pts);
+      stretches.push_back(std::move(js));
+    }
+    jl["unreached"] = std::move(stretches);
+    loops.push_back(std::move(jl));
+  }
+  c["loops"] = std::move(loops);
+  return c;
 }
 
 OutlineInput from_lcm(const hullgrind::outline_t& m) {

@@ -104,12 +104,14 @@ std::vector<Ring> offset_ring(const Ring& ring, bool hole, double distance, doub
 
 // ---- 3. resample at a fixed step, keeping corners ----
 // Vertices whose turning angle exceeds corner_angle are kept exactly; every piece between them is divided
-// into equal sub-steps no longer than `step`.
+// into equal sub-steps no longer than `step`, and (chord_error > 0) a sub-step whose chord strays farther
+// than chord_error from the piece's vertices is halved, there only, until it does not: a tight arc (a slot
+// end offset to 1 mm radius) is not cut across by a 2 mm step, which would leave its edge out of reach.
 struct SampledRing {
   Ring points;
   std::vector<std::uint8_t> corner;
 };
-SampledRing resample_ring(const Ring& ring, double step, double corner_angle);
+SampledRing resample_ring(const Ring& ring, double step, double corner_angle, double chord_error = 0);
 
 // ---- 4. orientation ----
 enum class Direction : std::int8_t { Climb = 0, Conventional = 1 };
@@ -206,6 +208,45 @@ std::string validate(const std::vector<Waypoint>& path, const Limits& limits, co
 // True when the closed polyline has two non-adjacent segments that touch or cross (grid-bucketed).
 bool self_intersects(const std::vector<Vec2>& closed_polyline);
 
+// ---- 7b. coverage: the tool reaches every point of the edge ----
+// The disc's reach in the plate plane: every point within the effective tool radius (tool_radius, the
+// radius at the contact; the tilt turns the disc about the TCP and does not move the contact in this
+// model) of the TCP's grind path, the published waypoints taken back into the plate frame and projected
+// along the plate normal. The edge checked is the smoothed ring (the planner's estimate of the true,
+// edge-compensated edge that the offset is taken from): the raw outline runs through the outermost pixel
+// centres, half a pitch inside the edge, with noise of the order of the tolerance (docs/path_planner.md).
+struct Segment2 {
+  Vec2 a, b;
+};
+// The TCP path of every grind loop in the plate frame: the segments that end at a grind waypoint (the first
+// starts at the lead-in's end), projected onto the plate plane.
+std::vector<Segment2> grind_segments(const std::vector<Waypoint>& path, const Eigen::Isometry3d& plate_to_base);
+struct UnreachedStretch {
+  double start = 0;            // arc length from the edge ring's first vertex to the stretch's start, m
+  double length = 0;           // m
+  Vec2 from = Vec2::Zero(), to = Vec2::Zero();  // end points (plate frame)
+  bool concave = false;        // at a concave corner, or a concave bend tighter than the tool
+  std::vector<Vec2> points;    // the edge samples in the stretch, in order (plate frame)
+};
+struct LoopCoverage {
+  int loop = 0;
+  bool hole = false;
+  double length = 0;           // edge length, m
+  double unreached_length = 0; // m
+  std::vector<UnreachedStretch> unreached;
+  double reached_fraction() const { return length > 0 ? 1 - unreached_length / length : 1; }
+};
+// Samples the closed edge ring at spacing tolerance / 2 (every vertex included) and counts a sample reached
+// when it lies within reach + tolerance - spacing / 2 of a segment: every point of the edge is then within
+// half a spacing of a sample, so a loop reported fully reached has every point within reach + tolerance.
+// Each sample stands for half the edge to each neighbour; consecutive unreached samples make a stretch.
+LoopCoverage edge_coverage(const Ring& edge, const std::vector<Segment2>& tool_path, double reach, double tolerance);
+
+// One line for a loop with unreached edge: the loop, the unreached and total length, the longest stretch's end
+// points in the base frame (mm), and whether a concave corner or bend tighter than the tool is the cause.
+std::string describe_unreached(const LoopCoverage& coverage, const Eigen::Isometry3d& plate_to_base, double reach,
+                               double tolerance, const std::string& frame);
+
 // ---- composition ----
 struct JobParams {
   double tool_radius = 0.01;
@@ -228,7 +269,9 @@ struct PlannerConfig {
   double lead_angle = 1.5707963267948966;
   double z_offset = 0;
   bool spindle_clockwise = true;
-  SmallHolePolicy small_hole = SmallHolePolicy::Fail;
+  SmallHolePolicy small_hole = SmallHolePolicy::Fail;  // also what an edge the tool cannot reach does
+  double coverage_tolerance = 2e-4;    // edge points may be this much farther than the tool radius, m
+  double resample_chord_error = 1e-5;  // largest distance of a resampled chord from the offset ring, m (as arc_tolerance)
   Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();
   Plane default_plane;                 // used when an outline file has no plane
   Vec3 home = Vec3(0.5, 0, 0.3);       // base frame; start reference when the robot's position is unknown
@@ -244,11 +287,29 @@ struct PlanResult {
   double pitch = 0;                    // pixel pitch used by the smoothing
   int loops_planned = 0;
   int slowed = 0;                      // waypoint speeds lowered for corners (limit_corner_speeds)
+  std::vector<LoopCoverage> coverage;  // per outline loop (edge_coverage), when the path was made
+  double unreached_length = 0;         // sum over the loops, m
+  double coverage_tolerance = 0;       // as used
+  Eigen::Isometry3d plate_to_base = Eigen::Isometry3d::Identity();  // plate frame of the coverage -> base
   double seconds = 0;                  // planning time
 };
 // Fills zero-valued job parameters from the defaults; returns a reason when a parameter is unusable.
 std::string resolve_params(const JobParams& requested, const JobParams& defaults, JobParams& out);
 PlanResult plan(OutlineInput outline, const JobParams& params, const PlannerConfig& config,
                 const std::optional<Vec3>& robot_position_base);
+// The first steps of plan(): normalize_up, make_canonical, the flip's mirror (in place on `outline`), the
+// pitch (set) and the smoothed ring of every loop: the edges the tool must grind, plate frame.
+std::vector<Ring> edges_to_grind(OutlineInput& outline, bool flipped, const PlannerConfig& config, double& pitch);
+// edge_coverage of every loop's edge by the tool path (loop and hole filled in).
+std::vector<LoopCoverage> loops_coverage(const std::vector<Loop>& loops, const std::vector<Ring>& edges,
+                                         const std::vector<Segment2>& tool_path, double reach, double tolerance);
+// The coverage plan() computed, recomputed from an outline and a published path (the overview draws it):
+// the same edges and the same check, with the plate frame's transform to the base frame.
+struct PathCoverage {
+  std::vector<LoopCoverage> loops;
+  Eigen::Isometry3d plate_to_base = Eigen::Isometry3d::Identity();
+};
+PathCoverage path_coverage(OutlineInput outline, const std::vector<Waypoint>& path, double tool_radius, bool flipped,
+                           const PlannerConfig& config);
 
 }  // namespace hg::path_planner

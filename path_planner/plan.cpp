@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 
 namespace hg::path_planner {
 
@@ -29,6 +31,67 @@ std::string resolve_params(const JobParams& req, const JobParams& def, JobParams
   return "";
 }
 
+std::vector<Ring> edges_to_grind(OutlineInput& in, bool flipped, const PlannerConfig& cfg, double& pitch) {
+  normalize_up(in, cfg.camera_to_base);
+  make_canonical(in.loops);
+  if (flipped) in.loops = mirror_for_flip(in.loops);
+  pitch = cfg.smooth.pitch > 0 ? cfg.smooth.pitch : estimate_pitch(in.loops);
+  SmoothOptions smooth = cfg.smooth;
+  smooth.noise = estimate_noise(in.loops, smooth);
+  std::vector<Ring> edges;
+  for (const Loop& l : in.loops) edges.push_back(smooth_ring(l.points, pitch, smooth).points);
+  return edges;
+}
+
+std::vector<LoopCoverage> loops_coverage(const std::vector<Loop>& loops, const std::vector<Ring>& edges,
+                                         const std::vector<Segment2>& tool_path, double reach, double tolerance) {
+  std::vector<LoopCoverage> out;
+  for (std::size_t k = 0; k < loops.size(); ++k) {
+    LoopCoverage c = edge_coverage(edges[k], tool_path, reach, tolerance);
+    c.loop = int(k);
+    c.hole = loops[k].hole;
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+PathCoverage path_coverage(OutlineInput in, const std::vector<Waypoint>& path, double tool_radius, bool flipped,
+                           const PlannerConfig& cfg) {
+  PathCoverage pc;
+  double pitch = 0;
+  const std::vector<Ring> edges = edges_to_grind(in, flipped, cfg, pitch);
+  pc.plate_to_base = plate_to_base(in.plane, cfg.camera_to_base);
+  pc.loops = loops_coverage(in.loops, edges, grind_segments(path, pc.plate_to_base), tool_radius, cfg.coverage_tolerance);
+  return pc;
+}
+
+std::string describe_unreached(const LoopCoverage& c, const Eigen::Isometry3d& plate_to_base, double reach,
+                               double tolerance, const std::string& frame) {
+  const UnreachedStretch* longest = &c.unreached.front();
+  bool concave = false;
+  for (const UnreachedStretch& s : c.unreached) {
+    if (s.length > longest->length) longest = &s;
+    concave |= s.concave;
+  }
+  auto where = [&](const Vec2& p) {
+    const Vec3 b = plate_to_base * Vec3(p.x(), p.y(), 0);
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "(%.1f, %.1f, %.1f)", b.x() * 1e3, b.y() * 1e3, b.z() * 1e3);
+    return std::string(buf);
+  };
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "%s %d: %.1f mm of its %.1f mm edge (%.1f %% reached) is farther than %.1f + %.1f mm from the tool "
+                "path, in %zu stretch%s; the longest %.1f mm from %s to %s mm (%s)",
+                c.hole ? "hole" : "outer loop", c.loop, c.unreached_length * 1e3, c.length * 1e3,
+                100 * c.reached_fraction(), reach * 1e3, tolerance * 1e3, c.unreached.size(),
+                c.unreached.size() == 1 ? "" : "es", longest->length * 1e3, where(longest->from).c_str(),
+                where(longest->to).c_str(), frame.c_str());
+  std::string text = buf;
+  if (concave) text += "; at a concave corner or bend tighter than the tool";
+  return text;
+}
+
 PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig& cfg,
                 const std::optional<Vec3>& robot_position_base) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -44,11 +107,7 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   const JobParams& P = res.params;
   if (std::string why = check_outline(in); !why.empty()) return fail("bad outline: " + why);
 
-  normalize_up(in, cfg.camera_to_base);
-  make_canonical(in.loops);
-  if (P.flipped) in.loops = mirror_for_flip(in.loops);
-
-  res.pitch = cfg.smooth.pitch > 0 ? cfg.smooth.pitch : estimate_pitch(in.loops);
+  const std::vector<Ring> edges = edges_to_grind(in, P.flipped, cfg, res.pitch);
   // No pitch: a drawn polygon (long edges) is left as it is; a dense but noisy boundary is fitted without
   // edge compensation (its pixel lattice cannot be recovered; configure pixel_pitch for it).
   bool dense = false;  // a boundary sampled like a pixel staircase (mean edge <= 1/200 of the loop)
@@ -56,24 +115,24 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   if (!(res.pitch > 0) && dense && cfg.smooth.edge_compensation)
     res.warnings.push_back("pixel pitch unknown (not a clean pixel staircase): no edge compensation; set pixel_pitch");
 
-  SmoothOptions smooth = cfg.smooth;
-  smooth.noise = estimate_noise(in.loops, smooth);
   std::vector<GrindLoop> grind;
+  std::vector<std::size_t> skipped_warning(in.loops.size(), SIZE_MAX);
   for (std::size_t k = 0; k < in.loops.size(); ++k) {
     const Loop& l = in.loops[k];
-    const SmoothedRing sm = smooth_ring(l.points, res.pitch, smooth);
-    const std::vector<Ring> off = offset_ring(sm.points, l.hole, P.tool_radius, cfg.arc_tolerance);
+    const std::vector<Ring> off = offset_ring(edges[k], l.hole, P.tool_radius, cfg.arc_tolerance);
     if (off.empty()) {
       const std::string why = std::string(l.hole ? "hole" : "outer loop") + " " + std::to_string(k) +
                               " is too small for a tool of radius " + std::to_string(P.tool_radius * 1000) + " mm";
       if (cfg.small_hole == SmallHolePolicy::Fail || !l.hole) return fail("not grindable: " + why);
+      skipped_warning[k] = res.warnings.size();
       res.warnings.push_back("skipped: " + why);
       continue;
     }
     if (off.size() > 1)
       res.warnings.push_back("loop " + std::to_string(k) + " splits into " + std::to_string(off.size()) +
                              " pieces at this tool radius; each is ground, the narrow parts between are not");
-    for (const Ring& r : off) grind.push_back({resample_ring(r, P.step, cfg.resample_corner_angle), l.hole, int(k)});
+    for (const Ring& r : off)
+      grind.push_back({resample_ring(r, P.step, cfg.resample_corner_angle, cfg.resample_chord_error), l.hole, int(k)});
   }
   res.loops_planned = int(grind.size());
 
@@ -98,6 +157,23 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
 
   if (std::string why = validate(res.path, cfg.limits, T.linear().col(2), start_base); !why.empty())
     return fail("validation: " + why);
+  // Coverage of every loop's edge by the path as published (skipped holes included: none of their edge is).
+  res.plate_to_base = T;
+  res.coverage_tolerance = cfg.coverage_tolerance;
+  res.coverage = loops_coverage(in.loops, edges, grind_segments(res.path, T), P.tool_radius, cfg.coverage_tolerance);
+  std::string unreached;
+  for (std::size_t k = 0; k < in.loops.size(); ++k) {
+    const LoopCoverage& c = res.coverage[k];
+    res.unreached_length += c.unreached_length;
+    if (!c.unreached.empty()) {
+      const std::string text = describe_unreached(c, T, P.tool_radius, cfg.coverage_tolerance, cfg.base_frame);
+      if (skipped_warning[k] != SIZE_MAX) res.warnings[skipped_warning[k]] += ": " + text;
+      else if (cfg.small_hole == SmallHolePolicy::Skip) res.warnings.push_back("not reached: " + text);
+      unreached += (unreached.empty() ? "" : "; ") + text;
+    }
+  }
+  if (!unreached.empty() && cfg.small_hole == SmallHolePolicy::Fail)
+    return fail("not grindable: edge out of the tool's reach: " + unreached);
   res.ok = true;
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;

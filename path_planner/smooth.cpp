@@ -905,18 +905,20 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
     }
     double a0 = std::atan2((a - p.centre).y(), (a - p.centre).x());
     double sweep = turn(a - p.centre, b - p.centre);
-    // the travelled sweep has the circle's sense; a piece can span more than half a turn
-    if (p.ccw && sweep < 0) sweep += 2 * M_PI;
-    if (!p.ccw && sweep > 0) sweep -= 2 * M_PI;
-    if (p.first + u.n - 1 <= p.last) sweep = p.ccw ? 2 * M_PI : -2 * M_PI;  // a whole loop
-    else if (from || to) {
-      // given end points that passed each other (a short arc between two junctions) would wrap the sweep
-      // round the circle: the piece then shrinks to the chord between them
+    if (p.first + u.n - 1 <= p.last) {
+      sweep = p.ccw ? 2 * M_PI : -2 * M_PI;  // a whole loop
+    } else {
+      // The piece's own sweep, from its end vertices, in the circle's sense (it can exceed half a turn).
       const Vec2 own_a = project(p, u.at(p.first)), own_b = project(p, u.at(p.last));
       double own = turn(own_a - p.centre, own_b - p.centre);
       if (p.ccw && own < 0) own += 2 * M_PI;
       if (!p.ccw && own > 0) own -= 2 * M_PI;
-      if (std::abs(sweep) > std::abs(own) + M_PI) {
+      // Between given end points (junctions), the sweep is the one nearest the piece's own: the junctions
+      // can fall on either side of its end vertices, and both on one point when the circle is all of a
+      // loop but a short straight (a dropout's flat), where the principal angle (0) lost the whole turn.
+      sweep += 2 * M_PI * std::round((own - sweep) / (2 * M_PI));
+      // Ends that passed each other (a short arc between two junctions) leave the chord between them.
+      if (p.ccw ? sweep < 0 : sweep > 0) {
         if (!from) emit(a, false);
         if (!to) emit(b, false);
         return;

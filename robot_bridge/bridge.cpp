@@ -150,6 +150,7 @@ void Bridge::start_job(const job_request_t& req, double now) {
   state_ = State::Accepted;
   job_id_ = req.job_id;
   part_id_ = req.part_id;
+  not_ground_.clear();
   accepted_at_ = now;
   progress_ = 0;
   report(job_id_, job_status_t::STATE_ACCEPTED, 0, "accepted; waiting for the grind path");
@@ -204,8 +205,26 @@ void Bridge::on_grind_path(const hullgrind::grind_path_t& msg, double now) {
   report(job_id_, job_status_t::STATE_RUNNING, 0, buf);
 }
 
+// The planner's coverage warnings in a PLANNED message ("; warning: skipped: ..." and "; warning: not
+// reached: ...", each naming a loop and "N mm of its M mm edge"), joined by "; ".
+static std::string not_ground_in(const std::string& planned) {
+  static const std::string kWarning = "; warning: ";
+  std::string out;
+  for (std::size_t at = planned.find(kWarning); at != std::string::npos;) {
+    const std::size_t from = at + kWarning.size(), next = planned.find(kWarning, from);
+    const std::string w = planned.substr(from, next == std::string::npos ? std::string::npos : next - from);
+    if (w.find(" mm edge") != std::string::npos) out += (out.empty() ? "" : "; ") + w;
+    at = next;
+  }
+  return out;
+}
+
 void Bridge::on_job_status(const job_status_t& s, double) {
-  if (s.source == cfg_.source || state_ != State::Accepted || s.job_id != job_id_) return;
+  if (s.source == cfg_.source || s.job_id != job_id_) return;
+  // The planner publishes the path, then PLANNED: the job may already be running when it arrives.
+  if (s.state == job_status_t::STATE_PLANNED && (state_ == State::Accepted || state_ == State::Running))
+    not_ground_ = not_ground_in(s.message);
+  if (state_ != State::Accepted) return;
   if (s.state == job_status_t::STATE_FAILED || s.state == job_status_t::STATE_ABORTED || s.state == job_status_t::STATE_REFUSED) {
     logf(Level::Warn, "job %s ended upstream (%s: %s); no longer waiting for its path", s.job_id.c_str(), s.source.c_str(),
          s.message.c_str());
@@ -238,7 +257,8 @@ void Bridge::tick(double now) {
     finish(job_status_t::STATE_FAILED, buf, now);
   } else if (state_ == State::Running) {
     if (st.finished) {
-      finish(job_status_t::STATE_DONE, "path complete", now);
+      finish(job_status_t::STATE_DONE,
+             not_ground_.empty() ? "path complete" : "path complete; edge not ground (planner): " + not_ground_, now);
     } else if (!st.failure.empty()) {
       finish(job_status_t::STATE_FAILED, st.failure, now);
     } else {

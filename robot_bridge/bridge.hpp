@@ -83,6 +83,9 @@ class Bridge {
   BridgeOutputs out_;
   State state_ = State::Idle;
   std::string job_id_, part_id_;
+  // What the planner's PLANNED message said the path leaves unground (its coverage warnings), carried into
+  // DONE: the path being complete does not mean the whole edge was ground.
+  std::string not_ground_;
   double accepted_at_ = 0, last_progress_report_ = -1e9, progress_ = 0;
   std::int32_t fault_code_ = 0;
   std::string fault_text_;

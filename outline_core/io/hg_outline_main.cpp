@@ -243,8 +243,7 @@ int main(int argc, char** argv) {
     } else {
       std::size_t holes = 0;
       for (auto& l : result.loops) holes += l.hole;
-      std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s
-",
+      std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s\n",
                   args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes, holes,
                   result.holes_dropped, result.alpha_radius,
                   result.alpha_mode == hg::outline::AlphaMode::Local ? " (local, per triangle)"

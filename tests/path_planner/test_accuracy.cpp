@@ -180,6 +180,11 @@ void check_shape(const std::string& shape, bool noisy, double smooth_limit, doub
   cfg.limits.workspace_min = Vec3(-2, -2, 0);
   cfg.limits.workspace_max = Vec3(2, 2, 2);
   cfg.limits.table_z = 0;
+  // Planned whatever the coverage check finds (small_hole: skip): this test is about accuracy and what the
+  // robot bridge accepts. The check holds the path to the smoothed edge, whose lumps on the noisy D30 holes
+  // leave 20-44 mm per hole farther than 5 + 0.2 mm from a 5 mm tool's path (0.4-2.8 mm even at + 1.0 mm),
+  // and a 0.4 mm dent one flipped noise-free D100 hole (docs/path_planner.md, Coverage: a known gap).
+  cfg.small_hole = SmallHolePolicy::Skip;
   JobParams jp;
   jp.tool_radius = 0.005;  // the smallest holes are 30 mm across
   const PlanResult res = plan(in, jp, cfg, std::nullopt);

@@ -29,10 +29,11 @@ int run(const std::string& args, std::string* out = nullptr) {
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
 
-// 0.3 x 0.2 plate with a 60 x 40 mm cut-out, both as hg-outline would write them (outer CCW, hole CW).
+// 0.3 x 0.2 plate with a 60 x 40 mm cut-out, both as hg-outline would write them (outer CCW, hole CW). The
+// cut-out's corners are R8 fillets (every 22.5 deg): a round tool cannot reach into sharp ones (coverage).
 const char* kOutline = R"({"loops": [
   {"hole": false, "area": 0.06, "perimeter": 1.0, "points": [[0,0],[0.3,0],[0.3,0.2],[0,0.2]]},
-  {"hole": true, "area": 0.0024, "perimeter": 0.2, "points": [[0.1,0.08],[0.1,0.12],[0.16,0.12],[0.16,0.08]]}]})";
+  {"hole": true, "area": 0.0024, "perimeter": 0.2, "points": [[0.16,0.088],[0.159391,0.0849385],[0.1576569,0.0823431],[0.1550615,0.080609],[0.152,0.08],[0.108,0.08],[0.1049385,0.080609],[0.1023431,0.0823431],[0.100609,0.0849385],[0.1,0.088],[0.1,0.112],[0.100609,0.1150615],[0.1023431,0.1176569],[0.1049385,0.119391],[0.108,0.12],[0.152,0.12],[0.1550615,0.119391],[0.1576569,0.1176569],[0.159391,0.1150615],[0.16,0.112]]}]})";
 
 }  // namespace
 

@@ -55,7 +55,8 @@ hullgrind::outline_t plate_outline(std::int64_t seq) {
   for (int k = 0; k < 3; ++k) o.plane_origin[k] = origin[k], o.plane_normal[k] = n[k], o.plane_u_axis[k] = u[k], o.plane_v_axis[k] = v[k];
   o.status = hullgrind::outline_t::STATUS_OK;
   o.loops.push_back(loop(false, {{0, 0}, {0.3, 0}, {0.3, 0.2}, {0, 0.2}}));
-  o.loops.push_back(loop(true, {{0.1, 0.08}, {0.1, 0.12}, {0.16, 0.12}, {0.16, 0.08}}));
+  // 60 x 40 mm cut-out with R8 corner fillets (every 22.5 deg): a round tool cannot reach into sharp ones.
+  o.loops.push_back(loop(true, {{0.16, 0.088}, {0.159391, 0.0849385}, {0.1576569, 0.0823431}, {0.1550615, 0.080609}, {0.152, 0.08}, {0.108, 0.08}, {0.1049385, 0.080609}, {0.1023431, 0.0823431}, {0.100609, 0.0849385}, {0.1, 0.088}, {0.1, 0.112}, {0.100609, 0.1150615}, {0.1023431, 0.1176569}, {0.1049385, 0.119391}, {0.108, 0.12}, {0.152, 0.12}, {0.1550615, 0.119391}, {0.1576569, 0.1176569}, {0.159391, 0.1150615}, {0.16, 0.112}}));
   o.num_loops = 2;
   return o;
 }

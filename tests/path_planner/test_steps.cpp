@@ -726,10 +726,22 @@ PlannerConfig simple_config() {
   c.limits.table_z = 0;
   return c;
 }
+// A square hole with corner fillets of radius min(15 mm, half side): larger than the default 10 mm tool, so
+// the round tool reaches all of its edge (a sharp-cornered hole FAILS for its unreached corners,
+// test_coverage.cpp). Clockwise (canonical for a hole).
 OutlineInput plate_with_hole(double hole_half) {
   OutlineInput in;
   in.plane = {Vec3(0, 0, 1.19), Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, -1)};
-  Ring hole = rect(0.1 - hole_half, 0.05 - hole_half, 0.1 + hole_half, 0.05 + hole_half);
+  const double r = std::min(0.015, hole_half), c = hole_half - r;
+  Ring hole;
+  for (int q = 0; q < 4; ++q) {  // counter-clockwise, fillet centres at (+-c, +-c) about the hole's centre
+    const Vec2 centre = Vec2(0.1, 0.05) + c * Vec2(q == 0 || q == 3 ? 1 : -1, q < 2 ? 1 : -1);
+    for (int k = 0; k <= (c > 0 ? 16 : 15); ++k) {  // c = 0: a circle, no repeated points
+      // unequal steps (smoothstep): equal ones near the axes would pass for a pixel staircase (estimate_pitch)
+      const double t = k / 16.0, a = (q + t * t * (3 - 2 * t)) * kPi / 2;
+      hole.push_back(centre + r * Vec2(std::cos(a), std::sin(a)));
+    }
+  }
   std::reverse(hole.begin(), hole.end());
   in.loops = {{false, rect(0, 0, 0.3, 0.1)}, {true, hole}};
   return in;

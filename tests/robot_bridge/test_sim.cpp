@@ -330,6 +330,36 @@ TEST(RobotBridgeSim, AcceptedJobIsReleasedWhenThePathNeverComes) {
   EXPECT_EQ(h.bridge->state(), Bridge::State::Idle);
 }
 
+TEST(RobotBridgeSim, DoneCarriesTheEdgeThePlannerSaidIsNotGround) {
+  // The planner (small_hole: skip) publishes the path, then PLANNED with its coverage warnings; the bridge
+  // is running by then. DONE must still say what was left unground, word for word, and only that.
+  Harness h;
+  h.send("c", job_request_t::ACTION_START);
+  h.path(rbtest::three_segment_path("c"));
+  ASSERT_EQ(h.last().state, +job_status_t::STATE_RUNNING) << h.last().message;
+  const std::string unreached = "not reached: hole 1: 33.0 mm of its 160.0 mm edge (79.4 % reached) is farther than "
+                                "10.0 + 0.2 mm from the tool path, in 4 stretches";
+  const std::string skipped = "skipped: hole 3 is too small for a tool of radius 10.000000 mm: hole 3: 6.5 mm of its "
+                              "6.5 mm edge (0.0 % reached)";
+  job_status_t planned{};
+  planned.job_id = "c";
+  planned.source = "hg-path-planner";
+  planned.state = job_status_t::STATE_PLANNED;
+  planned.message = "180 waypoints, 2 loops, planned in 3.1 ms; warning: pixel pitch unknown; warning: " + unreached +
+                    "; warning: " + skipped;
+  h.bridge->on_job_status(planned, h.now);
+  ASSERT_TRUE(h.run_until("c", job_status_t::STATE_DONE));
+  EXPECT_EQ(h.last().message, "path complete; edge not ground (planner): " + unreached + "; " + skipped);
+  // The next job, planned without warnings, is just complete.
+  h.send("d", job_request_t::ACTION_START);
+  h.path(rbtest::three_segment_path("d"));
+  planned.job_id = "d";
+  planned.message = "180 waypoints, 2 loops, planned in 3.1 ms";
+  h.bridge->on_job_status(planned, h.now);
+  ASSERT_TRUE(h.run_until("d", job_status_t::STATE_DONE));
+  EXPECT_EQ(h.last().message, "path complete");
+}
+
 TEST(RobotBridgeSim, RestartDuringAJobReportsItAndHoldsFault) {
   BridgeConfig cfg;
   cfg.state_file = ::testing::TempDir() + "rb_state_" + std::to_string(getpid());

@@ -20,7 +20,9 @@ const char* kUsage = R"(usage: hg-overview LOG.lcmlog --out DIR [--job-id J] [--
 Reads a recorded run (tools/record) and writes, for one job (default: the last START request):
   DIR/outline.json   the outline the job was planned on, in hg-outline's JSON schema ("frame": "camera")
   DIR/path.json      the grind path, in the path file schema (docs/path_file.md)
-  DIR/overview.png   top view on the plate: cloud, outline (holes red), grind path, scale bar, frames, legend
+  DIR/overview.png   top view on the plate: cloud, outline (holes red), grind path, edge out of the tool's
+                     reach (magenta: the planner's coverage check redone with the planner's settings below),
+                     scale bar, frames, legend
   DIR/summary.json   stage timings (ms) and every job status
 The picture brings the path (robot base frame) back onto the plate with the camera-to-base calibration the
 planner used; give the planner's settings as the run gave them:
@@ -111,7 +113,7 @@ int main(int argc, char** argv) {
                    "hg-overview: warning: the grind path lies %.1f mm off the outline's plane with this calibration: "
                    "the planner ran with other settings (give them: --planner-args)\n",
                    off_plane * 1e3);
-    auto png = hg::overview::overview_png(job, camera_to_base, planner.base_frame);
+    auto png = hg::overview::overview_png(job, camera_to_base, &planner);
     files.stage(out_dir + "/overview.png", png.data(), png.size());
     auto summary = hg::overview::summary_json(job);
     files.stage(out_dir + "/summary.json", summary.dump(1) + "\n");

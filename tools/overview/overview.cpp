@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "outline_core/io/outline_writers.hpp"
+#include "path_planner/io.hpp"
 
 namespace hg::overview {
 namespace {
@@ -169,8 +170,30 @@ void draw_scale_bar(cv::Mat& img, const Canvas& c) {
   cv::putText(img, text, cv::Point(a.x, a.y + 24), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
 }
 
+// Edge the tool does not reach, over everything else: the base-frame points back onto the plate as the
+// path. Returns the length drawn, mm.
+double draw_unreached(cv::Mat& img, const Canvas& c, const JobTrace& job, const Eigen::Isometry3d& camera_to_base,
+                      const hg::path_planner::PlannerConfig& planner) {
+  if (!job.outline) return 0;
+  const auto& o = job.outline->msg;
+  const Eigen::Vector3d origin(o.plane_origin), u(o.plane_u_axis), v(o.plane_v_axis);
+  const Eigen::Isometry3d base_to_camera = camera_to_base.inverse();
+  double mm = 0;
+  for (const auto& stretch : unreached_stretches(job, planner)) {
+    std::vector<cv::Point> pts;
+    for (const Eigen::Vector3d& b : stretch) {
+      const Eigen::Vector3d p = base_to_camera * b;
+      pts.push_back(c.px({(p - origin).dot(u), (p - origin).dot(v)}));
+    }
+    for (std::size_t i = 1; i < stretch.size(); ++i) mm += (stretch[i] - stretch[i - 1]).norm() * 1e3;
+    if (pts.size() == 1) cv::circle(img, pts[0], 3, cv::Scalar(200, 0, 200), -1, cv::LINE_AA);
+    cv::polylines(img, pts, false, cv::Scalar(200, 0, 200), 4, cv::LINE_AA);
+  }
+  return mm;
+}
+
 std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std::size_t cloud_points, int outers,
-                                 int holes, const std::string& base_frame) {
+                                 int holes, const std::string& base_frame, bool coverage, double unreached_mm) {
   const Json s = summary_json(job);
   std::vector<std::string> lines;
   std::string outcome = "job " + job.job_id + ": " + s["final_state"].get<std::string>() +
@@ -189,7 +212,12 @@ std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std
                   path.grind_height_median() * 1e3);
     lines.push_back(buf);
   }
-  lines.push_back("path: grind (green), lead-in/out (cyan), approach/retract/travel (orange); circle: start");
+  lines.push_back("path: grind (green), lead-in/out (cyan), approach/retract/travel (orange); circle: start" +
+                  std::string(coverage ? "; edge out of the tool's reach (magenta)" : ""));
+  if (unreached_mm > 0) {
+    std::snprintf(buf, sizeof buf, "edge out of the tool's reach: about %.1f mm (the planner's coverage check)", unreached_mm);
+    lines.push_back(buf);
+  }
   std::string t = "stages:";
   for (auto& [k, v] : s["stages"].items()) {
     std::snprintf(buf, sizeof buf, " %s %.1f", k.c_str(), v.get<double>());
@@ -201,8 +229,27 @@ std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std
 
 }  // namespace
 
+std::vector<std::vector<Eigen::Vector3d>> unreached_stretches(const JobTrace& job,
+                                                              const hg::path_planner::PlannerConfig& planner) {
+  namespace pp = hg::path_planner;
+  std::vector<std::vector<Eigen::Vector3d>> out;
+  if (!job.path || !job.outline) return out;
+  const auto& g = job.path->msg;
+  std::vector<pp::Waypoint> path;
+  for (std::size_t i = 0; i < g.position.size() && i < g.kind.size(); ++i)
+    path.push_back({Eigen::Vector3d(g.position[i].data()), Eigen::Quaterniond::Identity(), 0, g.kind[i], -1});
+  const pp::PathCoverage pc = pp::path_coverage(pp::from_lcm(job.outline->msg), path, g.tool_radius, g.flipped, planner);
+  for (const pp::LoopCoverage& l : pc.loops)
+    for (const pp::UnreachedStretch& s : l.unreached) {
+      std::vector<Eigen::Vector3d> pts;
+      for (const Eigen::Vector2d& p : s.points) pts.push_back(pc.plate_to_base * Eigen::Vector3d(p.x(), p.y(), 0));
+      out.push_back(std::move(pts));
+    }
+  return out;
+}
+
 std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isometry3d& camera_to_base,
-                                        const std::string& base_frame) {
+                                        const hg::path_planner::PlannerConfig* planner) {
   std::vector<Eigen::Vector2d> cloud;
   if (job.cloud)
     for (int i = 0; i < job.cloud->msg.n; ++i)
@@ -236,8 +283,10 @@ std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isomet
     cv::line(img, c.px(path.uv[i - 1]), c.px(path.uv[i]), color, k == hullgrind::grind_path_t::KIND_GRIND ? 2 : 1, cv::LINE_AA);
   }
   if (!path.uv.empty()) cv::circle(img, c.px(path.uv.front()), 7, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
+  const double unreached_mm = planner ? draw_unreached(img, c, job, camera_to_base, *planner) : 0;
   draw_scale_bar(img, c);
-  const auto lines = caption(job, path, cloud.size(), outers, holes, base_frame);
+  const auto lines = caption(job, path, cloud.size(), outers, holes, planner ? planner->base_frame : "robot_base",
+                             planner != nullptr, unreached_mm);
   for (std::size_t i = 0; i < lines.size(); ++i)
     cv::putText(img, lines[i], cv::Point(Canvas::margin, c.height - Canvas::legend + 50 + int(i) * 22),
                 cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "path_planner/pipeline.hpp"
 #include "tools/overview/run_log.hpp"
 
 namespace hg::overview {
@@ -29,11 +30,17 @@ PlatePath path_on_plate(const JobTrace& job, const Eigen::Isometry3d& camera_to_
 // A grind path further than this from the outline's plane was planned with another calibration.
 constexpr double kOffPlaneWarning = 0.005;
 
-// Top view in the plate plane: cloud, outline (holes in red), grind path by segment kind, a scale bar in
-// millimetres, the frames, and a legend. camera_to_base brings the path back onto the plate; base_frame
-// names the path's frame in the caption. Returns PNG bytes.
+// Top view in the plate plane: cloud, outline (holes in red), grind path by segment kind, edge out of the
+// tool's reach (magenta, when `planner` is given: the planner's coverage check redone on the job's outline
+// and path with that config), a scale bar in millimetres, the frames, and a legend. camera_to_base brings
+// the path back onto the plate; the planner's base_frame names the path's frame in the caption. Returns PNG
+// bytes.
 std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isometry3d& camera_to_base,
-                                        const std::string& base_frame = "robot_base");
+                                        const hg::path_planner::PlannerConfig* planner = nullptr);
+// The job's unreached edge stretches in the robot base frame, from path_coverage (empty without a path and
+// an outline).
+std::vector<std::vector<Eigen::Vector3d>> unreached_stretches(const JobTrace& job,
+                                                              const hg::path_planner::PlannerConfig& planner);
 // The length of the scale bar for a picture `span` metres wide: 1, 2 or 5 x 10^k mm, at most span / 4.
 double scale_bar_mm(double span);
 
