@@ -116,9 +116,9 @@ double ring_distance(double px, double py, const nlohmann::json& ring) {
 // plate's top surface.
 TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
   const double pitch = 0.002, noise = 0.0002, radius = 0.006;
-  // Along the edges: the outline runs through the outermost pixel centres (no edge compensation without a
-  // known pitch), which lie within one pitch inside the true edge, plus noise; at the corners, which the
-  // alpha shape and the smoothing round off, within two pitches.
+  // Along the edges: the outline runs through the outermost pixel centres, within one pitch inside the true
+  // edge (the planner's edge compensation, given the pitch, moves it out by about half of that), plus
+  // noise; at the corners, which the alpha shape and the smoothing round off, within two pitches.
   const double tolerance = pitch + 4 * noise, corner_tolerance = 2 * pitch;
   for (int seed : {1, 2, 3}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
@@ -136,8 +136,8 @@ TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
     EXPECT_NE(out.find("outside the workspace box (-1.0000, -1.0000, 0.0000) .. (1.5000, 1.0000, 1.0000)"), std::string::npos) << out;
     EXPECT_NE(out.find("--outline_frame robot_base"), std::string::npos) << out;
 
-    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline_frame robot_base --tool_radius " + std::to_string(radius) +
-                           " -o " + path, &out), 0) << out;
+    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline_frame robot_base --pixel_pitch 0.002 --tool_radius " +
+                           std::to_string(radius) + " -o " + path, &out), 0) << out;
     EXPECT_NE(out.find("camera-to-base applied: none (identity)"), std::string::npos) << out;
     ASSERT_EQ(run_tool("hg-robot-bridge --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml --export " +
                            script + " --path " + path, &out), 0) << out;
