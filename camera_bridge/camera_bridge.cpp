@@ -15,6 +15,9 @@
 #if HG_HAVE_OPENNI2
 #include "camera_bridge/openni2/openni2_source.hpp"
 #endif
+#if HG_HAVE_GENICAM
+#include "camera_bridge/genicam/genicam_source.hpp"
+#endif
 
 namespace hg::camera_bridge {
 
@@ -51,10 +54,17 @@ runtime::ProcessInfo process_info() {
 #else
   details += ". openni2 is NOT in this build (camera_bridge/openni2 missing at configure time).";
 #endif
+#if HG_HAVE_GENICAM
+  details += "\ngenicam: a GigE Vision / USB3 Vision 3-D camera through Aravis (Coord3D_C16 range images, Scan3d\n"
+             "scale/offset/focal length/principal point; software trigger per job with --trigger job, else\n"
+             "free-running; see docs/cameras.md).";
+#else
+  details += "\ngenicam is NOT in this build (libaravis-dev missing at configure time).";
+#endif
   return {"hg-camera-bridge", "Depth camera -> plate points (HG_PLATE_CLOUD) and monitoring depth (HG_DEPTH).",
           details,
           {
-              {"source", "synthetic", "synthetic | files | openni2"},
+              {"source", "synthetic", "synthetic | files | openni2 | genicam"},
               {"scene", "three-parts", "synthetic: scene preset (" + joined(scene_preset_names()) + ")"},
               {"profile", "pm806", "synthetic: camera profile (" + joined(camera_profile_names()) + ")"},
               {"seed", "", "synthetic: noise seed (default: the scene's)"},
@@ -64,6 +74,7 @@ runtime::ProcessInfo process_info() {
               {"intrinsics", "", "files: intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
               {"loop", "", "files, .oni: start again after the last frame", true},
               {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
+              {"genicam-device", "", "genicam: Aravis device id (Vendor-Serial, serial or IP address); empty: first 3-D camera found"},
               {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame"},
               {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)"},
               {"trigger", "continuous", "continuous | job (one capture per job id of a job_request_t ACTION_START on HG_JOB_REQUEST)"},
@@ -172,7 +183,18 @@ std::unique_ptr<DepthSource> source_from(const runtime::Node& node) {
         "there when the project was configured");
 #endif
   }
-  throw runtime::ConfigError("--source must be synthetic, files or openni2, not '" + kind + "'");
+  if (kind == "genicam") {
+#if HG_HAVE_GENICAM
+    GenicamOptions o;
+    o.device_id = node.param("genicam-device");
+    o.software_trigger = node.param("trigger") == "job";
+    return std::make_unique<GenicamSource>(o);
+#else
+    throw runtime::ConfigError("--source genicam is not available in this build: libaravis-dev (aravis-0.8) was not "
+                               "there when the project was configured");
+#endif
+  }
+  throw runtime::ConfigError("--source must be synthetic, files, openni2 or genicam, not '" + kind + "'");
 }
 
 void fill_plate_cloud(const Segmentation& s, plate_cloud_t& m) {
