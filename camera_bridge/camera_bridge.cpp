@@ -74,7 +74,7 @@ runtime::ProcessInfo process_info() {
               {"intrinsics", "", "files: intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
               {"loop", "", "files, .oni: start again after the last frame", true},
               {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
-              {"genicam-device", "", "genicam: Aravis device id (Vendor-Serial, serial or IP address); empty: first 3-D camera found"},
+              {"genicam-device", "", "genicam: Aravis device id (Vendor-Model-Serial, serial or IP address); empty: the first 3-D camera found"},
               {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame"},
               {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)"},
               {"trigger", "continuous", "continuous | job (one capture per job id of a job_request_t ACTION_START on HG_JOB_REQUEST)"},

@@ -13,7 +13,7 @@
 namespace hg::camera_bridge {
 
 struct GenicamOptions {
-  // Aravis device id (as `arv-tool-0.8` lists it: "Vendor-Serial", a serial, or an IP address). Empty:
+  // Aravis device id (as `arv-tool-0.8` lists it: "Vendor-Model-Serial", its serial, or its IP address). Empty:
   // the first device found that offers PixelFormat Coord3D_C16 and the Scan3d features.
   std::string device_id;
   // true: TriggerMode On, TriggerSource Software, one TriggerSoftware per grab(); false: free-running.

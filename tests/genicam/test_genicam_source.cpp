@@ -124,11 +124,13 @@ TEST(GenicamSource, FindsTheFirst3dCameraAndReadsScan3dIntrinsics) {
   EXPECT_DOUBLE_EQ(in.cy, p.cy);
   EXPECT_NE(in.cx, (p.width - 1) / 2.0);
   EXPECT_DOUBLE_EQ(in.depth_unit, 0.05e-3);
-  // Opened by its id as well.
-  GenicamSource by_id({cam.device_id(), false});
   src.close();
-  EXPECT_NO_THROW(by_id.open());
-  EXPECT_TRUE(by_id.is_open());
+  // Opened by its id, and by its address, as well.
+  for (const std::string id : {cam.device_id(), std::string("127.0.0.1")}) {
+    GenicamSource named({id, false});
+    EXPECT_NO_THROW(named.open()) << id;
+    EXPECT_TRUE(named.is_open()) << id;
+  }
 }
 
 TEST(GenicamSource, NoDeviceIsASourceErrorNamingIt) {
