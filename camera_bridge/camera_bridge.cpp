@@ -55,8 +55,8 @@ runtime::ProcessInfo process_info() {
   details += ". openni2 is NOT in this build (camera_bridge/openni2 missing at configure time).";
 #endif
 #if HG_HAVE_GENICAM
-  details += "\ngenicam: a GigE Vision / USB3 Vision 3-D camera through Aravis (Coord3D_C16 range images, Scan3d\n"
-             "scale/offset/focal length/principal point; software trigger per job with --trigger job, else\n"
+  details += "\ngenicam: a GigE Vision / USB3 Vision 3-D camera through Aravis (Coord3D_C16 range images or\n"
+             "Coord3D_ABC32f organized clouds, Scan3d scale/offset/focal length/principal point; software trigger per job with --trigger job, else\n"
              "free-running; see docs/cameras.md).";
 #else
   details += "\ngenicam is NOT in this build (libaravis-dev missing at configure time).";
@@ -75,6 +75,7 @@ runtime::ProcessInfo process_info() {
               {"loop", "", "files, .oni: start again after the last frame", true},
               {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
               {"genicam-device", "", "genicam: Aravis device id (Vendor-Model-Serial, serial or IP address); empty: the first 3-D camera found"},
+              {"genicam-format", "c16", "genicam: c16 (Coord3D_C16 range image) | abc32f (Coord3D_ABC32f organized cloud, Z kept)"},
               {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame"},
               {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)"},
               {"trigger", "continuous", "continuous | job (one capture per job id of a job_request_t ACTION_START on HG_JOB_REQUEST)"},
@@ -188,6 +189,10 @@ std::unique_ptr<DepthSource> source_from(const runtime::Node& node) {
     GenicamOptions o;
     o.device_id = node.param("genicam-device");
     o.software_trigger = node.param("trigger") == "job";
+    const std::string format = node.param("genicam-format");
+    if (format != "c16" && format != "abc32f")
+      throw runtime::ConfigError("--genicam-format must be c16 or abc32f, not '" + format + "'");
+    o.format = format == "c16" ? GenicamFormat::c16 : GenicamFormat::abc32f;
     return std::make_unique<GenicamSource>(o);
 #else
     throw runtime::ConfigError("--source genicam is not available in this build: libaravis-dev (aravis-0.8) was not "

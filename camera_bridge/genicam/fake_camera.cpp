@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #ifndef HG_GENICAM_XML
@@ -92,17 +93,41 @@ void FakeGenicamCamera::fill(void* buffer, void* self_ptr, std::uint32_t, std::u
   std::memset(data, 0, size);
   const CameraProfile& p = self->options_.profile;
   const std::int64_t index = self->served_++;
-  if (format != ARV_PIXEL_FORMAT_COORD3D_C_16 || w != p.width || h != p.height || size < size_t(w) * h * 2) return;
+  const bool abc = format == ARV_PIXEL_FORMAT_COORD3D_ABC_32F;
+  if ((!abc && format != ARV_PIXEL_FORMAT_COORD3D_C_16) || w != p.width || h != p.height ||
+      size < size_t(w) * h * (abc ? 12 : 2))
+    return;
   const std::int64_t k = self->options_.fixed_frame_index >= 0 ? self->options_.fixed_frame_index : index;
   const RenderedFrame r = render(self->options_.scene, p, static_cast<std::uint64_t>(k));
   for (int y = 0; y < h; ++y) {
     const std::uint16_t* src = r.depth.ptr<std::uint16_t>(y);
+    if (abc) {
+      self->fill_abc32f_row(src, y, reinterpret_cast<float*>(data + size_t(y) * w * 12));
+      continue;
+    }
     std::uint8_t* dst = data + size_t(y) * w * 2;
     for (int x = 0; x < w; ++x) {
       const std::uint16_t raw = src[x] ? self->raw_of(src[x] * p.depth_unit) : 0;
       dst[2 * x] = static_cast<std::uint8_t>(raw & 0xff);  // GigE Vision pixel data: little-endian
       dst[2 * x + 1] = static_cast<std::uint8_t>(raw >> 8);
     }
+  }
+}
+
+// Coord3D_ABC32f: (X, Y, Z) of each pixel's depth through the profile's pinhole, each coordinate as
+// (mm - offset) / scale; NaN where there is no depth.
+void FakeGenicamCamera::fill_abc32f_row(const std::uint16_t* depth, int row, float* xyz) const {
+  const CameraProfile& p = options_.profile;
+  const auto coded = [&](double mm) { return static_cast<float>((mm - options_.offset_mm) / options_.scale_mm); };
+  for (int x = 0; x < p.width; ++x, xyz += 3) {
+    if (!depth[x]) {
+      xyz[0] = xyz[1] = xyz[2] = std::numeric_limits<float>::quiet_NaN();
+      continue;
+    }
+    const double z = depth[x] * p.depth_unit * 1000.0;
+    xyz[0] = static_cast<float>((x - p.cx) / p.fx * z);  // A and B unscaled: the bridge reads only C
+    xyz[1] = static_cast<float>((row - p.cy) / p.fy * z);
+    xyz[2] = coded(z);
   }
 }
 

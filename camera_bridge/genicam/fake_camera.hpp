@@ -1,6 +1,7 @@
 // A fake GigE Vision 3-D camera: Aravis's GigE Vision fake camera (GVCP control, GVSP streaming) with our
 // GenICam description (hg-fake-3d-camera.xml) and a fill callback that serves the scene renderer's depth
-// as Coord3D_C16 range images with the given Scan3d scale, offset and pinhole of the camera profile.
+// as Coord3D_C16 range images (or Coord3D_ABC32f clouds, when the client selects that pixel format) with
+// the given Scan3d scale, offset and pinhole of the camera profile.
 // For tests and hg-fake-genicam only: bind it to 127.0.0.1 inside a network namespace (tests/netns.sh).
 #pragma once
 
@@ -52,6 +53,7 @@ class FakeGenicamCamera {
  private:
   static void fill(void* buffer, void* self, std::uint32_t, std::uint32_t, std::uint32_t);
   void write_double(std::uint32_t address, double value);
+  void fill_abc32f_row(const std::uint16_t* depth, int row, float* xyz) const;
 
   FakeGenicamOptions options_;
   void* gv_ = nullptr;  // ArvGvFakeCamera*

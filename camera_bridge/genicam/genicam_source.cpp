@@ -31,12 +31,12 @@ struct ErrorGuard {
   }
 };
 
-bool offers_c16(ArvCamera* cam) {
+bool offers_format(ArvCamera* cam, const char* wanted) {
   GError* err = nullptr;
   guint n = 0;
   const char** formats = arv_camera_dup_available_enumerations_as_strings(cam, "PixelFormat", &n, &err);
   bool found = false;
-  for (guint i = 0; formats && i < n; ++i) found = found || std::strcmp(formats[i], "Coord3D_C16") == 0;
+  for (guint i = 0; formats && i < n; ++i) found = found || std::strcmp(formats[i], wanted) == 0;
   g_free(formats);
   g_clear_error(&err);
   return found;
@@ -49,11 +49,15 @@ bool has_feature(ArvCamera* cam, const char* name) {
   return yes && !err;
 }
 
-bool is_3d_camera(ArvCamera* cam) {
-  return offers_c16(cam) && has_feature(cam, "Scan3dCoordinateScale") && has_feature(cam, "Scan3dFocalLength");
+bool is_3d_camera(ArvCamera* cam, const char* format) {
+  return offers_format(cam, format) && has_feature(cam, "Scan3dCoordinateScale") && has_feature(cam, "Scan3dFocalLength");
 }
 
 }  // namespace
+
+const char* genicam_format_name(GenicamFormat f) {
+  return f == GenicamFormat::abc32f ? "Coord3D_ABC32f" : "Coord3D_C16";
+}
 
 std::uint16_t c16_to_count(std::uint16_t raw, std::int64_t offset_counts, std::int64_t invalid, bool& out_of_range) {
   out_of_range = false;
@@ -74,6 +78,7 @@ struct GenicamSource::Impl {
   std::string device;
   Intrinsics intrinsics;
   std::int64_t offset_counts = 0, invalid_raw = 0;
+  double scale_mm = 1, offset_mm = 0, invalid_value = 0;  // Scan3d C coordinate
   guint payload = 0;
   std::int64_t seq = 0;
 
@@ -100,6 +105,7 @@ std::string GenicamSource::describe() const {
   std::string s = "genicam ";
   s += options_.device_id.empty() ? "(first 3-D camera)" : "'" + options_.device_id + "'";
   if (!impl_->device.empty() && impl_->device != options_.device_id) s += " = '" + impl_->device + "'";
+  s += std::string(", ") + genicam_format_name(options_.format);
   return s + (options_.software_trigger ? ", software trigger" : ", free-running");
 }
 
@@ -110,7 +116,7 @@ std::string GenicamSource::opened_device() const { return impl_->device; }
 namespace {
 
 // The first device Aravis finds that is a 3-D camera (see is_3d_camera), with its id.
-ArvCamera* first_3d_camera(std::string& id, std::string& seen) {
+ArvCamera* first_3d_camera(const char* format, std::string& id, std::string& seen) {
   arv_update_device_list();
   const unsigned n = arv_get_n_devices();
   for (unsigned i = 0; i < n; ++i) {
@@ -121,7 +127,7 @@ ArvCamera* first_3d_camera(std::string& id, std::string& seen) {
     ArvCamera* cam = arv_camera_new(dev, &err);
     g_clear_error(&err);
     if (!cam) continue;
-    if (is_3d_camera(cam)) {
+    if (is_3d_camera(cam, format)) {
       id = dev;
       return cam;
     }
@@ -151,9 +157,10 @@ void GenicamSource::open() {
   m.lost = false;
   if (options_.device_id.empty()) {
     std::string seen;
-    m.camera = first_3d_camera(m.device, seen);
+    m.camera = first_3d_camera(genicam_format_name(options_.format), m.device, seen);
     if (!m.camera)
-      throw SourceError("no GenICam 3-D camera (Coord3D_C16 with Scan3d features) found" +
+      throw SourceError(std::string("no GenICam 3-D camera (") + genicam_format_name(options_.format) +
+                        " with Scan3d features) found" +
                         (seen.empty() ? std::string(", no devices at all") : "; devices seen: " + seen));
   } else {
     ErrorGuard e;
@@ -161,10 +168,10 @@ void GenicamSource::open() {
     e.check("cannot open GenICam device '" + options_.device_id + "'");
     if (!m.camera) throw SourceError("cannot open GenICam device '" + options_.device_id + "'");
     m.device = options_.device_id;
-    if (!is_3d_camera(m.camera)) {
+    if (!is_3d_camera(m.camera, genicam_format_name(options_.format))) {
       close();
-      throw SourceError("GenICam device '" + options_.device_id +
-                        "' is not a 3-D camera: no PixelFormat Coord3D_C16 or no Scan3dCoordinateScale/Scan3dFocalLength");
+      throw SourceError("GenICam device '" + options_.device_id + "' is not a 3-D camera: no PixelFormat " +
+                        genicam_format_name(options_.format) + " or no Scan3dCoordinateScale/Scan3dFocalLength");
     }
   }
   try {
@@ -182,7 +189,7 @@ void GenicamSource::open() {
 void GenicamSource::configure() {
   Impl& m = *impl_;
   ArvCamera* cam = m.camera;
-  set_string(cam, "PixelFormat", "Coord3D_C16");
+  set_string(cam, "PixelFormat", genicam_format_name(options_.format));
   if (has_feature(cam, "Scan3dCoordinateSelector")) set_string(cam, "Scan3dCoordinateSelector", "CoordinateC");
   if (has_feature(cam, "Scan3dDistanceUnit")) {
     ErrorGuard e;
@@ -209,10 +216,14 @@ void GenicamSource::configure() {
     throw SourceError("the camera has no Scan3dPrincipalPointU/V");
   in.cx = get_float(cam, "Scan3dPrincipalPointU");
   in.cy = get_float(cam, "Scan3dPrincipalPointV");
-  in.depth_unit = scale * 1e-3;  // Scan3dDistanceUnit Millimeter
+  m.scale_mm = scale;
+  m.offset_mm = offset;
+  // Scan3dDistanceUnit Millimeter. C16 keeps the camera's step; float coordinates get a fixed one.
+  in.depth_unit = options_.format == GenicamFormat::c16 ? scale * 1e-3 : kAbc32fDepthUnit;
   // Counts keep the raw values' step (scale); an offset that is no whole number of steps costs at most half.
   m.offset_counts = std::llround(offset / scale);
-  m.invalid_raw = has_feature(cam, "Scan3dInvalidDataValue") ? std::llround(get_float(cam, "Scan3dInvalidDataValue")) : 0;
+  m.invalid_value = has_feature(cam, "Scan3dInvalidDataValue") ? get_float(cam, "Scan3dInvalidDataValue") : 0.0;
+  m.invalid_raw = std::llround(m.invalid_value);
   if (has_feature(cam, "TriggerSelector")) set_string(cam, "TriggerSelector", "FrameStart");
   if (options_.software_trigger) {
     set_string(cam, "TriggerMode", "On");
@@ -228,8 +239,9 @@ void GenicamSource::start_stream() {
   ErrorGuard e;
   m.payload = arv_camera_get_payload(m.camera, e.out());
   e.check("reading PayloadSize");
-  if (m.payload < guint(m.intrinsics.width) * guint(m.intrinsics.height) * 2)
-    throw SourceError("PayloadSize " + std::to_string(m.payload) + " is smaller than a Coord3D_C16 image");
+  if (m.payload < guint(m.intrinsics.width) * guint(m.intrinsics.height) * bytes_per_pixel())
+    throw SourceError("PayloadSize " + std::to_string(m.payload) + " is smaller than a " +
+                      genicam_format_name(options_.format) + " image");
   m.stream = arv_camera_create_stream(m.camera, nullptr, nullptr, e.out());
   e.check("creating the stream");
   if (!m.stream) throw SourceError("creating the stream failed");
@@ -267,6 +279,8 @@ std::optional<DepthFrame> GenicamSource::grab(std::chrono::milliseconds timeout)
   return frame;
 }
 
+std::size_t GenicamSource::bytes_per_pixel() const { return options_.format == GenicamFormat::c16 ? 2 : 12; }
+
 std::optional<DepthFrame> GenicamSource::convert(void* arv_buffer) {
   Impl& m = *impl_;
   ArvBuffer* buf = static_cast<ArvBuffer*>(arv_buffer);
@@ -275,12 +289,13 @@ std::optional<DepthFrame> GenicamSource::convert(void* arv_buffer) {
     return std::nullopt;
   }
   const Intrinsics& in = m.intrinsics;
+  const ArvPixelFormat want =
+      options_.format == GenicamFormat::c16 ? ARV_PIXEL_FORMAT_COORD3D_C_16 : ARV_PIXEL_FORMAT_COORD3D_ABC_32F;
   size_t size = 0;
   const auto* raw = static_cast<const std::uint8_t*>(arv_buffer_get_data(buf, &size));
-  if (arv_buffer_get_payload_type(buf) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE ||
-      arv_buffer_get_image_pixel_format(buf) != ARV_PIXEL_FORMAT_COORD3D_C_16 ||
+  if (arv_buffer_get_payload_type(buf) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE || arv_buffer_get_image_pixel_format(buf) != want ||
       arv_buffer_get_image_width(buf) != in.width || arv_buffer_get_image_height(buf) != in.height || !raw ||
-      size < size_t(in.width) * size_t(in.height) * 2) {
+      size < size_t(in.width) * size_t(in.height) * bytes_per_pixel()) {
     ++counters_.unusable;
     return std::nullopt;
   }
@@ -292,18 +307,35 @@ std::optional<DepthFrame> GenicamSource::convert(void* arv_buffer) {
   std::int64_t bad = 0;
   for (int r = 0; r < in.height; ++r) {
     std::uint16_t* dst = f.depth.ptr<std::uint16_t>(r);
-    const std::uint8_t* src = raw + size_t(r) * size_t(in.width) * 2;
+    const std::uint8_t* row = raw + size_t(r) * size_t(in.width) * bytes_per_pixel();
     for (int c = 0; c < in.width; ++c) {
-      // GigE Vision pixel data is little-endian.
-      const std::uint16_t v = static_cast<std::uint16_t>(src[2 * c] | (src[2 * c + 1] << 8));
       bool oor = false;
-      dst[c] = c16_to_count(v, m.offset_counts, m.invalid_raw, oor);
+      if (options_.format == GenicamFormat::c16) {
+        // GigE Vision pixel data is little-endian.
+        const std::uint16_t v = static_cast<std::uint16_t>(row[2 * c] | (row[2 * c + 1] << 8));
+        dst[c] = c16_to_count(v, m.offset_counts, m.invalid_raw, oor);
+      } else {
+        float z;  // C of (A, B, C), little-endian IEEE floats like the host's
+        std::memcpy(&z, row + 12 * size_t(c) + 8, 4);
+        dst[c] = abc32f_to_count(z, m.scale_mm, m.offset_mm, m.invalid_value, oor);
+      }
       bad += oor;
     }
   }
   counters_.out_of_range += bad;
   ++counters_.frames;
   return f;
+}
+
+std::uint16_t abc32f_to_count(float c, double scale_mm, double offset_mm, double invalid, bool& out_of_range) {
+  out_of_range = false;
+  if (!std::isfinite(c) || double(c) == invalid) return 0;
+  const double counts = std::round((double(c) * scale_mm + offset_mm) * 1e-3 / kAbc32fDepthUnit);
+  if (!(counts >= 1 && counts <= 65535)) {
+    out_of_range = true;
+    return 0;
+  }
+  return static_cast<std::uint16_t>(counts);
 }
 
 }  // namespace hg::camera_bridge

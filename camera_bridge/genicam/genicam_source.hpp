@@ -12,12 +12,20 @@
 
 namespace hg::camera_bridge {
 
+// The pixel format read: range images (one 16-bit Z per pixel) or organized point clouds (X, Y, Z floats per
+// pixel, of which the bridge keeps Z on the camera's pixel grid).
+enum class GenicamFormat { c16, abc32f };
+const char* genicam_format_name(GenicamFormat f);  // "Coord3D_C16", "Coord3D_ABC32f"
+// Counts of an ABC32f frame: 0.1 mm (16 bits reach 6.5 m).
+constexpr double kAbc32fDepthUnit = 1e-4;
+
 struct GenicamOptions {
   // Aravis device id (as `arv-tool-0.8` lists it: "Vendor-Model-Serial", its serial, or its IP address). Empty:
-  // the first device found that offers PixelFormat Coord3D_C16 and the Scan3d features.
+  // the first device found that offers the pixel format (below) and the Scan3d features.
   std::string device_id;
   // true: TriggerMode On, TriggerSource Software, one TriggerSoftware per grab(); false: free-running.
   bool software_trigger = false;
+  GenicamFormat format = GenicamFormat::c16;
 };
 
 // Counters of what was received and skipped since construction.
@@ -48,6 +56,7 @@ class GenicamSource : public DepthSource {
   void configure();     // pixel format, Scan3d -> intrinsics, trigger
   void start_stream();  // buffers, lost-camera signal, AcquisitionStart
   std::optional<DepthFrame> convert(void* arv_buffer);  // nullopt (and counted) for a buffer to skip
+  std::size_t bytes_per_pixel() const;
   struct Impl;
   GenicamOptions options_;
   GenicamCounters counters_;
@@ -59,5 +68,9 @@ class GenicamSource : public DepthSource {
 // raw + round(offset / scale) counts; `invalid` raw values and results outside 1..65535 become 0 (no data).
 // Returns the count; `out_of_range` is set when a valid raw value did not fit.
 std::uint16_t c16_to_count(std::uint16_t raw, std::int64_t offset_counts, std::int64_t invalid, bool& out_of_range);
+
+// Count of kAbc32fDepthUnit of a Coord3D_ABC32f C (Z) value: C * scale + offset millimetres, rounded. NaN,
+// infinite and `invalid` values are 0 (no data); a result outside 1..65535 is 0 with out_of_range set.
+std::uint16_t abc32f_to_count(float c, double scale_mm, double offset_mm, double invalid, bool& out_of_range);
 
 }  // namespace hg::camera_bridge

@@ -7,6 +7,7 @@
 //  - frames through `genicam` give the same plate cloud as the same rendering through the `synthetic` path
 //    (scenes x seeds, with noise; Coord3D_C16 at 0.05 mm steps and an offset holds the renderer's 1 mm
 //    counts exactly);
+//  - Coord3D_ABC32f organized clouds: same depth and plate cloud; the count conversions of both formats;
 //  - software trigger: no frame without a trigger;
 //  - lost packets: incomplete buffers counted and skipped, good frames again after;
 //  - camera gone: SourceError from grab(); back: re-opened, frames again.
@@ -17,6 +18,7 @@
 #include <net/if.h>
 
 #include <chrono>
+#include <limits>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -175,6 +177,54 @@ TEST(GenicamSource, SamePlateCloudAsTheSyntheticPath) {
     }
   }
   EXPECT_EQ(compared, 6);
+}
+
+// Organized point clouds: the bridge keeps C (Z) on the camera's pixel grid, in 0.1 mm counts, which hold
+// the renderer's 1 mm counts exactly; X and Y are the same pinhole the intrinsics give.
+TEST(GenicamSource, Abc32fCloudsGiveTheSameDepthAndPlateCloud) {
+  const SegmentParams params;
+  for (std::uint64_t seed : {5u, 6u}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    FakeGenicamCamera cam(fake_options("knee-scallop", seed));
+    GenicamSource src({"", false, GenicamFormat::abc32f});
+    src.open();
+    EXPECT_DOUBLE_EQ(src.intrinsics().depth_unit, kAbc32fDepthUnit);
+    EXPECT_DOUBLE_EQ(src.intrinsics().cx, cam.options().profile.cx);
+    const std::optional<DepthFrame> f = next_frame(src);
+    ASSERT_TRUE(f.has_value()) << "no frame (incomplete " << src.counters().incomplete.load() << ")";
+    const RenderedFrame r = render(cam.options().scene, cam.options().profile, 2);
+    EXPECT_EQ(pixels_differing(*f, r), 0);
+    const Segmentation a = segment(f->depth, f->intrinsics, params), b = segment(r.depth, r.intrinsics, params);
+    ASSERT_EQ(a.status, SegmentStatus::Ok) << a.text;
+    EXPECT_EQ(a.pixel, b.pixel);
+    ASSERT_EQ(a.size(), b.size());
+    double worst = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      worst = std::max({worst, std::abs(double(a.u[i]) - b.u[i]), std::abs(double(a.v[i]) - b.v[i])});
+    EXPECT_LE(worst, 1e-6);
+  }
+}
+
+TEST(GenicamSource, CountConversionsFollowTheScan3dRule) {
+  bool oor = false;
+  // C16: raw + offset / scale counts; the invalid value and results past 16 bits are no data.
+  EXPECT_EQ(c16_to_count(100, 8000, 0, oor), 8100);
+  EXPECT_FALSE(oor);
+  EXPECT_EQ(c16_to_count(0, 8000, 0, oor), 0);
+  EXPECT_FALSE(oor);
+  EXPECT_EQ(c16_to_count(65535, 8000, 0, oor), 0);
+  EXPECT_TRUE(oor);
+  EXPECT_EQ(c16_to_count(7, -8, 0, oor), 0);
+  EXPECT_TRUE(oor);
+  // ABC32f: (C * scale + offset) mm in 0.1 mm counts.
+  EXPECT_EQ(abc32f_to_count(1234.56f, 1.0, 0.0, 0.0, oor), 12346);
+  EXPECT_FALSE(oor);
+  EXPECT_EQ(abc32f_to_count(100.0f, 2.0, 300.0, 0.0, oor), 5000);
+  EXPECT_EQ(abc32f_to_count(std::numeric_limits<float>::quiet_NaN(), 1.0, 0.0, 0.0, oor), 0);
+  EXPECT_FALSE(oor);
+  EXPECT_EQ(abc32f_to_count(0.0f, 1.0, 0.0, 0.0, oor), 0);  // the invalid value
+  EXPECT_EQ(abc32f_to_count(7000.0f, 1.0, 0.0, 0.0, oor), 0);  // 7 m: past 16 bits of 0.1 mm
+  EXPECT_TRUE(oor);
 }
 
 TEST(GenicamSource, SoftwareTriggerGivesNoFrameWithoutATrigger) {
