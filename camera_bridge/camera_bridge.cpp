@@ -57,7 +57,7 @@ runtime::ProcessInfo process_info() {
 #if HG_HAVE_GENICAM
   details += "\ngenicam: a GigE Vision / USB3 Vision 3-D camera through Aravis (Coord3D_C16 range images or\n"
              "Coord3D_ABC32f organized clouds, Scan3d scale/offset/focal length/principal point; software trigger per job with --trigger job, else\n"
-             "free-running; see docs/cameras.md).";
+             "free-running; incomplete frames counted as dropped; see docs/cameras.md).";
 #else
   details += "\ngenicam is NOT in this build (libaravis-dev missing at configure time).";
 #endif
@@ -297,6 +297,7 @@ void Bridge::run() {
           continue;
       }
       std::optional<DepthFrame> frame = source_->grab(opt_.grab_timeout);
+      count_skipped();
       if (!frame) continue;
       if (!opt_.job_trigger && opt_.rate > 0 && last_processed_ != Clock::time_point{} &&
           Clock::now() - last_processed_ < std::chrono::duration<double>(0.95 / opt_.rate))
@@ -310,6 +311,17 @@ void Bridge::run() {
       fail(source_->describe() + ": unexpected error: " + e.what());
     }
   }
+}
+
+void Bridge::count_skipped() {
+  const std::int64_t skipped = source_->frames_skipped();
+  if (skipped <= skipped_seen_) return;
+  node_.count_dropped(skipped - skipped_seen_);
+  skipped_seen_ = skipped;
+  std::uint64_t suppressed = 0;
+  if (corrupt_log_.allow(suppressed))
+    logf(Level::Warn, "%s dropped incomplete or malformed frames (%lld so far)", source_->describe().c_str(),
+         (long long)skipped);
 }
 
 void Bridge::process(DepthFrame& frame) {

@@ -47,6 +47,7 @@ class GenicamSource : public DepthSource {
   // nullopt on a timeout or a skipped buffer; SourceError when the camera's control channel was lost.
   std::optional<DepthFrame> grab(std::chrono::milliseconds timeout) override;
   void close() override;
+  std::int64_t frames_skipped() const override { return counters_.incomplete + counters_.unusable; }
 
   const GenicamCounters& counters() const { return counters_; }
   const Intrinsics& intrinsics() const;  // as read from the camera at open()

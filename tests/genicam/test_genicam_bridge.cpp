@@ -1,6 +1,7 @@
 // hg-camera-bridge --source genicam on the bus, with the fake GigE Vision 3-D camera in this test process,
 // all inside the test's own network namespace (loopback only):
 //  - job trigger: one job -> one software-triggered frame -> the plate cloud the rendering segments to;
+//  - packet loss: incomplete frames counted as dropped in the heartbeat and skipped, clouds again after;
 //  - the camera goes away: heartbeat ERROR naming the lost camera; it comes back: re-opened (back-off),
 //    heartbeat OK and clouds again.
 #include <gtest/gtest.h>
@@ -93,6 +94,21 @@ TEST(GenicamBridgeProcess, JobTriggeredCloudEqualsTheRenderingsSegmentation) {
   EXPECT_LE(worst, 1e-6);
   EXPECT_NEAR(m.thickness, s.thickness, 1e-6);
   EXPECT_LE(cam.frames_served(), 3) << "job trigger must not free-run the camera";
+}
+
+TEST(GenicamBridgeProcess, IncompleteFramesAreDroppedInTheHeartbeatAndSkipped) {
+  FakeGenicamCamera cam(fake_options(23));
+  Bus bus;
+  hg::test::ChildProcess proc({kExe, "--source", "genicam", "--rate", "0", "--depth-rate", "0", "--log-level", "error"});
+  ASSERT_TRUE(bus.until([&] { return !bus.clouds.empty(); })) << "no clouds from the free-running camera";
+  cam.set_packet_loss(0.5);  // every frame loses packets (the fake device never resends)
+  ASSERT_TRUE(bus.until([&] { return !bus.beats.empty() && bus.beats.back().dropped >= 2; }))
+      << "incomplete frames not counted as dropped";
+  cam.set_packet_loss(0.0);
+  const std::size_t before = bus.clouds.size();
+  ASSERT_TRUE(bus.until([&] { return bus.clouds.size() >= before + 2; })) << "no clouds after the loss ended";
+  EXPECT_EQ(bus.clouds.back().status, +hullgrind::plate_cloud_t::STATUS_OK) << bus.clouds.back().status_text;
+  EXPECT_NE(bus.beats.back().state, +hullgrind::heartbeat_t::STATE_ERROR) << bus.beats.back().state_text;
 }
 
 TEST(GenicamBridgeProcess, LostCameraSetsErrorAndIsReopened) {

@@ -7,6 +7,7 @@
 //  - frames through `genicam` give the same plate cloud as the same rendering through the `synthetic` path
 //    (scenes x seeds, with noise; Coord3D_C16 at 0.05 mm steps and an offset holds the renderer's 1 mm
 //    counts exactly);
+//  - a coarse step and an offset off the step: depth within the quantisation, the same plate to within it;
 //  - Coord3D_ABC32f organized clouds: same depth and plate cloud; the count conversions of both formats;
 //  - software trigger: no frame without a trigger;
 //  - lost packets: incomplete buffers counted and skipped, good frames again after;
@@ -177,6 +178,39 @@ TEST(GenicamSource, SamePlateCloudAsTheSyntheticPath) {
     }
   }
   EXPECT_EQ(compared, 6);
+}
+
+// A step that does not divide the renderer's counts, and an offset that is no whole number of steps: each
+// pixel's depth is within half a step (0.15 mm) plus the offset's rounding (|834 x 0.3 - 250.1| = 0.1 mm),
+// and the plate comes out the same to within that.
+TEST(GenicamSource, CoarseStepDepthWithinItsQuantisation) {
+  FakeGenicamOptions o = fake_options("collar-notch", 8);
+  o.scale_mm = 0.3;
+  o.offset_mm = 250.1;
+  FakeGenicamCamera cam(o);
+  GenicamSource src({});
+  src.open();
+  const std::optional<DepthFrame> f = next_frame(src);
+  ASSERT_TRUE(f.has_value());
+  const RenderedFrame r = render(o.scene, o.profile, 2);
+  const double bound = 0.15e-3 + 0.1e-3 + 1e-9;
+  double worst = 0;
+  int mismatched_validity = 0;
+  for (int y = 0; y < r.depth.rows; ++y)
+    for (int x = 0; x < r.depth.cols; ++x) {
+      const int a = f->depth.at<std::uint16_t>(y, x), b = r.depth.at<std::uint16_t>(y, x);
+      mismatched_validity += (a == 0) != (b == 0);
+      if (a && b) worst = std::max(worst, std::abs(a * f->intrinsics.depth_unit - b * r.intrinsics.depth_unit));
+    }
+  EXPECT_EQ(mismatched_validity, 0);
+  EXPECT_LE(worst, bound);
+  EXPECT_GT(worst, 0.05e-3);  // the step really is coarser than the rendering's
+  const SegmentParams params;
+  const Segmentation a = segment(f->depth, f->intrinsics, params), b = segment(r.depth, r.intrinsics, params);
+  ASSERT_EQ(a.status, SegmentStatus::Ok) << a.text;
+  ASSERT_EQ(b.status, SegmentStatus::Ok) << b.text;
+  EXPECT_NEAR(a.thickness, b.thickness, bound);
+  EXPECT_NEAR(double(a.size()), double(b.size()), 0.01 * b.size());
 }
 
 // Organized point clouds: the bridge keeps C (Z) on the camera's pixel grid, in 0.1 mm counts, which hold
