@@ -44,9 +44,9 @@ bool offers_format(ArvCamera* cam, const char* wanted) {
 
 bool has_feature(ArvCamera* cam, const char* name) {
   GError* err = nullptr;
-  const bool yes = arv_camera_is_feature_available(cam, name, &err);
+  const bool yes = arv_camera_is_feature_available(cam, name, &err) && !err;
   g_clear_error(&err);
-  return yes && !err;
+  return yes;
 }
 
 bool is_3d_camera(ArvCamera* cam, const char* format) {
