@@ -15,6 +15,9 @@
 #if HG_HAVE_OPENNI2
 #include "camera_bridge/openni2/openni2_source.hpp"
 #endif
+#if HG_HAVE_GENICAM
+#include "camera_bridge/genicam/genicam_source.hpp"
+#endif
 
 namespace hg::camera_bridge {
 
@@ -51,10 +54,17 @@ runtime::ProcessInfo process_info() {
 #else
   details += ". openni2 is NOT in this build (camera_bridge/openni2 missing at configure time).";
 #endif
+#if HG_HAVE_GENICAM
+  details += "\ngenicam: a GigE Vision / USB3 Vision 3-D camera through Aravis (Coord3D_C16 range images or\n"
+             "Coord3D_ABC32f organized clouds, Scan3d scale/offset/focal length/principal point; software trigger per job with --trigger job, else\n"
+             "free-running; incomplete frames counted as dropped; see docs/cameras.md).";
+#else
+  details += "\ngenicam is NOT in this build (libaravis-dev missing at configure time).";
+#endif
   return {"hg-camera-bridge", "Depth camera -> plate points (HG_PLATE_CLOUD) and monitoring depth (HG_DEPTH).",
           details,
           {
-              {"source", "synthetic", "synthetic | files | openni2"},
+              {"source", "synthetic", "synthetic | files | openni2 | genicam"},
               {"scene", "three-parts", "synthetic: scene preset (" + joined(scene_preset_names()) + ")"},
               {"profile", "pm806", "synthetic: camera profile (" + joined(camera_profile_names()) + ")"},
               {"seed", "", "synthetic: noise seed (default: the scene's)"},
@@ -64,6 +74,8 @@ runtime::ProcessInfo process_info() {
               {"intrinsics", "", "files: intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
               {"loop", "", "files, .oni: start again after the last frame", true},
               {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
+              {"genicam-device", "", "genicam: Aravis device id (Vendor-Model-Serial, serial or IP address); empty: the first 3-D camera found"},
+              {"genicam-format", "c16", "genicam: c16 (Coord3D_C16 range image) | abc32f (Coord3D_ABC32f organized cloud, Z kept)"},
               {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame"},
               {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)"},
               {"trigger", "continuous", "continuous | job (one capture per job id of a job_request_t ACTION_START on HG_JOB_REQUEST)"},
@@ -172,7 +184,22 @@ std::unique_ptr<DepthSource> source_from(const runtime::Node& node) {
         "there when the project was configured");
 #endif
   }
-  throw runtime::ConfigError("--source must be synthetic, files or openni2, not '" + kind + "'");
+  if (kind == "genicam") {
+#if HG_HAVE_GENICAM
+    GenicamOptions o;
+    o.device_id = node.param("genicam-device");
+    o.software_trigger = node.param("trigger") == "job";
+    const std::string format = node.param("genicam-format");
+    if (format != "c16" && format != "abc32f")
+      throw runtime::ConfigError("--genicam-format must be c16 or abc32f, not '" + format + "'");
+    o.format = format == "c16" ? GenicamFormat::c16 : GenicamFormat::abc32f;
+    return std::make_unique<GenicamSource>(o);
+#else
+    throw runtime::ConfigError("--source genicam is not available in this build: libaravis-dev (aravis-0.8) was not "
+                               "there when the project was configured");
+#endif
+  }
+  throw runtime::ConfigError("--source must be synthetic, files, openni2 or genicam, not '" + kind + "'");
 }
 
 void fill_plate_cloud(const Segmentation& s, plate_cloud_t& m) {
@@ -270,6 +297,7 @@ void Bridge::run() {
           continue;
       }
       std::optional<DepthFrame> frame = source_->grab(opt_.grab_timeout);
+      count_skipped();
       if (!frame) continue;
       if (!opt_.job_trigger && opt_.rate > 0 && last_processed_ != Clock::time_point{} &&
           Clock::now() - last_processed_ < std::chrono::duration<double>(0.95 / opt_.rate))
@@ -283,6 +311,17 @@ void Bridge::run() {
       fail(source_->describe() + ": unexpected error: " + e.what());
     }
   }
+}
+
+void Bridge::count_skipped() {
+  const std::int64_t skipped = source_->frames_skipped();
+  if (skipped <= skipped_seen_) return;
+  node_.count_dropped(skipped - skipped_seen_);
+  skipped_seen_ = skipped;
+  std::uint64_t suppressed = 0;
+  if (corrupt_log_.allow(suppressed))
+    logf(Level::Warn, "%s dropped incomplete or malformed frames (%lld so far)", source_->describe().c_str(),
+         (long long)skipped);
 }
 
 void Bridge::process(DepthFrame& frame) {

@@ -60,6 +60,7 @@ class Bridge {
  private:
   void run();
   bool sleep_for(double seconds);  // false when stopping
+  void count_skipped();            // frames the source dropped -> heartbeat dropped, a bounded log
   void on_job(const std::string& job_id);
   void process(DepthFrame& frame);
   void publish_depth(const DepthFrame& frame);
@@ -76,6 +77,7 @@ class Bridge {
   std::atomic<std::int64_t> processed_{0}, corrupt_{0};
   std::chrono::steady_clock::time_point last_processed_{}, last_depth_{};
   int corrupt_in_a_row_ = 0;
+  std::int64_t skipped_seen_ = 0;  // source_->frames_skipped() already counted as dropped
   runtime::RateLimiter corrupt_log_{5, std::chrono::seconds(10)};
 };
 

@@ -42,6 +42,9 @@ class DepthSource {
   // device is lost (the caller closes, backs off and re-opens).
   virtual std::optional<DepthFrame> grab(std::chrono::milliseconds timeout) = 0;
   virtual void close() = 0;
+  // Frames the device sent that the source dropped since construction (incomplete or malformed buffers);
+  // the bridge counts them as dropped in its heartbeat. 0 for sources that drop none.
+  virtual std::int64_t frames_skipped() const { return 0; }
 };
 
 }  // namespace hg::camera_bridge

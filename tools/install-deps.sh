@@ -8,7 +8,7 @@ packages=(
   # build
   cmake ninja-build ccache g++ pkg-config
   # runtime libraries
-  liblcm-dev liblcm-bin liblcm-java libopenni2-dev libeigen3-dev libopencv-dev
+  liblcm-dev liblcm-bin liblcm-java libopenni2-dev libaravis-dev libusb-1.0-0-dev libeigen3-dev libopencv-dev
   cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev
   # lcm-spy, tools and tests
   default-jdk-headless default-jre libjchart2d-java libgtest-dev iproute2 xvfb python3 openssl

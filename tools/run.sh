@@ -2,7 +2,8 @@
 # `make run`: the whole pipeline on a generated part, with no input needed.
 #
 # In a network namespace of its own (loopback only), starts the pipeline of config/pipeline.toml under
-# tools/supervisor (job recorder, camera bridge on the virtual OpenNI2 device, outline service, path planner,
+# tools/supervisor (job recorder, camera bridge on the virtual OpenNI2 device — or with --camera genicam on a
+# fake GigE Vision 3-D camera, config/pipeline-genicam.toml —, outline service, path planner,
 # simulated robot, DDS gateway with DDS Security), records the bus, sends one job request, waits until the job
 # ends, and writes out/: outline.json, path.json, overview.png, summary.json, run.lcmlog, the processes' logs,
 # and the job's record in out/jobs/ (kept across runs; tools/hg-jobs). Prints the timings of each stage and the
@@ -26,6 +27,8 @@ usage: tools/run.sh [options]
 Runs the whole hullgrind pipeline once, in its own network namespace, and writes $OUT/.
 
   --pipeline FILE    pipeline file for tools/supervisor [config/pipeline.toml]
+  --camera KIND      openni2: the virtual OpenNI2 device (config/pipeline.toml); genicam: a fake GigE
+                     Vision 3-D camera on loopback read through Aravis (config/pipeline-genicam.toml)
   --job-id ID        job id of the request [demo-DATE]
   --timeout S        give up waiting for the job after S seconds [120]
   --offline          no processes: hg-outline on the bundled sample cloud (data/samples/), checked
@@ -58,6 +61,13 @@ PY
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --pipeline) PIPELINE=$(realpath "$2"); shift 2 ;;
+    --camera)
+      case "$2" in
+        openni2) PIPELINE=$ROOT/config/pipeline.toml ;;
+        genicam) PIPELINE=$ROOT/config/pipeline-genicam.toml ;;
+        *) echo "run.sh: --camera must be openni2 or genicam, not '$2'" >&2; exit 2 ;;
+      esac
+      shift 2 ;;
     --job-id) JOB_ID=$2; shift 2 ;;
     --timeout) TIMEOUT=$2; shift 2 ;;
     --offline) offline; exit $? ;;

@@ -58,8 +58,8 @@ def write_toml(path, sup, procs):
         f.write("\n".join(lines) + "\n")
 
 
-def shipped_pipeline():
-    with open(PIPELINE, "rb") as f:
+def shipped_pipeline(path=PIPELINE):
+    with open(path, "rb") as f:
         return tomllib.load(f)
 
 
@@ -100,9 +100,11 @@ class Pipeline:
     lcm_url: passed to every process (the supervisor's lcm_url) and to the test's own tools.
     without: names of processes to leave out (the second-host test runs the camera elsewhere).
     extra_args: {process name: [args appended to its command]}.
-    netns_exec: a prefix (e.g. nsenter ...) under which everything of this pipeline is started."""
+    netns_exec: a prefix (e.g. nsenter ...) under which everything of this pipeline is started.
+    pipeline_file: the shipped pipeline file to run (config/pipeline.toml; config/pipeline-genicam.toml)."""
 
-    def __init__(self, name, lcm_url=None, without=(), extra_args=None, netns_exec=(), keep=None):
+    def __init__(self, name, lcm_url=None, without=(), extra_args=None, netns_exec=(), keep=None, pipeline_file=PIPELINE):
+        self.pipeline_file = pipeline_file
         self.dir = tempfile.mkdtemp(prefix="hg-e2e-%s-" % name)
         self.lcm_url = lcm_url
         self.prefix = list(netns_exec)
@@ -128,7 +130,7 @@ class Pipeline:
         return arg
 
     def _write_pipeline(self, without, extra_args):
-        shipped = shipped_pipeline()
+        shipped = shipped_pipeline(self.pipeline_file)
         sup = dict(shipped.get("supervisor", {}))
         sup["run_dir"] = os.path.join(self.dir, "supervisor")
         sup["log_dir"] = os.path.join(self.dir, "logs")

@@ -12,6 +12,9 @@ a network namespace of its own (tests/netns.sh):
                     history has the first job ABORTED and the second DONE.
   E2EReplay         the recorded run log, replayed into a fresh outline service + planner, gives the same
                     outline and path.
+  E2EGenicam        config/pipeline-genicam.toml: the camera bridge reads a fake GigE Vision 3-D camera
+                    (hg-fake-genicam, GVCP/GVSP on 127.0.0.1) through Aravis; the job goes DONE and its grind
+                    path matches the ground truth as in E2EWholePipeline.
   E2ETwoHosts       the camera bridge in one network namespace, the rest in another, joined by a veth pair,
                     LCM multicast with ttl=1: the job goes DONE.
 
@@ -189,6 +192,30 @@ class E2EWholePipeline(PipelineCase):
                              "offset error %.3f mm > %.1f mm at grind waypoint %d (ring %d, table frame %.1f, %.1f mm, "
                              "signed %.3f mm)" % ((1e3 * worst[0], 1e3 * OFFSET_TOLERANCE) + worst[1]))
 
+
+
+class E2EGenicam(E2EWholePipeline):
+    def test_job_done_and_path_matches_ground_truth(self):
+        genicam = os.path.join(E.CONFIG, "pipeline-genicam.toml")
+        device = next(p["command"] for p in E.shipped_pipeline(genicam)["process"] if p["name"] == "genicam-device")
+        scene, profile = device[device.index("--scene") + 1], device[device.index("--profile") + 1]
+        self.assertEqual((scene, profile), camera_scene(), "the two pipelines should show the same scene")
+        tmp = tempfile.mkdtemp(prefix="hg-e2e-truth-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        truth = E.scene_truth(scene, profile, os.path.join(tmp, "truth.json"))
+        self.pipeline = p = E.Pipeline("genicam", pipeline_file=genicam,
+                                       extra_args={"planner": PLANNER_ARGS + planner_extra_args(truth)})
+        p.start()
+        final = self.run_job(p, "e2e-genicam-1")
+        self.assert_done(final, p)
+        camera_log = E.Pipeline.read(os.path.join(p.dir, "logs", "camera.log"))
+        self.assertIn("opened genicam", camera_log)
+        time.sleep(0.5)  # lcm-logger flushes every 100 ms
+        out_dir = os.path.join(p.dir, "out")
+        ov = p.overview("e2e-genicam-1", out_dir)
+        self.assertEqual(ov.returncode, 0, ov.stdout + ov.stderr)
+        with open(os.path.join(out_dir, "path.json")) as f:
+            self.check_path_against_truth(json.load(f), truth)
 
 class E2EKill(PipelineCase):
     # (process, the job status on which it is killed): each while it is the stage working on the job.
