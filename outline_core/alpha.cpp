@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numbers>
 
 #include "predicates.hpp"
 
@@ -138,6 +139,19 @@ inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) { return (
 }
 
 }  // namespace
+
+double random_cloud_factor(std::size_t points) {
+  const double target = std::log(2.0 * std::max<std::size_t>(points, 1));  // T - ln(1 + T) = ln(2n)
+  double t = target + 1;
+  for (int i = 0; i < 50; ++i) t = target + std::log1p(t);  // a contraction (derivative 1/(1+T) < 1)
+  return std::max(kDefaultAutoFactor, std::sqrt(t / std::numbers::pi) / kPoissonSpacing);
+}
+
+double automatic_factor(double q, std::size_t points) {
+  if (!(q < kRegularNnRatio)) return kDefaultAutoFactor;  // also NaN (no nearest neighbours measured)
+  const double w = std::min(1.0, (kRegularNnRatio - q) / (kRegularNnRatio - kRandomNnRatio));
+  return kDefaultAutoFactor + w * (random_cloud_factor(points) - kDefaultAutoFactor);
+}
 
 double median_triangle_spacing(const Triangulation& T) { return scan_triangles(T).spacing; }
 

@@ -87,7 +87,8 @@ std::vector<std::uint8_t> classify_by_options(const Triangulation& T, const Opti
   const TriangleScan scan = scan_triangles(T);
   res.spacing = scan.spacing;
   res.alpha_mode = options.alpha_mode;
-  const double k = options.auto_factor > 0 ? options.auto_factor : kDefaultAutoFactor;
+  const double k = options.auto_factor > 0 ? options.auto_factor
+                                           : automatic_factor(res.nn_spacing_median / res.spacing, T.inserted);
   if (options.alpha_mode == AlphaMode::Local) {
     // Result::alpha_radius then reports k x the global spacing, for scale; each triangle has its own.
     local = local_spacing(T);

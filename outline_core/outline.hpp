@@ -63,7 +63,7 @@ struct OutlineError : std::runtime_error {
 
 struct Options {
   double alpha_radius = 0;     // R in input units; <= 0: automatic, auto_factor x the point spacing
-  double auto_factor = 0;      // <= 0: the documented default k
+  double auto_factor = 0;      // <= 0: automatic_factor (alpha.hpp): 1.7 regular .. ~2.1-2.8 random cloud
   // Global: R = k x spacing of the whole cloud; Local: each triangle's R = k x the spacing around its
   // vertices (automatic radius only: an explicit alpha_radius with Local is refused).
   AlphaMode alpha_mode = AlphaMode::Global;

@@ -172,9 +172,9 @@ int main(int argc, char** argv) {
                           {"uniform +-0.5", 0.5, 0}, {"gauss 0.1", 0, 0.1},     {"gauss 0.2", 0, 0.2},
                           {"gauss 0.3", 0, 0.3}};
   const Dropout drops[] = {{"0", 0, 0}, {"2 %", 0.02, 0}, {"5 %", 0.05, 0}, {"5 % (2.5 % as 3x3)", 0.05, 0.025}};
-  const double k = base.auto_factor > 0 ? base.auto_factor : kDefaultAutoFactor;
-  std::printf("hg-radius-table: %d x %d grid (%d points before holes/dropout), holes %zu%s, k = %g, alpha mode %s, %d seeds\n",
-              spec.W, spec.H, spec.W * spec.H, spec.hole_diameters.size(), boundary ? " (d = 4 on grid points)" : "", k,
+  const std::string k = base.auto_factor > 0 ? std::to_string(base.auto_factor) : "automatic";
+  std::printf("hg-radius-table: %d x %d grid (%d points before holes/dropout), holes %zu%s, k = %s, alpha mode %s, %d seeds\n",
+              spec.W, spec.H, spec.W * spec.H, spec.hole_diameters.size(), boundary ? " (d = 4 on grid points)" : "", k.c_str(),
               to_string(base.alpha_mode), seeds);
   std::printf("columns: outer-loop failures / runs; spurious and missed holes summed over the seeds at hole threshold m"
               " (holes < (m h)^2 dropped); largest spurious and smallest real hole area (by diameter) in h^2 (m = 0; 0 = missed); h range\n\n");

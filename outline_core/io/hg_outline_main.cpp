@@ -35,7 +35,9 @@ options
   --alpha-radius R      triangles with circumradius > R are outside (input units; R > 0)
                         default: automatic, K x point spacing h (h = sqrt(2 x median Delaunay
                         triangle area), which in-plane noise does not shrink)
-  --auto-factor K       the K of the automatic radius (K > 0; default {K}, docs/outline-auto-radius.md)
+  --auto-factor K       the K of the automatic radius (K > 0; default: {K} for a regular cloud, rising
+                        to 2.1-2.8 as the cloud gets as irregular as a random point set, measured by
+                        median nearest-neighbour distance / h; docs/outline-auto-radius.md)
   --alpha-mode M        global | local (default global): local gives each triangle its own radius,
                         K x the spacing around its vertices, for clouds whose spacing varies (tilted
                         camera); not with --alpha-radius
