@@ -196,7 +196,14 @@ void Node::add_handler(const std::string& channel,
                        std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn) {
   handlers_.push_back(std::make_unique<Handler>(Handler{std::move(fn)}));
   lcm::Subscription* sub = lcm_->subscribe(channel, &Handler::on, handlers_.back().get());
-  if (sub && queue_capacity_ > 0) sub->setQueueCapacity(queue_capacity_);
+  if (!sub) return;
+  if (queue_capacity_ > 0) {
+    sub->setQueueCapacity(queue_capacity_);
+  } else if (channel == channels::kJobRequest || channel == channels::kJobStatus) {
+    // Job requests and statuses are small and none may be lost: a burst of them (a retrying writer's
+    // repeats, several jobs at once) must not overflow LCM's 30 while the loop is busy planning.
+    sub->setQueueCapacity(kJobQueueCapacity);
+  }
 }
 
 void Node::subscribe_raw(const std::string& channel,

@@ -83,8 +83,10 @@ class Node {
   // Raw subscription (bytes), counted as received.
   void subscribe_raw(const std::string& channel, std::function<void(const lcm::ReceiveBuffer&, const Delivery&)> handler);
   // LCM silently drops a message that arrives while a subscription already has this many waiting for
-  // the loop (LCM's default: 30). Applies to the subscriptions made after the call; 0 keeps LCM's default.
+  // the loop (LCM's default: 30). Applies to the subscriptions made after the call; 0 keeps LCM's default,
+  // except on the job channels (HG_JOB_REQUEST, HG_JOB_STATUS), which always get kJobQueueCapacity.
   void set_queue_capacity(int messages) { queue_capacity_ = messages; }
+  static constexpr int kJobQueueCapacity = 10000;
 
   // Publish; fills header.seq (per channel) and header.utime (if 0) of messages that have a header.
   // Thread-safe. Returns false (and logs) if LCM refused it.

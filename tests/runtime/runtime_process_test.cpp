@@ -147,3 +147,27 @@ TEST_F(RuntimeProcess, SigintStopsCleanlyToo) {
 }
 
 }  // namespace
+
+// A burst of job requests while the process's loop is held (stopped, as a busy planner's loop is) is
+// received whole when it runs again: LCM would keep only 30 of them queued, the runtime keeps many more on
+// the job channels.
+TEST_F(RuntimeProcess, BurstOfJobRequestsWhileTheLoopIsHeldIsReceivedWhole) {
+  auto before = wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s);
+  ASSERT_TRUE(before) << "no heartbeat within 5 s";
+  pump(lcm, 1500ms);  // a heartbeat after the one above, so `before` counts everything so far
+  auto settled = wait_beat(lcm, listener, pid, [](auto&) { return true; }, 3s);
+  ASSERT_TRUE(settled);
+  ASSERT_EQ(::kill(pid, SIGSTOP), 0);
+  constexpr int kBurst = 300;
+  for (int i = 0; i < kBurst; ++i) {
+    hullgrind::job_request_t r{};
+    r.job_id = "burst-" + std::to_string(i);
+    r.action = hullgrind::job_request_t::ACTION_ABORT;  // of a job never seen: changes nothing
+    lcm.publish("HG_JOB_REQUEST", &r);
+  }
+  pump(lcm, 200ms);
+  ASSERT_EQ(::kill(pid, SIGCONT), 0);
+  auto after = wait_beat(lcm, listener, pid, [&](auto& m) { return m.received >= settled->received + kBurst; }, 5s);
+  ASSERT_TRUE(after) << "job requests sent while the loop was held were lost";
+  EXPECT_EQ(after->decode_errors, 0);
+}
