@@ -17,6 +17,7 @@
 #include "camera_bridge/segment.hpp"
 #include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
+#include "tests/common/camera_bus.hpp"
 #include "tests/common/child_process.hpp"
 
 using namespace std::chrono_literals;
@@ -25,25 +26,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-struct Bus {
-  lcm::LCM lcm{"udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"};
-  std::vector<hullgrind::plate_cloud_t> clouds;
-  std::vector<hullgrind::heartbeat_t> beats;
-  Bus() {
-    lcm.subscribe("HG_PLATE_CLOUD", &Bus::on_cloud, this);
-    lcm.subscribe("HG_HEARTBEAT", &Bus::on_beat, this);
-  }
-  void on_cloud(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::plate_cloud_t* m) { clouds.push_back(*m); }
-  void on_beat(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* m) {
-    if (m->process == "hg-camera-bridge") beats.push_back(*m);
-  }
-  template <class Pred>
-  bool until(Pred pred, std::chrono::milliseconds limit = 60s) {
-    const auto end = Clock::now() + limit;
-    while (Clock::now() < end && !pred()) lcm.handleTimeout(20);
-    return pred();
-  }
-};
+using Bus = hg::test::CameraBus;
 
 // hg-camera-bridge on the virtual OpenNI2 device at `uri`, every part published, frames as they come.
 struct Bridge : hg::test::ChildProcess {

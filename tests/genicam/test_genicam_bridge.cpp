@@ -18,6 +18,7 @@
 #include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/job_request_t.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
+#include "tests/common/camera_bus.hpp"
 #include "tests/common/child_process.hpp"
 
 using namespace std::chrono_literals;
@@ -27,32 +28,7 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 const std::string kExe = std::string(HG_BIN_DIR) + "/hg-camera-bridge";
-const char* kBusUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304";
-
-struct Bus {
-  lcm::LCM lcm{kBusUrl};
-  std::vector<hullgrind::plate_cloud_t> clouds;
-  std::vector<hullgrind::heartbeat_t> beats;
-  Bus() {
-    lcm.subscribe("HG_PLATE_CLOUD", &Bus::on_cloud, this);
-    lcm.subscribe("HG_HEARTBEAT", &Bus::on_beat, this);
-  }
-  void on_cloud(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::plate_cloud_t* m) { clouds.push_back(*m); }
-  void on_beat(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* m) {
-    if (m->process == "hg-camera-bridge") beats.push_back(*m);
-  }
-  // Pumps until pred() or the limit (a bound for failure only; nothing asserts on timing).
-  template <class Pred>
-  bool until(Pred pred, std::chrono::milliseconds limit = 60s) {
-    const auto end = Clock::now() + limit;
-    while (Clock::now() < end) {
-      if (pred()) return true;
-      lcm.handleTimeout(20);
-    }
-    return pred();
-  }
-  bool last_state_is(int state) const { return !beats.empty() && beats.back().state == state; }
-};
+using Bus = hg::test::CameraBus;
 
 FakeGenicamOptions fake_options(std::uint64_t seed) {
   FakeGenicamOptions o;
