@@ -20,6 +20,9 @@
 #include <string>
 #include <vector>
 
+#include "motion/motion.hpp"
+#include "polygon/polygon.hpp"
+
 namespace hg::path_planner {
 
 using Vec2 = Eigen::Vector2d;
@@ -45,9 +48,9 @@ struct OutlineInput {
   std::int64_t seq = -1;    // outline header.seq, copied into the path
 };
 
-// ---- geometry helpers ----
-double signed_area(const Ring& ring);
-double ring_length(const Ring& ring);
+// ---- geometry helpers (polygon/polygon.hpp) ----
+using polygon::signed_area;
+using polygon::ring_length;
 // Makes every ring canonical (outer CCW, holes CW) by reversing those that are not.
 void make_canonical(std::vector<Loop>& loops);
 // Area centroid and principal (major) axis direction of the outer loops minus the holes.
@@ -180,27 +183,17 @@ std::vector<Waypoint> to_base(const std::vector<PlateWaypoint>& path, const Eige
 // Camera -> base from x, y, z (m) and roll, pitch, yaw (rad, R = Rz(yaw) Ry(pitch) Rx(roll)).
 Eigen::Isometry3d pose_from_xyz_rpy(const Vec3& xyz, const Vec3& rpy);
 
-// ---- 6b. corner speeds (the robot bridge's acceleration rule) ----
-// The rule the robot bridge checks before it moves (robot_bridge/path.cpp check_path): at every waypoint i
-// but the last, with a = waypoint i-1 (the robot's start position for i = 0), b = waypoint i, c = waypoint
-// i+1, and v = min(speed[i], speed[i+1]) (speed[i]: the segment ending at i), v^2 / r <= max_accel, r the
-// radius of the circle through a, b, c. Waypoints with a zero-length segment on either side are no corner.
-// Radius of the circle through a, b, c: infinite when collinear with b between, 0 for a reversal.
-double corner_radius(const Vec3& a, const Vec3& b, const Vec3& c);
-// Largest v with v * v / radius <= max_accel in floating point (with a 1e-9 relative margin); infinite
-// for an infinite radius, 0 for radius 0.
-double corner_speed_limit(double radius, double max_accel);
+// ---- 6b. corner speeds (the cell's corner rule, motion/motion.hpp, which the robot bridge checks) ----
+using motion::corner_radius;
+using motion::corner_speed_limit;
 // Lowers the speed of both segments at every corner to the corner's limit (geometry unchanged); reversals
 // are left for validate to refuse. Returns how many waypoint speeds were lowered.
 int limit_corner_speeds(std::vector<Waypoint>& path, const Vec3& start, double max_accel);
 
 // ---- 7. validation ----
-struct Limits {
-  Vec3 workspace_min = Vec3(-1, -1, -0.5), workspace_max = Vec3(1, 1, 1);
-  double table_z = -1e9;    // base-frame height of the table top; every waypoint must be strictly above
-  double max_speed = 0.5;
-  double max_accel = 2.0;   // m/s^2, the corner rule above; MUST equal the robot bridge's max-accel
-};
+// The cell's limits (motion/motion.hpp): one struct and one set of defaults with the robot bridge;
+// max_accel MUST equal the bridge's max-accel.
+using Limits = motion::Limits;
 // Empty string when the path is fit to run; otherwise the first reason found (names the waypoint).
 // Self-intersection is checked per grind loop (lead-in end + grind waypoints of one loop) in the plane
 // perpendicular to `up` (base frame). Corners: the rule above from `start` (the robot's position).

@@ -1,7 +1,6 @@
 // Step 6b: corner speeds. The robot bridge refuses a path whose corners need more lateral acceleration than
-// its limit (robot_bridge/path.cpp check_path: v^2 / r <= max_accel at every waypoint but the last, v the
-// lower of the two segment speeds, r the circle through the waypoint and its neighbours). The path's
-// geometry is the grinding result, so it is kept exactly and the feed is lowered instead (docs).
+// its limit (the corner rule of motion/motion.hpp). The path's geometry is the grinding result, so it is
+// kept exactly and the feed is lowered instead (docs).
 #include "path_planner/pipeline.hpp"
 
 #include <algorithm>
@@ -9,24 +8,6 @@
 #include <limits>
 
 namespace hg::path_planner {
-
-double corner_radius(const Vec3& a, const Vec3& b, const Vec3& c) {
-  // Same expression, in the same order, as the bridge's, so both round alike.
-  const Vec3 u = b - a, v = c - b;
-  const double cross = u.cross(v).norm();
-  if (cross == 0) return u.dot(v) >= 0 ? std::numeric_limits<double>::infinity() : 0.0;
-  return u.norm() * v.norm() * (c - a).norm() / (2 * cross);
-}
-
-double corner_speed_limit(double radius, double max_accel) {
-  if (!(radius > 0) || !(max_accel > 0)) return 0;
-  if (std::isinf(radius)) return std::numeric_limits<double>::infinity();
-  // A hair under the limit: another build of the bridge may round r or v^2 / r differently in the last bit.
-  const double target = max_accel * (1 - 1e-9);
-  double v = std::sqrt(target * radius);
-  while (v > 0 && v * v / radius > target) v = std::nextafter(v, 0.0);
-  return v;
-}
 
 int limit_corner_speeds(std::vector<Waypoint>& path, const Vec3& start, double max_accel) {
   const std::size_t n = path.size();

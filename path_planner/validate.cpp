@@ -79,34 +79,33 @@ std::string validate(const std::vector<Waypoint>& path, const Limits& L, const V
     const std::string at = "waypoint " + std::to_string(i) + ": ";
     if (!w.position.allFinite() || !w.orientation.coeffs().allFinite() || !std::isfinite(w.speed))
       return at + "non-finite value";
-    if ((w.position.array() < L.workspace_min.array()).any() || (w.position.array() > L.workspace_max.array()).any())
+    if (!motion::inside_workspace(w.position, L))
       return at + fmt("position (%.4f, %.4f, %.4f) m", w.position.x(), w.position.y(), w.position.z()) +
              fmt(" is outside the workspace box (%.4f, %.4f, %.4f)", L.workspace_min.x(), L.workspace_min.y(),
                  L.workspace_min.z()) +
              fmt(" .. (%.4f, %.4f, %.4f) m (base frame)", L.workspace_max.x(), L.workspace_max.y(), L.workspace_max.z());
-    if (!(w.position.z() > L.table_z))
+    if (!motion::above_table(w.position, L))
       return at + fmt("z = %.4f m is not above the table (z = %.4f m)", w.position.z(), L.table_z);
     if (!(w.speed > 0) || w.speed > L.max_speed)
       return at + fmt("speed %.4f m/s is outside (0, %.4f] m/s", w.speed, L.max_speed);
     if (std::abs(w.orientation.norm() - 1) > 1e-6) return at + "orientation is not a unit quaternion";
   }
-  // Corners, exactly as the robot bridge checks them (pipeline.hpp, 6b).
-  static const char* kind_names[] = {"approach", "lead_in", "grind", "lead_out", "retract", "travel"};
-  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    const Vec3& a = i == 0 ? start : path[i - 1].position;
-    const Vec3& b = path[i].position;
-    const Vec3& c = path[i + 1].position;
-    if ((b - a).squaredNorm() == 0 || (c - b).squaredNorm() == 0) continue;
-    const double v = std::min(path[i].speed, path[i + 1].speed);
-    const double r = corner_radius(a, b, c);
-    const double lateral = r == 0 ? INFINITY : v * v / r;
-    if (lateral > L.max_accel) {
-      const std::int8_t k = path[i].kind;
-      const std::string at = "waypoint " + std::to_string(i) + " (" + (k >= 0 && k < 6 ? kind_names[k] : "unknown") + "): ";
-      if (r == 0) return at + "the path reverses here (corner radius 0): no speed can take it";
-      return at + fmt("the corner (radius %.6f mm) at %.6f m/s needs %.6f m/s^2", r * 1e3, v, lateral) +
-             fmt(", more than max_accel %.6f m/s^2", L.max_accel);
-    }
+  // Corners, with the rule the robot bridge checks (motion/motion.hpp).
+  std::vector<Vec3> position;
+  std::vector<double> speed;
+  for (const Waypoint& w : path) {
+    position.push_back(w.position);
+    speed.push_back(w.speed);
+  }
+  if (const auto fault = motion::first_corner_fault(position, speed, start, L.max_accel)) {
+    static const char* kind_names[] = {"approach", "lead_in", "grind", "lead_out", "retract", "travel"};
+    const std::int8_t k = path[fault->waypoint].kind;
+    const std::string at =
+        "waypoint " + std::to_string(fault->waypoint) + " (" + (k >= 0 && k < 6 ? kind_names[k] : "unknown") + "): ";
+    if (fault->radius == 0) return at + "the path reverses here (corner radius 0): no speed can take it";
+    return at + fmt("the corner (radius %.6f mm) at %.6f m/s needs %.6f m/s^2", fault->radius * 1e3, fault->speed,
+                    fault->lateral) +
+           fmt(", more than max_accel %.6f m/s^2", L.max_accel);
   }
   // Grind loops: the lead-in's last point (the loop's start) and the grind waypoints that follow.
   const Vec3 e1 = up.unitOrthogonal(), e2 = up.normalized().cross(e1);

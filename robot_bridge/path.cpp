@@ -37,21 +37,12 @@ std::string fmt_vec(const Vec3& v) {
 }
 
 std::string check_point(const Vec3& p, const Limits& lim, const std::string& what) {
-  for (int a = 0; a < 3; ++a)
-    if (!(p[a] >= lim.workspace_min[a] && p[a] <= lim.workspace_max[a]))
-      return what + " " + fmt_vec(p) + " is outside the workspace box " + fmt_vec(lim.workspace_min) + " .. " +
+  if (!motion::inside_workspace(p, lim))
+    return what + " " + fmt_vec(p) + " is outside the workspace box " + fmt_vec(lim.workspace_min) + " .. " +
              fmt_vec(lim.workspace_max);
-  if (!(p.z() > lim.table_z))
+  if (!motion::above_table(p, lim))
     return what + " " + fmt_vec(p) + " is not above the table (z " + std::to_string(lim.table_z) + ")";
   return "";
-}
-
-// Radius of the circle through a, b, c (infinite when collinear and b between a and c, 0 for a reversal).
-double corner_radius(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 u = b - a, v = c - b;
-  const double cross = u.cross(v).norm();
-  if (cross == 0) return u.dot(v) >= 0 ? INFINITY : 0.0;
-  return u.norm() * v.norm() * (c - a).norm() / (2 * cross);
 }
 
 }  // namespace
@@ -74,19 +65,11 @@ std::string check_path(const Path& path, const Pose& start, const Limits& lim) {
       return wp + ": speed " + std::to_string(path.speed[i]) + " m/s exceeds the limit " + std::to_string(lim.max_speed) + " m/s";
   }
   // Corners: the point before waypoint i is the start pose for i == 0.
-  for (std::size_t i = 0; i + 1 < n; ++i) {
-    const Vec3& a = i == 0 ? start.position : path.position[i - 1];
-    const Vec3& b = path.position[i];
-    const Vec3& c = path.position[i + 1];
-    if ((b - a).squaredNorm() == 0 || (c - b).squaredNorm() == 0) continue;  // duplicate point: no corner here
-    const double v = std::min(path.speed[i], path.speed[i + 1]);
-    const double r = corner_radius(a, b, c);
-    const double lateral = r == 0 ? INFINITY : v * v / r;
-    if (lateral > lim.max_accel)
-      return "waypoint " + std::to_string(i) + " (" + kind_name(path.kind[i]) + "): the corner (radius " +
-             std::to_string(r * 1000) + " mm) at " + std::to_string(v) + " m/s needs " + std::to_string(lateral) +
-             " m/s^2, more than the acceleration limit " + std::to_string(lim.max_accel) + " m/s^2";
-  }
+  if (const auto f = motion::first_corner_fault(path.position, path.speed, start.position, lim.max_accel))
+    return "waypoint " + std::to_string(f->waypoint) + " (" + kind_name(path.kind[f->waypoint]) +
+           "): the corner (radius " + std::to_string(f->radius * 1000) + " mm) at " + std::to_string(f->speed) +
+           " m/s needs " + std::to_string(f->lateral) + " m/s^2, more than the acceleration limit " +
+           std::to_string(lim.max_accel) + " m/s^2";
   return "";
 }
 

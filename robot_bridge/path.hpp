@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "motion/motion.hpp"
+
 namespace hullgrind {
 class grind_path_t;
 }
@@ -39,20 +41,15 @@ Path from_lcm(const hullgrind::grind_path_t& msg);
 Path read_path_json(const std::string& file);
 const char* kind_name(std::int8_t kind);
 
-// The cell's limits; every path is checked against them before the robot moves.
-struct Limits {
-  Vec3 workspace_min = Vec3(-1.5, -1.5, -0.5), workspace_max = Vec3(1.5, 1.5, 1.5);  // base frame box
-  double table_z = -0.5;    // table top in the base frame: every point of the path must be strictly above
-  double max_speed = 0.25;  // m/s, TCP
-  double max_accel = 2.0;   // m/s^2, TCP; also the lateral acceleration a corner may demand
-};
+// The cell's limits (motion/motion.hpp, shared with the planner's validation); every path is checked
+// against them before the robot moves.
+using Limits = motion::Limits;
 
 // Empty when the path may run from `start` (the robot's current TCP); else the first reason, naming the
 // waypoint. Checks: non-empty, finite numbers, unit quaternions, every waypoint (and the start) inside the
 // workspace box and above the table (segments are straight, the box convex: the whole path stays inside),
-// 0 < speed <= max_speed, and at every interior waypoint the lateral acceleration v^2 / r of taking the
-// corner at the commanded speed (v: the lower of the two segment speeds, r: radius of the circle through
-// the waypoint and its neighbours) within max_accel — a reversal (r = 0) is refused.
+// 0 < speed <= max_speed, and the corner rule of motion/motion.hpp (the lateral acceleration v^2 / r of
+// every corner at its commanded speed within max_accel; a reversal is refused).
 std::string check_path(const Path& path, const Pose& start, const Limits& limits);
 
 // Time-parametrised motion along the polyline start -> waypoint 0 -> ... -> waypoint n-1, at rest at both
