@@ -1,5 +1,7 @@
 #include "outline_service/part_pose.hpp"
 
+#include "polygon/polygon.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -7,24 +9,12 @@
 namespace hg::outline_service {
 namespace {
 
-// Signed area moments of a closed polygon (Green's theorem): counter-clockwise adds, clockwise subtracts,
-// so an outer loop plus its (clockwise) holes sums to the part with the holes removed.
-struct Moments {
-  double a = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
-  void add(const std::vector<outline::Vec2>& p, outline::Vec2 o) {
-    for (std::size_t i = 0, n = p.size(); i < n; ++i) {
-      double x0 = p[i].x - o.x, y0 = p[i].y - o.y;
-      double x1 = p[(i + 1) % n].x - o.x, y1 = p[(i + 1) % n].y - o.y;
-      double c = x0 * y1 - x1 * y0;
-      a += c / 2;
-      sx += (x0 + x1) * c / 6;
-      sy += (y0 + y1) * c / 6;
-      sxx += (x0 * x0 + x0 * x1 + x1 * x1) * c / 12;
-      syy += (y0 * y0 + y0 * y1 + y1 * y1) * c / 12;
-      sxy += (x0 * y1 + 2 * x0 * y0 + 2 * x1 * y1 + x1 * y0) * c / 24;
-    }
-  }
-};
+std::vector<polygon::Vec2> ring_of(const std::vector<outline::Vec2>& points) {
+  std::vector<polygon::Vec2> ring;
+  ring.reserve(points.size());
+  for (const auto& p : points) ring.emplace_back(p.x, p.y);
+  return ring;
+}
 
 bool inside(const std::vector<outline::Vec2>& poly, outline::Vec2 q) {
   bool in = false;
@@ -44,9 +34,9 @@ std::vector<PartPose> part_poses(const std::vector<outline::Loop>& loops) {
     PartPose pose;
     pose.outer_loop = i;
     const auto& outer = loops[i].points;
-    outline::Vec2 o = outer[0];  // moments about a nearby point keep the sums well conditioned
-    Moments m;
-    m.add(outer, o);
+    // Moments about a nearby point keep the sums well conditioned.
+    polygon::MomentSum sum(polygon::Vec2(outer[0].x, outer[0].y));
+    sum.add(ring_of(outer));
     for (std::size_t j = 0; j < loops.size(); ++j) {
       if (!loops[j].hole || loops[j].points.empty()) continue;
       // A hole belongs to the smallest outer loop that contains it; holes of nested parts are rare on a
@@ -59,15 +49,13 @@ std::vector<PartPose> part_poses(const std::vector<outline::Loop>& loops) {
           in_smaller = true;
       if (in_smaller) continue;
       pose.holes.push_back(j);
-      m.add(hole, o);
+      sum.add(ring_of(hole));
     }
-    if (m.a <= 0) continue;
-    double cx = m.sx / m.a, cy = m.sy / m.a;
-    pose.area = m.a;
-    pose.centroid = {o.x + cx, o.y + cy};
-    double ixx = m.sxx - m.a * cx * cx, iyy = m.syy - m.a * cy * cy, ixy = m.sxy - m.a * cx * cy;
-    double angle = 0.5 * std::atan2(2 * ixy, ixx - iyy);  // major axis of the area's second moments
-    if (angle <= -M_PI / 2) angle += M_PI;
+    const polygon::AreaMoments m = sum.moments();
+    if (m.area <= 0) continue;
+    pose.area = m.area;
+    pose.centroid = {m.centroid.x(), m.centroid.y()};
+    const double angle = m.principal_axis_angle();  // major axis of the area's second moments
     pose.principal_axis_angle = angle;
     double c = std::cos(angle), s = std::sin(angle);
     double lo1 = std::numeric_limits<double>::max(), hi1 = -lo1, lo2 = lo1, hi2 = -lo1;

@@ -1,31 +1,10 @@
 // Geometry helpers, input checks, up-normalisation and the mirror for flipped parts.
 #include "path_planner/pipeline.hpp"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 
 namespace hg::path_planner {
-
-double signed_area(const Ring& ring) {
-  const std::size_t n = ring.size();
-  if (n < 3) return 0;
-  // Shoelace about the first vertex (keeps precision for rings far from the origin).
-  double a = 0;
-  const Vec2 o = ring[0];
-  for (std::size_t i = 1; i + 1 < n; ++i) {
-    const Vec2 p = ring[i] - o, q = ring[i + 1] - o;
-    a += p.x() * q.y() - p.y() * q.x();
-  }
-  return a / 2;
-}
-
-double ring_length(const Ring& ring) {
-  double L = 0;
-  for (std::size_t i = 0; i < ring.size(); ++i) L += (ring[(i + 1) % ring.size()] - ring[i]).norm();
-  return L;
-}
 
 void make_canonical(std::vector<Loop>& loops) {
   for (Loop& l : loops) {
@@ -35,41 +14,18 @@ void make_canonical(std::vector<Loop>& loops) {
 }
 
 AreaMoments area_moments(const std::vector<Loop>& loops) {
-  // Green's theorem over canonical rings: holes (clockwise) subtract by themselves. Moments about a
-  // reference point for precision.
+  // Green's theorem over canonical rings: holes (clockwise) subtract by themselves. Moments about the first
+  // vertex for precision.
   AreaMoments m;
-  Vec2 ref = Vec2::Zero();
-  for (const Loop& l : loops)
-    if (!l.points.empty()) {
-      ref = l.points[0];
-      break;
-    }
-  double A = 0, Sx = 0, Sy = 0, Sxx = 0, Syy = 0, Sxy = 0;
-  for (const Loop& l : loops) {
-    const std::size_t n = l.points.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec2 p = l.points[i] - ref, q = l.points[(i + 1) % n] - ref;
-      const double c = p.x() * q.y() - q.x() * p.y();
-      A += c;
-      Sx += (p.x() + q.x()) * c;
-      Sy += (p.y() + q.y()) * c;
-      Sxx += (p.x() * p.x() + p.x() * q.x() + q.x() * q.x()) * c;
-      Syy += (p.y() * p.y() + p.y() * q.y() + q.y() * q.y()) * c;
-      Sxy += (p.x() * q.y() + 2 * p.x() * p.y() + 2 * q.x() * q.y() + q.x() * p.y()) * c;
-    }
-  }
-  A /= 2;
-  m.area = A;
-  if (std::abs(A) <= 0) return m;
-  const Vec2 c(Sx / (6 * A), Sy / (6 * A));
-  m.centroid = ref + c;
-  // Central second moments.
-  const double Ixx = Sxx / 12 - A * c.x() * c.x(), Iyy = Syy / 12 - A * c.y() * c.y(),
-               Ixy = Sxy / 24 - A * c.x() * c.y();
-  Eigen::Matrix2d C;
-  C << Ixx, Ixy, Ixy, Iyy;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C);
-  m.major_axis = es.eigenvectors().col(1).normalized();  // largest spread = the part's long axis
+  const auto first = std::find_if(loops.begin(), loops.end(), [](const Loop& l) { return !l.points.empty(); });
+  if (first == loops.end()) return m;
+  polygon::MomentSum sum(first->points[0]);
+  for (const Loop& l : loops) sum.add(l.points);
+  const polygon::AreaMoments pm = sum.moments();
+  m.area = pm.area;
+  if (pm.area == 0) return m;
+  m.centroid = pm.centroid;
+  m.major_axis = pm.principal_axis();  // largest spread = the part's long axis
   return m;
 }
 

@@ -145,20 +145,6 @@ constexpr Entry kShapes[] = {
 };
 }  // namespace
 
-double signed_area(const Ring& ring) {
-  double twice = 0;
-  const size_t n = ring.size();
-  for (size_t i = 0, j = n - 1; i < n; j = i++) twice += ring[j].x() * ring[i].y() - ring[i].x() * ring[j].y();
-  return twice / 2;
-}
-
-double ring_length(const Ring& ring) {
-  double len = 0;
-  const size_t n = ring.size();
-  for (size_t i = 0, j = n - 1; i < n; j = i++) len += (ring[i] - ring[j]).norm();
-  return len;
-}
-
 double polygon_area(const PolygonWithHoles& poly) {
   double a = std::abs(signed_area(poly.outer));
   for (const Ring& h : poly.holes) a -= std::abs(signed_area(h));

@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "polygon/polygon.hpp"
+
 namespace hg::partgen {
 
 using Vec2 = Eigen::Vector2d;
@@ -38,9 +40,9 @@ struct Shape {
   int exact_hole_count = 0;   // cut-outs that do not touch the outer edge
 };
 
-// Signed area (positive for counter-clockwise) and length of a closed ring.
-double signed_area(const Ring& ring);
-double ring_length(const Ring& ring);
+// Signed area (positive for counter-clockwise) and length of a closed ring (polygon/polygon.hpp).
+using polygon::signed_area;
+using polygon::ring_length;
 // Area of the polygon (outer minus holes) and total boundary length.
 double polygon_area(const PolygonWithHoles& poly);
 double polygon_perimeter(const PolygonWithHoles& poly);
