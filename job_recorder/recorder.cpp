@@ -8,7 +8,7 @@
 #include "runtime/job_ledger.hpp"
 #include "runtime/log.hpp"
 #include "runtime/path_file.hpp"
-#include "tools/overview/overview.hpp"
+#include "cloud_io/outline_message.hpp"
 
 namespace hg::job_recorder {
 
@@ -237,10 +237,7 @@ void Recorder::on_path(const hullgrind::grind_path_t& p, std::int64_t utime) {
                     {"tool_radius", p.tool_radius}, {"frame", p.frame}, {"time", iso_time(utime)}};
   for (auto it = outlines_.rbegin(); it != outlines_.rend(); ++it) {
     if (it->header.seq != p.outline_seq) continue;
-    overview::JobTrace trace;
-    trace.job_id = p.job_id;
-    trace.outline = overview::Logged<hullgrind::outline_t>{*it, utime};
-    write_file(dir / "outline.json", overview::outline_json(trace).dump(1) + "\n");
+    write_file(dir / "outline.json", outline::io::outline_message_json(*it, nullptr).dump(1) + "\n");
     int holes = 0;
     for (const auto& l : it->loops) holes += l.hole;
     (*rec)["outline"] = {{"file", "outline.json"}, {"seq", it->header.seq}, {"loops", it->num_loops}, {"holes", holes},

@@ -7,7 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "outline_core/io/outline_writers.hpp"
+#include "cloud_io/outline_message.hpp"
+#include "cloud_io/outline_writers.hpp"
 #include "path_planner/io.hpp"
 
 namespace hg::overview {
@@ -25,45 +26,7 @@ double ms(std::int64_t a, std::int64_t b) { return double(b - a) * 1e-3; }
 }  // namespace
 
 Json outline_json(const JobTrace& job) {
-  const auto& o = job.outline->msg;
-  outline::Result r;
-  r.points_read = std::size_t(o.points_read);
-  r.points_used = std::size_t(o.points_used);
-  r.duplicates_merged = std::size_t(o.duplicates_merged);
-  r.alpha_radius = o.alpha_radius;
-  r.mode = outline::parse_mode(o.mode.empty() ? "dshi" : o.mode);
-  r.order = outline::parse_order(o.order.empty() ? "as-is" : o.order);
-  r.triangles = std::size_t(o.triangles);
-  r.search_cost = std::uint64_t(o.search_cost);
-  r.time = {o.time_triangulate * 1e3, o.time_alpha * 1e3, o.time_loops * 1e3, o.compute_time * 1e3};
-  for (const auto& l : o.loops) {
-    outline::Loop loop;
-    loop.hole = l.hole;
-    loop.area = l.area;
-    loop.perimeter = l.perimeter;
-    for (int i = 0; i < l.n; ++i) loop.points.push_back({l.u[std::size_t(i)], l.v[std::size_t(i)]});
-    r.loops.push_back(std::move(loop));
-  }
-  outline::io::PlanarPoints planar;
-  planar.projected = true;
-  for (int i = 0; i < 3; ++i) {
-    planar.plane.origin[i] = o.plane_origin[i];
-    planar.plane.normal[i] = o.plane_normal[i];
-    planar.plane.u[i] = o.plane_u_axis[i];
-    planar.plane.v[i] = o.plane_v_axis[i];
-  }
-  if (job.cloud)
-    for (int i = 0; i < job.cloud->msg.n; ++i)
-      planar.points.push_back({job.cloud->msg.u[std::size_t(i)], job.cloud->msg.v[std::size_t(i)]});
-  outline::io::RunInfo info;
-  info.input = "HG_PLATE_CLOUD seq " + std::to_string(o.cloud_seq);
-  info.format = "lcm";
-  info.has_z = true;
-  info.frame = "camera";  // the planner places HG_OUTLINE's plane in the camera frame
-  Json j = outline::io::outline_json(r, planar, info);
-  j["status"] = o.status;
-  if (!o.error_text.empty()) j["error"] = o.error_text;
-  return j;
+  return outline::io::outline_message_json(job.outline->msg, job.cloud ? &job.cloud->msg : nullptr);
 }
 
 Json summary_json(const JobTrace& job) {
