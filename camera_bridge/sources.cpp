@@ -8,40 +8,19 @@
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "camera_types/pacing.hpp"
 #include "runtime/log.hpp"
 #include "runtime/node.hpp"
 
 #if HG_HAVE_OUTLINE_IO
-#include "outline_core/io/cloud_io.hpp"
+#include "cloud_io/cloud_io.hpp"
 #endif
 
 namespace hg::camera_bridge {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 namespace {
-
-Clock::duration period_of(double rate) {
-  if (!(rate > 0)) return Clock::duration::zero();
-  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate));
-}
-
-// Waits for the pacing slot `next` (period zero: no pacing). False when it is further away than timeout
-// (after waiting out the timeout), so grab() can return nullopt and the caller stays responsive.
-bool wait_slot(Clock::time_point& next, Clock::duration period, std::chrono::milliseconds timeout) {
-  if (period == Clock::duration::zero()) return true;
-  const auto now = Clock::now();
-  if (next == Clock::time_point{}) next = now;
-  if (next > now + timeout) {
-    std::this_thread::sleep_for(timeout);
-    return false;
-  }
-  std::this_thread::sleep_until(next);
-  // Late by more than a period (slow consumer): restart the schedule rather than bursting to catch up.
-  next = std::max(next + period, Clock::now());
-  return true;
-}
 
 std::string lower_ext(const fs::path& p) {
   std::string e = p.extension().string();
@@ -50,29 +29,6 @@ std::string lower_ext(const fs::path& p) {
 }
 
 }  // namespace
-
-// ---- synthetic ----
-
-SyntheticSource::SyntheticSource(SceneSpec spec, CameraProfile profile, double rate)
-    : spec_(std::move(spec)), profile_(std::move(profile)), period_(period_of(rate)) {}
-
-std::string SyntheticSource::describe() const {
-  return "synthetic scene '" + spec_.name + "' with camera profile " + profile_.name;
-}
-
-std::optional<DepthFrame> SyntheticSource::grab(std::chrono::milliseconds timeout) {
-  if (!open_) throw SourceError("synthetic source is not open");
-  if (!wait_slot(next_, period_, timeout)) return std::nullopt;
-  DepthFrame f;
-  f.seq = index_;
-  RenderedFrame r = render(spec_, profile_, static_cast<std::uint64_t>(index_++));
-  // Stamped when the frame exists, as a camera stamps its frames: the rendering stands in for the exposure
-  // and the transfer, which a real depth camera does without our CPU, and is not the pipeline's latency.
-  f.utime = runtime::now_utime();
-  f.intrinsics = r.intrinsics;
-  f.depth = std::move(r.depth);
-  return f;
-}
 
 // ---- intrinsics files ----
 

@@ -1,5 +1,6 @@
-// The depth sources the bridge knows besides OpenNI2: `synthetic` (the scene renderer) and `files`
-// (16-bit depth PNGs + an intrinsics YAML, or one .pcd/.ply cloud projected through those intrinsics).
+// The depth sources the bridge knows besides OpenNI2 and GenICam: `synthetic` (the scene renderer, a plug-in
+// from the simulation layer: sim/scene/synthetic_source.hpp) and `files` (16-bit depth PNGs + an intrinsics
+// YAML, or one .pcd/.ply cloud projected through those intrinsics).
 #pragma once
 
 #include <chrono>
@@ -7,32 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "camera_bridge/depth_source.hpp"
-#include "camera_bridge/scene.hpp"
+#include "camera_types/depth_source.hpp"
+#include "sim/scene/synthetic_source.hpp"
 
 namespace hg::camera_bridge {
-
-// Renders spec with profile; frames come at `rate` Hz (<= 0: as fast as they are asked for), frame index
-// 0, 1, 2, ... so a run is reproducible.
-class SyntheticSource : public DepthSource {
- public:
-  SyntheticSource(SceneSpec spec, CameraProfile profile, double rate);
-  std::string describe() const override;
-  void open() override { open_ = true; }
-  bool is_open() const override { return open_; }
-  std::optional<DepthFrame> grab(std::chrono::milliseconds timeout) override;
-  void close() override { open_ = false; }
-  const SceneSpec& spec() const { return spec_; }
-  const CameraProfile& profile() const { return profile_; }
-
- private:
-  SceneSpec spec_;
-  CameraProfile profile_;
-  std::chrono::steady_clock::duration period_{};
-  std::chrono::steady_clock::time_point next_{};
-  std::int64_t index_ = 0;
-  bool open_ = false;
-};
 
 // Intrinsics from an OpenCV FileStorage file (YAML/JSON/XML): width, height, fx, fy, cx, cy and
 // depth_unit (metres per count, default 0.001). Throws SourceError naming the file and the key.
