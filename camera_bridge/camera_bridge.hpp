@@ -16,7 +16,7 @@
 #include <string>
 #include <thread>
 
-#include "camera_bridge/depth_source.hpp"
+#include "camera_types/depth_source.hpp"
 #include "camera_bridge/segment.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
 #include "runtime/job_ledger.hpp"

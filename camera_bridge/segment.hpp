@@ -16,7 +16,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "camera_bridge/depth_source.hpp"
+#include "camera_types/depth_source.hpp"
 
 namespace hg::camera_bridge {
 

@@ -1,4 +1,4 @@
-#include "outline_core/io/outline_writers.hpp"
+#include "cloud_io/outline_writers.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

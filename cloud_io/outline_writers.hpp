@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "outline_core/io/cloud_io.hpp"
+#include "cloud_io/cloud_io.hpp"
 #include "outline_core/outline.hpp"
 
 namespace hg::outline::io {

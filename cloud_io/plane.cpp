@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "outline_core/io/cloud_io.hpp"
+#include "cloud_io/cloud_io.hpp"
 #include "outline_core/predicates.hpp"
 
 namespace hg::outline::io {

@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "outline_core/io/cloud_io.hpp"
+#include "cloud_io/cloud_io.hpp"
 
 namespace hg::outline::io::detail {
 

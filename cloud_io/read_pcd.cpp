@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cctype>
 
-#include "outline_core/io/read_common.hpp"
+#include "cloud_io/read_common.hpp"
 
 namespace hg::outline::io {
 

@@ -3,7 +3,7 @@
 // over and checked for length but not kept. Ascii data: one element instance per line.
 #include <algorithm>
 
-#include "outline_core/io/read_common.hpp"
+#include "cloud_io/read_common.hpp"
 
 namespace hg::outline::io {
 

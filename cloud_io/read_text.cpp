@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "outline_core/io/read_common.hpp"
+#include "cloud_io/read_common.hpp"
 
 namespace hg::outline::io {
 

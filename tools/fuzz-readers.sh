@@ -45,7 +45,7 @@ for r in "${readers[@]}"; do
   echo "fuzz-readers: $r for ${seconds}s (log $log)"
   before=$(ls "$build/artifacts" | grep -c "^$r-" || true)
   set +e
-  "$build/bin/fuzz_read_$r" "$corpus" -dict="$root/outline_core/io/fuzz/$r.dict" -max_total_time="$seconds" \
+  "$build/bin/fuzz_read_$r" "$corpus" -dict="$root/cloud_io/fuzz/$r.dict" -max_total_time="$seconds" \
     -max_len=16384 -timeout=10 -rss_limit_mb=2048 -artifact_prefix="$build/artifacts/$r-" -print_final_stats=1 >"$log" 2>&1
   rc=$?
   set -e

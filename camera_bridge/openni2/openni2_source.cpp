@@ -10,7 +10,7 @@
 #include <mutex>
 #include <sstream>
 
-#include "camera_bridge/virtual_device/virtual_properties.hpp"
+#include "sim/virtual_device/virtual_properties.hpp"
 
 namespace hg::camera_bridge {
 namespace {

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "camera_bridge/depth_source.hpp"
+#include "camera_types/depth_source.hpp"
 
 namespace hg::camera_bridge {
 

@@ -1,4 +1,4 @@
-#include "camera_bridge/genicam/fake_camera.hpp"
+#include "sim/fake_genicam/fake_camera.hpp"
 
 #include <arv.h>
 

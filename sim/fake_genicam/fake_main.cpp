@@ -11,7 +11,7 @@
 #include <string>
 #include <thread>
 
-#include "camera_bridge/genicam/fake_camera.hpp"
+#include "sim/fake_genicam/fake_camera.hpp"
 
 using namespace hg::camera_bridge;
 

@@ -1,4 +1,4 @@
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // Synthetic depth scenes: a grinding table (slightly tilted) with hull parts lying on it, seen from above
 // by a depth camera of a given profile. Used by the bridge's `synthetic` source, by the virtual OpenNI2
-// driver (camera_bridge/virtual_device) and by the tests, which compare segmentation to the ground truth
+// driver (sim/virtual_device) and by the tests, which compare segmentation to the ground truth
 // returned with each frame. No LCM here: library hg_camera_scene (hg_partgen + OpenCV + Eigen).
 //
 // Frames:
@@ -19,7 +19,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "camera_bridge/depth_source.hpp"
+#include "camera_types/depth_source.hpp"
 #include "partgen/shapes.hpp"
 
 namespace hg::camera_bridge {

@@ -22,8 +22,8 @@
 #define XN_DELETE(p) delete (p)
 #include <Driver/OniDriverAPI.h>
 
-#include "camera_bridge/virtual_device/virtual_config.hpp"
-#include "camera_bridge/virtual_device/virtual_properties.hpp"
+#include "sim/virtual_device/virtual_config.hpp"
+#include "sim/virtual_device/virtual_properties.hpp"
 
 namespace hg::camera_bridge::virtual_device {
 namespace {

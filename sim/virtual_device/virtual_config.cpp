@@ -1,4 +1,4 @@
-#include "camera_bridge/virtual_device/virtual_config.hpp"
+#include "sim/virtual_device/virtual_config.hpp"
 
 #include <cctype>
 #include <charconv>
@@ -9,7 +9,7 @@
 #include <string_view>
 
 #if HG_HAVE_SCENE
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 #endif
 
 namespace hg::camera_bridge::virtual_device {

@@ -11,7 +11,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "camera_bridge/depth_source.hpp"
+#include "camera_types/depth_source.hpp"
 
 namespace hg::camera_bridge::virtual_device {
 

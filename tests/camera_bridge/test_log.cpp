@@ -7,7 +7,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
 
 namespace {

@@ -24,7 +24,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "camera_bridge/camera_bridge.hpp"
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "camera_bridge/sources.hpp"
 #include "hullgrind/depth_frame_t.hpp"
 #include "hullgrind/heartbeat_t.hpp"

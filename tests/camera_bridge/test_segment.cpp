@@ -13,7 +13,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 
 using namespace hg::camera_bridge;

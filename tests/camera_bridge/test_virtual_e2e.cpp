@@ -13,7 +13,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 #include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/plate_cloud_t.hpp"

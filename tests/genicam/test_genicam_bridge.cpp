@@ -12,8 +12,8 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "camera_bridge/genicam/fake_camera.hpp"
-#include "camera_bridge/scene.hpp"
+#include "sim/fake_genicam/fake_camera.hpp"
+#include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 #include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/job_request_t.hpp"

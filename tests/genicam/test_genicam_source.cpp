@@ -1,5 +1,5 @@
 // The `genicam` source against Aravis's GigE Vision fake camera with our 3-D camera description
-// (camera_bridge/genicam/hg-fake-3d-camera.xml), inside this test's own network namespace: discovery
+// (sim/fake_genicam/hg-fake-3d-camera.xml), inside this test's own network namespace: discovery
 // (GVCP broadcast), register access (GVCP) and streaming (GVSP) run for real, on 127.0.0.1.
 //  - the namespace has only `lo`, so Aravis's discovery, which enumerates the up IPv4 interfaces, cannot
 //    reach any other network;
@@ -26,9 +26,9 @@
 #include <string>
 #include <thread>
 
-#include "camera_bridge/genicam/fake_camera.hpp"
+#include "sim/fake_genicam/fake_camera.hpp"
 #include "camera_bridge/genicam/genicam_source.hpp"
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 
 using namespace std::chrono_literals;

@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace hg::camera_bridge::testing {
 

@@ -7,7 +7,7 @@
 #include <iterator>
 
 #include "camera_bridge/openni2/openni2_source.hpp"
-#include "camera_bridge/virtual_device/virtual_config.hpp"
+#include "sim/virtual_device/virtual_config.hpp"
 #include "openni2_test_util.hpp"
 
 namespace hg::camera_bridge {

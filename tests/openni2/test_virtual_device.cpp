@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "camera_bridge/virtual_device/virtual_config.hpp"
+#include "sim/virtual_device/virtual_config.hpp"
 #include "openni2_test_util.hpp"
 
 namespace hg::camera_bridge {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "outline_core/alpha.hpp"
-#include "outline_core/bench/synthetic_clouds.hpp"
-#include "outline_core/bench/tilted_camera.hpp"
+#include "tools/bench/core/synthetic_clouds.hpp"
+#include "tools/bench/core/tilted_camera.hpp"
 #include "outline_core/outline.hpp"
 #include "partgen/shapes.hpp"
 

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "outline_core/io/cloud_io.hpp"
+#include "cloud_io/cloud_io.hpp"
 
 using namespace hg::outline::io;
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "lzf_test_compressor.hpp"
-#include "outline_core/io/cloud_io.hpp"
+#include "cloud_io/cloud_io.hpp"
 
 using namespace hg::outline::io;
 using hg::outline::OutlineError;

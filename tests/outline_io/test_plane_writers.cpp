@@ -9,8 +9,8 @@
 #include <random>
 #include <sstream>
 
-#include "outline_core/io/cloud_io.hpp"
-#include "outline_core/io/outline_writers.hpp"
+#include "cloud_io/cloud_io.hpp"
+#include "cloud_io/outline_writers.hpp"
 
 using namespace hg::outline;
 using namespace hg::outline::io;

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "outline_core/bench/synthetic_clouds.hpp"
+#include "tools/bench/core/synthetic_clouds.hpp"
 #include "outline_service/outline_service.hpp"
 
 namespace {

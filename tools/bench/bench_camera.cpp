@@ -12,7 +12,7 @@
 #include <opencv2/core.hpp>
 
 #include "camera_bridge/camera_bridge.hpp"
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 
 using namespace hg::camera_bridge;

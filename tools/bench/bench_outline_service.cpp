@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "camera_bridge/camera_bridge.hpp"
-#include "camera_bridge/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 #include "outline_service/outline_service.hpp"
 

@@ -29,7 +29,7 @@
 #include "bench.hpp"
 #include "outline_core/alpha.hpp"
 #include "outline_core/delaunay.hpp"
-#include "outline_core/io/cloud_io.hpp"
+#include "cloud_io/cloud_io.hpp"
 #include "outline_core/outline.hpp"
 #include "partgen/presets.hpp"
 #include "partgen/synth.hpp"

@@ -41,7 +41,7 @@ sys.path.insert(0, os.path.join(SRC, "tests", "e2e"))  # the e2e tests' pipeline
 
 TARGET_MS = {"pm806": 60.0, "lsr-l": 250.0}
 SIZE = {"pm806": "1280x960", "lsr-l": "2048x1536"}
-# The profiles' mounting heights above the table (camera_bridge/scene.cpp): the planner's hand-eye
+# The profiles' mounting heights above the table (sim/scene/scene.cpp): the planner's hand-eye
 # calibration must say where the camera hangs, or the lsr-l plate lands below the table and is refused.
 MOUNT_HEIGHT = {"pm806": 1.5, "lsr-l": 2.0}
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <string_view>
 
-#include "outline_core/io/cloud_io.hpp"
-#include "outline_core/io/outline_writers.hpp"
+#include "cloud_io/cloud_io.hpp"
+#include "cloud_io/outline_writers.hpp"
 #include "outline_core/alpha.hpp"  // kDefaultAutoFactor, for --help
 #include "outline_core/outline.hpp"
 

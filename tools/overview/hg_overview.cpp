@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "outline_core/io/outline_writers.hpp"
+#include "cloud_io/outline_writers.hpp"
 #include "path_planner/io.hpp"
 #include "runtime/path_file.hpp"
 #include "tools/overview/overview.hpp"

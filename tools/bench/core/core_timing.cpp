@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "outline_core/io/cloud_io.hpp"
+#include "cloud_io/cloud_io.hpp"
 #include "outline_core/outline.hpp"
 
 using namespace hg::outline;

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "outline_core/alpha.hpp"
-#include "outline_core/bench/synthetic_clouds.hpp"
-#include "outline_core/bench/tilted_camera.hpp"
+#include "tools/bench/core/synthetic_clouds.hpp"
+#include "tools/bench/core/tilted_camera.hpp"
 #include "partgen/shapes.hpp"
 #include "outline_core/outline.hpp"
 

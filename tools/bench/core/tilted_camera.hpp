@@ -1,4 +1,4 @@
-// A catalogue part (tools/partgen) seen by a tilted pinhole camera: the point spacing on the plate grows
+// A catalogue part (sim/partgen) seen by a tilted pinhole camera: the point spacing on the plate grows
 // from the near to the far side. Every pixel ray is cast onto the plate plane (z = 0); the pixel is a
 // point when the ray hits the part (pixel centre inside, partgen::contains). Points are in the plate
 // plane, scan order. For hg-radius-table --tilted and the outline core's local-mode tests.
