@@ -1,0 +1,89 @@
+"""The layer check on small trees made here (not git work trees: the checker walks them), each with a known
+verdict: clean trees pass, each kind of include against the layers fails and is named by file and line."""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+CHECKER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "check_layers.py")
+
+
+def run_on(tree):
+    """tree: {path: text}. Returns (exit code, stdout) of the checker over it."""
+    with tempfile.TemporaryDirectory() as root:
+        for path, text in tree.items():
+            os.makedirs(os.path.dirname(os.path.join(root, path)), exist_ok=True)
+            with open(os.path.join(root, path), "w") as f:
+                f.write(text)
+        r = subprocess.run([sys.executable, CHECKER, "--root", root], capture_output=True, text=True)
+        return r.returncode, r.stdout
+
+
+BASE = {
+    "runtime/node.hpp": "#pragma once\n",
+    "motion/motion.hpp": "#pragma once\n",
+    "outline_core/outline.hpp": "#pragma once\n",
+    "sim/partgen/include/partgen/shapes.hpp": "#pragma once\n",
+    "sim/scene/scene.hpp": '#include "partgen/shapes.hpp"\n',
+    "tools/overview/overview.hpp": "#pragma once\n",
+    "path_planner/pipeline.hpp": '#include "motion/motion.hpp"\n',
+    "robot_bridge/path.hpp": '#include <motion/motion.hpp>\n#include <vector>\n',
+}
+
+
+class CheckLayers(unittest.TestCase):
+    def test_includes_that_point_down_pass(self):
+        tree = dict(BASE)
+        tree["camera_bridge/sources.cpp"] = ('#include "runtime/node.hpp"\n#include "sim/scene/scene.hpp"\n'
+                                             '#include "outline.hpp"\n#include <opencv2/core.hpp>\n')
+        tree["tools/hg_plan/main.cpp"] = '#include "path_planner/pipeline.hpp"\n#include "tools/overview/overview.hpp"\n'
+        tree["tests/x/any_test.cpp"] = '#include "tools/overview/overview.hpp"\n#include "robot_bridge/path.hpp"\n'
+        code, out = run_on(tree)
+        self.assertEqual(code, 0, out)
+        self.assertIn("0 include(s)", out)
+
+    def test_a_process_including_tools_fails(self):
+        tree = dict(BASE)
+        tree["job_recorder/recorder.cpp"] = '// the outline writer\n#include "tools/overview/overview.hpp"\n'
+        code, out = run_on(tree)
+        self.assertEqual(code, 1, out)
+        self.assertIn("job_recorder/recorder.cpp:2:", out)
+        self.assertIn("a higher layer", out)
+
+    def test_a_process_including_another_process_fails(self):
+        tree = dict(BASE)
+        tree["outline_service/bench.cpp"] = '#include <vector>\n#include "path_planner/pipeline.hpp"\n'
+        code, out = run_on(tree)
+        self.assertEqual(code, 1, out)
+        self.assertIn("outline_service/bench.cpp:2:", out)
+        self.assertIn("another process folder, path_planner", out)
+
+    def test_a_lower_layer_including_a_higher_one_fails(self):
+        for src, include in [("outline_core/alpha.cpp", '#include "partgen/shapes.hpp"'),  # via an include root
+                             ("sim/scene/scene.cpp", "#include <robot_bridge/path.hpp>"),   # angle brackets
+                             ("motion/motion.cpp", '#include "../outline_core/outline.hpp"')]:  # relative
+            tree = dict(BASE)
+            tree[src] = include + "\n"
+            code, out = run_on(tree)
+            self.assertEqual(code, 1, src + ": " + out)
+            self.assertIn(src + ":1:", out)
+
+    def test_a_product_file_including_tests_fails(self):
+        tree = dict(BASE)
+        tree["tests/common/helper.hpp"] = "#pragma once\n"
+        tree["robot_bridge/bridge.cpp"] = '#include "tests/common/helper.hpp"\n'
+        code, out = run_on(tree)
+        self.assertEqual(code, 1, out)
+        self.assertIn("includes tests/", out)
+
+    def test_a_folder_in_no_layer_is_named(self):
+        tree = dict(BASE)
+        tree["newthing/a.cpp"] = '#include "runtime/node.hpp"\n'
+        code, out = run_on(tree)
+        self.assertEqual(code, 1, out)
+        self.assertIn("newthing is in no layer", out)
+
+
+if __name__ == "__main__":
+    unittest.main()
