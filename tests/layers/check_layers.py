@@ -30,9 +30,9 @@ EXEMPT = {"tests"}  # tests may include anything
 # Include roots besides the tree's root and the including file's folder (CMake include directories).
 INCLUDE_ROOTS = ["sim/partgen/include", "outline_core"]
 # Generated headers: include prefix -> the folder that generates them.
-GENERATED = {"hullgrind/": "lcmtypes"}
+GENERATED = {"hullgrind/": "lcmtypes", "hullgrind.h": "dds_gateway", "hg_lcm_registry.inc": "tools"}
 SOURCE_EXT = (".c", ".cc", ".cpp", ".cxx", ".h", ".hh", ".hpp", ".hxx", ".inc", ".ipp")
-INCLUDE_RE = re.compile(r'^\s*#\s*include\s*[<"]([^">]+)[">]')
+INCLUDE_RE = re.compile(r'^\s*#\s*include\s*([<"])([^">]+)[">]')
 
 LAYER_OF = {folder: (i, name) for i, (name, folders) in enumerate(LAYERS) for folder in folders}
 
@@ -99,10 +99,16 @@ def check(root):
             m = INCLUDE_RE.match(line)
             if not m:
                 continue
-            dst = resolve(root, known, f, m.group(1))
+            quoted, target = m.group(1) == '"', m.group(2)
+            dst = resolve(root, known, f, target)
+            if dst is None and quoted:  # a quoted include is ours: unresolved means an include root is missing
+                problems.append(f"{f}:{n}: #include \"{target}\" names no file of the tree (add its include root "
+                                "or generated prefix to tests/layers/check_layers.py)")
+                continue
             why = dst and violation(f, dst)
             if why:
-                problems.append(f"{f}:{n}: #include \"{m.group(1)}\" ({dst}): {why}")
+                spelled = f'"{target}"' if quoted else f"<{target}>"
+                problems.append(f"{f}:{n}: #include {spelled} ({dst}): {why}")
     return problems
 
 

@@ -84,6 +84,15 @@ class CheckLayers(unittest.TestCase):
         self.assertEqual(code, 1, out)
         self.assertIn("newthing is in no layer", out)
 
+    def test_a_quoted_include_that_names_no_file_fails(self):
+        # An include root the checker does not know would otherwise hide the include from the check.
+        tree = dict(BASE)
+        tree["robot_bridge/bridge.cpp"] = '#include "somewhere/unknown.hpp"\n#include <unknown_system_header>\n'
+        code, out = run_on(tree)
+        self.assertEqual(code, 1, out)
+        self.assertIn("robot_bridge/bridge.cpp:1:", out)
+        self.assertNotIn("bridge.cpp:2:", out)
+
 
 if __name__ == "__main__":
     unittest.main()
