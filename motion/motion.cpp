@@ -1,5 +1,7 @@
 #include "motion/motion.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
