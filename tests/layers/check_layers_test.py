@@ -33,6 +33,14 @@ BASE = {
 
 
 class CheckLayers(unittest.TestCase):
+    def assert_fails(self, added, where, why):
+        """BASE plus `added` fails the check, naming `where` (file:line:) and saying `why`."""
+        code, out = run_on({**BASE, **added})
+        self.assertEqual(code, 1, out)
+        self.assertIn(where, out)
+        self.assertIn(why, out)
+        return out
+
     def test_includes_that_point_down_pass(self):
         tree = dict(BASE)
         tree["camera_bridge/sources.cpp"] = ('#include "runtime/node.hpp"\n#include "sim/scene/scene.hpp"\n'
@@ -44,53 +52,32 @@ class CheckLayers(unittest.TestCase):
         self.assertIn("0 include(s)", out)
 
     def test_a_process_including_tools_fails(self):
-        tree = dict(BASE)
-        tree["job_recorder/recorder.cpp"] = '// the outline writer\n#include "tools/overview/overview.hpp"\n'
-        code, out = run_on(tree)
-        self.assertEqual(code, 1, out)
-        self.assertIn("job_recorder/recorder.cpp:2:", out)
-        self.assertIn("a higher layer", out)
+        self.assert_fails({"job_recorder/recorder.cpp": '// the outline writer\n#include "tools/overview/overview.hpp"\n'},
+                          "job_recorder/recorder.cpp:2:", "a higher layer")
 
     def test_a_process_including_another_process_fails(self):
-        tree = dict(BASE)
-        tree["outline_service/bench.cpp"] = '#include <vector>\n#include "path_planner/pipeline.hpp"\n'
-        code, out = run_on(tree)
-        self.assertEqual(code, 1, out)
-        self.assertIn("outline_service/bench.cpp:2:", out)
-        self.assertIn("another process folder, path_planner", out)
+        self.assert_fails({"outline_service/bench.cpp": '#include <vector>\n#include "path_planner/pipeline.hpp"\n'},
+                          "outline_service/bench.cpp:2:", "another process folder, path_planner")
 
     def test_a_lower_layer_including_a_higher_one_fails(self):
         for src, include in [("outline_core/alpha.cpp", '#include "partgen/shapes.hpp"'),  # via an include root
                              ("sim/scene/scene.cpp", "#include <robot_bridge/path.hpp>"),   # angle brackets
                              ("motion/motion.cpp", '#include "../outline_core/outline.hpp"')]:  # relative
-            tree = dict(BASE)
-            tree[src] = include + "\n"
-            code, out = run_on(tree)
-            self.assertEqual(code, 1, src + ": " + out)
-            self.assertIn(src + ":1:", out)
+            self.assert_fails({src: include + "\n"}, src + ":1:", "a higher layer")
 
     def test_a_product_file_including_tests_fails(self):
-        tree = dict(BASE)
-        tree["tests/common/helper.hpp"] = "#pragma once\n"
-        tree["robot_bridge/bridge.cpp"] = '#include "tests/common/helper.hpp"\n'
-        code, out = run_on(tree)
-        self.assertEqual(code, 1, out)
-        self.assertIn("includes tests/", out)
+        self.assert_fails({"tests/common/helper.hpp": "#pragma once\n",
+                           "robot_bridge/bridge.cpp": '#include "tests/common/helper.hpp"\n'},
+                          "robot_bridge/bridge.cpp:1:", "includes tests/")
 
     def test_a_folder_in_no_layer_is_named(self):
-        tree = dict(BASE)
-        tree["newthing/a.cpp"] = '#include "runtime/node.hpp"\n'
-        code, out = run_on(tree)
-        self.assertEqual(code, 1, out)
-        self.assertIn("newthing is in no layer", out)
+        self.assert_fails({"newthing/a.cpp": '#include "runtime/node.hpp"\n'}, "newthing/a.cpp:1:",
+                          "newthing is in no layer")
 
     def test_a_quoted_include_that_names_no_file_fails(self):
         # An include root the checker does not know would otherwise hide the include from the check.
-        tree = dict(BASE)
-        tree["robot_bridge/bridge.cpp"] = '#include "somewhere/unknown.hpp"\n#include <unknown_system_header>\n'
-        code, out = run_on(tree)
-        self.assertEqual(code, 1, out)
-        self.assertIn("robot_bridge/bridge.cpp:1:", out)
+        out = self.assert_fails({"robot_bridge/bridge.cpp": '#include "somewhere/unknown.hpp"\n#include <unknown_system_header>\n'},
+                                "robot_bridge/bridge.cpp:1:", "names no file of the tree")
         self.assertNotIn("bridge.cpp:2:", out)
 
 
