@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
@@ -77,101 +78,120 @@ std::string frame_defect(const cv::Mat& depth, const Intrinsics& in) {
   return {};
 }
 
-Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentParams& P) {
-  check(P);
-  Segmentation out;
-  if (std::string why = frame_defect(depth, in); !why.empty()) {
-    out.text = why;
-    return out;
-  }
-  const int W = depth.cols, H = depth.rows;
-  const double unit = in.depth_unit;
-  std::vector<double> ray_a(W), ray_b(H);  // pixel ray direction ((c - cx) / fx, (r - cy) / fy, 1)
-  for (int c = 0; c < W; ++c) ray_a[c] = (c - in.cx) / in.fx;
-  for (int r = 0; r < H; ++r) ray_b[r] = (r - in.cy) / in.fy;
+namespace {
 
-  // ---- table plane ----
+// Pixel ray directions ((c - cx) / fx, (r - cy) / fy, 1): a per column, b per row.
+struct Rays {
+  std::vector<double> a, b;
+  double unit = 0;  // metres per depth count
+};
+
+Rays pixel_rays(const Intrinsics& in, int W, int H) {
+  Rays ray{std::vector<double>(W), std::vector<double>(H), in.depth_unit};
+  for (int c = 0; c < W; ++c) ray.a[c] = (c - in.cx) / in.fx;
+  for (int r = 0; r < H; ++r) ray.b[r] = (r - in.cy) / in.fy;
+  return ray;
+}
+
+// n . p = offset, n towards the camera.
+struct Plane {
+  Eigen::Vector3d n;
+  double offset;
+};
+
+// Camera-frame points of the pixels with depth on a grid of `stride`.
+std::vector<Eigen::Vector3d> sample_points(const cv::Mat& depth, const Rays& ray, int stride) {
+  const int W = depth.cols, H = depth.rows;
   std::vector<Eigen::Vector3d> samples;
-  samples.reserve(static_cast<std::size_t>(W / P.sample_stride + 1) * (H / P.sample_stride + 1));
-  for (int r = P.sample_stride / 2; r < H; r += P.sample_stride) {
+  samples.reserve(static_cast<std::size_t>(W / stride + 1) * (H / stride + 1));
+  for (int r = stride / 2; r < H; r += stride) {
     const std::uint16_t* dr = depth.ptr<std::uint16_t>(r);
-    for (int c = P.sample_stride / 2; c < W; c += P.sample_stride)
-      if (dr[c]) samples.emplace_back(ray_a[c] * dr[c] * unit, ray_b[r] * dr[c] * unit, dr[c] * unit);
+    for (int c = stride / 2; c < W; c += stride)
+      if (dr[c]) samples.emplace_back(ray.a[c] * dr[c] * ray.unit, ray.b[r] * dr[c] * ray.unit, dr[c] * ray.unit);
   }
-  if (samples.size() < 50) {
-    out.text = "too few valid depth pixels (" + std::to_string(samples.size()) + " of the sampled grid) to find the table";
-    return out;
-  }
-  Eigen::Vector3d n = P.plane_normal.normalized();
-  double offset = P.plane_offset;
-  if (!P.calibrated_plane) {
-    // RANSAC, deterministic: hypotheses scored on a fixed subset of about 2000 samples.
-    std::mt19937_64 rng(P.ransac_seed);
-    std::uniform_int_distribution<std::size_t> pick(0, samples.size() - 1);
-    const std::size_t eval_step = std::max<std::size_t>(1, samples.size() / 2000);
-    std::size_t best = 0;
-    for (int it = 0; it < P.ransac_iterations; ++it) {
-      const Eigen::Vector3d& a = samples[pick(rng)];
-      const Eigen::Vector3d& b = samples[pick(rng)];
-      const Eigen::Vector3d& c = samples[pick(rng)];
-      Eigen::Vector3d h = (b - a).cross(c - a);
-      const double len = h.norm();
-      if (!(len > 1e-9)) continue;
-      h /= len;
-      if (std::abs(h.z()) < 0.5) continue;  // a table seen more than 60 degrees off axis is not our cell
-      const double o = h.dot(a);
-      std::size_t score = 0;
-      for (std::size_t i = 0; i < samples.size(); i += eval_step) score += std::abs(h.dot(samples[i]) - o) < P.ransac_threshold;
-      if (score > best) {
-        best = score;
-        n = h;
-        offset = o;
-      }
-    }
-    if (best == 0) {
-      out.text = "no table plane found (RANSAC found no plane facing the camera)";
-      return out;
+  return samples;
+}
+
+// RANSAC, deterministic: hypotheses scored on a fixed subset of about 2000 samples. False when no
+// hypothesis faces the camera (plane left as it was).
+bool ransac_plane(const std::vector<Eigen::Vector3d>& samples, const SegmentParams& P, Plane& plane) {
+  std::mt19937_64 rng(P.ransac_seed);
+  std::uniform_int_distribution<std::size_t> pick(0, samples.size() - 1);
+  const std::size_t eval_step = std::max<std::size_t>(1, samples.size() / 2000);
+  std::size_t best = 0;
+  for (int it = 0; it < P.ransac_iterations; ++it) {
+    const Eigen::Vector3d& a = samples[pick(rng)];
+    const Eigen::Vector3d& b = samples[pick(rng)];
+    const Eigen::Vector3d& c = samples[pick(rng)];
+    Eigen::Vector3d h = (b - a).cross(c - a);
+    const double len = h.norm();
+    if (!(len > 1e-9)) continue;
+    h /= len;
+    if (std::abs(h.z()) < 0.5) continue;  // a table seen more than 60 degrees off axis is not our cell
+    const double o = h.dot(a);
+    std::size_t score = 0;
+    for (std::size_t i = 0; i < samples.size(); i += eval_step) score += std::abs(h.dot(samples[i]) - o) < P.ransac_threshold;
+    if (score > best) {
+      best = score;
+      plane = {h, o};
     }
   }
-  // Least-squares refinement on the inliers (twice: the second pass uses the better plane's inliers).
+  return best > 0;
+}
+
+// Least-squares refinement on the inliers (twice: the second pass uses the better plane's inliers).
+// Returns the inlier count of the last pass; `rms` is the inliers' RMS distance from the refitted plane.
+std::size_t refine_plane(const std::vector<Eigen::Vector3d>& samples, double threshold, Plane& plane, double& rms) {
   std::size_t inliers = 0;
   for (int pass = 0; pass < 2; ++pass) {
     PlaneSums sums;
     sums.ref = samples[samples.size() / 2];
     for (const auto& p : samples)
-      if (std::abs(n.dot(p) - offset) < P.ransac_threshold) sums.add(p);
+      if (std::abs(plane.n.dot(p) - plane.offset) < threshold) sums.add(p);
     inliers = static_cast<std::size_t>(sums.n);
     if (inliers < 3) break;
     const Eigen::Vector3d c = sums.centroid();
-    n = smallest_eigenvector(sums.scatter());
-    orient(n, c);
-    offset = n.dot(c);
-    out.table_rms = std::sqrt(std::max(0.0, n.dot(sums.scatter() * n) / sums.n));
+    plane.n = smallest_eigenvector(sums.scatter());
+    orient(plane.n, c);
+    plane.offset = plane.n.dot(c);
+    rms = std::sqrt(std::max(0.0, plane.n.dot(sums.scatter() * plane.n) / sums.n));
   }
-  const double table_fraction = static_cast<double>(inliers) / samples.size();
-  if (table_fraction < P.min_table_fraction) {
-    out.text = fmt("no table plane: only %.1f %% of the valid pixels lie on the best plane (need %.1f %%)",
-                   100 * table_fraction, 100 * P.min_table_fraction);
-    return out;
-  }
-  out.table_normal = n;
-  out.table_offset = offset;
+  return inliers;
+}
 
-  // ---- part mask: height above the table within the thickness band ----
-  // Float and branch-free so the compiler vectorises it: the height is n . (z ray) - offset, with z in
-  // depth counts folded into the per-column factor (float keeps ~0.1 um at 2 m, far below the noise).
-  // Scratch images kept per thread: allocating ~6 MB afresh each frame costs page faults every time.
-  thread_local cv::Mat mask, nodata, cc;
+// The table plane (calibrated, or found by RANSAC), refined on its inliers. Empty when found, else why not.
+std::string fit_table(const cv::Mat& depth, const Rays& ray, const SegmentParams& P, Plane& table, double& rms) {
+  const std::vector<Eigen::Vector3d> samples = sample_points(depth, ray, P.sample_stride);
+  if (samples.size() < 50)
+    return "too few valid depth pixels (" + std::to_string(samples.size()) + " of the sampled grid) to find the table";
+  table = {P.plane_normal.normalized(), P.plane_offset};
+  if (!P.calibrated_plane && !ransac_plane(samples, P, table))
+    return "no table plane found (RANSAC found no plane facing the camera)";
+  const std::size_t inliers = refine_plane(samples, P.ransac_threshold, table, rms);
+  const double table_fraction = static_cast<double>(inliers) / samples.size();
+  if (table_fraction < P.min_table_fraction)
+    return fmt("no table plane: only %.1f %% of the valid pixels lie on the best plane (need %.1f %%)",
+               100 * table_fraction, 100 * P.min_table_fraction);
+  return {};
+}
+
+// Part mask: height above the table within the thickness band; `nodata` marks the pixels without depth.
+// Float and branch-free so the compiler vectorises it: the height is n . (z ray) - offset, with z in
+// depth counts folded into the per-column factor (float keeps ~0.1 um at 2 m, far below the noise).
+void height_band_mask(const cv::Mat& depth, const Rays& ray, const Plane& table, const SegmentParams& P, cv::Mat& mask,
+                      cv::Mat& nodata) {
+  const int W = depth.cols, H = depth.rows;
+  const Eigen::Vector3d& n = table.n;
   mask.create(H, W, CV_8UC1);
   nodata.create(H, W, CV_8UC1);
   std::vector<float> na(W);
-  for (int c = 0; c < W; ++c) na[c] = static_cast<float>(n.x() * ray_a[c] * unit);
-  const float lo = static_cast<float>(P.min_height + offset), hi = static_cast<float>(P.max_height + offset);
+  for (int c = 0; c < W; ++c) na[c] = static_cast<float>(n.x() * ray.a[c] * ray.unit);
+  const float lo = static_cast<float>(P.min_height + table.offset), hi = static_cast<float>(P.max_height + table.offset);
   for (int r = 0; r < H; ++r) {
     const std::uint16_t* dr = depth.ptr<std::uint16_t>(r);
     std::uint8_t* mr = mask.ptr<std::uint8_t>(r);
     std::uint8_t* zr = nodata.ptr<std::uint8_t>(r);
-    const float nb = static_cast<float>((n.y() * ray_b[r] + n.z()) * unit);
+    const float nb = static_cast<float>((n.y() * ray.b[r] + n.z()) * ray.unit);
     for (int c = 0; c < W; ++c) {
       const float d = static_cast<float>(dr[c]);
       const float h = d * (na[c] + nb);  // n . p, compared with offset + band
@@ -179,14 +199,17 @@ Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentPa
       zr[c] = static_cast<std::uint8_t>(-static_cast<int>(d == 0.0f));
     }
   }
-  // Opening (k x k squares that fit the mask) against specks of table noise above min_height, and
-  // closing against pin holes (dropout, noise below min_height). Erosion counts pixels without depth as
-  // part and the opened mask keeps only real mask pixels: otherwise a dropout beside the edge, or a mixed
-  // pixel there that falls below min_height, takes the good edge pixels around it with it, and the
-  // outline runs a pixel or two into the material for a stretch (the deepest errors of the whole
-  // pipeline's path came from that). The default 2 x 2 removes single pixels and one-pixel lines, which
-  // is what the specks are; a larger kernel eats more of the edge wherever such pixels cluster.
-  // Explicit anchors: erosion by the square at (0, 0), dilation by its reflection, so even sizes stay put.
+}
+
+// Opening (k x k squares that fit the mask) against specks of table noise above min_height, and
+// closing against pin holes (dropout, noise below min_height). Erosion counts pixels without depth as
+// part and the opened mask keeps only real mask pixels: otherwise a dropout beside the edge, or a mixed
+// pixel there that falls below min_height, takes the good edge pixels around it with it, and the
+// outline runs a pixel or two into the material for a stretch (the deepest errors of the whole
+// pipeline's path came from that). The default 2 x 2 removes single pixels and one-pixel lines, which
+// is what the specks are; a larger kernel eats more of the edge wherever such pixels cluster.
+// Explicit anchors: erosion by the square at (0, 0), dilation by its reflection, so even sizes stay put.
+void open_and_close(cv::Mat& mask, const cv::Mat& nodata, const SegmentParams& P) {
   auto square = [](int k) { return cv::Mat::ones(k, k, CV_8UC1); };
   if (P.open_size > 1) {
     const int k = P.open_size;
@@ -201,143 +224,210 @@ Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentPa
     cv::dilate(mask, mask, square(k), {0, 0});
     cv::erode(mask, mask, square(k), {k - 1, k - 1});
   }
-  // Plain labelling plus our own area and row-range pass: connectedComponentsWithStats computes its
-  // statistics several times slower than this.
-  const int ncc = cv::connectedComponents(mask, cc, 8, CV_32S);
-  std::vector<int> area(ncc, 0), first_row(ncc, H), last_row(ncc, -1);
+}
+
+// Connected components of the mask with their pixel counts and row ranges (index 0: background).
+struct Components {
+  int count = 0;
+  std::vector<int> area, first_row, last_row;
+};
+
+// Plain labelling plus our own area and row-range pass: connectedComponentsWithStats computes its
+// statistics several times slower than this.
+Components label_components(const cv::Mat& mask, cv::Mat& cc) {
+  const int W = mask.cols, H = mask.rows;
+  Components comp;
+  comp.count = cv::connectedComponents(mask, cc, 8, CV_32S);
+  comp.area.assign(comp.count, 0);
+  comp.first_row.assign(comp.count, H);
+  comp.last_row.assign(comp.count, -1);
   for (int r = 0; r < H; ++r) {
     const int* cr = cc.ptr<int>(r);
     for (int c = 0; c < W; ++c)
       if (const int l = cr[c]) {
-        ++area[l];
-        first_row[l] = std::min(first_row[l], r);
-        last_row[l] = r;
+        ++comp.area[l];
+        comp.first_row[l] = std::min(comp.first_row[l], r);
+        comp.last_row[l] = r;
       }
   }
-  // A pixel's footprint on the table, near the optical axis.
-  const double z_table = offset / n.z();
-  const double pixel_area = (z_table / in.fx) * (z_table / in.fy);
-  std::vector<int> keep;  // component ids, largest first
-  int largest_px = 0;
-  for (int k = 1; k < ncc; ++k) {
-    largest_px = std::max(largest_px, area[k]);
-    if (area[k] * pixel_area >= P.min_area) keep.push_back(k);
-  }
+  return comp;
+}
+
+// Ids of the components of at least min_area, largest first (at most 254, or the largest only).
+std::vector<int> kept_components(const Components& comp, double pixel_area, const SegmentParams& P) {
+  std::vector<int> keep;
+  for (int k = 1; k < comp.count; ++k)
+    if (comp.area[k] * pixel_area >= P.min_area) keep.push_back(k);
+  const auto& area = comp.area;
   std::sort(keep.begin(), keep.end(), [&](int a, int b) { return area[a] != area[b] ? area[a] > area[b] : a < b; });
-  if (keep.empty()) {
-    out.status = SegmentStatus::NoPart;
-    out.text = ncc <= 1 ? std::string("nothing on the table")
-                        : fmt("nothing on the table larger than %.4f m^2 (largest blob %.4f m^2)", P.min_area,
-                              largest_px * pixel_area);
-    return out;
-  }
-  if (!P.all_parts) keep.resize(1);
+  if (!keep.empty() && !P.all_parts) keep.resize(1);
   if (keep.size() > 254) keep.resize(254);
-  // Labels 1..K in scan order of each kept component's first pixel; the part pixels with a depth are
-  // gathered (camera-frame points, scan order) in the same pass, so later passes touch only them.
-  std::vector<std::uint8_t> relabel(ncc, 0);
+  return keep;
+}
+
+std::string no_part_text(const Components& comp, double pixel_area, const SegmentParams& P) {
+  if (comp.count <= 1) return "nothing on the table";
+  const int largest_px = *std::max_element(comp.area.begin() + 1, comp.area.end());
+  return fmt("nothing on the table larger than %.4f m^2 (largest blob %.4f m^2)", P.min_area, largest_px * pixel_area);
+}
+
+// The part pixels with a depth, as float camera-frame points in scan order, with their part and pixel.
+struct PartPixels {
+  std::vector<float> x, y, z;
+  std::vector<std::uint8_t> part;
+  std::vector<std::int32_t> pixel;
+  std::size_t size() const { return x.size(); }
+  Eigen::Vector3d point(std::size_t i) const { return Eigen::Vector3d(x[i], y[i], z[i]); }
+};
+
+// Labels 1..K in scan order of each kept component's first pixel into `labels`; the part pixels with a
+// depth are gathered in the same pass, so later passes touch only them. Returns K; relabel[component]
+// is its label.
+int gather_parts(const cv::Mat& depth, const Rays& ray, const cv::Mat& cc, const Components& comp,
+                 const std::vector<int>& keep, cv::Mat& labels, PartPixels& pts, std::vector<std::uint8_t>& relabel) {
+  const int W = depth.cols, H = depth.rows;
+  relabel.assign(comp.count, 0);
   for (int k : keep) relabel[k] = 255;  // kept, number not given yet
-  out.labels.create(H, W, CV_8UC1);
-  std::vector<float> px, py, pz;
-  std::vector<std::uint8_t> plab;
-  std::vector<std::int32_t> pidx;
+  labels.create(H, W, CV_8UC1);
   std::size_t expect = 0;
-  for (int k : keep) expect += area[k];
-  px.reserve(expect), py.reserve(expect), pz.reserve(expect), plab.reserve(expect), pidx.reserve(expect);
+  for (int k : keep) expect += comp.area[k];
+  pts.x.reserve(expect), pts.y.reserve(expect), pts.z.reserve(expect), pts.part.reserve(expect), pts.pixel.reserve(expect);
   // Only the rows of the kept components can hold a label.
   int by0 = H, by1 = 0;
-  for (int k : keep) by0 = std::min(by0, first_row[k]), by1 = std::max(by1, last_row[k] + 1);
-  const int bx0 = 0, bx1 = W;
-  out.labels.setTo(0);
+  for (int k : keep) by0 = std::min(by0, comp.first_row[k]), by1 = std::max(by1, comp.last_row[k] + 1);
+  labels.setTo(0);
   int next = 0;
   for (int r = by0; r < by1; ++r) {
     const int* cr = cc.ptr<int>(r);
     const std::uint16_t* dr = depth.ptr<std::uint16_t>(r);
-    std::uint8_t* lr = out.labels.ptr<std::uint8_t>(r);
-    for (int c = bx0; c < bx1; ++c) {
+    std::uint8_t* lr = labels.ptr<std::uint8_t>(r);
+    for (int c = 0; c < W; ++c) {
       std::uint8_t& l = relabel[cr[c]];
       if (l == 255) l = static_cast<std::uint8_t>(++next);
       lr[c] = l;
       if (l && dr[c]) {
-        const double z = dr[c] * unit;
-        px.push_back(static_cast<float>(ray_a[c] * z));
-        py.push_back(static_cast<float>(ray_b[r] * z));
-        pz.push_back(static_cast<float>(z));
-        plab.push_back(static_cast<std::uint8_t>(l - 1));
-        pidx.push_back(r * W + c);
+        const double z = dr[c] * ray.unit;
+        pts.x.push_back(static_cast<float>(ray.a[c] * z));
+        pts.y.push_back(static_cast<float>(ray.b[r] * z));
+        pts.z.push_back(static_cast<float>(z));
+        pts.part.push_back(static_cast<std::uint8_t>(l - 1));
+        pts.pixel.push_back(r * W + c);
       }
     }
   }
-  const int K = next;
-  out.num_parts = K;
-  const int largest = relabel[keep[0]] - 1;
-  const std::size_t npts = px.size();
+  return next;
+}
 
-  // ---- plate top plane: one normal for all parts (they lie flat on the same table), one offset each ----
-  // Fitted on the part pixels, then refitted twice without the pixels far from it (mixed edge pixels,
-  // side walls), whose residuals are one-sided and would tilt the plane. Points as float (0.1 um at 2 m,
-  // far below the noise); sums in double about a reference point near the table.
+// Plate top planes: one normal for all parts (they lie flat on the same table), one offset each, and
+// the cut `tol` on the distance from them.
+struct TopPlanes {
+  Eigen::Vector3d normal;
+  std::vector<double> offset;
+  double tol = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d origin;  // the largest part's centroid on its plane
+  bool holds(const PartPixels& pts, std::size_t i) const {
+    return std::abs(normal.dot(pts.point(i)) - offset[pts.part[i]]) <= tol;
+  }
+};
+
+// Fitted on the part pixels, then refitted twice without the pixels far from it (mixed edge pixels,
+// side walls), whose residuals are one-sided and would tilt the plane. Sums in double about a reference
+// point near the table. False when the largest part has too few pixels to fit a plane.
+bool fit_top_planes(const PartPixels& pts, int K, int largest, const Eigen::Vector3d& table_normal, double z_table,
+                    double top_tolerance, TopPlanes& top) {
   std::vector<PlaneSums> part_sums(K);
   const Eigen::Vector3d ref(0, 0, z_table);
-  Eigen::Vector3d pn = n;  // plate normal, start from the table's
-  std::vector<double> poff(K, 0);
-  double tol = std::numeric_limits<double>::infinity();
+  top.normal = table_normal;  // start from the table's
+  top.offset.assign(K, 0);
   std::vector<double> residual_sample;
-  auto point = [&](std::size_t i) { return Eigen::Vector3d(px[i], py[i], pz[i]); };
   for (int pass = 0; pass < 3; ++pass) {
     for (auto& ps : part_sums) ps = PlaneSums{ref};
-    for (std::size_t i = 0; i < npts; ++i) {
-      const Eigen::Vector3d p = point(i);
-      if (pass > 0 && !(std::abs(pn.dot(p) - poff[plab[i]]) <= tol)) continue;
-      part_sums[plab[i]].add(p);
-    }
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (pass == 0 || top.holds(pts, i)) part_sums[pts.part[i]].add(pts.point(i));
     Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
     for (const auto& ps : part_sums)
       if (ps.n >= 1) scatter += ps.scatter();
     const auto& big = part_sums[largest];
-    if (!(big.n >= 3)) {
-      out.status = SegmentStatus::BadFrame;
-      out.text = "the part has too few valid depth pixels to fit its plane";
-      return out;
-    }
-    pn = smallest_eigenvector(scatter);
-    orient(pn, big.centroid());
-    for (int k = 0; k < K; ++k) poff[k] = part_sums[k].n >= 1 ? pn.dot(part_sums[k].centroid()) : 0;
+    if (!(big.n >= 3)) return false;
+    top.normal = smallest_eigenvector(scatter);
+    orient(top.normal, big.centroid());
+    for (int k = 0; k < K; ++k) top.offset[k] = part_sums[k].n >= 1 ? top.normal.dot(part_sums[k].centroid()) : 0;
     // Robust residual scale (median absolute residual of every 3rd point) for the next pass's cut.
     residual_sample.clear();
-    for (std::size_t i = 0; i < npts; i += 3) residual_sample.push_back(std::abs(pn.dot(point(i)) - poff[plab[i]]));
+    for (std::size_t i = 0; i < pts.size(); i += 3)
+      residual_sample.push_back(std::abs(top.normal.dot(pts.point(i)) - top.offset[pts.part[i]]));
     auto mid = residual_sample.begin() + residual_sample.size() / 2;
     std::nth_element(residual_sample.begin(), mid, residual_sample.end());
     const double sigma = residual_sample.empty() ? 0.0 : 1.4826 * *mid;
-    tol = P.top_tolerance > 0 ? P.top_tolerance : std::max(4 * sigma, 0.001);
+    top.tol = top_tolerance > 0 ? top_tolerance : std::max(4 * sigma, 0.001);
   }
+  top.origin = part_sums[largest].centroid();
+  return true;
+}
+
+// The plate frame (origin on the largest part's top plane, u along the camera's x where possible) and
+// the in-plane coordinates of the points on the top planes, in scan-line (gathered) order.
+void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& table, Segmentation& out) {
+  const Eigen::Vector3d& pn = top.normal;
   out.normal = pn;
-  out.origin = part_sums[largest].centroid();  // on the largest part's top plane (its centroid lies on it)
-  out.thickness = n.dot(out.origin) - offset;
+  out.origin = top.origin;
+  out.thickness = table.n.dot(out.origin) - table.offset;
   Eigen::Vector3d ux = Eigen::Vector3d::UnitX() - pn.x() * pn;
   if (ux.norm() < 1e-6) ux = Eigen::Vector3d::UnitY() - pn.y() * pn;  // plane perpendicular to camera x
   out.u_axis = ux.normalized();
   out.v_axis = pn.cross(out.u_axis);
-
-  // ---- points, scan-line order (the gathered order) ----
+  const std::size_t npts = pts.size();
   out.u.reserve(npts);
   out.v.reserve(npts);
   out.part.reserve(npts);
   out.pixel.reserve(npts);
   for (std::size_t i = 0; i < npts; ++i) {
-    const Eigen::Vector3d p = point(i);
-    if (!(std::abs(pn.dot(p) - poff[plab[i]]) <= tol)) continue;
-    const Eigen::Vector3d q = p - out.origin;  // orthogonal projection onto the plane = in-plane coordinates
+    if (!top.holds(pts, i)) continue;
+    const Eigen::Vector3d q = pts.point(i) - out.origin;  // orthogonal projection = in-plane coordinates
     out.u.push_back(static_cast<float>(q.dot(out.u_axis)));
     out.v.push_back(static_cast<float>(q.dot(out.v_axis)));
-    out.part.push_back(static_cast<std::int16_t>(plab[i]));
-    out.pixel.push_back(pidx[i]);
+    out.part.push_back(static_cast<std::int16_t>(pts.part[i]));
+    out.pixel.push_back(pts.pixel[i]);
   }
-  if (out.u.empty()) {
-    out.status = SegmentStatus::BadFrame;
-    out.text = "the part mask holds no pixel on the fitted top plane";
+}
+
+}  // namespace
+
+Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentParams& P) {
+  check(P);
+  Segmentation out;
+  auto fail = [&](SegmentStatus status, std::string why) {
+    out.status = status;
+    out.text = std::move(why);
     return out;
-  }
+  };
+  if (std::string why = frame_defect(depth, in); !why.empty()) return fail(SegmentStatus::BadFrame, why);
+  const Rays ray = pixel_rays(in, depth.cols, depth.rows);
+  Plane table;
+  if (std::string why = fit_table(depth, ray, P, table, out.table_rms); !why.empty())
+    return fail(SegmentStatus::BadFrame, why);
+  out.table_normal = table.n;
+  out.table_offset = table.offset;
+
+  // Scratch images kept per thread: allocating ~6 MB afresh each frame costs page faults every time.
+  thread_local cv::Mat mask, nodata, cc;
+  height_band_mask(depth, ray, table, P, mask, nodata);
+  open_and_close(mask, nodata, P);
+  const Components comp = label_components(mask, cc);
+  // A pixel's footprint on the table, near the optical axis.
+  const double z_table = table.offset / table.n.z();
+  const double pixel_area = (z_table / in.fx) * (z_table / in.fy);
+  const std::vector<int> keep = kept_components(comp, pixel_area, P);
+  if (keep.empty()) return fail(SegmentStatus::NoPart, no_part_text(comp, pixel_area, P));
+
+  PartPixels pts;
+  std::vector<std::uint8_t> relabel;
+  out.num_parts = gather_parts(depth, ray, cc, comp, keep, out.labels, pts, relabel);
+  TopPlanes top;
+  if (!fit_top_planes(pts, out.num_parts, relabel[keep[0]] - 1, table.n, z_table, P.top_tolerance, top))
+    return fail(SegmentStatus::BadFrame, "the part has too few valid depth pixels to fit its plane");
+  project_onto_top(pts, top, table, out);
+  if (out.u.empty()) return fail(SegmentStatus::BadFrame, "the part mask holds no pixel on the fitted top plane");
   out.status = SegmentStatus::Ok;
   return out;
 }

@@ -61,10 +61,10 @@ ServiceOptions options_from(const runtime::Node& node) {
   return o;
 }
 
-Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& service_options) {
-  const outline::Options& options = service_options;
-  Computed c;
-  hullgrind::outline_t& out = c.outline;
+namespace {
+
+// The outline message's fields that come from the cloud and the options, before any computation.
+void start_outline(const hullgrind::plate_cloud_t& cloud, const outline::Options& options, hullgrind::outline_t& out) {
   out.header.frame_id = cloud.header.frame_id;
   out.header.utime = cloud.header.utime;
   out.cloud_seq = cloud.header.seq;
@@ -79,6 +79,72 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& se
   out.points_read = cloud.n;
   out.mode = outline::to_string(options.mode);
   out.order = outline::to_string(options.order);
+}
+
+// The core's result into the outline message (statistics and loops); true when there is an outer loop.
+bool put_result(const outline::Result& r, hullgrind::outline_t& out) {
+  out.alpha_radius = r.alpha_radius;
+  out.points_read = int32_t(r.points_read);
+  out.points_used = int32_t(r.points_used);
+  out.duplicates_merged = int32_t(r.duplicates_merged);
+  out.mode = outline::to_string(r.mode);
+  out.order = outline::to_string(r.order);
+  out.time_triangulate = r.time.triangulate_ms * 1e-3;
+  out.time_alpha = r.time.alpha_ms * 1e-3;
+  out.time_loops = r.time.loops_ms * 1e-3;
+  out.triangles = int32_t(r.triangles);
+  out.search_cost = int64_t(r.search_cost);
+  bool any_outer = false;
+  for (const outline::Loop& l : r.loops) {
+    hullgrind::outline_loop_t m;
+    m.hole = l.hole;
+    any_outer |= !l.hole;
+    m.n = int32_t(l.points.size());
+    for (const auto& p : l.points) {
+      m.u.push_back(p.x);
+      m.v.push_back(p.y);
+    }
+    m.area = l.area;
+    m.perimeter = l.perimeter;
+    out.loops.push_back(std::move(m));
+  }
+  return any_outer;
+}
+
+// One part pose message per part of the loops, the centroid also in the cloud's frame.
+std::vector<hullgrind::part_pose_t> pose_messages(const hullgrind::plate_cloud_t& cloud,
+                                                  const std::vector<outline::Loop>& loops) {
+  std::vector<hullgrind::part_pose_t> out;
+  std::vector<PartPose> poses = part_poses(loops);
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    const PartPose& p = poses[k];
+    hullgrind::part_pose_t m{};
+    m.header.frame_id = cloud.header.frame_id;
+    m.header.utime = cloud.header.utime;
+    m.cloud_seq = cloud.header.seq;
+    m.part_index = int16_t(k);
+    m.num_parts = int16_t(poses.size());
+    m.centroid_uv[0] = p.centroid.x;
+    m.centroid_uv[1] = p.centroid.y;
+    for (int i = 0; i < 3; ++i)
+      m.centroid_xyz[i] = cloud.plane_origin[i] + p.centroid.x * cloud.plane_u_axis[i] + p.centroid.y * cloud.plane_v_axis[i];
+    m.principal_axis_angle = p.principal_axis_angle;
+    m.area = p.area;
+    m.bbox_min_uv[0] = p.bbox_min.x, m.bbox_min_uv[1] = p.bbox_min.y;
+    m.bbox_max_uv[0] = p.bbox_max.x, m.bbox_max_uv[1] = p.bbox_max.y;
+    m.obb_size[0] = p.major_extent, m.obb_size[1] = p.minor_extent;
+    out.push_back(m);
+  }
+  return out;
+}
+
+}  // namespace
+
+Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& service_options) {
+  const outline::Options& options = service_options;
+  Computed c;
+  hullgrind::outline_t& out = c.outline;
+  start_outline(cloud, options, out);
   auto fail = [&](int8_t status, std::string why) {
     out.status = status;
     out.error_text = std::move(why);
@@ -101,57 +167,12 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& se
     return fail(hullgrind::outline_t::STATUS_ERROR, e.what());
   }
   out.compute_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  out.alpha_radius = r.alpha_radius;
-  out.points_read = int32_t(r.points_read);
-  out.points_used = int32_t(r.points_used);
-  out.duplicates_merged = int32_t(r.duplicates_merged);
-  out.mode = outline::to_string(r.mode);
-  out.order = outline::to_string(r.order);
-  out.time_triangulate = r.time.triangulate_ms * 1e-3;
-  out.time_alpha = r.time.alpha_ms * 1e-3;
-  out.time_loops = r.time.loops_ms * 1e-3;
-  out.triangles = int32_t(r.triangles);
-  out.search_cost = int64_t(r.search_cost);
   c.holes_dropped = int(r.holes_dropped);  // gaps of a few missing pixels, dropped by the core's rule
-  bool any_outer = false;
-  for (const outline::Loop& l : r.loops) {
-    hullgrind::outline_loop_t m;
-    m.hole = l.hole;
-    any_outer |= !l.hole;
-    m.n = int32_t(l.points.size());
-    for (const auto& p : l.points) {
-      m.u.push_back(p.x);
-      m.v.push_back(p.y);
-    }
-    m.area = l.area;
-    m.perimeter = l.perimeter;
-    out.loops.push_back(std::move(m));
-  }
-  if (!any_outer) return fail(hullgrind::outline_t::STATUS_NO_LOOP, "no outer loop found (alpha radius " +
+  if (!put_result(r, out)) return fail(hullgrind::outline_t::STATUS_NO_LOOP, "no outer loop found (alpha radius " +
                                                                         std::to_string(r.alpha_radius) + " m too small for the point spacing?)");
   out.num_loops = int32_t(out.loops.size());
   out.status = hullgrind::outline_t::STATUS_OK;
-
-  std::vector<PartPose> poses = part_poses(r.loops);
-  for (std::size_t k = 0; k < poses.size(); ++k) {
-    const PartPose& p = poses[k];
-    hullgrind::part_pose_t m{};
-    m.header.frame_id = cloud.header.frame_id;
-    m.header.utime = cloud.header.utime;
-    m.cloud_seq = cloud.header.seq;
-    m.part_index = int16_t(k);
-    m.num_parts = int16_t(poses.size());
-    m.centroid_uv[0] = p.centroid.x;
-    m.centroid_uv[1] = p.centroid.y;
-    for (int i = 0; i < 3; ++i)
-      m.centroid_xyz[i] = cloud.plane_origin[i] + p.centroid.x * cloud.plane_u_axis[i] + p.centroid.y * cloud.plane_v_axis[i];
-    m.principal_axis_angle = p.principal_axis_angle;
-    m.area = p.area;
-    m.bbox_min_uv[0] = p.bbox_min.x, m.bbox_min_uv[1] = p.bbox_min.y;
-    m.bbox_max_uv[0] = p.bbox_max.x, m.bbox_max_uv[1] = p.bbox_max.y;
-    m.obb_size[0] = p.major_extent, m.obb_size[1] = p.minor_extent;
-    c.poses.push_back(m);
-  }
+  c.poses = pose_messages(cloud, r.loops);
   return c;
 }
 

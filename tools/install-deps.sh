@@ -12,6 +12,8 @@ packages=(
   cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev
   # lcm-spy, tools and tests
   default-jdk-headless default-jre libjchart2d-java libgtest-dev iproute2 xvfb python3 openssl
+  # lint (tools/lint: make test runs the function-length check; formatting with clang-format)
+  universal-ctags clang-format
   # test-only oracle for the outline core (never needed to build or run the product)
   libcgal-dev libgmp-dev
 )

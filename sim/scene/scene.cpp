@@ -131,32 +131,30 @@ partgen::Scene place_parts(const SceneSpec& spec) {
 
 }  // namespace
 
-RenderedFrame render(const SceneSpec& spec, const CameraProfile& prof, std::uint64_t frame_index) {
-  if (prof.width <= 0 || prof.height <= 0 || !(prof.fx > 0) || !(prof.fy > 0) || !(prof.mount_height > 0) ||
-      !(prof.depth_unit > 0))
-    throw std::invalid_argument("camera profile '" + prof.name + "' is incomplete");
-  const partgen::Scene scene = place_parts(spec);
-  const int W = prof.width, H = prof.height;
-  const int nparts = static_cast<int>(scene.parts.size());
-  if (nparts > 254) throw std::invalid_argument("at most 254 parts per scene");
+namespace {
 
-  RenderedFrame out;
-  out.intrinsics = prof.intrinsics();
-  // Camera above the table origin looking down: camera x = table x, camera y = -table y, camera z = -table z.
+// Camera above the table origin looking down: camera x = table x, camera y = -table y, camera z = -table z;
+// the table tilted about its x then y axis. Sets the pose and the table plane in the camera frame.
+void place_camera(const SceneSpec& spec, const CameraProfile& prof, RenderedFrame& out) {
   const Eigen::Matrix3d flip = Eigen::Vector3d(1, -1, -1).asDiagonal();
   const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(spec.table_tilt_x, Eigen::Vector3d::UnitX()) *
                                 Eigen::AngleAxisd(spec.table_tilt_y, Eigen::Vector3d::UnitY())).toRotationMatrix();
   out.camera_from_table.linear() = flip * tilt;
   out.camera_from_table.translation() = Eigen::Vector3d(0, 0, prof.mount_height);
   const Eigen::Isometry3d& T = out.camera_from_table;
-  const Eigen::Isometry3d table_from_camera = T.inverse();
   out.table_normal = T.linear() * Eigen::Vector3d::UnitZ();
   out.table_offset = out.table_normal.dot(T.translation());
-  const Eigen::Vector3d n = out.table_normal;
+}
 
-  // Each part's top face (z = thickness) and footprint (z = 0) projected into the image. A plane maps to the
-  // image by a homography, so straight edges stay straight and the even-odd spans of the projected rings are
-  // exactly the pixels whose centre ray meets the face (or, for the footprint, reaches the table inside it).
+// Each part's top face (z = thickness, polygons 0..n-1) and footprint (z = 0, polygons n..2n-1) projected
+// into the image; the parts' polygons and thicknesses are recorded in `out`. A plane maps to the image by a
+// homography, so straight edges stay straight and the even-odd spans of the projected rings are exactly
+// the pixels whose centre ray meets the face (or, for the footprint, reaches the table inside it).
+std::vector<partgen::PolygonWithHoles> project_parts(const partgen::Scene& scene, const SceneSpec& spec,
+                                                     const CameraProfile& prof, RenderedFrame& out) {
+  const int W = prof.width, H = prof.height;
+  const int nparts = static_cast<int>(scene.parts.size());
+  const Eigen::Isometry3d& T = out.camera_from_table;
   std::vector<partgen::PolygonWithHoles> image_polys(2 * nparts);
   auto project_ring = [&](const partgen::Ring& ring, double z, partgen::Ring& dst, int k) {
     dst.reserve(ring.size());
@@ -180,74 +178,95 @@ RenderedFrame render(const SceneSpec& spec, const CameraProfile& prof, std::uint
       for (const auto& h : placed.holes) project_ring(h, level == 0 ? t : 0.0, dst.holes.emplace_back(), k);
     }
   }
+  return image_polys;
+}
 
-  // Noise-free depth (metres) and labels.
-  std::vector<double> ray_a(W), ray_b(H);
-  for (int c = 0; c < W; ++c) ray_a[c] = (c - prof.cx) / prof.fx;
-  for (int r = 0; r < H; ++r) ray_b[r] = (r - prof.cy) / prof.fy;
+// Pixel ray directions ((c - cx) / fx, (r - cy) / fy, 1): a per column, b per row.
+struct Rays {
+  std::vector<double> a, b;
+};
+
+// The parts in one image row of the noise-free depth `zr` (metres, the table already there) and labels.
+// Top faces first: nothing of a part is nearer to the camera than its top. Then rays that reach the table
+// inside a footprint but miss the top face: they enter through a side wall (outer edge or a hole's). The
+// entry is where the ray's table-frame point first falls inside the outline, found by bisection along the
+// ray between the top-face and table heights.
+void render_row(int r, const std::vector<partgen::Span>& spans, const Rays& ray, const RenderedFrame& out,
+                double* zr, std::uint8_t* lr) {
+  const int W = static_cast<int>(ray.a.size());
+  const int nparts = static_cast<int>(out.part_polygons.size());
+  const Eigen::Vector3d& n = out.table_normal;
+  const Eigen::Isometry3d table_from_camera = out.camera_from_table.inverse();
+  auto columns = [&](const partgen::Span& s) {  // pixel centres c with x0 <= c < x1
+    return std::pair{std::max(0, static_cast<int>(std::ceil(s.x0))), std::min(W, static_cast<int>(std::ceil(s.x1)))};
+  };
+  for (const auto& s : spans) {
+    if (s.part >= nparts) continue;
+    const double t = out.part_thickness[s.part];
+    const auto [c0, c1] = columns(s);
+    for (int c = c0; c < c1; ++c) {
+      zr[c] = plane_z(n, out.table_offset + t, ray.a[c], ray.b[r]);
+      lr[c] = static_cast<std::uint8_t>(s.part + 1);
+    }
+  }
+  for (const auto& s : spans) {
+    if (s.part < nparts) continue;
+    const int k = s.part - nparts;
+    const double t = out.part_thickness[k];
+    const auto& poly = out.part_polygons[k];
+    const auto [c0, c1] = columns(s);
+    for (int c = c0; c < c1; ++c) {
+      if (lr[c]) continue;
+      const Eigen::Vector3d d(ray.a[c], ray.b[r], 1.0);
+      double z_out = plane_z(n, out.table_offset + t, d.x(), d.y()), z_in = zr[c];
+      for (int it = 0; it < 30; ++it) {
+        const double zm = 0.5 * (z_out + z_in);
+        const Eigen::Vector3d q = table_from_camera * (zm * d);
+        (partgen::contains(poly, q.x(), q.y()) ? z_in : z_out) = zm;
+      }
+      zr[c] = z_in;
+      lr[c] = static_cast<std::uint8_t>(k + 1);
+    }
+  }
+}
+
+// Noise-free depth (metres) of table and parts; sets out.truth_labels. Pixels whose ray only grazes a
+// part's corner between two walls (entering and leaving through walls without reaching table or top
+// inside the footprint) are not modelled: slivers well under a pixel.
+cv::Mat true_depth(const CameraProfile& prof, const std::vector<partgen::PolygonWithHoles>& image_polys,
+                   RenderedFrame& out) {
+  const int W = prof.width, H = prof.height;
+  Rays ray{std::vector<double>(W), std::vector<double>(H)};
+  for (int c = 0; c < W; ++c) ray.a[c] = (c - prof.cx) / prof.fx;
+  for (int r = 0; r < H; ++r) ray.b[r] = (r - prof.cy) / prof.fy;
   cv::Mat z_true(H, W, CV_64FC1);
   out.truth_labels = cv::Mat::zeros(H, W, CV_8UC1);
   for (int r = 0; r < H; ++r) {
     double* zr = z_true.ptr<double>(r);
-    for (int c = 0; c < W; ++c) zr[c] = plane_z(n, out.table_offset, ray_a[c], ray_b[r]);
+    for (int c = 0; c < W; ++c) zr[c] = plane_z(out.table_normal, out.table_offset, ray.a[c], ray.b[r]);
   }
-  if (nparts > 0) {
-    std::vector<const partgen::PolygonWithHoles*> polys;
-    for (const auto& p : image_polys) polys.push_back(&p);
-    const partgen::SpanRasterizer raster(polys, H, -1.0, 8.0);
-    std::vector<partgen::Span> spans;
-    auto columns = [&](const partgen::Span& s) {  // pixel centres c with x0 <= c < x1
-      return std::pair{std::max(0, static_cast<int>(std::ceil(s.x0))),
-                       std::min(W, static_cast<int>(std::ceil(s.x1)))};
-    };
-    for (int r = 0; r < H; ++r) {
-      raster.spans(r, spans);
-      double* zr = z_true.ptr<double>(r);
-      std::uint8_t* lr = out.truth_labels.ptr<std::uint8_t>(r);
-      // Top faces first: nothing of a part is nearer to the camera than its top.
-      for (const auto& s : spans) {
-        if (s.part >= nparts) continue;
-        const double t = out.part_thickness[s.part];
-        const auto [c0, c1] = columns(s);
-        for (int c = c0; c < c1; ++c) {
-          zr[c] = plane_z(n, out.table_offset + t, ray_a[c], ray_b[r]);
-          lr[c] = static_cast<std::uint8_t>(s.part + 1);
-        }
-      }
-      // Ray reaches the table inside a footprint but misses the top face: it enters through a side wall
-      // (outer edge or a hole's). The entry is where the ray's table-frame point first falls inside the
-      // outline, found by bisection along the ray between the top-face and table heights.
-      for (const auto& s : spans) {
-        if (s.part < nparts) continue;
-        const int k = s.part - nparts;
-        const double t = out.part_thickness[k];
-        const auto& poly = out.part_polygons[k];
-        const auto [c0, c1] = columns(s);
-        for (int c = c0; c < c1; ++c) {
-          if (lr[c]) continue;
-          const Eigen::Vector3d d(ray_a[c], ray_b[r], 1.0);
-          double z_out = plane_z(n, out.table_offset + t, d.x(), d.y()), z_in = zr[c];
-          for (int it = 0; it < 30; ++it) {
-            const double zm = 0.5 * (z_out + z_in);
-            const Eigen::Vector3d q = table_from_camera * (zm * d);
-            (partgen::contains(poly, q.x(), q.y()) ? z_in : z_out) = zm;
-          }
-          zr[c] = z_in;
-          lr[c] = static_cast<std::uint8_t>(k + 1);
-        }
-      }
-    }
+  if (image_polys.empty()) return z_true;
+  std::vector<const partgen::PolygonWithHoles*> polys;
+  for (const auto& p : image_polys) polys.push_back(&p);
+  const partgen::SpanRasterizer raster(polys, H, -1.0, 8.0);
+  std::vector<partgen::Span> spans;
+  for (int r = 0; r < H; ++r) {
+    raster.spans(r, spans);
+    render_row(r, spans, ray, out, z_true.ptr<double>(r), out.truth_labels.ptr<std::uint8_t>(r));
   }
-  // Pixels whose ray only grazes a part's corner between two walls (entering and leaving through walls
-  // without reaching table or top inside the footprint) are not modelled: slivers well under a pixel.
+  return z_true;
+}
 
-  // Sensor effects, from one random stream per (seed, frame): mixed depths at edges, noise, dropout.
+// Sensor effects, from one random stream per (seed, frame): mixed depths at edges, noise, dropout; then
+// quantised to depth counts.
+cv::Mat sensor_depth(const cv::Mat& z_true, const SceneSpec& spec, const CameraProfile& prof, std::uint64_t frame_index) {
+  const int W = z_true.cols, H = z_true.rows;
   partgen::Rng rng(partgen::stream_seed(spec.seed, frame_index));
   const double edge_jump = 0.003;  // a depth step larger than this between neighbours is an edge
-  out.depth.create(H, W, CV_16UC1);
+  cv::Mat depth(H, W, CV_16UC1);
   for (int r = 0; r < H; ++r) {
     const double* zr = z_true.ptr<double>(r);
-    std::uint16_t* dr = out.depth.ptr<std::uint16_t>(r);
+    std::uint16_t* dr = depth.ptr<std::uint16_t>(r);
     for (int c = 0; c < W; ++c) {
       double z = zr[c];
       const double u_drop = rng.uniform(), u_fly = rng.uniform(), u_mix = rng.uniform(), noise = rng.normal();
@@ -269,6 +288,24 @@ RenderedFrame render(const SceneSpec& spec, const CameraProfile& prof, std::uint
       dr[c] = (u_drop < prof.dropout || !(counts > 0)) ? 0 : static_cast<std::uint16_t>(std::min(counts, 65535.0));
     }
   }
+  return depth;
+}
+
+}  // namespace
+
+RenderedFrame render(const SceneSpec& spec, const CameraProfile& prof, std::uint64_t frame_index) {
+  if (prof.width <= 0 || prof.height <= 0 || !(prof.fx > 0) || !(prof.fy > 0) || !(prof.mount_height > 0) ||
+      !(prof.depth_unit > 0))
+    throw std::invalid_argument("camera profile '" + prof.name + "' is incomplete");
+  const partgen::Scene scene = place_parts(spec);
+  if (scene.parts.size() > 254) throw std::invalid_argument("at most 254 parts per scene");
+
+  RenderedFrame out;
+  out.intrinsics = prof.intrinsics();
+  place_camera(spec, prof, out);
+  const std::vector<partgen::PolygonWithHoles> image_polys = project_parts(scene, spec, prof, out);
+  const cv::Mat z_true = true_depth(prof, image_polys, out);
+  out.depth = sensor_depth(z_true, spec, prof, frame_index);
   return out;
 }
 

@@ -118,11 +118,8 @@ void small_time_table(std::ostream& o, const Report& r, const std::string& set, 
   }
 }
 
-}  // namespace
-
-void write_markdown(const Report& r, const std::string& path) {
-  std::ofstream o(path);
-  if (!o) throw std::runtime_error("cannot write " + path);
+// Title, how the figures were measured, and what the method names mean.
+void header_section(std::ostream& o, const Report& r) {
   o << "# Outline core benchmark: the paper's tables, our insertion orders, CGAL and PCL\n\n"
     << "Written by `hg-bench` (tools/bench/). All figures below come from ONE run of one process: times are "
        "medians of repeated runs of the whole outline (triangulation + circumradius classification + loops; "
@@ -148,7 +145,10 @@ void write_markdown(const Report& r, const std::string& path) {
        "bands of " << r.band_rows << " rows swept column by column (order computed inside the timed region from the pixel rows/columns); "
        "`CGAL DT + loops` = `Delaunay_triangulation_2` (Epick, range insertion with CGAL's spatial sort) + a "
        "squared-circumradius pass + chaining the free edges into loops.\n\n";
+}
 
+// The search cost (Tables 2, 7) and time (Tables 3, 8) tables of the low and down-sampled clouds.
+void paper_tables(std::ostream& o, const Report& r) {
   o << "## Table 2 reproduced: search cost, low-density clouds (paper Table 1 sizes)\n\n"
        "Search cost = triangles visited by point location + triangles tested by the cavity search (the "
        "paper's measure; `ordinary` tests every live triangle for every point).\n\n";
@@ -160,7 +160,10 @@ void write_markdown(const Report& r, const std::string& path) {
   small_time_table(o, r, "low", kTable3);
   o << "\n## Table 8 reproduced: time (ms), down-sampled clouds\n\n";
   small_time_table(o, r, "down", kTable8);
+}
 
+// Times on the high-density clouds (Tables 4, 5).
+void high_density_table(std::ostream& o, const Report& r) {
   o << "\n## High-density clouds (paper Table 4 sizes; Table 5 times): time (ms)\n\n"
        "| piece | points | DSHI scan | hilbert (shuffled) | hilbert/scan | brio (shuffled) | banded | CGAL DT + loops | "
        "DSHI / CGAL DT | CGAL Alpha_shape_2 | PCL ConcaveHull | DSHI / PCL | paper: DSHI / PCL |\n"
@@ -175,7 +178,10 @@ void write_markdown(const Report& r, const std::string& path) {
       << fmt("%.2f", d / cg) << " | " << ms(med(c, key::cgal_alpha)) << " | " << ms(pc) << " | "
       << fmt("1/%.0f", pc / d) << " | " << ms(p.dshi) << " / " << ms(p.pcl) << " |\n";
   }
+}
 
+// Per-inserted-point counters of every order.
+void work_table(std::ostream& o, const Report& r) {
   o << "\n## Where the insertion work goes: counts per inserted point\n\n"
        "locate = triangles visited by the walk (ordinary: all live triangles); cavity tests = neighbours tested "
        "by the cavity search; incircle = incircle tests (all of them, walk excluded); cavity = triangles "
@@ -194,7 +200,10 @@ void write_markdown(const Report& r, const std::string& path) {
         << ms(med(c, k)) << " |\n";
     }
   }
+}
 
+// Boundary edges and loops against the peers.
+void same_outline_table(std::ostream& o, const Report& r) {
   o << "\n## Same outline? (sanity check against the peers, same points and R)\n\n"
        "Boundary edges of the alpha shape. Ours and `CGAL DT + loops` use the same rule (r ≤ R inside); camera "
        "grids are full of cocircular quadruples, where the Delaunay triangulation is not unique, so a few "
@@ -220,25 +229,29 @@ void write_markdown(const Report& r, const std::string& path) {
       o << "–";
     o << " |\n";
   }
+}
 
-  if (!r.memory.empty()) {
-    o << "\n## Peak memory (max RSS of the whole process, getrusage via wait4)\n\n"
-      << "Cloud: " << r.memory_cloud << ". The hg-bench children load CGAL, PCL (with VTK) and OpenCV, so "
-         "their baseline is higher than hg-outline's; the last column subtracts the reader-only child.\n\n"
-         "| process | max RSS MB | wall ms | above reader-only MB | note |\n|---|---|---|---|---|\n";
-    long reader_kb = -1;
-    for (const auto& m : r.memory)
-      if (m.what.rfind("reading the file only", 0) == 0) reader_kb = m.max_rss_kb;
-    for (const auto& m : r.memory) {
-      const bool child = m.what.rfind("hg-outline", 0) != 0;
-      o << "| " << m.what << " | " << (m.max_rss_kb < 0 ? std::string("failed") : fmt("%.0f", m.max_rss_kb / 1024.0))
-        << " | " << ms(m.wall_ms) << " | "
-        << (child && reader_kb > 0 && m.max_rss_kb > 0 ? fmt("%.0f", (m.max_rss_kb - reader_kb) / 1024.0) : std::string("–"))
-        << " | " << m.note << " |\n";
-    }
+// Peak memory of the measured processes (when measured).
+void memory_table(std::ostream& o, const Report& r) {
+  if (r.memory.empty()) return;
+  o << "\n## Peak memory (max RSS of the whole process, getrusage via wait4)\n\n"
+    << "Cloud: " << r.memory_cloud << ". The hg-bench children load CGAL, PCL (with VTK) and OpenCV, so "
+       "their baseline is higher than hg-outline's; the last column subtracts the reader-only child.\n\n"
+       "| process | max RSS MB | wall ms | above reader-only MB | note |\n|---|---|---|---|---|\n";
+  long reader_kb = -1;
+  for (const auto& m : r.memory)
+    if (m.what.rfind("reading the file only", 0) == 0) reader_kb = m.max_rss_kb;
+  for (const auto& m : r.memory) {
+    const bool child = m.what.rfind("hg-outline", 0) != 0;
+    o << "| " << m.what << " | " << (m.max_rss_kb < 0 ? std::string("failed") : fmt("%.0f", m.max_rss_kb / 1024.0))
+      << " | " << ms(m.wall_ms) << " | "
+      << (child && reader_kb > 0 && m.max_rss_kb > 0 ? fmt("%.0f", (m.max_rss_kb - reader_kb) / 1024.0) : std::string("–"))
+      << " | " << m.note << " |\n";
   }
+}
 
-  // Targets of issue 3.
+// The issue-3 targets with their verdicts.
+void targets_table(std::ostream& o, const Report& r) {
   o << "\n## Targets (issue 3)\n\n| target | cloud | measured | limit | verdict |\n|---|---|---|---|---|\n";
   for (const auto& c : r.clouds) {
     const std::string set = set_of(c);
@@ -271,7 +284,20 @@ void write_markdown(const Report& r, const std::string& path) {
     if (m.what.rfind("hg-outline (", 0) == 0)
       o << "| peak memory ≤ 150 MB | " << r.memory_cloud << " | " << fmt("%.0f MB", m.max_rss_kb / 1024.0)
         << " | 150 MB | " << verdict(m.max_rss_kb / 1024.0, 150) << " |\n";
+}
 
+}  // namespace
+
+void write_markdown(const Report& r, const std::string& path) {
+  std::ofstream o(path);
+  if (!o) throw std::runtime_error("cannot write " + path);
+  header_section(o, r);
+  paper_tables(o, r);
+  high_density_table(o, r);
+  work_table(o, r);
+  same_outline_table(o, r);
+  memory_table(o, r);
+  targets_table(o, r);
   if (!r.include_text.empty()) o << "\n" << r.include_text;
 }
 

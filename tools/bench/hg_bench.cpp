@@ -287,26 +287,9 @@ struct Job {
 
 double now_ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-CloudResult bench_cloud(const BenchCloud& c, const Args& a) {
-  const auto& p = c.preset;
-  const bool small = p.name.rfind("high", 0) != 0;
-  CloudResult res;
-  res.preset = p.name;
-  res.table = p.table;
-  res.piece = p.piece;
-  res.paper_points = p.paper_points;
-  res.points = c.scan.size();
-  res.pitch = p.pitch;
-
-  // R: the product's automatic radius on the scan-order cloud; every method then gets this same R.
-  {
-    outline::Options o;
-    const outline::Result r = outline::compute_outline(c.scan, o);
-    res.alpha_radius = r.alpha_radius;
-    res.nn_spacing = r.nn_spacing_median;
-  }
-  const double R = res.alpha_radius;
-
+// The methods timed on cloud c, all with the same radius R: our orders and modes (DS, as-is on the
+// shuffled cloud and ordinary only on the small clouds) and the peers that are built and asked for.
+std::vector<Job> bench_jobs(const BenchCloud& c, const Args& a, double R, bool small) {
   auto ours = [&](std::span<const Vec2> pts, outline::Mode mode, outline::Order order) {
     return [pts, mode, order, R](Method& m) {
       outline::Options o;
@@ -357,22 +340,47 @@ CloudResult bench_cloud(const BenchCloud& c, const Args& a) {
   (void)peer;
   (void)slow;
 
+  return jobs;
+}
+
+// Round robin over the methods, so a burst of load from the shared machine spreads over all of them.
+void run_round_robin(const std::vector<Job>& jobs, const std::string& cloud_name, CloudResult& res) {
   for (const auto& j : jobs) {
     Method m;
     m.key = j.key;
     m.is_peer = j.is_peer;
     res.methods.push_back(m);
   }
-  // Round robin over the methods, so a burst of load from the shared machine spreads over all of them.
   int max_runs = 0;
   for (const auto& j : jobs) max_runs = std::max(max_runs, j.runs);
   for (int r = 0; r < max_runs; ++r)
     for (std::size_t k = 0; k < jobs.size(); ++k) {
       if (r >= jobs[k].runs) continue;
       jobs[k].run(res.methods[k]);
-      std::fprintf(stderr, "  %-8s %-26s run %d: %10.2f ms\n", p.name.c_str(), jobs[k].key.c_str(), r + 1,
+      std::fprintf(stderr, "  %-8s %-26s run %d: %10.2f ms\n", cloud_name.c_str(), jobs[k].key.c_str(), r + 1,
                    res.methods[k].time.ms.back());
     }
+}
+
+CloudResult bench_cloud(const BenchCloud& c, const Args& a) {
+  const auto& p = c.preset;
+  const bool small = p.name.rfind("high", 0) != 0;
+  CloudResult res;
+  res.preset = p.name;
+  res.table = p.table;
+  res.piece = p.piece;
+  res.paper_points = p.paper_points;
+  res.points = c.scan.size();
+  res.pitch = p.pitch;
+
+  // R: the product's automatic radius on the scan-order cloud; every method then gets this same R.
+  {
+    outline::Options o;
+    const outline::Result r = outline::compute_outline(c.scan, o);
+    res.alpha_radius = r.alpha_radius;
+    res.nn_spacing = r.nn_spacing_median;
+  }
+  run_round_robin(bench_jobs(c, a, res.alpha_radius, small), p.name, res);
   return res;
 }
 

@@ -68,7 +68,7 @@ TEST_F(OutlineServiceProcess, CloudInOutlineAndPoseOut) {
   EXPECT_EQ(o.mode, "dshi");  // the process defaults
   EXPECT_EQ(o.order, "brio");
   EXPECT_EQ(o.header.frame_id, "camera");
-  EXPECT_NEAR(inbox.poses.back().area, 0.0702, 1e-6);  // hole corners chamfered: see outline_service_test
+  EXPECT_NEAR(inbox.poses.back().area, 0.0702, 1e-6);  // hole corners chamfered: see compute_test.cpp
   EXPECT_EQ(inbox.poses.back().cloud_seq, 7);
   // The heartbeat reports the latency of that cloud.
   ASSERT_TRUE(until([&] { return !inbox.beats.empty() && inbox.beats.back().last_latency > 0; }, 3s));

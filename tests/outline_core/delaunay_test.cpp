@@ -1,5 +1,5 @@
 // Delaunay triangulation: exactness proven by an independent GMP checker on many clouds, for every
-// point-location mode and insertion order; predicates against GMP; errors; search cost.
+// point-location mode and insertion order; errors; search cost. The predicates: predicates_test.cpp.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -8,7 +8,6 @@
 #include "clouds.hpp"
 #include "exact_checker.hpp"
 #include "outline_core/delaunay.hpp"
-#include "outline_core/predicates.hpp"
 
 using namespace hg::outline;
 using namespace hg::outline::testing;
@@ -111,109 +110,6 @@ TEST(OutlineDelaunay, HugeAndTinyCoordinates) {
   check_all_modes(grid_cloud(30, 30, 1e-9, {}, 0.2));
   check_all_modes(random_cloud(800, 22, 1e-9, {1.0, 2.0}));        // tiny spread far away: translation rounds
   check_all_modes(grid_cloud(25, 25, 1e-9, {1.0, 1.0}));          // and rows/columns collapse or not
-}
-
-TEST(OutlineDelaunay, PredicatesAgreeWithRationalArithmetic) {
-  // Points near the line y = x, a few ulps apart: the floating determinant is mostly noise.
-  std::mt19937_64 rng(4);
-  std::uniform_int_distribution<int> k(0, 60);
-  const double base = 0.5, ulp = std::nextafter(0.5, 1.0) - 0.5;
-  int exact_zero = 0;
-  for (int it = 0; it < 20000; ++it) {
-    const Vec2 a{base + k(rng) * ulp, base + k(rng) * ulp}, b{12, 12}, c{24, 24};
-    const double s = pred::orient2d(a.x, a.y, b.x, b.y, c.x, c.y);
-    const int want = sgn(orient_q(exact(a), exact(b), exact(c)));
-    ASSERT_EQ((s > 0) - (s < 0), want) << it;
-    exact_zero += want == 0;
-  }
-  EXPECT_GT(exact_zero, 0);
-  // Near-cocircular: rounded points on the unit circle, and a fourth point nudged by ulps.
-  std::uniform_real_distribution<double> ang(0, 2 * M_PI);
-  for (int it = 0; it < 20000; ++it) {
-    Vec2 p[4];
-    for (auto& q : p) {
-      const double t = ang(rng);
-      q = {std::cos(t) * 1e3 + 5e5, std::sin(t) * 1e3 - 7e5};
-    }
-    if (pred::orient2d(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y) < 0) std::swap(p[1], p[2]);
-    const double s = pred::incircle(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y);
-    const int want = sgn(incircle_q(exact(p[0]), exact(p[1]), exact(p[2]), exact(p[3])));
-    ASSERT_EQ((s > 0) - (s < 0), want) << it;
-  }
-  // Exactly cocircular integer points.
-  const auto c = cocircular_cloud();
-  for (std::size_t i = 3; i + 3 < c.size(); ++i) {
-    const Vec2 &a = c[i], &b = c[i + 1], &d = c[i + 2], &e = c[i + 3];
-    EXPECT_EQ(pred::incircle(a.x, a.y, b.x, b.y, d.x, d.y, e.x, e.y), 0.0);
-  }
-}
-
-TEST(OutlineDelaunay, PredicatesOnFewBitPointsAgreeWithRationalArithmetic) {
-  // Coordinates on a 2^-24 grid (like float32 camera data in metres): their differences have few bits, so
-  // the exact fallback takes its integer path. Points on a circle rounded to the grid are cocircular to
-  // ~1e-7, far below the filter's reach; a rectangle's corners (a grid cell) are exactly cocircular;
-  // near-collinear triples rounded to the grid.
-  auto g24 = [](double v) { return std::round(v * 0x1p24) * 0x1p-24; };
-  std::mt19937_64 rng(17);
-  std::uniform_real_distribution<double> ang(0, 2 * M_PI), u(-1, 1);
-  int decided_nonzero = 0, zero = 0;
-  for (int it = 0; it < 20000; ++it) {
-    const double cxr = u(rng) * 0.3, cyr = u(rng) * 0.3, r = 1e-3 * (1 + std::fabs(u(rng)));
-    Vec2 p[4];
-    for (auto& q : p) {
-      const double t = ang(rng);
-      q = {g24(cxr + r * std::cos(t)), g24(cyr + r * std::sin(t))};
-    }
-    if (it % 4 == 0) {  // an axis-aligned rectangle
-      p[1] = {p[2].x, p[0].y};
-      p[3] = {p[0].x, p[2].y};
-    }
-    if (pred::orient2d(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y) < 0) std::swap(p[1], p[2]);
-    const double s = pred::incircle(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y);
-    const int want = sgn(incircle_q(exact(p[0]), exact(p[1]), exact(p[2]), exact(p[3])));
-    ASSERT_EQ((s > 0) - (s < 0), want) << it;
-    (want == 0 ? zero : decided_nonzero)++;
-    // The exact fallback itself (its integer path), called directly, also off the degenerate cases.
-    const double e = pred::incircle_exact(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, p[3].x, p[3].y);
-    ASSERT_EQ((e > 0) - (e < 0), want) << it;
-    const Vec2 far{g24(cxr + 3 * r * u(rng)), g24(cyr + 3 * r * u(rng))};
-    const double f = pred::incircle_exact(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, far.x, far.y);
-    ASSERT_EQ((f > 0) - (f < 0), sgn(incircle_q(exact(p[0]), exact(p[1]), exact(p[2]), exact(far)))) << it;
-    const double oe = pred::orient2d_exact(p[0].x, p[0].y, p[1].x, p[1].y, far.x, far.y);
-    ASSERT_EQ((oe > 0) - (oe < 0), sgn(orient_q(exact(p[0]), exact(p[1]), exact(far)))) << it;
-    // Near-collinear: a third float point on the segment, rounded.
-    const double t = (u(rng) + 1) / 2;
-    const Vec2 m{g24(p[0].x + t * (p[1].x - p[0].x)), g24(p[0].y + t * (p[1].y - p[0].y))};
-    const double o = pred::orient2d(p[0].x, p[0].y, p[1].x, p[1].y, m.x, m.y);
-    ASSERT_EQ((o > 0) - (o < 0), sgn(orient_q(exact(p[0]), exact(p[1]), exact(m)))) << it;
-  }
-  EXPECT_GT(zero, 1000) << decided_nonzero;
-  EXPECT_GT(decided_nonzero, 10000);
-}
-
-TEST(OutlineDelaunay, CircumradiusComparisonIsExact) {
-  // r = 5 exactly for the 6-8-10 right triangle (and scaled copies): r == R must give 0.
-  for (double s : {1.0, 0.125, 3.0, 1e-7, 1e7}) {
-    EXPECT_EQ(pred::circumradius_vs(0, 0, 6 * s, 0, 0, 8 * s, 5 * s), 0);
-    EXPECT_EQ(pred::circumradius_vs(0, 0, 6 * s, 0, 0, 8 * s, std::nextafter(5 * s, 0.0)), 1);
-    EXPECT_EQ(pred::circumradius_vs(0, 0, 6 * s, 0, 0, 8 * s, std::nextafter(5 * s, 1e300)), -1);
-  }
-  std::mt19937_64 rng(6);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (int it = 0; it < 5000; ++it) {
-    Vec2 p[3];
-    for (auto& q : p) q = {u(rng), u(rng)};
-    if (pred::orient2d(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y) == 0) continue;
-    const Q2 a = exact(p[0]), b = exact(p[1]), c = exact(p[2]);
-    const mpq_class r2 = circumradius2_q(a, b, c);
-    // R: the rounded circumradius and its neighbours, so r^2 - R^2 is tiny and of either sign.
-    double R = std::sqrt(r2.get_d());
-    for (double cand : {std::nextafter(R, 0.0), R, std::nextafter(R, 1e300), R * 0.5, R * 2}) {
-      const mpq_class R2 = mpq_class(cand) * mpq_class(cand);
-      const int want = r2 > R2 ? 1 : (r2 < R2 ? -1 : 0);
-      ASSERT_EQ(pred::circumradius_vs(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, cand), want) << it;
-    }
-  }
 }
 
 TEST(OutlineDelaunay, NonFinitePointsAreSkippedAndCounted) {
