@@ -92,6 +92,27 @@ std::string describe_unreached(const LoopCoverage& c, const Eigen::Isometry3d& p
   return text;
 }
 
+namespace {
+
+// The sequencing step's options: the job's parameters and the cell's configuration.
+SequenceOptions sequence_options(const JobParams& P, const PlannerConfig& cfg) {
+  SequenceOptions so;
+  so.tilt = P.chamfer_angle;
+  so.grind_speed = P.grind_speed;
+  so.travel_speed = P.travel_speed;
+  so.approach_speed = std::min(cfg.approach_speed, P.travel_speed);
+  so.step = P.step;
+  so.safe_height = P.safe_height;
+  so.z = cfg.z_offset;
+  so.lead_radius = cfg.lead_radius;
+  so.lead_angle = cfg.lead_angle;
+  so.direction = P.direction;
+  so.spindle_clockwise = cfg.spindle_clockwise;
+  return so;
+}
+
+}  // namespace
+
 PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig& cfg,
                 const std::optional<Vec3>& robot_position_base) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -140,19 +161,7 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   const Vec3 start_base = robot_position_base ? *robot_position_base : cfg.home;
   const Vec3 start_plate = T.inverse() * start_base;
 
-  SequenceOptions so;
-  so.tilt = P.chamfer_angle;
-  so.grind_speed = P.grind_speed;
-  so.travel_speed = P.travel_speed;
-  so.approach_speed = std::min(cfg.approach_speed, P.travel_speed);
-  so.step = P.step;
-  so.safe_height = P.safe_height;
-  so.z = cfg.z_offset;
-  so.lead_radius = cfg.lead_radius;
-  so.lead_angle = cfg.lead_angle;
-  so.direction = P.direction;
-  so.spindle_clockwise = cfg.spindle_clockwise;
-  res.path = to_base(sequence(grind, start_plate.head<2>(), so), T);
+  res.path = to_base(sequence(grind, start_plate.head<2>(), sequence_options(P, cfg)), T);
   res.slowed = limit_corner_speeds(res.path, start_base, cfg.limits.max_accel);
 
   if (std::string why = validate(res.path, cfg.limits, T.linear().col(2), start_base); !why.empty())

@@ -182,7 +182,9 @@ TEST(PathPlannerCoverage, ReportedStretchesAgreeWithBruteForceOnRandomPaths) {
         EXPECT_GT(d, R + kSampleSlack);
         ++unreached_points;
       }
-    if (c.unreached.empty()) EXPECT_LE(farthest(edge, segs), R + kTol) << "trial " << trial;
+    if (c.unreached.empty()) {
+      EXPECT_LE(farthest(edge, segs), R + kTol) << "trial " << trial;
+    }
     EXPECT_NEAR(c.unreached_length, unreached_points * (c.length / std::ceil(c.length / kSpacing)), 0.02 * c.length + 1e-9);
   }
 }

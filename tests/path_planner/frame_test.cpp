@@ -1,0 +1,101 @@
+// Unit tests of frames: plate to robot base, turning the normal up, the flip mirror, against independent (analytic) expectations.
+#include <gtest/gtest.h>
+
+#include "tests/path_planner/step_shapes.hpp"
+
+TEST(PathPlannerFrame, KnownPointsIntoTheBaseFrame) {
+  // Camera 1.2 m above the base at x = 0.5, looking down (roll = pi): camera x = base x, camera y = -base y.
+  const Eigen::Isometry3d cam = pose_from_xyz_rpy(Vec3(0.5, 0, 1.2), Vec3(kPi, 0, 0));
+  // Plate 1 m in front of the camera, u = camera x, v = camera -y, normal toward the camera.
+  const Plane plane{Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, -1)};
+  const Eigen::Isometry3d T = plate_to_base(plane, cam);
+  // plate (0.1, 0.2, 0) -> camera (0.1, -0.2, 1) -> base (0.6, 0.2, 0.2)
+  EXPECT_LT((T * Vec3(0.1, 0.2, 0) - Vec3(0.6, 0.2, 0.2)).norm(), 1e-12);
+  EXPECT_LT((T * Vec3(0, 0, 0.05) - Vec3(0.5, 0, 0.25)).norm(), 1e-12);  // plate up = base up
+  const std::vector<PlateWaypoint> p = {{Vec3(0.1, 0.2, 0), tool_orientation(Vec2(1, 0), Vec2(0, -1), 0), 0.1, kGrind, 0}};
+  const auto b = to_base(p, T);
+  EXPECT_LT((b[0].orientation.toRotationMatrix().col(2) - Vec3(0, 0, -1)).norm(), 1e-12);  // tool points down
+  EXPECT_LT((b[0].orientation.toRotationMatrix().col(0) - Vec3(1, 0, 0)).norm(), 1e-12);
+}
+
+TEST(PathPlannerFrame, MatrixAndXyzRpyConfigAgree) {
+  const Eigen::Isometry3d ref = pose_from_xyz_rpy(Vec3(0.3, -0.2, 1.1), Vec3(3.0, 0.1, -0.4));
+  std::string m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.17g", ref.matrix()(r, c));
+      if (!m.empty()) m += ',';
+      m += buf;
+    }
+  auto defaults = planner_params();
+  auto lookup = [&](std::map<std::string, std::string> over) {
+    return ParamLookup{[=](const std::string& k) {
+                         if (over.count(k)) return over.at(k);
+                         for (auto& p : defaults)
+                           if (p.name == k) return p.default_value;
+                         return std::string();
+                       },
+                       [=](const std::string& k) {
+                         std::string text = over.count(k) ? over.at(k) : "";
+                         if (text.empty())
+                           for (auto& p : defaults)
+                             if (p.name == k) text = p.default_value;
+                         std::vector<double> v;
+                         std::stringstream ss(text);
+                         std::string item;
+                         while (std::getline(ss, item, ',')) v.push_back(std::stod(item));
+                         return v;
+                       }};
+  };
+  const PlannerConfig a = config_from(lookup({{"camera_to_base", m}}));
+  const PlannerConfig b = config_from(lookup({{"camera_xyz", "0.3,-0.2,1.1"}, {"camera_rpy", "3.0,0.1,-0.4"}}));
+  EXPECT_LT((a.camera_to_base.matrix() - b.camera_to_base.matrix()).norm(), 1e-12);
+  EXPECT_THROW(config_from(lookup({{"camera_to_base", "1,0,0,0, 0,2,0,0, 0,0,1,0, 0,0,0,1"}})), hg::runtime::ConfigError);
+  EXPECT_THROW(config_from(lookup({{"tool_radius", "-1"}})), hg::runtime::ConfigError);
+}
+
+TEST(PathPlannerFrame, NormalPointingDownIsTurnedUpWithoutMovingThePlate) {
+  const Eigen::Isometry3d cam = pose_from_xyz_rpy(Vec3(0.5, 0, 1.2), Vec3(kPi, 0, 0));
+  OutlineInput in;
+  in.plane = {Vec3(0.01, 0.02, 1), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};  // normal away from the camera
+  in.loops = {{false, rect(0, 0, 0.2, 0.1)}};
+  auto to3 = [](const Plane& pl, const Vec2& p) { return Vec3(pl.origin + p.x() * pl.u + p.y() * pl.v); };
+  std::vector<Vec3> before;
+  for (const Vec2& p : in.loops[0].points) before.push_back(to3(in.plane, p));
+  normalize_up(in, cam);
+  EXPECT_GT((cam.linear() * in.plane.normal).z(), 0);
+  EXPECT_GT(in.plane.u.cross(in.plane.v).dot(in.plane.normal), 0);
+  EXPECT_GT(signed_area(in.loops[0].points), 0);  // still canonical
+  for (const Vec2& p : in.loops[0].points) {
+    double best = 1e9;
+    for (const Vec3& q : before) best = std::min(best, (to3(in.plane, p) - q).norm());
+    EXPECT_LT(best, 1e-15);
+  }
+}
+
+TEST(PathPlannerFrame, FlipMirrorsAcrossThePrincipalAxisThroughTheCentroid) {
+  // 0.4 x 0.2 plate with a 0.04 x 0.04 hole centred at (0.2, 0.05): symmetric about x = 0.2, so the
+  // principal axis is exactly x.
+  Ring hole = rect(0.18, 0.03, 0.22, 0.07);
+  std::reverse(hole.begin(), hole.end());
+  const std::vector<Loop> loops = {{false, rect(0, 0, 0.4, 0.2)}, {true, hole}};
+  const double A = 0.08 - 0.0016;
+  const double cx = 0.2, cy = (0.08 * 0.1 - 0.0016 * 0.05) / A;
+  const AreaMoments m = area_moments(loops);
+  EXPECT_NEAR(m.area, A, 1e-15);
+  EXPECT_NEAR(m.centroid.x(), cx, 1e-12);
+  EXPECT_NEAR(m.centroid.y(), cy, 1e-12);
+  EXPECT_NEAR(std::abs(m.major_axis.x()), 1, 1e-12);
+  const auto f = mirror_for_flip(loops);
+  EXPECT_LT(signed_area(f[1].points), 0);  // holes stay clockwise
+  EXPECT_GT(signed_area(f[0].points), 0);
+  Vec2 hc = Vec2::Zero();
+  for (const Vec2& p : f[1].points) hc += p / 4;
+  // Mirror of (0.1, 0.05) across the axis through the centroid.
+  const Eigen::Matrix2d Rf = 2 * m.major_axis * m.major_axis.transpose() - Eigen::Matrix2d::Identity();
+  EXPECT_LT((hc - (m.centroid + Rf * (Vec2(0.2, 0.05) - m.centroid))).norm(), 1e-12);
+  EXPECT_NEAR(hc.x(), 0.2, 1e-12);
+  EXPECT_NEAR(hc.y(), 2 * cy - 0.05, 1e-12);
+  EXPECT_NEAR(area_moments(f).area, A, 1e-12);
+}
