@@ -81,9 +81,10 @@ Eigen::Isometry3d transform(const YAML::Node& n, const std::string& where, const
 
 Calibration read_calibration(const YAML::Node& n, const std::string& where) {
   const std::string p = "calibration.";
-  only_keys(n, {"camera-to-base", "date", "method", "rms-mm", "worst-mm", "features"}, where, p);
+  only_keys(n, {"camera-to-base", "camera-to-flange", "date", "method", "rms-mm", "worst-mm", "features"}, where, p);
   Calibration c;
   c.camera_to_base = transform(need(n, "camera-to-base", where, p), where, p + "camera-to-base");
+  if (n["camera-to-flange"]) c.camera_to_flange = transform(n["camera-to-flange"], where, p + "camera-to-flange");
   c.date = text(need(n, "date", where, p), where, p + "date");
   c.method = text(need(n, "method", where, p), where, p + "method");
   c.rms_mm = number(need(n, "rms-mm", where, p), where, p + "rms-mm");
@@ -99,6 +100,17 @@ YAML::Node seq(const Eigen::Vector3d& v) {
   for (int i = 0; i < 3; ++i) n.push_back(v[i]);
   n.SetStyle(YAML::EmitterStyle::Flow);
   return n;
+}
+
+YAML::Node rows(const Eigen::Isometry3d& t) {
+  YAML::Node out;
+  for (int r = 0; r < 4; ++r) {
+    YAML::Node row;
+    for (int k = 0; k < 4; ++k) row.push_back(t.matrix()(r, k));
+    row.SetStyle(YAML::EmitterStyle::Flow);
+    out.push_back(row);
+  }
+  return out;
 }
 
 std::string stamp_for_file() {
@@ -124,6 +136,11 @@ void validate(const Cell& c, const std::string& where) {
   const Eigen::Matrix3d R = c.calibration.camera_to_base.linear();
   if ((R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 || R.determinant() < 0)
     fail(where, "calibration.camera-to-base", "rotation part is not a proper orthonormal matrix");
+  if (c.calibration.camera_to_flange) {
+    const Eigen::Matrix3d F = c.calibration.camera_to_flange->linear();
+    if ((F * F.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 || F.determinant() < 0)
+      fail(where, "calibration.camera-to-flange", "rotation part is not a proper orthonormal matrix");
+  }
   if (c.calibration.rms_mm < 0 || c.calibration.worst_mm < c.calibration.rms_mm)
     fail(where, "calibration.rms-mm", "residuals must satisfy 0 <= rms-mm <= worst-mm");
   for (int i = 0; i < 3; ++i)
@@ -175,13 +192,8 @@ std::string write_cell(const std::string& path, const Cell& c) {
   out << YAML::Comment("hullgrind cell file (docs/cell.md): metres, radians, seconds; robot base frame.") << YAML::Newline;
   YAML::Node root;
   YAML::Node cal;
-  const Eigen::Matrix4d m = c.calibration.camera_to_base.matrix();
-  for (int r = 0; r < 4; ++r) {
-    YAML::Node row;
-    for (int k = 0; k < 4; ++k) row.push_back(m(r, k));
-    row.SetStyle(YAML::EmitterStyle::Flow);
-    cal["camera-to-base"].push_back(row);
-  }
+  cal["camera-to-base"] = rows(c.calibration.camera_to_base);
+  if (c.calibration.camera_to_flange) cal["camera-to-flange"] = rows(*c.calibration.camera_to_flange);
   cal["date"] = c.calibration.date;
   cal["method"] = c.calibration.method;
   cal["rms-mm"] = c.calibration.rms_mm;

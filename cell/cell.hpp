@@ -3,6 +3,7 @@
 // every process and tool. Units: metres, radians, seconds; frames: the robot base frame unless named.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -22,6 +23,8 @@ struct Calibration {
   double rms_mm = 0;    // RMS residual of the fit, mm
   double worst_mm = 0;  // largest residual, mm
   int features = 0;     // holes (eye-to-hand) or views (eye-in-hand) the fit used
+  // Eye-in-hand only: camera -> flange (p_flange = T * p_camera); key camera-to-flange, absent otherwise.
+  std::optional<Eigen::Isometry3d> camera_to_flange;
 };
 
 struct Tool {

@@ -32,6 +32,12 @@ Cell random_cell(std::mt19937_64& rng) {
   c.calibration.rms_mm = 0.1 + 0.1 * std::abs(u(rng));
   c.calibration.worst_mm = c.calibration.rms_mm * (1 + std::abs(u(rng)));
   c.calibration.features = 6;
+  if (rng() % 2) {
+    Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
+    f.linear() = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    f.translation() = Eigen::Vector3d(0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
+    c.calibration.camera_to_flange = f;
+  }
   c.workspace_min = Eigen::Vector3d(-1 + 0.1 * u(rng), -1 + 0.1 * u(rng), -0.2 + 0.1 * u(rng));
   c.workspace_max = Eigen::Vector3d(1 + 0.1 * u(rng), 1 + 0.1 * u(rng), 1 + 0.1 * u(rng));
   c.table_z = c.workspace_min.z() + 0.05;
@@ -79,6 +85,10 @@ TEST(Cell, RandomCellsSurviveAWriteAndARead) {
     hg::cell::write_cell(p.string(), c);
     const Cell r = hg::cell::read_cell(p.string());
     EXPECT_EQ(r.calibration.camera_to_base.matrix(), c.calibration.camera_to_base.matrix());  // 17 digits: exact
+    ASSERT_EQ(r.calibration.camera_to_flange.has_value(), c.calibration.camera_to_flange.has_value());
+    if (c.calibration.camera_to_flange) {
+      EXPECT_EQ(r.calibration.camera_to_flange->matrix(), c.calibration.camera_to_flange->matrix());
+    }
     EXPECT_EQ(r.calibration.date, c.calibration.date);
     EXPECT_EQ(r.calibration.method, c.calibration.method);
     EXPECT_EQ(r.calibration.rms_mm, c.calibration.rms_mm);
