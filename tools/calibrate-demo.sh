@@ -4,10 +4,13 @@
 # depth frames of the calibration plate and the robot's readings), calibrate with hg-calibrate into a copy of
 # the cell file, verify, and write OUT/calibration.json with the estimated transform, the true one (the
 # renderer's ground truth, from the session's truth.json, never from the estimator) and the errors.
+# The verify step moves the simulated robot (hg-robot-bridge --driver sim) over each predicted hole centre
+# through HG_ROBOT_MOVE; the demo runs in a network namespace of its own (tests/netns.sh, loopback only).
 # Exits non-zero when a target is missed: eye-to-hand <= 0.5 mm and 0.05 deg, eye-in-hand <= 1.0 mm and 0.1 deg.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
+if [[ "${HG_IN_NETNS:-}" != "1" ]]; then exec "$ROOT/tests/netns.sh" "$0" "$@"; fi
 BIN=${BIN:-$ROOT/build/bin}
 OUT=${OUT:-$ROOT/out}
 SEED=1
@@ -28,20 +31,26 @@ while [[ $# -gt 0 ]]; do
     *) usage >&2; exit 2 ;;
   esac
 done
-[[ -x $BIN/hg-calibrate ]] || { echo "calibrate-demo: $BIN/hg-calibrate not built" >&2; exit 2; }
+for exe in hg-calibrate hg-robot-bridge; do
+  [[ -x $BIN/$exe ]] || { echo "calibrate-demo: $BIN/$exe not built" >&2; exit 2; }
+done
 
 WORK=$OUT/calibration
 rm -rf "$WORK"
 mkdir -p "$WORK"
 CELL=$WORK/cell.yaml
 cp "$ROOT/config/cell.yaml" "$CELL"
+# The simulated robot, fast (50 simulated seconds per second); stopped by its pid when the demo ends.
+"$BIN/hg-robot-bridge" --driver sim --sim-time-scale 50 --state-file "$WORK/robot.state" >"$WORK/robot_bridge.log" 2>&1 &
+ROBOT_PID=$!
+trap 'kill "$ROBOT_PID" 2>/dev/null || true; wait "$ROBOT_PID" 2>/dev/null || true' EXIT
 for profile in pm806 lsr-l; do
   for mode in eye-to-hand eye-in-hand; do
     dir=$WORK/$profile-$mode
     echo "== $profile $mode"
     "$BIN/hg-calibrate" simulate --mode "$mode" --profile "$profile" --seed "$SEED" --session "$dir/session"
     "$BIN/hg-calibrate" "$mode" --session "$dir/session" --cell "$CELL" --report "$dir/fit.json" 2>"$dir/fit.log"
-    "$BIN/hg-calibrate" verify --session "$dir/session" --cell "$CELL" --report "$dir/verify.json" 2>"$dir/verify.log"
+    "$BIN/hg-calibrate" verify --move --session "$dir/session" --cell "$CELL" --report "$dir/verify.json" 2>"$dir/verify.log"
   done
 done
 
@@ -75,6 +84,7 @@ for profile in ("pm806", "lsr-l"):
             run["tsai_park_disagreement_mm"], run["tsai_park_disagreement_deg"] = fit["disagreement_mm"], fit["disagreement_deg"]
         else:
             run["rms_mm"], run["worst_mm"] = fit["rms_mm"], fit["worst_mm"]
+        assert ver["moved"] and all("tcp_reached" in h for h in ver["holes"]), "verify did not move the robot"
         run["verify_rms_mm"], run["verify_worst_mm"] = ver["rms_mm"], ver["worst_mm"]
         tmm, tdeg = targets[mode]
         run["target_mm"], run["target_deg"] = tmm, tdeg

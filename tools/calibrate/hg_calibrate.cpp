@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -9,6 +10,8 @@
 #include "calibration/sim.hpp"
 #include "calibration/target.hpp"
 #include "cell/cell.hpp"
+#include "runtime/lcm_url.hpp"
+#include "tools/calibrate/robot_moves.hpp"
 #include "tools/calibrate/session.hpp"
 
 using namespace hg;
@@ -32,6 +35,10 @@ options:
   --report FILE     JSON report of the fit (transform, residuals per feature and per view)
   --dry-run         do not write the cell file
   --above M         verify: height of the TCP target above the hole centre (default 0.01)
+  --move            verify: move the robot's TCP to each target over the bus (HG_ROBOT_MOVE, answered on
+                    HG_JOB_STATUS; docs/CHANNELS.md) and report where HG_ROBOT_STATUS says it got
+  --lcm-url URL     with --move [default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0]
+  --speed V         with --move: m/s (default 0.1)
 simulate only:
   --mode eye-to-hand|eye-in-hand  --profile pm806|lsr-l  --views N (default 3 / 8)  --seed N
   --tcp-noise M     robot reading error per axis, metres (default 0.00005)
@@ -40,7 +47,9 @@ Exit status: 0 done, 1 refused (the reason on stderr), 2 usage.
 
 struct Args {
   std::string mode, session, cell = "config/cell.yaml", report, sim_mode = "eye-to-hand", profile = "pm806";
-  bool dry_run = false;
+  bool dry_run = false, move = false;
+  std::string lcm_url = runtime::default_lcm_url();
+  double speed = 0.1;
   double above = 0.01, tcp_noise = 0.00005;
   int views = 0;
   std::uint64_t seed = 1;
@@ -162,6 +171,8 @@ int verify(const Args& a) {
   if (s.mode == "eye-in-hand" && !c.calibration.camera_to_flange)
     throw std::runtime_error(a.cell + ": calibration.camera-to-flange: missing (run eye-in-hand first)");
   const auto seen = detect_all(s, d);
+  std::unique_ptr<calibrate::RobotMoves> robot;
+  if (a.move) robot = std::make_unique<calibrate::RobotMoves>(a.lcm_url);
   json holes = json::array();
   double worst = 0, ss = 0;
   for (std::size_t v = 0; v < seen.size(); ++v) {
@@ -171,10 +182,19 @@ int verify(const Args& a) {
     for (const auto& h : seen[v].holes) {
       const Eigen::Vector3d predicted = cam_to_base * h.centre_camera;
       const Eigen::Vector3d target = predicted + a.above * Eigen::Vector3d::UnitZ();
-      json row{{"view", v}, {"hole", d.holes[h.drawing_index].id}, {"tcp_target", {target.x(), target.y(), target.z()}}};
+      const std::string& id = d.holes[h.drawing_index].id;
+      json row{{"view", v}, {"hole", id}, {"tcp_target", {target.x(), target.y(), target.z()}}};
+      Eigen::Vector3d pointed = predicted;  // where the TCP points at the plate: the reached pose, down by `above`
+      if (robot) {
+        const calibrate::MoveResult r = robot->move_to("verify-" + cell::utc_now_iso() + "-" + std::to_string(v) + "-" + id,
+                                                       target, Eigen::Quaterniond(0, 1, 0, 0), a.speed, 120);
+        if (!r.done) throw std::runtime_error("move over " + id + " of view " + std::to_string(v) + ": " + r.message);
+        row["tcp_reached"] = {r.tcp.x(), r.tcp.y(), r.tcp.z()};
+        pointed = r.tcp - a.above * Eigen::Vector3d::UnitZ();
+      }
       if (!truth.is_null()) {
         const auto plate = calibrate::from_row_major(truth.at("plate_to_base").at(v).get<std::vector<double>>(), "truth.json");
-        const double dist = (predicted - plate * d.holes[h.drawing_index].centre).norm();
+        const double dist = (pointed - plate * d.holes[h.drawing_index].centre).norm();
         row["distance_mm"] = dist * 1e3;
         worst = std::max(worst, dist);
         ss += dist * dist;
@@ -183,11 +203,11 @@ int verify(const Args& a) {
     }
   }
   if (!truth.is_null())
-    std::printf("verify: %zu holes, distance to the true centres rms %.3f mm, worst %.3f mm\n", holes.size(),
-                std::sqrt(ss / holes.size()) * 1e3, worst * 1e3);
+    std::printf("verify: %zu holes%s, distance to the true centres rms %.3f mm, worst %.3f mm\n", holes.size(),
+                robot ? " (TCP moved over each)" : "", std::sqrt(ss / holes.size()) * 1e3, worst * 1e3);
   else
     std::printf("verify: %zu TCP targets %.0f mm above the predicted centres (measure each distance)\n", holes.size(), a.above * 1e3);
-  json report{{"mode", "verify"}, {"holes", holes}};
+  json report{{"mode", "verify"}, {"moved", a.move}, {"holes", holes}};
   if (!truth.is_null()) report["rms_mm"] = std::sqrt(ss / holes.size()) * 1e3, report["worst_mm"] = worst * 1e3;
   write_json(a.report, report);
   return 0;
@@ -250,6 +270,9 @@ bool parse(int argc, char** argv, Args& a) {
     else if (o == "--cell") a.cell = value();
     else if (o == "--report") a.report = value();
     else if (o == "--dry-run") a.dry_run = true;
+    else if (o == "--move") a.move = true;
+    else if (o == "--lcm-url") a.lcm_url = value();
+    else if (o == "--speed") a.speed = std::stod(value());
     else if (o == "--above") a.above = std::stod(value());
     else if (o == "--mode") a.sim_mode = value();
     else if (o == "--profile") a.profile = value();
