@@ -28,6 +28,8 @@ modes:
                 (Tsai and Park, their disagreement); writes calibration.camera-to-flange
   verify        the TCP targets above each predicted hole centre from the cell's calibration; with a
                 simulated session (DIR/truth.json) the distance of each prediction from the true centre
+  touch         records the robot's TCP (next HG_ROBOT_STATUS) as the position of hole --hole in view --view
+                of the session (eye-to-hand: bring the pointer to the hole centre, then run this)
   simulate      writes a simulated session (virtual camera, renderer's truth in DIR/truth.json)
 options:
   --session DIR     session folder: DIR/session.json (+ depth PNGs)
@@ -39,6 +41,7 @@ options:
                     HG_JOB_STATUS; docs/CHANNELS.md) and report where HG_ROBOT_STATUS says it got
   --lcm-url URL     with --move [default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0]
   --speed V         with --move: m/s (default 0.1)
+touch only:  --view K (default 0)  --hole H1..H6
 simulate only:
   --mode eye-to-hand|eye-in-hand  --profile pm806|lsr-l  --views N (default 3 / 8)  --seed N
   --tcp-noise M     robot reading error per axis, metres (default 0.00005)
@@ -51,7 +54,8 @@ struct Args {
   std::string lcm_url = runtime::default_lcm_url();
   double speed = 0.1;
   double above = 0.01, tcp_noise = 0.00005;
-  int views = 0;
+  int views = 0, view = 0;
+  std::string hole;
   std::uint64_t seed = 1;
 };
 
@@ -257,6 +261,24 @@ int simulate(const Args& a) {
   return 0;
 }
 
+// Eye-to-hand by hand: the pointer is on a hole centre; its TCP from HG_ROBOT_STATUS goes into the session.
+int touch(const Args& a) {
+  calibrate::Session s = calibrate::read_session(a.session);
+  const calibration::Drawing d = calibration::calibration_plate_drawing();
+  bool known = false;
+  for (const auto& h : d.holes) known |= h.id == a.hole;
+  if (!known) throw std::runtime_error("--hole: '" + a.hole + "' is not a hole of the drawing (H1..H6)");
+  if (a.view < 0 || a.view >= static_cast<int>(s.views.size()))
+    throw std::runtime_error("--view: " + std::to_string(a.view) + " not in the session (" + std::to_string(s.views.size()) + " views)");
+  calibrate::RobotMoves robot(a.lcm_url);
+  const auto tcp = robot.current_tcp(5.0);
+  if (!tcp) throw std::runtime_error("no HG_ROBOT_STATUS within 5 s on " + a.lcm_url);
+  s.views[a.view].tcp_at_hole[a.hole] = *tcp;
+  calibrate::write_session(a.session, s);
+  std::printf("touch: view %d hole %s at TCP (%.5f, %.5f, %.5f)\n", a.view, a.hole.c_str(), tcp->x(), tcp->y(), tcp->z());
+  return 0;
+}
+
 bool parse(int argc, char** argv, Args& a) {
   if (argc < 2) return false;
   a.mode = argv[1];
@@ -271,6 +293,8 @@ bool parse(int argc, char** argv, Args& a) {
     else if (o == "--report") a.report = value();
     else if (o == "--dry-run") a.dry_run = true;
     else if (o == "--move") a.move = true;
+    else if (o == "--view") a.view = std::stoi(value());
+    else if (o == "--hole") a.hole = value();
     else if (o == "--lcm-url") a.lcm_url = value();
     else if (o == "--speed") a.speed = std::stod(value());
     else if (o == "--above") a.above = std::stod(value());
@@ -306,6 +330,7 @@ int main(int argc, char** argv) {
     if (a.mode == "eye-in-hand") return eye_in_hand(a);
     if (a.mode == "verify") return verify(a);
     if (a.mode == "simulate") return simulate(a);
+    if (a.mode == "touch") return touch(a);
     std::fprintf(stderr, "hg-calibrate: unknown mode '%s'\n%s", a.mode.c_str(), kUsage);
     return 2;
   } catch (const std::exception& e) {

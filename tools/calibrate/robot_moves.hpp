@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -22,6 +23,8 @@ class RobotMoves {
   // Sends the move and waits (at most timeout_s) for DONE or another final state, then for a fresh status.
   MoveResult move_to(const std::string& move_id, const Eigen::Vector3d& position, const Eigen::Quaterniond& q,
                      double speed, double timeout_s);
+  // The TCP position of the next HG_ROBOT_STATUS (nullopt when none came within timeout_s).
+  std::optional<Eigen::Vector3d> current_tcp(double timeout_s);
 
  private:
   struct Impl;
