@@ -263,16 +263,18 @@ std::vector<Shape> catalogue(double scale) {
 Shape make_shape(std::string_view name, double scale) {
   if (!(scale > 0) || !std::isfinite(scale))
     throw std::invalid_argument("shape scale must be a positive finite number, got " + std::to_string(scale));
-  for (const auto& table : {std::span<const Entry>(kShapes), std::span<const Entry>(kFixtures)})
-  for (const Entry& e : table) {
-    if (name == e.name) {
-      Shape s = e.make(scale);
-      s.scale = scale;
-      return s;
+  for (const auto& table : {std::span<const Entry>(kShapes), std::span<const Entry>(kFixtures)}) {
+    for (const Entry& e : table) {
+      if (name == e.name) {
+        Shape s = e.make(scale);
+        s.scale = scale;
+        return s;
+      }
     }
   }
   std::string valid;
   for (const Entry& e : kShapes) valid += std::string(valid.empty() ? "" : ", ") + e.name;
+  for (const Entry& e : kFixtures) valid += std::string(", ") + e.name;
   throw std::invalid_argument("unknown shape '" + std::string(name) + "' (valid: " + valid + ")");
 }
 
