@@ -205,6 +205,36 @@ void Bridge::on_grind_path(const hullgrind::grind_path_t& msg, double now) {
   report(job_id_, job_status_t::STATE_RUNNING, 0, buf);
 }
 
+void Bridge::on_move(const hullgrind::robot_move_t& msg, double now) {
+  driver_->update(now);
+  if (const runtime::JobLedger::Entry* seen = ledger_.find(msg.move_id))
+    return report(msg.move_id, seen->state, seen->progress,
+                  "move " + msg.move_id + " seen before: it is " + runtime::job_state_name(seen->state), false);
+  if (state_ != State::Idle)
+    return report(msg.move_id, job_status_t::STATE_REFUSED, 0,
+                  std::string("move refused: the robot bridge is ") + state_name(state_) +
+                      (job_id_.empty() ? "" : " (job " + job_id_ + ")"));
+  Path path;
+  path.job_id = msg.move_id;
+  path.frame = msg.header.frame_id;
+  path.position = {Vec3(msg.position[0], msg.position[1], msg.position[2])};
+  path.orientation = {Quat(msg.orientation[0], msg.orientation[1], msg.orientation[2], msg.orientation[3])};
+  path.speed = {msg.speed > 0 ? msg.speed : 0.05};
+  path.kind = {hullgrind::grind_path_t::KIND_TRAVEL};
+  const RobotState& st = driver_->state();
+  std::string why = st.pose_valid ? check_path(path, st.tcp, cfg_.limits) : "the robot's TCP pose is unknown";
+  if (why.empty()) why = driver_->start(path, now);
+  if (!why.empty()) return report(msg.move_id, job_status_t::STATE_REFUSED, 0, "move refused, nothing moved: " + why);
+  job_id_ = msg.move_id;
+  part_id_.clear();
+  not_ground_.clear();
+  progress_ = 0;
+  state_ = State::Running;
+  save_state();
+  last_progress_report_ = now;
+  report(job_id_, job_status_t::STATE_RUNNING, 0, std::string("moving the TCP on the ") + driver_->name() + " robot");
+}
+
 // The planner's coverage warnings in a PLANNED message ("; warning: skipped: ..." and "; warning: not
 // reached: ...", each naming a loop and "N mm of its M mm edge"), joined by "; ".
 static std::string not_ground_in(const std::string& planned) {

@@ -17,6 +17,7 @@
 #include "hullgrind/grind_path_t.hpp"
 #include "hullgrind/job_request_t.hpp"
 #include "hullgrind/job_status_t.hpp"
+#include "hullgrind/robot_move_t.hpp"
 #include "hullgrind/robot_status_t.hpp"
 #include "robot_bridge/driver.hpp"
 #include "robot_bridge/urscript.hpp"
@@ -53,6 +54,9 @@ class Bridge {
   void on_job_request(const hullgrind::job_request_t& req, double now);
   void on_grind_path(const hullgrind::grind_path_t& path, double now);
   void on_job_status(const hullgrind::job_status_t& status, double now);  // other processes' reports
+  // One straight move of the TCP (HG_ROBOT_MOVE): runs like a job of one waypoint under move_id, checked
+  // against the same limits; refused unless idle.
+  void on_move(const hullgrind::robot_move_t& move, double now);
   // Polls the driver, advances the job, publishes robot_status_t. Call at 100 Hz.
   void tick(double now);
   // The process is stopping: a held job is stopped and reported ABORTED (the state file stays, so a restart

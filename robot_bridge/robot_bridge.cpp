@@ -175,6 +175,9 @@ class Process {
       bridge_->on_grind_path(m, mono_now());
       node_.set_latency(double(runtime::now_utime() - d.recv_utime) * 1e-6);
     });
+    node.subscribe<hullgrind::robot_move_t>(channels::kRobotMove, [this](const hullgrind::robot_move_t& m, const runtime::Delivery&) {
+      bridge_->on_move(m, mono_now());
+    });
     node.subscribe<hullgrind::job_status_t>(channels::kJobStatus, [this](const hullgrind::job_status_t& m, const runtime::Delivery&) {
       bridge_->on_job_status(m, mono_now());
     });

@@ -9,7 +9,7 @@ packages=(
   cmake ninja-build ccache g++ pkg-config
   # runtime libraries
   liblcm-dev liblcm-bin liblcm-java libopenni2-dev libaravis-dev libusb-1.0-0-dev libeigen3-dev libopencv-dev
-  cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev
+  cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev libyaml-cpp-dev
   # lcm-spy, tools and tests
   default-jdk-headless default-jre libjchart2d-java libgtest-dev iproute2 xvfb python3 openssl
   # lint (tools/lint: make test runs the function-length check; formatting with clang-format)

@@ -17,12 +17,13 @@ import sys
 
 # Bottom to top. Folders of one layer may include each other, except the processes (see PROCESSES).
 LAYERS = [
-    ("ground", ["lcmtypes", "runtime", "camera_types", "polygon", "motion"]),
+    ("ground", ["lcmtypes", "runtime", "camera_types", "polygon", "motion", "cell"]),
     ("outline core", ["outline_core"]),
     ("point-cloud io", ["cloud_io"]),
     ("simulation", ["sim"]),
     ("processes", ["camera_bridge", "outline_service", "path_planner", "robot_bridge", "dds_gateway",
                    "job_recorder"]),
+    ("calibration", ["calibration"]),
     ("tools", ["tools"]),
 ]
 PROCESSES = set(LAYERS[4][1])

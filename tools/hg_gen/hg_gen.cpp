@@ -169,6 +169,12 @@ void list() {
   for (const Shape& s : catalogue())
     std::printf("  %-16s %9.6f %8.5f %d %.3f  %s\n", s.name.c_str(), s.exact_area, s.exact_perimeter,
                 s.exact_hole_count, s.thickness, s.description.c_str());
+  std::printf("fixtures (not hull parts):\n");
+  for (const std::string& name : fixture_names()) {
+    const Shape s = make_shape(name);
+    std::printf("  %-16s %9.6f %8.5f %d %.3f  %s\n", s.name.c_str(), s.exact_area, s.exact_perimeter,
+                s.exact_hole_count, s.thickness, s.description.c_str());
+  }
   std::printf("scenes:\n  demo             plate-hole-slot, l-bracket, knee-scallop, ring-flange on one table\n");
   std::printf("presets (name, paper table, piece, shape, rotation deg, pitch m, paper points):\n");
   for (const Preset& p : presets())

@@ -81,7 +81,7 @@ std::string default_channel(const Struct& type) {
       {"depth_frame_t", ch::kDepth},         {"plate_cloud_t", ch::kPlateCloud}, {"outline_t", ch::kOutline},
       {"part_pose_t", ch::kPartPose},        {"grind_path_t", ch::kGrindPath},   {"job_request_t", ch::kJobRequest},
       {"job_status_t", ch::kJobStatus},      {"robot_status_t", ch::kRobotStatus},
-      {"heartbeat_t", ch::kHeartbeat}};
+      {"robot_move_t", ch::kRobotMove},      {"heartbeat_t", ch::kHeartbeat}};
   auto it = table.find(type.name);
   return it == table.end() ? std::string() : std::string(it->second);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 
 namespace hg::partgen {
@@ -134,6 +135,25 @@ Shape trapezoid_holes(double s) {
   return sh;
 }
 
+// Calibration target (docs/calibration.md): plate with drilled holes of distinct diameters.
+Shape calibration_plate(double s) {
+  const double W = 0.42 * s, H = 0.30 * s;
+  Shape sh;
+  sh.name = "calibration-plate";
+  sh.description = "calibration plate 420x300x10, six drilled holes D30..D80 (docs/calibration.md)";
+  sh.thickness = 0.010;
+  sh.polygon.outer = {{0, 0}, {W, 0}, {W, H}, {0, H}};
+  sh.exact_area = W * H;
+  sh.exact_perimeter = 2 * (W + H);
+  for (const CalibrationHole& h : calibration_plate_holes(s)) {
+    sh.polygon.holes.push_back(circle_ring(h.centre, h.diameter / 2, true));
+    sh.exact_area -= kPi * h.diameter * h.diameter / 4;
+    sh.exact_perimeter += kPi * h.diameter;
+  }
+  sh.exact_hole_count = static_cast<int>(sh.polygon.holes.size());
+  return sh;
+}
+
 using Maker = Shape (*)(double);
 struct Entry {
   const char* name;
@@ -143,7 +163,27 @@ constexpr Entry kShapes[] = {
     {"plate-hole-slot", plate_hole_slot}, {"l-bracket", l_bracket},     {"knee-scallop", knee_scallop},
     {"collar-notch", collar_notch},       {"ring-flange", ring_flange}, {"trapezoid-holes", trapezoid_holes},
 };
+// Fixtures: made by make_shape and listed by hg-gen, but not test pieces of the catalogue.
+constexpr Entry kFixtures[] = {{"calibration-plate", calibration_plate}};
 }  // namespace
+
+std::vector<CalibrationHole> calibration_plate_holes(double s) {
+  // The drawing of docs/calibration.md, mm: no two diameters closer than 10, no symmetry of the pattern.
+  const double holes[6][3] = {{50, 50, 30}, {370, 50, 40}, {370, 250, 50}, {250, 110, 60}, {260, 230, 70}, {110, 190, 80}};
+  std::vector<CalibrationHole> out;
+  for (int k = 0; k < 6; ++k) {
+    std::string id = "H";
+    id += std::to_string(k + 1);
+    out.push_back({id, Vec2(holes[k][0], holes[k][1]) * 1e-3 * s, holes[k][2] * 1e-3 * s});
+  }
+  return out;
+}
+
+std::vector<std::string> fixture_names() {
+  std::vector<std::string> names;
+  for (const Entry& e : kFixtures) names.emplace_back(e.name);
+  return names;
+}
 
 double polygon_area(const PolygonWithHoles& poly) {
   double a = std::abs(signed_area(poly.outer));
@@ -209,15 +249,18 @@ std::vector<Shape> catalogue(double scale) {
 Shape make_shape(std::string_view name, double scale) {
   if (!(scale > 0) || !std::isfinite(scale))
     throw std::invalid_argument("shape scale must be a positive finite number, got " + std::to_string(scale));
-  for (const Entry& e : kShapes) {
-    if (name == e.name) {
-      Shape s = e.make(scale);
-      s.scale = scale;
-      return s;
+  for (const auto& table : {std::span<const Entry>(kShapes), std::span<const Entry>(kFixtures)}) {
+    for (const Entry& e : table) {
+      if (name == e.name) {
+        Shape s = e.make(scale);
+        s.scale = scale;
+        return s;
+      }
     }
   }
   std::string valid;
   for (const Entry& e : kShapes) valid += std::string(valid.empty() ? "" : ", ") + e.name;
+  for (const Entry& e : kFixtures) valid += std::string(", ") + e.name;
   throw std::invalid_argument("unknown shape '" + std::string(name) + "' (valid: " + valid + ")");
 }
 

@@ -62,6 +62,16 @@ inline bool contains(const Shape& shape, double x, double y) { return contains(s
 std::vector<std::string> shape_names();
 // One of each shape at the given scale.
 std::vector<Shape> catalogue(double scale = 1.0);
+// Fixtures of the cell (not hull parts): "calibration-plate", the hand-eye calibration target. make_shape
+// makes them too; they are not in shape_names() / catalogue(), the test pieces.
+std::vector<std::string> fixture_names();
+struct CalibrationHole {
+  std::string id;     // "H1".."H6", as on the drawing
+  Vec2 centre;        // plate frame, metres
+  double diameter;    // metres
+};
+// The calibration plate's drawing (docs/calibration.md) at the given scale.
+std::vector<CalibrationHole> calibration_plate_holes(double scale = 1.0);
 // Throws std::invalid_argument naming the shape (and listing the valid names) when unknown, or when
 // scale is not a positive finite number.
 Shape make_shape(std::string_view name, double scale = 1.0);

@@ -1,0 +1,60 @@
+// The cell file (config/cell.yaml): the robot cell's geometry and limits in one place, with the
+// camera-to-base calibration that produced its transform. Library hg_cell (yaml-cpp + Eigen, no LCM), below
+// every process and tool. Units: metres, radians, seconds; frames: the robot base frame unless named.
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Geometry>
+
+namespace hg::cell {
+
+// Every error names the file and the key ("config/cell.yaml: calibration.rms_mm: ...").
+struct CellError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Calibration {
+  Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();  // p_base = T * p_camera
+  std::string date;     // ISO 8601 UTC, when it was measured
+  std::string method;   // "eye-to-hand umeyama", "eye-in-hand tsai", "manual", ...
+  double rms_mm = 0;    // RMS residual of the fit, mm
+  double worst_mm = 0;  // largest residual, mm
+  int features = 0;     // holes (eye-to-hand) or views (eye-in-hand) the fit used
+  // Eye-in-hand only: camera -> flange (p_flange = T * p_camera); key camera-to-flange, absent otherwise.
+  std::optional<Eigen::Isometry3d> camera_to_flange;
+};
+
+struct Tool {
+  double radius = 0.01;  // m
+  double tilt = 0;       // rad, toward the edge normal
+};
+
+struct Cell {
+  Calibration calibration;
+  double table_z = 0;  // table top in the base frame; every path point must be strictly above
+  Eigen::Vector3d workspace_min = Eigen::Vector3d::Zero(), workspace_max = Eigen::Vector3d::Zero();
+  double max_speed = 0;  // m/s
+  double max_accel = 0;  // m/s^2
+  Tool tool;
+  Eigen::Vector3d home = Eigen::Vector3d::Zero();
+};
+
+// Reads and validates a cell file. Throws CellError naming the file and the key: missing or unknown keys,
+// wrong types, non-finite numbers, a rotation that is not orthonormal, an empty or inverted workspace, home
+// outside it, non-positive limits.
+Cell read_cell(const std::string& path);
+
+// Validates, then writes the cell atomically. An existing file is first kept as PATH.YYYYMMDDTHHMMSSZ.bak
+// (returned; empty when there was none). Throws CellError naming the file.
+std::string write_cell(const std::string& path, const Cell& cell);
+
+// The checks read_cell applies, for a cell built in code; `where` prefixes the messages.
+void validate(const Cell& cell, const std::string& where);
+
+// Current UTC time as ISO 8601 ("2026-12-01T20:30:00Z").
+std::string utc_now_iso();
+
+}  // namespace hg::cell

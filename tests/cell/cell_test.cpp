@@ -1,0 +1,173 @@
+// The cell file: round trip of random cells, dated backups, and errors that name the file and the key.
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <regex>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cell/cell.hpp"
+
+namespace fs = std::filesystem;
+using hg::cell::Cell;
+using hg::cell::CellError;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("hg_cell_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+Cell random_cell(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  Cell c;
+  const Eigen::Quaterniond q(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized());
+  c.calibration.camera_to_base.linear() = q.toRotationMatrix();
+  c.calibration.camera_to_base.translation() = Eigen::Vector3d(u(rng), u(rng), 1 + u(rng));
+  c.calibration.date = "2026-12-01T20:00:00Z";
+  c.calibration.method = "eye-to-hand umeyama";
+  c.calibration.rms_mm = 0.1 + 0.1 * std::abs(u(rng));
+  c.calibration.worst_mm = c.calibration.rms_mm * (1 + std::abs(u(rng)));
+  c.calibration.features = 6;
+  if (rng() % 2) {
+    Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
+    f.linear() = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    f.translation() = Eigen::Vector3d(0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
+    c.calibration.camera_to_flange = f;
+  }
+  c.workspace_min = Eigen::Vector3d(-1 + 0.1 * u(rng), -1 + 0.1 * u(rng), -0.2 + 0.1 * u(rng));
+  c.workspace_max = Eigen::Vector3d(1 + 0.1 * u(rng), 1 + 0.1 * u(rng), 1 + 0.1 * u(rng));
+  c.table_z = c.workspace_min.z() + 0.05;
+  c.max_speed = 0.2 + 0.1 * std::abs(u(rng));
+  c.max_accel = 1 + std::abs(u(rng));
+  c.tool.radius = 0.01 + 0.005 * std::abs(u(rng));
+  c.tool.tilt = 0.7 * u(rng);
+  c.home = Eigen::Vector3d(0.5 * u(rng), 0.5 * u(rng), 0.3 + 0.1 * std::abs(u(rng)));
+  return c;
+}
+
+std::string cell_text(const std::string& replace_from = "", const std::string& replace_to = "") {
+  std::ifstream f(std::string(HG_SOURCE_DIR) + "/config/cell.yaml");
+  std::stringstream s;
+  s << f.rdbuf();
+  std::string t = s.str();
+  if (!replace_from.empty()) {
+    const auto at = t.find(replace_from);
+    EXPECT_NE(at, std::string::npos) << replace_from;
+    if (at != std::string::npos) t.replace(at, replace_from.size(), replace_to);
+  }
+  return t;
+}
+
+// Writes text to a scratch file, reads it and returns the error message (empty: no error).
+std::string error_of(const std::string& text, const fs::path& path) {
+  std::ofstream(path) << text;
+  try {
+    hg::cell::read_cell(path.string());
+  } catch (const CellError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Cell, RandomCellsSurviveAWriteAndARead) {
+  for (std::uint64_t seed = 1; seed <= 50; ++seed) {
+    SCOPED_TRACE(seed);
+    std::mt19937_64 rng(seed);
+    const Cell c = random_cell(rng);
+    const fs::path p = scratch("round_trip.yaml");
+    fs::remove(p);
+    hg::cell::write_cell(p.string(), c);
+    const Cell r = hg::cell::read_cell(p.string());
+    EXPECT_EQ(r.calibration.camera_to_base.matrix(), c.calibration.camera_to_base.matrix());  // 17 digits: exact
+    ASSERT_EQ(r.calibration.camera_to_flange.has_value(), c.calibration.camera_to_flange.has_value());
+    if (c.calibration.camera_to_flange) {
+      EXPECT_EQ(r.calibration.camera_to_flange->matrix(), c.calibration.camera_to_flange->matrix());
+    }
+    EXPECT_EQ(r.calibration.date, c.calibration.date);
+    EXPECT_EQ(r.calibration.method, c.calibration.method);
+    EXPECT_EQ(r.calibration.rms_mm, c.calibration.rms_mm);
+    EXPECT_EQ(r.calibration.worst_mm, c.calibration.worst_mm);
+    EXPECT_EQ(r.calibration.features, c.calibration.features);
+    EXPECT_EQ(r.table_z, c.table_z);
+    EXPECT_EQ(r.workspace_min, c.workspace_min);
+    EXPECT_EQ(r.workspace_max, c.workspace_max);
+    EXPECT_EQ(r.max_speed, c.max_speed);
+    EXPECT_EQ(r.max_accel, c.max_accel);
+    EXPECT_EQ(r.tool.radius, c.tool.radius);
+    EXPECT_EQ(r.tool.tilt, c.tool.tilt);
+    EXPECT_EQ(r.home, c.home);
+  }
+}
+
+TEST(Cell, WritingKeepsThePreviousFileAsADatedBackup) {
+  std::mt19937_64 rng(7);
+  const fs::path p = scratch("backup.yaml");
+  for (const auto& e : fs::directory_iterator(p.parent_path()))
+    if (e.path().filename().string().rfind("backup.yaml.", 0) == 0) fs::remove(e.path());
+  fs::remove(p);
+  EXPECT_EQ(hg::cell::write_cell(p.string(), random_cell(rng)), "");  // nothing to keep the first time
+  std::ifstream first(p);
+  const std::string first_text((std::istreambuf_iterator<char>(first)), {});
+  const std::string backup = hg::cell::write_cell(p.string(), random_cell(rng));
+  ASSERT_FALSE(backup.empty());
+  EXPECT_TRUE(std::regex_match(fs::path(backup).filename().string(),
+                               std::regex(R"(backup\.yaml\.\d{8}T\d{6}Z\.bak)")));
+  std::ifstream kept(backup);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(kept)), {}), first_text);
+}
+
+TEST(Cell, TheShippedCellFileHoldsThePlannersValues) {
+  // Values of config/path_planner.yaml (camera_xyz [0.5, 0, 1.2], rpy [pi, 0, 0], table_z 0, workspace).
+  const Cell c = hg::cell::read_cell(std::string(HG_SOURCE_DIR) + "/config/cell.yaml");
+  const Eigen::Vector3d cam_in_base = c.calibration.camera_to_base * Eigen::Vector3d::Zero();
+  EXPECT_EQ(cam_in_base, Eigen::Vector3d(0.5, 0, 1.2));
+  EXPECT_EQ(c.calibration.camera_to_base.linear() * Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(c.table_z, 0.0);
+  EXPECT_EQ(c.workspace_min, Eigen::Vector3d(-1, -1, 0));
+  EXPECT_EQ(c.workspace_max, Eigen::Vector3d(1.5, 1, 1));
+  EXPECT_EQ(c.max_speed, 0.25);
+  EXPECT_EQ(c.max_accel, 2.0);
+  EXPECT_EQ(c.home, Eigen::Vector3d(0.5, 0, 0.3));
+}
+
+TEST(Cell, ErrorsNameTheFileAndTheKey) {
+  const fs::path p = scratch("bad.yaml");
+  const std::string f = p.string() + ": ";
+  struct Case {
+    std::string from, to, expect;
+  };
+  const Case cases[] = {
+      {"max-speed: 0.25", "max-sped: 0.25", f + "max-sped: unknown key"},
+      {"max-speed: 0.25", "", f + "max-speed: missing"},
+      {"max-accel: 2.0", "max-accel: fast", f + "max-accel: expected a number, got 'fast'"},
+      {"max-accel: 2.0", "max-accel: .nan", f + "max-accel: not a finite number"},
+      {"max-accel: 2.0", "max-accel: -2.0", f + "max-accel: must be > 0"},
+      {"  radius: 0.01", "  radius: 0.01\n  diameter: 0.02", f + "tool.diameter: unknown key"},
+      {"  rms-mm: 0", "  rms-mm: [1]", f + "calibration.rms-mm: expected a number"},
+      {"    - [0, -1, 0, 0]", "    - [0, -1, 0]", f + "calibration.camera-to-base[1]: expected a row of 4"},
+      {"    - [0, -1, 0, 0]", "    - [0, -2, 0, 0]", f + "calibration.camera-to-base: rotation part"},
+      {"  min: [-1.0, -1.0, 0.0]", "  min: [-1.0, 2.0, 0.0]", f + "workspace.min: must be below"},
+      {"  min: [-1.0, -1.0, 0.0]", "  min: [-1.0, -1.0]", f + "workspace.min: expected a list of 3"},
+      {"home: [0.5, 0.0, 0.3]", "home: [0.5, 0.0, 3.0]", f + "home: must lie inside"},
+      {"table-z: 0.0", "table-z: 0.0\ntable-z: 1.0", f + "table-z: given twice"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.to);
+    const std::string err = error_of(cell_text(c.from, c.to), p);
+    ASSERT_FALSE(err.empty());
+    EXPECT_EQ(err.rfind(c.expect, 0), 0u) << err;
+  }
+  EXPECT_EQ(error_of(cell_text(), p), "");  // the unchanged file is fine
+  try {
+    hg::cell::read_cell("/nonexistent/cell.yaml");
+    ADD_FAILURE() << "no error";
+  } catch (const CellError& e) {
+    EXPECT_STREQ(e.what(), "/nonexistent/cell.yaml: cannot open");
+  }
+}
