@@ -22,9 +22,7 @@ int sign_of(double v) { return (v > 0) - (v < 0); }
 
 int orient_sign_q(Vec2 a, Vec2 b, Vec2 c) { return sgn(orient_q(exact(a), exact(b), exact(c))); }
 
-int incircle_sign_q(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
-  return sgn(incircle_q(exact(a), exact(b), exact(c), exact(d)));
-}
+int incircle_sign_q(Vec2 a, Vec2 b, Vec2 c, Vec2 d) { return sgn(incircle_q(exact(a), exact(b), exact(c), exact(d))); }
 
 // Both the filtered predicate and the exact fallback called directly must give the rational sign.
 void expect_orient(Vec2 a, Vec2 b, Vec2 c, int want, std::uint64_t seed, int it) {
@@ -250,4 +248,3 @@ TEST(OutlinePredicates, CircumradiusComparisonIsExact) {
     }
   }
 }
-
