@@ -157,10 +157,8 @@ double median_triangle_spacing(const Triangulation& T) { return scan_triangles(T
 
 TriangleScan scan_triangles(const Triangulation& T) {
   TriangleScan scan;
-  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-  for (std::size_t v = 0; v < T.xy.size(); ++v)
-    if (T.vrep[v] == v) x0 = std::min(x0, T.xy[v].x), x1 = std::max(x1, T.xy[v].x), y0 = std::min(y0, T.xy[v].y), y1 = std::max(y1, T.xy[v].y);
-  scan.scale2 = (x1 - x0) * (y1 - y0) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
+  // The box of the inserted vertices is that of all (a merged duplicate has its representative's coordinates).
+  scan.scale2 = (T.xy_max.x - T.xy_min.x) * (T.xy_max.y - T.xy_min.y) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
   if (!std::isnormal(scan.scale2)) scan.scale2 = 0;  // no classes: every decision exact
   const std::size_t slots = T.slots();
   scan.rclass.assign(slots, 0);
@@ -235,21 +233,21 @@ double local_radius(std::span<const float> s, double k, std::uint32_t u, std::ui
 
 namespace {
 
-// inside[] as documented at classify_alpha, with `big(t)` the exact r > R_t decision.
-template <class Big>
-std::vector<std::uint8_t> classify_with(const Triangulation& T, bool outer_only, Big big) {
+// inside[] as documented at classify_alpha, from state(t): 0 for a ghost triangle, 1 for a finite
+// triangle with r <= R_t, 2 for one with r > R_t (decided exactly).
+template <class State>
+std::vector<std::uint8_t> classify_with(const Triangulation& T, bool outer_only, State state) {
   const std::size_t slots = T.slots();
-  std::vector<std::uint8_t> inside(slots, 0);
-  for (std::size_t t = 0; t < slots; ++t)
-    if (!T.is_ghost(t)) inside[t] = big(t) ? 2 : 1;  // 2 = big, for now
+  std::vector<std::uint8_t> inside(slots);
   if (!outer_only) {
-    for (auto& s : inside) s = s == 1;
+    for (std::size_t t = 0; t < slots; ++t) inside[t] = state(t) == 1;
     return inside;
   }
+  for (std::size_t t = 0; t < slots; ++t) inside[t] = state(t);
   // The paper's BFS: from every ghost triangle, through big triangles only; those reached are outside.
   std::vector<std::uint32_t> stack;
   for (std::size_t t = 0; t < slots; ++t)
-    if (T.is_ghost(t)) stack.push_back(static_cast<std::uint32_t>(t));
+    if (inside[t] == 0) stack.push_back(static_cast<std::uint32_t>(t));
   while (!stack.empty()) {
     const std::uint32_t t = stack.back();
     stack.pop_back();
@@ -273,7 +271,7 @@ bool bigger_than(const Triangulation& T, std::size_t t, double R) {
 }  // namespace
 
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only) {
-  return classify_with(T, outer_only, [&](std::size_t t) { return bigger_than(T, t, R); });
+  return classify_with(T, outer_only, [&](std::size_t t) { return T.is_ghost(t) ? 0 : bigger_than(T, t, R) ? 2 : 1; });
 }
 
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only, const TriangleScan& scan) {
@@ -281,20 +279,23 @@ std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool 
   // 3 % or more), and so is R's: 3 classes apart decide. Near the clamped ends, all exact.
   const int cR = std::isnormal(scan.scale2) ? r2_class(R * R / scan.scale2) : 0;
   const bool usable = cR >= 4 && cR <= 250;
+  // The ghost triangles are those of class 0: this pass reads the classes only, not the triangles.
   return classify_with(T, outer_only, [&](std::size_t t) {
     const int c = scan.rclass[t];
+    if (c == 0) return 0;
     if (usable && c != kUndecided) {
-      if (c + 3 <= cR) return false;
-      if (c >= cR + 3) return true;
+      if (c + 3 <= cR) return 1;
+      if (c >= cR + 3) return 2;
     }
-    return bigger_than(T, t, R);
+    return bigger_than(T, t, R) ? 2 : 1;
   });
 }
 
 std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing,
                                                double k, bool outer_only) {
   return classify_with(T, outer_only, [&](std::size_t t) {
-    return bigger_than(T, t, local_radius(vertex_spacing, k, T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2]));
+    if (T.is_ghost(t)) return 0;
+    return bigger_than(T, t, local_radius(vertex_spacing, k, T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2])) ? 2 : 1;
   });
 }
 

@@ -8,12 +8,29 @@
 #include <limits>
 #include <string>
 
+#include <sys/mman.h>
+
 #include "predicates.hpp"
 
 namespace hg::outline {
 namespace {
 
 constexpr std::uint32_t kNone = 0xffffffffu;
+
+// Room for n elements in v, the large arrays on transparent huge pages where the kernel gives them on
+// request (THP "madvise" mode, Debian's default): the insertion's scattered accesses to tri, twin and xy
+// then miss the TLB far less, and the first touch takes one fault per 2 MB instead of per 4 kB. Before
+// the first touch of the memory (reserve maps it, only the later assign/resize writes it); advice only.
+template <class T>
+void reserve_huge(std::vector<T>& v, std::size_t n) {
+  v.reserve(n);
+  const std::size_t bytes = n * sizeof(T);
+  if (bytes < (std::size_t{4} << 20)) return;
+  constexpr std::uintptr_t kPage = 4096;
+  const auto p = reinterpret_cast<std::uintptr_t>(v.data());
+  const std::uintptr_t begin = (p + kPage - 1) & ~(kPage - 1), end = (p + bytes) & ~(kPage - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+}
 
 std::string fmt(double v) {
   char buf[64];
@@ -387,6 +404,8 @@ void Builder::run(std::size_t n) {
   // A triangulation of n + 1 vertices (the ghost included) on the sphere has 2 (n + 1) - 4 triangles:
   // every slot is allocated once, no growth during the insertion.
   const std::size_t max_slots = 2 * n + 2;
+  reserve_huge(T_.tri, 3 * max_slots);
+  reserve_huge(T_.twin, 3 * max_slots);
   T_.tri.assign(3 * max_slots, 0);
   T_.twin.assign(3 * max_slots, 0);
   const std::uint32_t init_tri[12] = {a, b, c, b, a, G_, c, b, G_, a, c, G_};
@@ -395,6 +414,7 @@ void Builder::run(std::size_t n) {
   std::copy(init_twin, init_twin + 12, T_.twin.begin());
   slots_ = 4;
   T_.inserted = 3;
+  reserve_huge(T_.nn2, n);
   T_.nn2.assign(n, std::numeric_limits<float>::infinity());
   for (std::uint32_t u : {a, b, c})
     for (std::uint32_t w : {a, b, c})
@@ -424,21 +444,21 @@ std::size_t Triangulation::finite_count() const {
 
 namespace {
 
-// The insertion order of the points idx (finite, increasing) translated by -origin (computed on the fly,
-// as fl(p - origin): only an ordering, so rounding is harmless; equal points get equal keys).
-std::vector<std::uint32_t> order_translated(std::span<const Vec2> pts, std::vector<std::uint32_t> idx, Vec2 origin,
-                                            Order order) {
-  const std::size_t n = idx.size();
-  auto at = [&](std::size_t k) { return Vec2{pts[idx[k]].x - origin.x, pts[idx[k]].y - origin.y}; };
+struct Box {
+  double minx, maxx, miny, maxy;
+};
+
+// The insertion order as positions 0..n-1 of the points at(k) (translated on the fly, fl(p - origin):
+// only an ordering, so rounding is harmless; equal points get equal keys). `box` bounds the at(k): since
+// rounding is monotone, the box of the translated points is the input box translated, no extra pass.
+template <class At>
+std::vector<std::uint32_t> order_positions(std::size_t n, At at, const Box& box, Order order) {
+  std::vector<std::uint32_t> idx, key, key2, idx2;
+  reserve_huge(idx, n);
+  idx.resize(n);
+  for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<std::uint32_t>(i);
   if (order == Order::AsIs || n < 3) return idx;
-  double minx = at(0).x, maxx = minx, miny = at(0).y, maxy = miny;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 p = at(i);
-    minx = std::min(minx, p.x);
-    maxx = std::max(maxx, p.x);
-    miny = std::min(miny, p.y);
-    maxy = std::max(maxy, p.y);
-  }
+  const double minx = box.minx, maxx = box.maxx, miny = box.miny, maxy = box.maxy;
   // Grid of about 4 cells per point (at most 2^16 per side): finer gains nothing, and the radix passes'
   // count arrays stay small enough for the cache.
   int bits = 1;
@@ -446,7 +466,7 @@ std::vector<std::uint32_t> order_translated(std::span<const Vec2> pts, std::vect
   const double extent = std::max(maxx - minx, maxy - miny);
   const double cells = static_cast<double>((1u << bits) - 1);
   const double scale = extent > 0 ? cells / extent : 0.0;
-  std::vector<std::uint32_t> key(n), key2(n), idx2(n);
+  for (auto* v : {&key, &key2, &idx2}) reserve_huge(*v, n), v->resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 p = at(i);
     const auto gx = static_cast<std::uint32_t>(std::min(cells, (p.x - minx) * scale));
@@ -481,8 +501,8 @@ std::vector<std::uint32_t> order_translated(std::span<const Vec2> pts, std::vect
   int rounds = 0;
   while (rounds < 7 && (n >> (4 * rounds)) > 256) ++rounds;
   std::vector<std::uint8_t> round(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 p = at(i);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec2 p = at(idx[k]);
     const double x = p.x + 0.0, y = p.y + 0.0;  // -0.0 becomes +0.0: equal values, equal bits
     std::uint64_t bx, by;
     std::memcpy(&bx, &x, 8);
@@ -490,21 +510,27 @@ std::vector<std::uint32_t> order_translated(std::span<const Vec2> pts, std::vect
     std::uint64_t h = bx * 0x9e3779b97f4a7c15ull ^ (by + 0x632be59bd9b4e019ull + (bx << 6) + (bx >> 2));
     h ^= h >> 31; h *= 0xbf58476d1ce4e5b9ull; h ^= h >> 27; h *= 0x94d049bb133111ebull; h ^= h >> 31;
     const int level = (h == 0 ? 64 : __builtin_ctzll(h)) / 4;  // P(level >= k) = 16^-k
-    round[i] = static_cast<std::uint8_t>(rounds - std::min(rounds, level));
+    round[k] = static_cast<std::uint8_t>(rounds - std::min(rounds, level));
   }
   std::vector<std::uint32_t> rc(static_cast<std::size_t>(rounds) + 2, 0);
-  for (std::size_t i = 0; i < n; ++i) ++rc[round[i] + 1u];
+  for (std::size_t k = 0; k < n; ++k) ++rc[round[k] + 1u];
   for (std::size_t r = 1; r < rc.size(); ++r) rc[r] += rc[r - 1];
   for (std::size_t k = 0; k < n; ++k) idx2[rc[round[k]]++] = idx[k];
   return idx2;
 }
 
+Box bounding_box(std::span<const Vec2> points) {
+  Box b{points[0].x, points[0].x, points[0].y, points[0].y};
+  for (const Vec2& p : points)
+    b.minx = std::min(b.minx, p.x), b.maxx = std::max(b.maxx, p.x), b.miny = std::min(b.miny, p.y), b.maxy = std::max(b.maxy, p.y);
+  return b;
+}
+
 }  // namespace
 
 std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order) {
-  std::vector<std::uint32_t> idx(xy.size());
-  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<std::uint32_t>(i);
-  return order_translated(xy, std::move(idx), Vec2{0, 0}, order);  // p - 0 == p
+  if (xy.empty()) return {};
+  return order_positions(xy.size(), [&](std::size_t k) { return xy[k]; }, bounding_box(xy), order);
 }
 
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) {
@@ -513,62 +539,98 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) 
 
 namespace {
 
-struct Box {
-  double minx, maxx, miny, maxy;
+bool is_finite(const Vec2& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+
+// What the triangulation needs to know of the input before ordering it, from one pass: the finite
+// points' count, box and coordinate sum, and whether any finite coordinate is so small (nonzero, below
+// 2^-118) that it may have set bits below the exact resolution 2^-170 (every larger double is a multiple
+// of 2^-170: its last mantissa bit is worth at least 2^-118-52).
+struct InputSummary {
+  std::size_t finite = 0;
+  Box box{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+          std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  double sx = 0, sy = 0;
+  bool tiny = false;
 };
 
-Box bounding_box(std::span<const Vec2> points, const std::vector<std::uint32_t>& finite) {
-  const Vec2& p0 = points[finite[0]];
-  Box b{p0.x, p0.x, p0.y, p0.y};
-  for (std::uint32_t i : finite) {
-    const Vec2& p = points[i];
-    b.minx = std::min(b.minx, p.x), b.maxx = std::max(b.maxx, p.x), b.miny = std::min(b.miny, p.y), b.maxy = std::max(b.maxy, p.y);
+InputSummary summarize(std::span<const Vec2> points) {
+  InputSummary s;
+  auto tiny = [](double v) { return (std::fabs(v) < 0x1p-118) & (v != 0); };
+  for (const Vec2& p : points) {
+    if (!is_finite(p)) [[unlikely]]
+      continue;
+    ++s.finite;
+    s.box.minx = std::min(s.box.minx, p.x), s.box.maxx = std::max(s.box.maxx, p.x);
+    s.box.miny = std::min(s.box.miny, p.y), s.box.maxy = std::max(s.box.maxy, p.y);
+    s.sx += p.x, s.sy += p.y;
+    s.tiny |= tiny(p.x) | tiny(p.y);
   }
-  return b;
+  return s;
+}
+
+std::vector<std::uint32_t> finite_indices(std::span<const Vec2> points) {
+  std::vector<std::uint32_t> finite;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (is_finite(points[i])) finite.push_back(static_cast<std::uint32_t>(i));
+  return finite;
 }
 
 // The predicates are exact while their products neither overflow nor underflow (predicates.hpp): a
 // cloud spanning more than 1e60, or a coordinate with a set bit below 2^-170, is refused (naming the
 // point) rather than triangulated wrongly.
-void check_range(std::span<const Vec2> points, const std::vector<std::uint32_t>& finite, const Box& b) {
+void check_range(std::span<const Vec2> points, const InputSummary& s) {
+  const Box& b = s.box;
   if (!(b.maxx - b.minx <= 1e60 && b.maxy - b.miny <= 1e60)) {
     // The point farthest from the mean (the box's centre if the sum overflows) is the odd one out.
-    double sx = 0, sy = 0;
-    for (std::uint32_t i : finite) sx += points[i].x, sy += points[i].y;
-    Vec2 c{sx / static_cast<double>(finite.size()), sy / static_cast<double>(finite.size())};
+    const std::vector<std::uint32_t> finite = finite_indices(points);
+    Vec2 c{s.sx / static_cast<double>(s.finite), s.sy / static_cast<double>(s.finite)};
     if (!std::isfinite(c.x) || !std::isfinite(c.y)) c = {b.minx / 2 + b.maxx / 2, b.miny / 2 + b.maxy / 2};
     auto dist = [&](std::uint32_t i) { return std::max(std::fabs(points[i].x - c.x), std::fabs(points[i].y - c.y)); };
     const std::uint32_t extreme = *std::max_element(finite.begin(), finite.end(), [&](std::uint32_t i, std::uint32_t j) { return dist(i) < dist(j); });
     throw OutlineError("point " + std::to_string(extreme) + " (x=" + fmt(points[extreme].x) + ", y=" + fmt(points[extreme].y) +
                        ") is too far from the others: the cloud must span less than 1e60 for exact predicates");
   }
-  for (std::uint32_t i : finite)
-    if (!pred::within_exact_resolution(points[i].x) || !pred::within_exact_resolution(points[i].y))
+  if (!s.tiny) return;  // every finite coordinate is 0 or at least 2^-118: within the resolution
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (is_finite(points[i]) && (!pred::within_exact_resolution(points[i].x) || !pred::within_exact_resolution(points[i].y)))
       throw OutlineError("point " + std::to_string(i) + " (x=" + fmt(points[i].x) + ", y=" + fmt(points[i].y) +
                          ") has a coordinate too finely resolved for exact predicates (a set bit below 2^-170, about 7e-52)");
 }
 
-// The translation: the centroid rounded to a multiple of a power of two about 2^-20 of the extent (a
-// negligible shift). It then has few significant bits, so for coordinates with few bits themselves
-// (float32 camera data) the translated coordinates keep few bits; products of their differences are then
-// exact doubles and the exact fallback of the predicates (frequent on noise-free grids, where every cell
-// is nearly cocircular) works on one-component expansions. Used only if every translated coordinate is
-// exact (the error term of each subtraction is zero), so that the triangulation is that of the input as
-// given; otherwise the origin is 0 and the points are triangulated as they are.
-Vec2 exact_origin(std::span<const Vec2> points, const std::vector<std::uint32_t>& finite, const Box& b) {
-  double sx = 0, sy = 0;
-  for (std::uint32_t i : finite) sx += points[i].x, sy += points[i].y;
-  const double n = static_cast<double>(finite.size());
-  Vec2 o{sx / n, sy / n};
+// The candidate translation: the centroid rounded to a multiple of a power of two about 2^-20 of the
+// extent (a negligible shift). It then has few significant bits, so for coordinates with few bits
+// themselves (float32 camera data) the translated coordinates keep few bits; products of their
+// differences are then exact doubles and the exact fallback of the predicates (frequent on noise-free
+// grids, where every cell is nearly cocircular) works on one-component expansions. It is used only if
+// every translated coordinate turns out exact (translate_exactly), so that the triangulation is that of
+// the input as given; otherwise the origin is 0 and the points are triangulated as they are.
+Vec2 rounded_centroid(const InputSummary& s) {
+  const Box& b = s.box;
+  const double n = static_cast<double>(s.finite);
+  Vec2 o{s.sx / n, s.sy / n};
   if (!std::isfinite(o.x) || !std::isfinite(o.y)) o = {b.minx / 2 + b.maxx / 2, b.miny / 2 + b.maxy / 2};  // the sum overflowed
   const double extent = std::max(b.maxx - b.minx, b.maxy - b.miny);
   if (!(std::isfinite(extent) && extent > 0)) return {0, 0};
   const double unit = std::ldexp(1.0, std::ilogb(extent) - 20);
   o = {std::round(o.x / unit) * unit, std::round(o.y / unit) * unit};
   if (!std::isfinite(o.x) || !std::isfinite(o.y)) return {0, 0};
-  for (std::uint32_t i : finite)
-    if (!pred::difference_is_exact(points[i].x, o.x) || !pred::difference_is_exact(points[i].y, o.y)) return {0, 0};
   return o;
+}
+
+// xy[v] = points[ids[v]] - origin; false if any of these subtractions rounded (checked on the way, by
+// the error term of each: one pass for the copy and the check).
+bool translate_exactly(std::span<const Vec2> points, Triangulation& T) {
+  const std::size_t n = T.ids.size();
+  const Vec2 o = T.origin;
+  reserve_huge(T.xy, n);
+  T.xy.resize(n);
+  bool exact = true;
+  for (std::size_t v = 0; v < n; ++v) {
+    const Vec2& p = points[T.ids[v]];
+    T.xy[v] = {p.x - o.x, p.y - o.y};
+    exact &= pred::difference_is_exact(p.x, o.x) & pred::difference_is_exact(p.y, o.y);
+  }
+  return exact;
 }
 
 // The triangulation of the finite points; `release`, when given, is the vector `points` views: it is
@@ -578,34 +640,44 @@ Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order or
   const std::size_t n_in = points.size();
   if (n_in > 500'000'000) throw OutlineError("too many points: " + std::to_string(n_in));
   if (!custom.empty() && custom.size() != n_in) throw OutlineError("custom insertion order has the wrong size");
-  auto is_finite = [&](std::size_t i) { return std::isfinite(points[i].x) && std::isfinite(points[i].y); };
-  std::vector<std::uint32_t> finite;
-  finite.reserve(n_in);
-  for (std::size_t i = 0; i < n_in; ++i)
-    if (is_finite(i)) finite.push_back(static_cast<std::uint32_t>(i));
+  const InputSummary s = summarize(points);
   Triangulation T;
-  T.skipped = n_in - finite.size();
-  const std::size_t n = finite.size();
+  T.skipped = n_in - s.finite;
+  const std::size_t n = s.finite;
   if (n < 3)
     throw OutlineError("need at least 3 distinct points, got " + std::to_string(n) + " finite points" +
                        (T.skipped ? " (" + std::to_string(T.skipped) + " non-finite skipped)" : std::string()));
-  const Box box = bounding_box(points, finite);
-  check_range(points, finite, box);
-  T.origin = exact_origin(points, finite, box);
-  if (custom.empty()) {
-    T.ids = order_translated(points, std::move(finite), T.origin, order);
-  } else {
-    std::erase_if(custom, [&](std::uint32_t i) { return i >= n_in || !is_finite(i); });
+  check_range(points, s);
+  // Positions of the finite points in the input; none needed when all are finite (the usual case).
+  const std::vector<std::uint32_t> finite = T.skipped ? finite_indices(points) : std::vector<std::uint32_t>{};
+  const bool given_order = !custom.empty();
+  if (given_order) {
+    std::erase_if(custom, [&](std::uint32_t i) { return i >= n_in || !is_finite(points[i]); });
     if (custom.size() != n) throw OutlineError("custom insertion order is not a permutation");
     T.ids = std::move(custom);
   }
-  T.xy.resize(n);
-  for (std::size_t v = 0; v < n; ++v) {
-    const Vec2& p = points[T.ids[v]];
-    T.xy[v] = {p.x - T.origin.x, p.y - T.origin.y};  // exact (exact_origin)
+  // The candidate origin first; if a translated coordinate would round, once more with origin 0 (full-
+  // precision input: exact as given), the order then also computed from the untranslated points.
+  for (Vec2 origin : {rounded_centroid(s), Vec2{0, 0}}) {
+    T.origin = origin;
+    if (!given_order) {
+      const Box tb{s.box.minx - origin.x, s.box.maxx - origin.x, s.box.miny - origin.y, s.box.maxy - origin.y};
+      if (finite.empty()) {
+        T.ids = order_positions(n, [&](std::size_t k) { return Vec2{points[k].x - origin.x, points[k].y - origin.y}; }, tb, order);
+      } else {
+        T.ids = order_positions(n, [&](std::size_t k) { const Vec2& p = points[finite[k]]; return Vec2{p.x - origin.x, p.y - origin.y}; }, tb, order);
+        for (std::uint32_t& i : T.ids) i = finite[i];
+      }
+    }
+    if (translate_exactly(points, T)) {
+      T.xy_min = {s.box.minx - origin.x, s.box.miny - origin.y};  // exact, as every translated coordinate
+      T.xy_max = {s.box.maxx - origin.x, s.box.maxy - origin.y};
+      break;
+    }
   }
   if (release) std::vector<Vec2>().swap(*release);
   T.ghost = static_cast<std::uint32_t>(n);
+  reserve_huge(T.vrep, n);
   T.vrep.resize(n);
   for (std::size_t v = 0; v < n; ++v) T.vrep[v] = static_cast<std::uint32_t>(v);
   Builder(T, mode).run(n);
