@@ -25,7 +25,7 @@
 #include <span>
 #include <vector>
 
-#include "outline.hpp"
+#include "types.hpp"
 
 namespace hg::outline {
 
