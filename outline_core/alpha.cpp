@@ -98,6 +98,7 @@ class AreaMedian {
   std::size_t used_ = 0;
 };
 
+constexpr std::uint8_t kGhostClass = 0;    // rclass of a ghost triangle slot
 constexpr std::uint8_t kUndecided = 255;
 
 // Class of q = r^2 / scale2 > 0 from its bits: 16 per octave (exponent and top 4 mantissa bits), 1 at
@@ -161,7 +162,7 @@ TriangleScan scan_triangles(const Triangulation& T) {
   scan.scale2 = (T.xy_max.x - T.xy_min.x) * (T.xy_max.y - T.xy_min.y) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
   if (!std::isnormal(scan.scale2)) scan.scale2 = 0;  // no classes: every decision exact
   const std::size_t slots = T.slots();
-  scan.rclass.assign(slots, 0);
+  scan.rclass.assign(slots, kGhostClass);
   AreaMedian median;
   // The three vertices of a triangle are scattered over the coordinate array: fetching those of a few
   // triangles ahead overlaps the cache misses that otherwise dominate this pass.
@@ -233,33 +234,41 @@ double local_radius(std::span<const float> s, double k, std::uint32_t u, std::ui
 
 namespace {
 
-// inside[] as documented at classify_alpha, from state(t): 0 for a ghost triangle, 1 for a finite
-// triangle with r <= R_t, 2 for one with r > R_t (decided exactly).
+// What the classification knows of a triangle slot.
+enum class Triangle : std::uint8_t {
+  Ghost,       // a ghost triangle (outside by definition)
+  Small,       // finite, circumradius r <= R_t: in the shape
+  Big,         // finite, r > R_t (decided exactly)
+  BigOutside,  // big and reached from a ghost through big triangles (outer_only's BFS)
+};
+
+// inside[] as documented at classify_alpha, from state(t) (Ghost, Small or Big).
 template <class State>
 std::vector<std::uint8_t> classify_with(const Triangulation& T, bool outer_only, State state) {
   const std::size_t slots = T.slots();
   std::vector<std::uint8_t> inside(slots);
   if (!outer_only) {
-    for (std::size_t t = 0; t < slots; ++t) inside[t] = state(t) == 1;
+    for (std::size_t t = 0; t < slots; ++t) inside[t] = state(t) == Triangle::Small;
     return inside;
   }
-  for (std::size_t t = 0; t < slots; ++t) inside[t] = state(t);
+  std::vector<Triangle> st(slots);
+  for (std::size_t t = 0; t < slots; ++t) st[t] = state(t);
   // The paper's BFS: from every ghost triangle, through big triangles only; those reached are outside.
   std::vector<std::uint32_t> stack;
   for (std::size_t t = 0; t < slots; ++t)
-    if (inside[t] == 0) stack.push_back(static_cast<std::uint32_t>(t));
+    if (st[t] == Triangle::Ghost) stack.push_back(static_cast<std::uint32_t>(t));
   while (!stack.empty()) {
     const std::uint32_t t = stack.back();
     stack.pop_back();
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t nb = T.twin[3 * t + i] / 3;
-      if (inside[nb] == 2) {
-        inside[nb] = 3;  // big and reached from outside
+      if (st[nb] == Triangle::Big) {
+        st[nb] = Triangle::BigOutside;
         stack.push_back(nb);
       }
     }
   }
-  for (auto& s : inside) s = (s == 1 || s == 2);
+  for (std::size_t t = 0; t < slots; ++t) inside[t] = st[t] == Triangle::Small || st[t] == Triangle::Big;
   return inside;
 }
 
@@ -271,7 +280,10 @@ bool bigger_than(const Triangulation& T, std::size_t t, double R) {
 }  // namespace
 
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only) {
-  return classify_with(T, outer_only, [&](std::size_t t) { return T.is_ghost(t) ? 0 : bigger_than(T, t, R) ? 2 : 1; });
+  return classify_with(T, outer_only, [&](std::size_t t) {
+    if (T.is_ghost(t)) return Triangle::Ghost;
+    return bigger_than(T, t, R) ? Triangle::Big : Triangle::Small;
+  });
 }
 
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only, const TriangleScan& scan) {
@@ -279,23 +291,24 @@ std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool 
   // 3 % or more), and so is R's: 3 classes apart decide. Near the clamped ends, all exact.
   const int cR = std::isnormal(scan.scale2) ? r2_class(R * R / scan.scale2) : 0;
   const bool usable = cR >= 4 && cR <= 250;
-  // The ghost triangles are those of class 0: this pass reads the classes only, not the triangles.
+  // The ghost triangles are those of kGhostClass: this pass reads the classes only, not the triangles.
   return classify_with(T, outer_only, [&](std::size_t t) {
     const int c = scan.rclass[t];
-    if (c == 0) return 0;
+    if (c == kGhostClass) return Triangle::Ghost;
     if (usable && c != kUndecided) {
-      if (c + 3 <= cR) return 1;
-      if (c >= cR + 3) return 2;
+      if (c + 3 <= cR) return Triangle::Small;
+      if (c >= cR + 3) return Triangle::Big;
     }
-    return bigger_than(T, t, R) ? 2 : 1;
+    return bigger_than(T, t, R) ? Triangle::Big : Triangle::Small;
   });
 }
 
 std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing,
                                                double k, bool outer_only) {
   return classify_with(T, outer_only, [&](std::size_t t) {
-    if (T.is_ghost(t)) return 0;
-    return bigger_than(T, t, local_radius(vertex_spacing, k, T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2])) ? 2 : 1;
+    if (T.is_ghost(t)) return Triangle::Ghost;
+    const double R = local_radius(vertex_spacing, k, T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2]);
+    return bigger_than(T, t, R) ? Triangle::Big : Triangle::Small;
   });
 }
 
