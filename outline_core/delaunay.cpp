@@ -100,26 +100,26 @@ std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y, int bits) {
 class Builder {
  public:
   Builder(Triangulation& T, Mode mode)
-      : T_(T), mode_(mode), P_(T.xy.data()), G_(T.ghost) {}
+      : T_(T), mode_(mode), xy_(T.xy.data()), ghost_(T.ghost) {}
 
   void run(std::size_t n);  // inserts vertices 0 .. n-1 in this order
 
  private:
   Triangulation& T_;
   Mode mode_;
-  const Vec2* P_;
-  std::uint32_t G_;
+  const Vec2* xy_;
+  std::uint32_t ghost_;
   std::uint32_t slots_ = 0;  // triangles in use (tri/twin are sized for all of them up front)
-  // The cavity, and its boundary in counter-clockwise order: half-edge j runs from bnd_a_[j] to
-  // bnd_a_[j + 1], bnd_o_[j] is its twin outside the cavity.
+  // The cavity, and its boundary in counter-clockwise order: half-edge j runs from boundary_from_[j] to
+  // boundary_from_[j + 1], boundary_twin_[j] is its twin outside the cavity.
   // Scratch arrays, grown on demand (never shrunk): cavity_ gets two more entries for the new slots.
-  std::vector<std::uint32_t> cavity_, bnd_a_, bnd_o_, stack_;
+  std::vector<std::uint32_t> cavity_, boundary_from_, boundary_twin_, stack_;
   void grow_scratch(std::size_t need) {
     if (need <= cavity_.size()) return;
     const std::size_t size = std::max(need, 2 * cavity_.size());
-    cavity_.resize(size), bnd_a_.resize(size), bnd_o_.resize(size), stack_.resize(size);
+    cavity_.resize(size), boundary_from_.resize(size), boundary_twin_.resize(size), stack_.resize(size);
   }
-  std::size_t ncav_ = 0, nbnd_ = 0;
+  std::size_t cavity_size_ = 0, boundary_size_ = 0;
   std::uint32_t last_ = 0;                    // DSHI: a triangle made by the previous insertion
   std::uint32_t ds_vertex_ = 0, ds_tri_ = 0;  // DS: fixed start, a triangle incident to the first vertex
   std::uint32_t dup_ = kNone;
@@ -129,15 +129,15 @@ class Builder {
   }
   double orient(std::uint32_t u, std::uint32_t v, const Vec2& p) {
     ++T_.stats.orient_tests;
-    return orient_xy(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
+    return orient_xy(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
   }
   double incircle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec2& p) const {
-    const Vec2 &A = P_[a], &B = P_[b], &C = P_[c];
+    const Vec2 &A = xy_[a], &B = xy_[b], &C = xy_[c];
     return pred::incircle(A.x, A.y, B.x, B.y, C.x, C.y, p.x, p.y);
   }
   // p strictly between u and v, given that the three are collinear.
   bool strictly_between(std::uint32_t u, std::uint32_t v, const Vec2& p) const {
-    const Vec2 &a = P_[u], &b = P_[v];
+    const Vec2 &a = xy_[u], &b = xy_[v];
     if (a.x != b.x) return (a.x < p.x && p.x < b.x) || (b.x < p.x && p.x < a.x);
     return (a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y);
   }
@@ -150,9 +150,9 @@ class Builder {
   // Index (0..2) of the finite half-edge of a ghost triangle, kNone for a finite triangle.
   std::uint32_t ghost_edge(std::uint32_t t) const {
     const std::uint32_t* v = &T_.tri[3 * t];
-    if (v[0] == G_) return 1;
-    if (v[1] == G_) return 2;
-    if (v[2] == G_) return 0;
+    if (v[0] == ghost_) return 1;
+    if (v[1] == ghost_) return 2;
+    if (v[2] == ghost_) return 0;
     return kNone;
   }
   bool conflict(std::uint32_t t, const Vec2& p) {
@@ -168,10 +168,10 @@ class Builder {
     const std::uint32_t* tri = T_.tri.data();
     const std::uint32_t t = g / 3, i = g - 3 * t;
     const std::uint32_t b = tri[g], a = tri[3 * t + (i == 2 ? 0 : i + 1)], c = tri[3 * t + (i == 0 ? 2 : i - 1)];
-    if (c == G_ || a == G_ || b == G_) [[unlikely]] {
-      const std::uint32_t u = c == G_ ? b : (a == G_ ? c : a), v = c == G_ ? a : (a == G_ ? b : c);  // finite edge u -> v
+    if (c == ghost_ || a == ghost_ || b == ghost_) [[unlikely]] {
+      const std::uint32_t u = c == ghost_ ? b : (a == ghost_ ? c : a), v = c == ghost_ ? a : (a == ghost_ ? b : c);  // finite edge u -> v
       ++orients;
-      const double o = pred::orient2d(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
+      const double o = pred::orient2d(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
       return o > 0 || (o == 0 && strictly_between(u, v, p));
     }
     ++incircles;
@@ -223,7 +223,7 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
     if (negatives == 0) {
       if (zero) {
         for (int i = 0; i < 3; ++i)
-          if (P_[v[i]].x == p.x && P_[v[i]].y == p.y) dup_ = v[i];
+          if (xy_[v[i]].x == p.x && xy_[v[i]].y == p.y) dup_ = v[i];
       }
       return t;
     }
@@ -233,10 +233,10 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
       int incoming = first_neg, outgoing = second_neg;  // edge ending at s, edge starting at s
       if ((first_neg + 1) % 3 != second_neg) std::swap(incoming, outgoing);
       const std::uint32_t s = v[outgoing];
-      const double cx = (P_[v[0]].x + P_[v[1]].x + P_[v[2]].x) / 3.0;
-      const double cy = (P_[v[0]].y + P_[v[1]].y + P_[v[2]].y) / 3.0;
+      const double cx = (xy_[v[0]].x + xy_[v[1]].x + xy_[v[2]].x) / 3.0;
+      const double cy = (xy_[v[0]].y + xy_[v[1]].y + xy_[v[2]].y) / 3.0;
       ++T_.stats.orient_tests;
-      cross = pred::orient2d(cx, cy, P_[s].x, P_[s].y, p.x, p.y) < 0 ? incoming : outgoing;
+      cross = pred::orient2d(cx, cy, xy_[s].x, xy_[s].y, p.x, p.y) < 0 ? incoming : outgoing;
     }
     from = twin[3 * t + cross];
     t = from / 3;
@@ -257,7 +257,7 @@ std::uint32_t Builder::scan_for_conflict(const Vec2& p) {
 void Builder::find_duplicate_by_scan(const Vec2& p) {
   const std::uint32_t* tri = T_.tri.data();
   for (std::uint32_t k = 0; k < 3 * slots_; ++k)
-    if (tri[k] != G_ && P_[tri[k]].x == p.x && P_[tri[k]].y == p.y) {
+    if (tri[k] != ghost_ && xy_[tri[k]].x == p.x && xy_[tri[k]].y == p.y) {
       dup_ = tri[k];
       return;
     }
@@ -275,8 +275,8 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   // Sizes: the stack holds at most cavity + 3 half-edges, the boundary cavity + 2; checked per triangle.
   grow_scratch(64);
   std::uint32_t* cav = cavity_.data();
-  std::uint32_t* ba = bnd_a_.data();
-  std::uint32_t* bo = bnd_o_.data();
+  std::uint32_t* ba = boundary_from_.data();
+  std::uint32_t* bo = boundary_twin_.data();
   std::uint32_t* st = stack_.data();
   std::size_t nc = 0, nb = 0, ns = 0;
   cav[nc++] = t0;
@@ -290,7 +290,7 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
     if (conflict_across(g, p, orients, incircles)) {
       if (nc + 8 > cavity_.size()) [[unlikely]] {
         grow_scratch(nc + 8);
-        cav = cavity_.data(), ba = bnd_a_.data(), bo = bnd_o_.data(), st = stack_.data();
+        cav = cavity_.data(), ba = boundary_from_.data(), bo = boundary_twin_.data(), st = stack_.data();
       }
       const std::uint32_t t = g / 3, i = g - 3 * t;
       cav[nc++] = t;
@@ -301,8 +301,8 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
       bo[nb++] = g;
     }
   }
-  ncav_ = nc;
-  nbnd_ = nb;
+  cavity_size_ = nc;
+  boundary_size_ = nb;
   if (count) {
     T_.stats.cavity_visits += visits;
     T_.stats.orient_tests += orients;
@@ -311,7 +311,7 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
 }
 
 void Builder::insert(std::uint32_t v) {
-  const Vec2 p = P_[v];
+  const Vec2 p = xy_[v];
   dup_ = kNone;
   std::uint32_t t0 = kNone;
   if (mode_ == Mode::Ordinary) {
@@ -332,13 +332,13 @@ void Builder::insert(std::uint32_t v) {
     return;
   }
   dig_cavity(t0, p, mode_ != Mode::Ordinary);
-  const std::size_t m = nbnd_;  // a disk of m - 2 triangles has m boundary edges
-  T_.stats.cavity_triangles += ncav_;
+  const std::size_t m = boundary_size_;  // a disk of m - 2 triangles has m boundary edges
+  T_.stats.cavity_triangles += cavity_size_;
 
-  // Star the cavity from p: new triangle j = (bnd_a_[j], bnd_a_[j + 1], v), in the cavity's slots and
+  // Star the cavity from p: new triangle j = (boundary_from_[j], boundary_from_[j + 1], v), in the cavity's slots and
   // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
-  cavity_[ncav_] = slots_;  // room is kept: the cavity holds m - 2 entries, the arrays at least m + 6
-  cavity_[ncav_ + 1] = slots_ + 1;
+  cavity_[cavity_size_] = slots_;  // room is kept: the cavity holds m - 2 entries, the arrays at least m + 6
+  cavity_[cavity_size_ + 1] = slots_ + 1;
   slots_ += 2;
   std::uint32_t* tri = T_.tri.data();
   std::uint32_t* twin = T_.twin.data();
@@ -346,7 +346,7 @@ void Builder::insert(std::uint32_t v) {
   std::uint32_t finite_new = kNone;
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t jn = j + 1 == m ? 0 : j + 1, jp = j == 0 ? m - 1 : j - 1;
-    const std::uint32_t t = cavity_[j], a = bnd_a_[j], b = bnd_a_[jn], o = bnd_o_[j];
+    const std::uint32_t t = cavity_[j], a = boundary_from_[j], b = boundary_from_[jn], o = boundary_twin_[j];
     tri[3 * t] = a;
     tri[3 * t + 1] = b;
     tri[3 * t + 2] = v;
@@ -354,14 +354,14 @@ void Builder::insert(std::uint32_t v) {
     twin[o] = 3 * t;
     twin[3 * t + 1] = 3 * cavity_[jn] + 2;
     twin[3 * t + 2] = 3 * cavity_[jp] + 1;
-    if (a != G_) {
+    if (a != ghost_) {
       // v's new Delaunay neighbours: the nearest neighbour of either end is found when the later of the
       // two is inserted (a final Delaunay edge is an edge of every intermediate triangulation).
-      const double dx = P_[a].x - p.x, dy = P_[a].y - p.y;
+      const double dx = xy_[a].x - p.x, dy = xy_[a].y - p.y;
       const float d2 = static_cast<float>(dx * dx + dy * dy);
       nn2[v] = std::min(nn2[v], d2);
       nn2[a] = std::min(nn2[a], d2);
-      if (finite_new == kNone && b != G_) finite_new = t;
+      if (finite_new == kNone && b != ghost_) finite_new = t;
     }
   }
   last_ = finite_new;
@@ -371,8 +371,8 @@ void Builder::insert(std::uint32_t v) {
     const bool ok = (w[0] == ds_vertex_ || w[1] == ds_vertex_ || w[2] == ds_vertex_) && ghost_edge(ds_tri_) == kNone;
     if (!ok)
       for (std::size_t j = 0; j < m; ++j) {
-        const std::uint32_t a = bnd_a_[j], b = bnd_a_[j + 1 == m ? 0 : j + 1];
-        if ((a == ds_vertex_ || b == ds_vertex_) && a != G_ && b != G_) ds_tri_ = cavity_[j];
+        const std::uint32_t a = boundary_from_[j], b = boundary_from_[j + 1 == m ? 0 : j + 1];
+        if ((a == ds_vertex_ || b == ds_vertex_) && a != ghost_ && b != ghost_) ds_tri_ = cavity_[j];
       }
   }
   ++T_.inserted;
@@ -384,14 +384,14 @@ void Builder::run(std::size_t n) {
   // with both. Points skipped on the way are inserted right after, in their order.
   const std::uint32_t p0 = order(0);
   std::size_t k1 = 1;
-  while (k1 < n && P_[order(k1)].x == P_[p0].x && P_[order(k1)].y == P_[p0].y) ++k1;
+  while (k1 < n && xy_[order(k1)].x == xy_[p0].x && xy_[order(k1)].y == xy_[p0].y) ++k1;
   std::size_t k2 = k1 + 1;
   if (k1 < n) {
     const std::uint32_t p1 = order(k1);
-    while (k2 < n && pred::orient2d(P_[p0].x, P_[p0].y, P_[p1].x, P_[p1].y, P_[order(k2)].x, P_[order(k2)].y) == 0) ++k2;
+    while (k2 < n && pred::orient2d(xy_[p0].x, xy_[p0].y, xy_[p1].x, xy_[p1].y, xy_[order(k2)].x, xy_[order(k2)].y) == 0) ++k2;
   }
   if (k1 >= n || k2 >= n) {
-    std::vector<Vec2> distinct(P_, P_ + n);
+    std::vector<Vec2> distinct(xy_, xy_ + n);
     std::sort(distinct.begin(), distinct.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
     const auto e = std::unique(distinct.begin(), distinct.end(), [](const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; });
     const std::size_t count = static_cast<std::size_t>(e - distinct.begin());
@@ -399,7 +399,7 @@ void Builder::run(std::size_t n) {
     throw OutlineError("all " + std::to_string(count) + " distinct points are collinear");
   }
   std::uint32_t a = p0, b = order(k1), c = order(k2);
-  if (pred::orient2d(P_[a].x, P_[a].y, P_[b].x, P_[b].y, P_[c].x, P_[c].y) < 0) std::swap(b, c);
+  if (pred::orient2d(xy_[a].x, xy_[a].y, xy_[b].x, xy_[b].y, xy_[c].x, xy_[c].y) < 0) std::swap(b, c);
 
   // A triangulation of n + 1 vertices (the ghost included) on the sphere has 2 (n + 1) - 4 triangles:
   // every slot is allocated once, no growth during the insertion.
@@ -408,7 +408,7 @@ void Builder::run(std::size_t n) {
   reserve_huge(T_.twin, 3 * max_slots);
   T_.tri.assign(3 * max_slots, 0);
   T_.twin.assign(3 * max_slots, 0);
-  const std::uint32_t init_tri[12] = {a, b, c, b, a, G_, c, b, G_, a, c, G_};
+  const std::uint32_t init_tri[12] = {a, b, c, b, a, ghost_, c, b, ghost_, a, c, ghost_};
   const std::uint32_t init_twin[12] = {3, 6, 9, 0, 11, 7, 1, 5, 10, 2, 8, 4};
   std::copy(init_tri, init_tri + 12, T_.tri.begin());
   std::copy(init_twin, init_twin + 12, T_.twin.begin());
@@ -419,7 +419,7 @@ void Builder::run(std::size_t n) {
   for (std::uint32_t u : {a, b, c})
     for (std::uint32_t w : {a, b, c})
       if (u != w) {
-        const double dx = P_[u].x - P_[w].x, dy = P_[u].y - P_[w].y;
+        const double dx = xy_[u].x - xy_[w].x, dy = xy_[u].y - xy_[w].y;
         T_.nn2[u] = std::min(T_.nn2[u], static_cast<float>(dx * dx + dy * dy));
       }
   last_ = 0;
