@@ -25,6 +25,7 @@
 #include <span>
 #include <vector>
 
+#include "order.hpp"  // insertion_order
 #include "types.hpp"
 
 namespace hg::outline {
@@ -69,10 +70,6 @@ struct Triangulation {
   }
   std::size_t finite_count() const;
 };
-
-// The insertion order: a permutation of 0..n-1 (AsIs: identity; Hilbert: sorted along a Hilbert curve
-// over the bounding box, stable, so equal points keep their input order).
-std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order);
 
 // Skips non-finite points, validates (>= 3 distinct finite points, not all collinear, the limits above;
 // throws OutlineError naming the index) and triangulates.
