@@ -8,7 +8,6 @@
 #include <limits>
 #include <string>
 
-#include "huge_pages.hpp"
 #include "order.hpp"
 #include "predicates.hpp"
 
@@ -330,8 +329,6 @@ void Builder::run(std::size_t n) {
   // A triangulation of n + 1 vertices (the ghost included) on the sphere has 2 (n + 1) - 4 triangles:
   // every slot is allocated once, no growth during the insertion.
   const std::size_t max_slots = 2 * n + 2;
-  reserve_huge(T_.tri, 3 * max_slots);
-  reserve_huge(T_.twin, 3 * max_slots);
   T_.tri.assign(3 * max_slots, 0);
   T_.twin.assign(3 * max_slots, 0);
   const std::uint32_t init_tri[12] = {a, b, c, b, a, ghost_, c, b, ghost_, a, c, ghost_};
@@ -340,7 +337,6 @@ void Builder::run(std::size_t n) {
   std::copy(init_twin, init_twin + 12, T_.twin.begin());
   slots_ = 4;
   T_.inserted = 3;
-  reserve_huge(T_.nn2, n);
   T_.nn2.assign(n, std::numeric_limits<float>::infinity());
   for (std::uint32_t u : {a, b, c})
     for (std::uint32_t w : {a, b, c})
@@ -457,7 +453,6 @@ Vec2 rounded_centroid(const InputSummary& s) {
 bool translate_exactly(std::span<const Vec2> points, Triangulation& T) {
   const std::size_t n = T.ids.size();
   const Vec2 o = T.origin;
-  reserve_huge(T.xy, n);
   T.xy.resize(n);
   bool exact = true;
   for (std::size_t v = 0; v < n; ++v) {
@@ -507,7 +502,6 @@ Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order or
   }
   if (release) std::vector<Vec2>().swap(*release);
   T.ghost = static_cast<std::uint32_t>(n);
-  reserve_huge(T.vrep, n);
   T.vrep.resize(n);
   for (std::size_t v = 0; v < n; ++v) T.vrep[v] = static_cast<std::uint32_t>(v);
   Builder(T, mode).run(n);

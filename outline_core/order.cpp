@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <cstring>
 
-#include "huge_pages.hpp"
-
 namespace hg::outline {
 namespace {
 
@@ -73,9 +71,7 @@ std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y, int bits) {
 // rounding is monotone, the box of the translated points is the input box translated, no extra pass.
 template <class At>
 std::vector<std::uint32_t> order_positions(std::size_t n, At at, const Box& box, Order order) {
-  std::vector<std::uint32_t> idx, key, key2, idx2;
-  reserve_huge(idx, n);
-  idx.resize(n);
+  std::vector<std::uint32_t> idx(n);
   for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<std::uint32_t>(i);
   if (order == Order::AsIs || n < 3) return idx;
   const double minx = box.minx, maxx = box.maxx, miny = box.miny, maxy = box.maxy;
@@ -86,7 +82,7 @@ std::vector<std::uint32_t> order_positions(std::size_t n, At at, const Box& box,
   const double extent = std::max(maxx - minx, maxy - miny);
   const double cells = static_cast<double>((1u << bits) - 1);
   const double scale = extent > 0 ? cells / extent : 0.0;
-  for (auto* v : {&key, &key2, &idx2}) reserve_huge(*v, n), v->resize(n);
+  std::vector<std::uint32_t> key(n), key2(n), idx2(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 p = at(i);
     const auto gx = static_cast<std::uint32_t>(std::min(cells, (p.x - minx) * scale));
