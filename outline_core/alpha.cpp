@@ -312,6 +312,49 @@ std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span
   });
 }
 
+namespace {
+
+// A vertex's input coordinates; with no input given, the translated point plus the origin (exact when
+// the caller released its points through triangulate_releasing).
+Vec2 input_coord(const Triangulation& T, std::span<const Vec2> input, std::uint32_t v) {
+  return input.empty() ? Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y} : input[T.ids[v]];
+}
+
+// The loop through the vertices v[0..m), starting at its smallest input index.
+Loop make_loop(const Triangulation& T, std::span<const Vec2> input, const std::uint32_t* v, std::size_t m) {
+  Loop L;
+  std::size_t start = 0;
+  for (std::size_t k = 1; k < m; ++k)
+    if (T.ids[v[k]] < T.ids[v[start]]) start = k;
+  // Area and length in input coordinates relative to the loop's first point: exact for integer-valued
+  // inputs, and no cancellation against a far origin.
+  const Vec2 o = input_coord(T, input, v[start]);
+  double twice_area = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::uint32_t vi = v[(start + k) % m], vj = v[(start + k + 1) % m];
+    const Vec2 pi = input_coord(T, input, vi), pj = input_coord(T, input, vj);
+    L.point_index.push_back(T.ids[vi]);
+    L.points.push_back(pi);
+    const double xi = pi.x - o.x, yi = pi.y - o.y, xj = pj.x - o.x, yj = pj.y - o.y;
+    twice_area += xi * yj - xj * yi;
+    L.perimeter += std::hypot(xj - xi, yj - yi);
+  }
+  L.hole = twice_area < 0;
+  L.area = std::fabs(twice_area) / 2;
+  return L;
+}
+
+// Outer loops first, then holes, each group by decreasing area, ties by first point index.
+void sort_loops(std::vector<Loop>& loops) {
+  std::stable_sort(loops.begin(), loops.end(), [](const Loop& a, const Loop& b) {
+    if (a.hole != b.hole) return !a.hole;
+    if (a.area != b.area) return a.area > b.area;
+    return a.point_index[0] < b.point_index[0];
+  });
+}
+
+}  // namespace
+
 std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::uint8_t>& inside,
                                 std::span<const Vec2> input) {
   const std::size_t hcount = T.tri.size();
@@ -322,35 +365,8 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
     while (inside[T.twin[g] / 3]) g = Triangulation::next(T.twin[g]);
     return g;
   };
-
-  // A vertex's input coordinates; with no input given, the translated point plus the origin (exact when
-  // the caller released its points through triangulate_releasing).
-  auto coord = [&](std::uint32_t v) {
-    return input.empty() ? Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y} : input[T.ids[v]];
-  };
   std::vector<Loop> loops;
-  auto emit = [&](const std::uint32_t* v, std::size_t m) {
-    Loop L;
-    std::size_t start = 0;
-    for (std::size_t k = 1; k < m; ++k)
-      if (T.ids[v[k]] < T.ids[v[start]]) start = k;
-    // Area and length in input coordinates relative to the loop's first point: exact for integer-valued
-    // inputs, and no cancellation against a far origin.
-    const Vec2 o = coord(v[start]);
-    double twice_area = 0;
-    for (std::size_t k = 0; k < m; ++k) {
-      const std::uint32_t vi = v[(start + k) % m], vj = v[(start + k + 1) % m];
-      const Vec2 pi = coord(vi), pj = coord(vj);
-      L.point_index.push_back(T.ids[vi]);
-      L.points.push_back(pi);
-      const double xi = pi.x - o.x, yi = pi.y - o.y, xj = pj.x - o.x, yj = pj.y - o.y;
-      twice_area += xi * yj - xj * yi;
-      L.perimeter += std::hypot(xj - xi, yj - yi);
-    }
-    L.hole = twice_area < 0;
-    L.area = std::fabs(twice_area) / 2;
-    loops.push_back(std::move(L));
-  };
+  auto emit = [&](const std::uint32_t* v, std::size_t m) { loops.push_back(make_loop(T, input, v, m)); };
 
   // The free half-edges, in increasing order (one pass over the triangles); the tracing below then
   // works on this short list (its length is the outline's, not the cloud's): used marks per free edge,
@@ -393,11 +409,7 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
     emit(path.data(), path.size());
     for (std::uint32_t v : path) pos[vert_slot(v)] = -1;
   }
-  std::stable_sort(loops.begin(), loops.end(), [](const Loop& a, const Loop& b) {
-    if (a.hole != b.hole) return !a.hole;
-    if (a.area != b.area) return a.area > b.area;
-    return a.point_index[0] < b.point_index[0];
-  });
+  sort_loops(loops);
   return loops;
 }
 
