@@ -98,6 +98,7 @@ class AreaMedian {
   std::size_t used_ = 0;
 };
 
+constexpr std::uint8_t kGhostClass = 0;    // rclass of a ghost triangle slot
 constexpr std::uint8_t kUndecided = 255;
 
 // Class of q = r^2 / scale2 > 0 from its bits: 16 per octave (exponent and top 4 mantissa bits), 1 at
@@ -157,13 +158,11 @@ double median_triangle_spacing(const Triangulation& T) { return scan_triangles(T
 
 TriangleScan scan_triangles(const Triangulation& T) {
   TriangleScan scan;
-  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-  for (std::size_t v = 0; v < T.xy.size(); ++v)
-    if (T.vrep[v] == v) x0 = std::min(x0, T.xy[v].x), x1 = std::max(x1, T.xy[v].x), y0 = std::min(y0, T.xy[v].y), y1 = std::max(y1, T.xy[v].y);
-  scan.scale2 = (x1 - x0) * (y1 - y0) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
+  // The box of the inserted vertices is that of all (a merged duplicate has its representative's coordinates).
+  scan.scale2 = (T.xy_max.x - T.xy_min.x) * (T.xy_max.y - T.xy_min.y) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
   if (!std::isnormal(scan.scale2)) scan.scale2 = 0;  // no classes: every decision exact
   const std::size_t slots = T.slots();
-  scan.rclass.assign(slots, 0);
+  scan.rclass.assign(slots, kGhostClass);
   AreaMedian median;
   // The three vertices of a triangle are scattered over the coordinate array: fetching those of a few
   // triangles ahead overlaps the cache misses that otherwise dominate this pass.
@@ -235,33 +234,41 @@ double local_radius(std::span<const float> s, double k, std::uint32_t u, std::ui
 
 namespace {
 
-// inside[] as documented at classify_alpha, with `big(t)` the exact r > R_t decision.
-template <class Big>
-std::vector<std::uint8_t> classify_with(const Triangulation& T, bool outer_only, Big big) {
+// What the classification knows of a triangle slot.
+enum class Triangle : std::uint8_t {
+  Ghost,       // a ghost triangle (outside by definition)
+  Small,       // finite, circumradius r <= R_t: in the shape
+  Big,         // finite, r > R_t (decided exactly)
+  BigOutside,  // big and reached from a ghost through big triangles (outer_only's BFS)
+};
+
+// inside[] as documented at classify_alpha, from state(t) (Ghost, Small or Big).
+template <class State>
+std::vector<std::uint8_t> classify_with(const Triangulation& T, bool outer_only, State state) {
   const std::size_t slots = T.slots();
-  std::vector<std::uint8_t> inside(slots, 0);
-  for (std::size_t t = 0; t < slots; ++t)
-    if (!T.is_ghost(t)) inside[t] = big(t) ? 2 : 1;  // 2 = big, for now
+  std::vector<std::uint8_t> inside(slots);
   if (!outer_only) {
-    for (auto& s : inside) s = s == 1;
+    for (std::size_t t = 0; t < slots; ++t) inside[t] = state(t) == Triangle::Small;
     return inside;
   }
+  std::vector<Triangle> st(slots);
+  for (std::size_t t = 0; t < slots; ++t) st[t] = state(t);
   // The paper's BFS: from every ghost triangle, through big triangles only; those reached are outside.
   std::vector<std::uint32_t> stack;
   for (std::size_t t = 0; t < slots; ++t)
-    if (T.is_ghost(t)) stack.push_back(static_cast<std::uint32_t>(t));
+    if (st[t] == Triangle::Ghost) stack.push_back(static_cast<std::uint32_t>(t));
   while (!stack.empty()) {
     const std::uint32_t t = stack.back();
     stack.pop_back();
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t nb = T.twin[3 * t + i] / 3;
-      if (inside[nb] == 2) {
-        inside[nb] = 3;  // big and reached from outside
+      if (st[nb] == Triangle::Big) {
+        st[nb] = Triangle::BigOutside;
         stack.push_back(nb);
       }
     }
   }
-  for (auto& s : inside) s = (s == 1 || s == 2);
+  for (std::size_t t = 0; t < slots; ++t) inside[t] = st[t] == Triangle::Small || st[t] == Triangle::Big;
   return inside;
 }
 
@@ -273,7 +280,10 @@ bool bigger_than(const Triangulation& T, std::size_t t, double R) {
 }  // namespace
 
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only) {
-  return classify_with(T, outer_only, [&](std::size_t t) { return bigger_than(T, t, R); });
+  return classify_with(T, outer_only, [&](std::size_t t) {
+    if (T.is_ghost(t)) return Triangle::Ghost;
+    return bigger_than(T, t, R) ? Triangle::Big : Triangle::Small;
+  });
 }
 
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only, const TriangleScan& scan) {
@@ -281,22 +291,69 @@ std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool 
   // 3 % or more), and so is R's: 3 classes apart decide. Near the clamped ends, all exact.
   const int cR = std::isnormal(scan.scale2) ? r2_class(R * R / scan.scale2) : 0;
   const bool usable = cR >= 4 && cR <= 250;
+  // The ghost triangles are those of kGhostClass: this pass reads the classes only, not the triangles.
   return classify_with(T, outer_only, [&](std::size_t t) {
     const int c = scan.rclass[t];
+    if (c == kGhostClass) return Triangle::Ghost;
     if (usable && c != kUndecided) {
-      if (c + 3 <= cR) return false;
-      if (c >= cR + 3) return true;
+      if (c + 3 <= cR) return Triangle::Small;
+      if (c >= cR + 3) return Triangle::Big;
     }
-    return bigger_than(T, t, R);
+    return bigger_than(T, t, R) ? Triangle::Big : Triangle::Small;
   });
 }
 
 std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing,
                                                double k, bool outer_only) {
   return classify_with(T, outer_only, [&](std::size_t t) {
-    return bigger_than(T, t, local_radius(vertex_spacing, k, T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2]));
+    if (T.is_ghost(t)) return Triangle::Ghost;
+    const double R = local_radius(vertex_spacing, k, T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2]);
+    return bigger_than(T, t, R) ? Triangle::Big : Triangle::Small;
   });
 }
+
+namespace {
+
+// A vertex's input coordinates; with no input given, the translated point plus the origin (exact when
+// the caller released its points through triangulate_releasing).
+Vec2 input_coord(const Triangulation& T, std::span<const Vec2> input, std::uint32_t v) {
+  return input.empty() ? Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y} : input[T.ids[v]];
+}
+
+// The loop through the vertices v[0..m), starting at its smallest input index.
+Loop make_loop(const Triangulation& T, std::span<const Vec2> input, const std::uint32_t* v, std::size_t m) {
+  Loop L;
+  std::size_t start = 0;
+  for (std::size_t k = 1; k < m; ++k)
+    if (T.ids[v[k]] < T.ids[v[start]]) start = k;
+  // Area and length in input coordinates relative to the loop's first point: exact for integer-valued
+  // inputs, and no cancellation against a far origin.
+  const Vec2 o = input_coord(T, input, v[start]);
+  double twice_area = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::uint32_t vi = v[(start + k) % m], vj = v[(start + k + 1) % m];
+    const Vec2 pi = input_coord(T, input, vi), pj = input_coord(T, input, vj);
+    L.point_index.push_back(T.ids[vi]);
+    L.points.push_back(pi);
+    const double xi = pi.x - o.x, yi = pi.y - o.y, xj = pj.x - o.x, yj = pj.y - o.y;
+    twice_area += xi * yj - xj * yi;
+    L.perimeter += std::hypot(xj - xi, yj - yi);
+  }
+  L.hole = twice_area < 0;
+  L.area = std::fabs(twice_area) / 2;
+  return L;
+}
+
+// Outer loops first, then holes, each group by decreasing area, ties by first point index.
+void sort_loops(std::vector<Loop>& loops) {
+  std::stable_sort(loops.begin(), loops.end(), [](const Loop& a, const Loop& b) {
+    if (a.hole != b.hole) return !a.hole;
+    if (a.area != b.area) return a.area > b.area;
+    return a.point_index[0] < b.point_index[0];
+  });
+}
+
+}  // namespace
 
 std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::uint8_t>& inside,
                                 std::span<const Vec2> input) {
@@ -308,35 +365,8 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
     while (inside[T.twin[g] / 3]) g = Triangulation::next(T.twin[g]);
     return g;
   };
-
-  // A vertex's input coordinates; with no input given, the translated point plus the origin (exact when
-  // the caller released its points through triangulate_releasing).
-  auto coord = [&](std::uint32_t v) {
-    return input.empty() ? Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y} : input[T.ids[v]];
-  };
   std::vector<Loop> loops;
-  auto emit = [&](const std::uint32_t* v, std::size_t m) {
-    Loop L;
-    std::size_t start = 0;
-    for (std::size_t k = 1; k < m; ++k)
-      if (T.ids[v[k]] < T.ids[v[start]]) start = k;
-    // Area and length in input coordinates relative to the loop's first point: exact for integer-valued
-    // inputs, and no cancellation against a far origin.
-    const Vec2 o = coord(v[start]);
-    double twice_area = 0;
-    for (std::size_t k = 0; k < m; ++k) {
-      const std::uint32_t vi = v[(start + k) % m], vj = v[(start + k + 1) % m];
-      const Vec2 pi = coord(vi), pj = coord(vj);
-      L.point_index.push_back(T.ids[vi]);
-      L.points.push_back(pi);
-      const double xi = pi.x - o.x, yi = pi.y - o.y, xj = pj.x - o.x, yj = pj.y - o.y;
-      twice_area += xi * yj - xj * yi;
-      L.perimeter += std::hypot(xj - xi, yj - yi);
-    }
-    L.hole = twice_area < 0;
-    L.area = std::fabs(twice_area) / 2;
-    loops.push_back(std::move(L));
-  };
+  auto emit = [&](const std::uint32_t* v, std::size_t m) { loops.push_back(make_loop(T, input, v, m)); };
 
   // The free half-edges, in increasing order (one pass over the triangles); the tracing below then
   // works on this short list (its length is the outline's, not the cloud's): used marks per free edge,
@@ -379,11 +409,7 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
     emit(path.data(), path.size());
     for (std::uint32_t v : path) pos[vert_slot(v)] = -1;
   }
-  std::stable_sort(loops.begin(), loops.end(), [](const Loop& a, const Loop& b) {
-    if (a.hole != b.hole) return !a.hole;
-    if (a.area != b.area) return a.area > b.area;
-    return a.point_index[0] < b.point_index[0];
-  });
+  sort_loops(loops);
   return loops;
 }
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "delaunay.hpp"
-#include "outline.hpp"
+#include "types.hpp"
 
 namespace hg::outline {
 

@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 
+#include "order.hpp"
 #include "predicates.hpp"
 
 namespace hg::outline {
@@ -21,88 +22,29 @@ std::string fmt(double v) {
   return buf;
 }
 
-// Hilbert index of (x, y) on a 2^bits x 2^bits grid (bits <= 16). The classic iteration (quadrant digit, then rotate /
-// reflect the rest) as a 4-state table: the accumulated transform is (swap?, invert?), a group where the
-// order does not matter. Table-driven, so no unpredictable branches (they dominated the sort's time).
-struct HilbertTable {
-  std::uint8_t digit[16], next[16];  // index: state * 4 + bx * 2 + by; state = swap * 2 + invert
-  constexpr HilbertTable() : digit{}, next{} {
-    for (unsigned st = 0; st < 4; ++st)
-      for (unsigned bx = 0; bx < 2; ++bx)
-        for (unsigned by = 0; by < 2; ++by) {
-          const unsigned sw = st >> 1, inv = st & 1;
-          unsigned rx = bx ^ inv, ry = by ^ inv;
-          if (sw) std::swap(rx, ry);
-          unsigned nsw = sw, ninv = inv;
-          if (ry == 0) {
-            if (rx == 1) ninv ^= 1;
-            nsw ^= 1;
-          }
-          digit[st * 4 + bx * 2 + by] = static_cast<std::uint8_t>((3 * rx) ^ ry);
-          next[st * 4 + bx * 2 + by] = static_cast<std::uint8_t>(nsw * 2 + ninv);
-        }
-  }
-};
-constexpr HilbertTable kHilbert;
-
-// Two levels per step: 4 states x 16 (two bits of x, two of y) -> 4-bit digit and next state.
-struct HilbertTable2 {
-  std::uint8_t digit[64], next[64];  // index: state * 16 + (x bits) * 4 + (y bits)
-  constexpr HilbertTable2() : digit{}, next{} {
-    for (unsigned st = 0; st < 4; ++st)
-      for (unsigned xb = 0; xb < 4; ++xb)
-        for (unsigned yb = 0; yb < 4; ++yb) {
-          const unsigned i1 = st * 4 + (xb >> 1) * 2 + (yb >> 1);
-          const unsigned s1 = kHilbert.next[i1];
-          const unsigned i2 = s1 * 4 + (xb & 1) * 2 + (yb & 1);
-          digit[st * 16 + xb * 4 + yb] = static_cast<std::uint8_t>((kHilbert.digit[i1] << 2) | kHilbert.digit[i2]);
-          next[st * 16 + xb * 4 + yb] = kHilbert.next[i2];
-        }
-  }
-};
-constexpr HilbertTable2 kHilbert2;
-
-std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y, int bits) {
-  std::uint32_t d = 0, st = 0;
-  int bit = bits;
-  if (bit & 1) {  // odd count: one single level first
-    --bit;
-    const std::uint32_t i = st * 4 + ((x >> bit) & 1) * 2 + ((y >> bit) & 1);
-    d = kHilbert.digit[i];
-    st = kHilbert.next[i];
-  }
-  while (bit > 0) {
-    bit -= 2;
-    const std::uint32_t i = st * 16 + ((x >> bit) & 3) * 4 + ((y >> bit) & 3);
-    d = (d << 4) | kHilbert2.digit[i];
-    st = kHilbert2.next[i];
-  }
-  return d;
-}
-
 class Builder {
  public:
   Builder(Triangulation& T, Mode mode)
-      : T_(T), mode_(mode), P_(T.xy.data()), G_(T.ghost) {}
+      : T_(T), mode_(mode), xy_(T.xy.data()), ghost_(T.ghost) {}
 
   void run(std::size_t n);  // inserts vertices 0 .. n-1 in this order
 
  private:
   Triangulation& T_;
   Mode mode_;
-  const Vec2* P_;
-  std::uint32_t G_;
+  const Vec2* xy_;
+  std::uint32_t ghost_;
   std::uint32_t slots_ = 0;  // triangles in use (tri/twin are sized for all of them up front)
-  // The cavity, and its boundary in counter-clockwise order: half-edge j runs from bnd_a_[j] to
-  // bnd_a_[j + 1], bnd_o_[j] is its twin outside the cavity.
+  // The cavity, and its boundary in counter-clockwise order: half-edge j runs from boundary_from_[j] to
+  // boundary_from_[j + 1], boundary_twin_[j] is its twin outside the cavity.
   // Scratch arrays, grown on demand (never shrunk): cavity_ gets two more entries for the new slots.
-  std::vector<std::uint32_t> cavity_, bnd_a_, bnd_o_, stack_;
+  std::vector<std::uint32_t> cavity_, boundary_from_, boundary_twin_, stack_;
   void grow_scratch(std::size_t need) {
     if (need <= cavity_.size()) return;
     const std::size_t size = std::max(need, 2 * cavity_.size());
-    cavity_.resize(size), bnd_a_.resize(size), bnd_o_.resize(size), stack_.resize(size);
+    cavity_.resize(size), boundary_from_.resize(size), boundary_twin_.resize(size), stack_.resize(size);
   }
-  std::size_t ncav_ = 0, nbnd_ = 0;
+  std::size_t cavity_size_ = 0, boundary_size_ = 0;
   std::uint32_t last_ = 0;                    // DSHI: a triangle made by the previous insertion
   std::uint32_t ds_vertex_ = 0, ds_tri_ = 0;  // DS: fixed start, a triangle incident to the first vertex
   std::uint32_t dup_ = kNone;
@@ -112,15 +54,15 @@ class Builder {
   }
   double orient(std::uint32_t u, std::uint32_t v, const Vec2& p) {
     ++T_.stats.orient_tests;
-    return orient_xy(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
+    return orient_xy(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
   }
   double incircle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec2& p) const {
-    const Vec2 &A = P_[a], &B = P_[b], &C = P_[c];
+    const Vec2 &A = xy_[a], &B = xy_[b], &C = xy_[c];
     return pred::incircle(A.x, A.y, B.x, B.y, C.x, C.y, p.x, p.y);
   }
   // p strictly between u and v, given that the three are collinear.
   bool strictly_between(std::uint32_t u, std::uint32_t v, const Vec2& p) const {
-    const Vec2 &a = P_[u], &b = P_[v];
+    const Vec2 &a = xy_[u], &b = xy_[v];
     if (a.x != b.x) return (a.x < p.x && p.x < b.x) || (b.x < p.x && p.x < a.x);
     return (a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y);
   }
@@ -133,9 +75,9 @@ class Builder {
   // Index (0..2) of the finite half-edge of a ghost triangle, kNone for a finite triangle.
   std::uint32_t ghost_edge(std::uint32_t t) const {
     const std::uint32_t* v = &T_.tri[3 * t];
-    if (v[0] == G_) return 1;
-    if (v[1] == G_) return 2;
-    if (v[2] == G_) return 0;
+    if (v[0] == ghost_) return 1;
+    if (v[1] == ghost_) return 2;
+    if (v[2] == ghost_) return 0;
     return kNone;
   }
   bool conflict(std::uint32_t t, const Vec2& p) {
@@ -151,10 +93,10 @@ class Builder {
     const std::uint32_t* tri = T_.tri.data();
     const std::uint32_t t = g / 3, i = g - 3 * t;
     const std::uint32_t b = tri[g], a = tri[3 * t + (i == 2 ? 0 : i + 1)], c = tri[3 * t + (i == 0 ? 2 : i - 1)];
-    if (c == G_ || a == G_ || b == G_) [[unlikely]] {
-      const std::uint32_t u = c == G_ ? b : (a == G_ ? c : a), v = c == G_ ? a : (a == G_ ? b : c);  // finite edge u -> v
+    if (c == ghost_ || a == ghost_ || b == ghost_) [[unlikely]] {
+      const std::uint32_t u = c == ghost_ ? b : (a == ghost_ ? c : a), v = c == ghost_ ? a : (a == ghost_ ? b : c);  // finite edge u -> v
       ++orients;
-      const double o = pred::orient2d(P_[u].x, P_[u].y, P_[v].x, P_[v].y, p.x, p.y);
+      const double o = pred::orient2d(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
       return o > 0 || (o == 0 && strictly_between(u, v, p));
     }
     ++incircles;
@@ -206,7 +148,7 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
     if (negatives == 0) {
       if (zero) {
         for (int i = 0; i < 3; ++i)
-          if (P_[v[i]].x == p.x && P_[v[i]].y == p.y) dup_ = v[i];
+          if (xy_[v[i]].x == p.x && xy_[v[i]].y == p.y) dup_ = v[i];
       }
       return t;
     }
@@ -216,10 +158,10 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
       int incoming = first_neg, outgoing = second_neg;  // edge ending at s, edge starting at s
       if ((first_neg + 1) % 3 != second_neg) std::swap(incoming, outgoing);
       const std::uint32_t s = v[outgoing];
-      const double cx = (P_[v[0]].x + P_[v[1]].x + P_[v[2]].x) / 3.0;
-      const double cy = (P_[v[0]].y + P_[v[1]].y + P_[v[2]].y) / 3.0;
+      const double cx = (xy_[v[0]].x + xy_[v[1]].x + xy_[v[2]].x) / 3.0;
+      const double cy = (xy_[v[0]].y + xy_[v[1]].y + xy_[v[2]].y) / 3.0;
       ++T_.stats.orient_tests;
-      cross = pred::orient2d(cx, cy, P_[s].x, P_[s].y, p.x, p.y) < 0 ? incoming : outgoing;
+      cross = pred::orient2d(cx, cy, xy_[s].x, xy_[s].y, p.x, p.y) < 0 ? incoming : outgoing;
     }
     from = twin[3 * t + cross];
     t = from / 3;
@@ -240,7 +182,7 @@ std::uint32_t Builder::scan_for_conflict(const Vec2& p) {
 void Builder::find_duplicate_by_scan(const Vec2& p) {
   const std::uint32_t* tri = T_.tri.data();
   for (std::uint32_t k = 0; k < 3 * slots_; ++k)
-    if (tri[k] != G_ && P_[tri[k]].x == p.x && P_[tri[k]].y == p.y) {
+    if (tri[k] != ghost_ && xy_[tri[k]].x == p.x && xy_[tri[k]].y == p.y) {
       dup_ = tri[k];
       return;
     }
@@ -258,8 +200,8 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   // Sizes: the stack holds at most cavity + 3 half-edges, the boundary cavity + 2; checked per triangle.
   grow_scratch(64);
   std::uint32_t* cav = cavity_.data();
-  std::uint32_t* ba = bnd_a_.data();
-  std::uint32_t* bo = bnd_o_.data();
+  std::uint32_t* ba = boundary_from_.data();
+  std::uint32_t* bo = boundary_twin_.data();
   std::uint32_t* st = stack_.data();
   std::size_t nc = 0, nb = 0, ns = 0;
   cav[nc++] = t0;
@@ -273,7 +215,7 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
     if (conflict_across(g, p, orients, incircles)) {
       if (nc + 8 > cavity_.size()) [[unlikely]] {
         grow_scratch(nc + 8);
-        cav = cavity_.data(), ba = bnd_a_.data(), bo = bnd_o_.data(), st = stack_.data();
+        cav = cavity_.data(), ba = boundary_from_.data(), bo = boundary_twin_.data(), st = stack_.data();
       }
       const std::uint32_t t = g / 3, i = g - 3 * t;
       cav[nc++] = t;
@@ -284,8 +226,8 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
       bo[nb++] = g;
     }
   }
-  ncav_ = nc;
-  nbnd_ = nb;
+  cavity_size_ = nc;
+  boundary_size_ = nb;
   if (count) {
     T_.stats.cavity_visits += visits;
     T_.stats.orient_tests += orients;
@@ -294,7 +236,7 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
 }
 
 void Builder::insert(std::uint32_t v) {
-  const Vec2 p = P_[v];
+  const Vec2 p = xy_[v];
   dup_ = kNone;
   std::uint32_t t0 = kNone;
   if (mode_ == Mode::Ordinary) {
@@ -315,13 +257,13 @@ void Builder::insert(std::uint32_t v) {
     return;
   }
   dig_cavity(t0, p, mode_ != Mode::Ordinary);
-  const std::size_t m = nbnd_;  // a disk of m - 2 triangles has m boundary edges
-  T_.stats.cavity_triangles += ncav_;
+  const std::size_t m = boundary_size_;  // a disk of m - 2 triangles has m boundary edges
+  T_.stats.cavity_triangles += cavity_size_;
 
-  // Star the cavity from p: new triangle j = (bnd_a_[j], bnd_a_[j + 1], v), in the cavity's slots and
+  // Star the cavity from p: new triangle j = (boundary_from_[j], boundary_from_[j + 1], v), in the cavity's slots and
   // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
-  cavity_[ncav_] = slots_;  // room is kept: the cavity holds m - 2 entries, the arrays at least m + 6
-  cavity_[ncav_ + 1] = slots_ + 1;
+  cavity_[cavity_size_] = slots_;  // room is kept: the cavity holds m - 2 entries, the arrays at least m + 6
+  cavity_[cavity_size_ + 1] = slots_ + 1;
   slots_ += 2;
   std::uint32_t* tri = T_.tri.data();
   std::uint32_t* twin = T_.twin.data();
@@ -329,7 +271,7 @@ void Builder::insert(std::uint32_t v) {
   std::uint32_t finite_new = kNone;
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t jn = j + 1 == m ? 0 : j + 1, jp = j == 0 ? m - 1 : j - 1;
-    const std::uint32_t t = cavity_[j], a = bnd_a_[j], b = bnd_a_[jn], o = bnd_o_[j];
+    const std::uint32_t t = cavity_[j], a = boundary_from_[j], b = boundary_from_[jn], o = boundary_twin_[j];
     tri[3 * t] = a;
     tri[3 * t + 1] = b;
     tri[3 * t + 2] = v;
@@ -337,14 +279,14 @@ void Builder::insert(std::uint32_t v) {
     twin[o] = 3 * t;
     twin[3 * t + 1] = 3 * cavity_[jn] + 2;
     twin[3 * t + 2] = 3 * cavity_[jp] + 1;
-    if (a != G_) {
+    if (a != ghost_) {
       // v's new Delaunay neighbours: the nearest neighbour of either end is found when the later of the
       // two is inserted (a final Delaunay edge is an edge of every intermediate triangulation).
-      const double dx = P_[a].x - p.x, dy = P_[a].y - p.y;
+      const double dx = xy_[a].x - p.x, dy = xy_[a].y - p.y;
       const float d2 = static_cast<float>(dx * dx + dy * dy);
       nn2[v] = std::min(nn2[v], d2);
       nn2[a] = std::min(nn2[a], d2);
-      if (finite_new == kNone && b != G_) finite_new = t;
+      if (finite_new == kNone && b != ghost_) finite_new = t;
     }
   }
   last_ = finite_new;
@@ -354,8 +296,8 @@ void Builder::insert(std::uint32_t v) {
     const bool ok = (w[0] == ds_vertex_ || w[1] == ds_vertex_ || w[2] == ds_vertex_) && ghost_edge(ds_tri_) == kNone;
     if (!ok)
       for (std::size_t j = 0; j < m; ++j) {
-        const std::uint32_t a = bnd_a_[j], b = bnd_a_[j + 1 == m ? 0 : j + 1];
-        if ((a == ds_vertex_ || b == ds_vertex_) && a != G_ && b != G_) ds_tri_ = cavity_[j];
+        const std::uint32_t a = boundary_from_[j], b = boundary_from_[j + 1 == m ? 0 : j + 1];
+        if ((a == ds_vertex_ || b == ds_vertex_) && a != ghost_ && b != ghost_) ds_tri_ = cavity_[j];
       }
   }
   ++T_.inserted;
@@ -367,14 +309,14 @@ void Builder::run(std::size_t n) {
   // with both. Points skipped on the way are inserted right after, in their order.
   const std::uint32_t p0 = order(0);
   std::size_t k1 = 1;
-  while (k1 < n && P_[order(k1)].x == P_[p0].x && P_[order(k1)].y == P_[p0].y) ++k1;
+  while (k1 < n && xy_[order(k1)].x == xy_[p0].x && xy_[order(k1)].y == xy_[p0].y) ++k1;
   std::size_t k2 = k1 + 1;
   if (k1 < n) {
     const std::uint32_t p1 = order(k1);
-    while (k2 < n && pred::orient2d(P_[p0].x, P_[p0].y, P_[p1].x, P_[p1].y, P_[order(k2)].x, P_[order(k2)].y) == 0) ++k2;
+    while (k2 < n && pred::orient2d(xy_[p0].x, xy_[p0].y, xy_[p1].x, xy_[p1].y, xy_[order(k2)].x, xy_[order(k2)].y) == 0) ++k2;
   }
   if (k1 >= n || k2 >= n) {
-    std::vector<Vec2> distinct(P_, P_ + n);
+    std::vector<Vec2> distinct(xy_, xy_ + n);
     std::sort(distinct.begin(), distinct.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
     const auto e = std::unique(distinct.begin(), distinct.end(), [](const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; });
     const std::size_t count = static_cast<std::size_t>(e - distinct.begin());
@@ -382,14 +324,14 @@ void Builder::run(std::size_t n) {
     throw OutlineError("all " + std::to_string(count) + " distinct points are collinear");
   }
   std::uint32_t a = p0, b = order(k1), c = order(k2);
-  if (pred::orient2d(P_[a].x, P_[a].y, P_[b].x, P_[b].y, P_[c].x, P_[c].y) < 0) std::swap(b, c);
+  if (pred::orient2d(xy_[a].x, xy_[a].y, xy_[b].x, xy_[b].y, xy_[c].x, xy_[c].y) < 0) std::swap(b, c);
 
   // A triangulation of n + 1 vertices (the ghost included) on the sphere has 2 (n + 1) - 4 triangles:
   // every slot is allocated once, no growth during the insertion.
   const std::size_t max_slots = 2 * n + 2;
   T_.tri.assign(3 * max_slots, 0);
   T_.twin.assign(3 * max_slots, 0);
-  const std::uint32_t init_tri[12] = {a, b, c, b, a, G_, c, b, G_, a, c, G_};
+  const std::uint32_t init_tri[12] = {a, b, c, b, a, ghost_, c, b, ghost_, a, c, ghost_};
   const std::uint32_t init_twin[12] = {3, 6, 9, 0, 11, 7, 1, 5, 10, 2, 8, 4};
   std::copy(init_tri, init_tri + 12, T_.tri.begin());
   std::copy(init_twin, init_twin + 12, T_.twin.begin());
@@ -399,7 +341,7 @@ void Builder::run(std::size_t n) {
   for (std::uint32_t u : {a, b, c})
     for (std::uint32_t w : {a, b, c})
       if (u != w) {
-        const double dx = P_[u].x - P_[w].x, dy = P_[u].y - P_[w].y;
+        const double dx = xy_[u].x - xy_[w].x, dy = xy_[u].y - xy_[w].y;
         T_.nn2[u] = std::min(T_.nn2[u], static_cast<float>(dx * dx + dy * dy));
       }
   last_ = 0;
@@ -422,153 +364,103 @@ std::size_t Triangulation::finite_count() const {
   return c;
 }
 
-namespace {
-
-// The insertion order of the points idx (finite, increasing) translated by -origin (computed on the fly,
-// as fl(p - origin): only an ordering, so rounding is harmless; equal points get equal keys).
-std::vector<std::uint32_t> order_translated(std::span<const Vec2> pts, std::vector<std::uint32_t> idx, Vec2 origin,
-                                            Order order) {
-  const std::size_t n = idx.size();
-  auto at = [&](std::size_t k) { return Vec2{pts[idx[k]].x - origin.x, pts[idx[k]].y - origin.y}; };
-  if (order == Order::AsIs || n < 3) return idx;
-  double minx = at(0).x, maxx = minx, miny = at(0).y, maxy = miny;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 p = at(i);
-    minx = std::min(minx, p.x);
-    maxx = std::max(maxx, p.x);
-    miny = std::min(miny, p.y);
-    maxy = std::max(maxy, p.y);
-  }
-  // Grid of about 4 cells per point (at most 2^16 per side): finer gains nothing, and the radix passes'
-  // count arrays stay small enough for the cache.
-  int bits = 1;
-  while (bits < 16 && (std::size_t{1} << (2 * bits)) < 4 * n) ++bits;
-  const double extent = std::max(maxx - minx, maxy - miny);
-  const double cells = static_cast<double>((1u << bits) - 1);
-  const double scale = extent > 0 ? cells / extent : 0.0;
-  std::vector<std::uint32_t> key(n), key2(n), idx2(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 p = at(i);
-    const auto gx = static_cast<std::uint32_t>(std::min(cells, (p.x - minx) * scale));
-    const auto gy = static_cast<std::uint32_t>(std::min(cells, (p.y - miny) * scale));
-    key[i] = hilbert_index(gx, gy, bits);
-  }
-  // Stable LSD radix sort on the 2*bits-bit key, two passes: equal points keep their input order.
-  const int digit_bits = bits;  // two passes of `bits` bits each
-  const std::uint32_t mask = (1u << digit_bits) - 1;
-  std::vector<std::uint32_t> count((std::size_t{1} << digit_bits) + 1);
-  for (int pass = 0; pass < 2; ++pass) {
-    const int shift = digit_bits * pass;
-    std::fill(count.begin(), count.end(), 0);
-    for (std::size_t i = 0; i < n; ++i) ++count[((key[i] >> shift) & mask) + 1];
-    for (std::size_t d = 1; d < count.size(); ++d) count[d] += count[d - 1];
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t pos = count[(key[i] >> shift) & mask]++;
-      key2[pos] = key[i];
-      idx2[pos] = idx[i];
-    }
-    key.swap(key2);
-    idx.swap(idx2);
-  }
-  if (order != Order::Brio) return idx;
-  // BRIO rounds, growing 16-fold: the last round holds 15/16 of the points, the one before 15/16 of the
-  // rest, ... (factor 16 rather than the classic 2: the big last round keeps the Hilbert locality, and the
-  // sparse earlier rounds already make later points land inside the mesh; measured on a 1.59 M camera
-  // grid: 4.4 cavity triangles per point instead of 6.8 for plain Hilbert, 25 % less time; factor 2: 4.0
-  // triangles but no faster). The round is a hash of the coordinates (not of the index), so equal points
-  // share a round and keep their input order. A stable counting sort by round keeps the Hilbert order
-  // within each round.
-  int rounds = 0;
-  while (rounds < 7 && (n >> (4 * rounds)) > 256) ++rounds;
-  std::vector<std::uint8_t> round(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 p = at(i);
-    const double x = p.x + 0.0, y = p.y + 0.0;  // -0.0 becomes +0.0: equal values, equal bits
-    std::uint64_t bx, by;
-    std::memcpy(&bx, &x, 8);
-    std::memcpy(&by, &y, 8);
-    std::uint64_t h = bx * 0x9e3779b97f4a7c15ull ^ (by + 0x632be59bd9b4e019ull + (bx << 6) + (bx >> 2));
-    h ^= h >> 31; h *= 0xbf58476d1ce4e5b9ull; h ^= h >> 27; h *= 0x94d049bb133111ebull; h ^= h >> 31;
-    const int level = (h == 0 ? 64 : __builtin_ctzll(h)) / 4;  // P(level >= k) = 16^-k
-    round[i] = static_cast<std::uint8_t>(rounds - std::min(rounds, level));
-  }
-  std::vector<std::uint32_t> rc(static_cast<std::size_t>(rounds) + 2, 0);
-  for (std::size_t i = 0; i < n; ++i) ++rc[round[i] + 1u];
-  for (std::size_t r = 1; r < rc.size(); ++r) rc[r] += rc[r - 1];
-  for (std::size_t k = 0; k < n; ++k) idx2[rc[round[k]]++] = idx[k];
-  return idx2;
-}
-
-}  // namespace
-
-std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order) {
-  std::vector<std::uint32_t> idx(xy.size());
-  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<std::uint32_t>(i);
-  return order_translated(xy, std::move(idx), Vec2{0, 0}, order);  // p - 0 == p
-}
-
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order) {
   return triangulate(points, mode, order, {});
 }
 
 namespace {
 
-struct Box {
-  double minx, maxx, miny, maxy;
+bool is_finite(const Vec2& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+
+// What the triangulation needs to know of the input before ordering it, from one pass: the finite
+// points' count, box and coordinate sum, and whether any finite coordinate is so small (nonzero, below
+// 2^-118) that it may have set bits below the exact resolution 2^-170 (every larger double is a multiple
+// of 2^-170: its last mantissa bit is worth at least 2^-118-52).
+struct InputSummary {
+  std::size_t finite = 0;
+  Box box{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+          std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  double sx = 0, sy = 0;
+  bool tiny = false;
 };
 
-Box bounding_box(std::span<const Vec2> points, const std::vector<std::uint32_t>& finite) {
-  const Vec2& p0 = points[finite[0]];
-  Box b{p0.x, p0.x, p0.y, p0.y};
-  for (std::uint32_t i : finite) {
-    const Vec2& p = points[i];
-    b.minx = std::min(b.minx, p.x), b.maxx = std::max(b.maxx, p.x), b.miny = std::min(b.miny, p.y), b.maxy = std::max(b.maxy, p.y);
+InputSummary summarize(std::span<const Vec2> points) {
+  InputSummary s;
+  auto tiny = [](double v) { return (std::fabs(v) < 0x1p-118) & (v != 0); };
+  for (const Vec2& p : points) {
+    if (!is_finite(p)) [[unlikely]]
+      continue;
+    ++s.finite;
+    s.box.minx = std::min(s.box.minx, p.x), s.box.maxx = std::max(s.box.maxx, p.x);
+    s.box.miny = std::min(s.box.miny, p.y), s.box.maxy = std::max(s.box.maxy, p.y);
+    s.sx += p.x, s.sy += p.y;
+    s.tiny |= tiny(p.x) | tiny(p.y);
   }
-  return b;
+  return s;
+}
+
+std::vector<std::uint32_t> finite_indices(std::span<const Vec2> points) {
+  std::vector<std::uint32_t> finite;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (is_finite(points[i])) finite.push_back(static_cast<std::uint32_t>(i));
+  return finite;
 }
 
 // The predicates are exact while their products neither overflow nor underflow (predicates.hpp): a
 // cloud spanning more than 1e60, or a coordinate with a set bit below 2^-170, is refused (naming the
 // point) rather than triangulated wrongly.
-void check_range(std::span<const Vec2> points, const std::vector<std::uint32_t>& finite, const Box& b) {
+void check_range(std::span<const Vec2> points, const InputSummary& s) {
+  const Box& b = s.box;
   if (!(b.maxx - b.minx <= 1e60 && b.maxy - b.miny <= 1e60)) {
     // The point farthest from the mean (the box's centre if the sum overflows) is the odd one out.
-    double sx = 0, sy = 0;
-    for (std::uint32_t i : finite) sx += points[i].x, sy += points[i].y;
-    Vec2 c{sx / static_cast<double>(finite.size()), sy / static_cast<double>(finite.size())};
+    const std::vector<std::uint32_t> finite = finite_indices(points);
+    Vec2 c{s.sx / static_cast<double>(s.finite), s.sy / static_cast<double>(s.finite)};
     if (!std::isfinite(c.x) || !std::isfinite(c.y)) c = {b.minx / 2 + b.maxx / 2, b.miny / 2 + b.maxy / 2};
     auto dist = [&](std::uint32_t i) { return std::max(std::fabs(points[i].x - c.x), std::fabs(points[i].y - c.y)); };
     const std::uint32_t extreme = *std::max_element(finite.begin(), finite.end(), [&](std::uint32_t i, std::uint32_t j) { return dist(i) < dist(j); });
     throw OutlineError("point " + std::to_string(extreme) + " (x=" + fmt(points[extreme].x) + ", y=" + fmt(points[extreme].y) +
                        ") is too far from the others: the cloud must span less than 1e60 for exact predicates");
   }
-  for (std::uint32_t i : finite)
-    if (!pred::within_exact_resolution(points[i].x) || !pred::within_exact_resolution(points[i].y))
+  if (!s.tiny) return;  // every finite coordinate is 0 or at least 2^-118: within the resolution
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (is_finite(points[i]) && (!pred::within_exact_resolution(points[i].x) || !pred::within_exact_resolution(points[i].y)))
       throw OutlineError("point " + std::to_string(i) + " (x=" + fmt(points[i].x) + ", y=" + fmt(points[i].y) +
                          ") has a coordinate too finely resolved for exact predicates (a set bit below 2^-170, about 7e-52)");
 }
 
-// The translation: the centroid rounded to a multiple of a power of two about 2^-20 of the extent (a
-// negligible shift). It then has few significant bits, so for coordinates with few bits themselves
-// (float32 camera data) the translated coordinates keep few bits; products of their differences are then
-// exact doubles and the exact fallback of the predicates (frequent on noise-free grids, where every cell
-// is nearly cocircular) works on one-component expansions. Used only if every translated coordinate is
-// exact (the error term of each subtraction is zero), so that the triangulation is that of the input as
-// given; otherwise the origin is 0 and the points are triangulated as they are.
-Vec2 exact_origin(std::span<const Vec2> points, const std::vector<std::uint32_t>& finite, const Box& b) {
-  double sx = 0, sy = 0;
-  for (std::uint32_t i : finite) sx += points[i].x, sy += points[i].y;
-  const double n = static_cast<double>(finite.size());
-  Vec2 o{sx / n, sy / n};
+// The candidate translation: the centroid rounded to a multiple of a power of two about 2^-20 of the
+// extent (a negligible shift). It then has few significant bits, so for coordinates with few bits
+// themselves (float32 camera data) the translated coordinates keep few bits; products of their
+// differences are then exact doubles and the exact fallback of the predicates (frequent on noise-free
+// grids, where every cell is nearly cocircular) works on one-component expansions. It is used only if
+// every translated coordinate turns out exact (translate_exactly), so that the triangulation is that of
+// the input as given; otherwise the origin is 0 and the points are triangulated as they are.
+Vec2 rounded_centroid(const InputSummary& s) {
+  const Box& b = s.box;
+  const double n = static_cast<double>(s.finite);
+  Vec2 o{s.sx / n, s.sy / n};
   if (!std::isfinite(o.x) || !std::isfinite(o.y)) o = {b.minx / 2 + b.maxx / 2, b.miny / 2 + b.maxy / 2};  // the sum overflowed
   const double extent = std::max(b.maxx - b.minx, b.maxy - b.miny);
   if (!(std::isfinite(extent) && extent > 0)) return {0, 0};
   const double unit = std::ldexp(1.0, std::ilogb(extent) - 20);
   o = {std::round(o.x / unit) * unit, std::round(o.y / unit) * unit};
   if (!std::isfinite(o.x) || !std::isfinite(o.y)) return {0, 0};
-  for (std::uint32_t i : finite)
-    if (!pred::difference_is_exact(points[i].x, o.x) || !pred::difference_is_exact(points[i].y, o.y)) return {0, 0};
   return o;
+}
+
+// xy[v] = points[ids[v]] - origin; false if any of these subtractions rounded (checked on the way, by
+// the error term of each: one pass for the copy and the check).
+bool translate_exactly(std::span<const Vec2> points, Triangulation& T) {
+  const std::size_t n = T.ids.size();
+  const Vec2 o = T.origin;
+  T.xy.resize(n);
+  bool exact = true;
+  for (std::size_t v = 0; v < n; ++v) {
+    const Vec2& p = points[T.ids[v]];
+    T.xy[v] = {p.x - o.x, p.y - o.y};
+    exact &= pred::difference_is_exact(p.x, o.x) & pred::difference_is_exact(p.y, o.y);
+  }
+  return exact;
 }
 
 // The triangulation of the finite points; `release`, when given, is the vector `points` views: it is
@@ -578,31 +470,35 @@ Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order or
   const std::size_t n_in = points.size();
   if (n_in > 500'000'000) throw OutlineError("too many points: " + std::to_string(n_in));
   if (!custom.empty() && custom.size() != n_in) throw OutlineError("custom insertion order has the wrong size");
-  auto is_finite = [&](std::size_t i) { return std::isfinite(points[i].x) && std::isfinite(points[i].y); };
-  std::vector<std::uint32_t> finite;
-  finite.reserve(n_in);
-  for (std::size_t i = 0; i < n_in; ++i)
-    if (is_finite(i)) finite.push_back(static_cast<std::uint32_t>(i));
+  const InputSummary s = summarize(points);
   Triangulation T;
-  T.skipped = n_in - finite.size();
-  const std::size_t n = finite.size();
+  T.skipped = n_in - s.finite;
+  const std::size_t n = s.finite;
   if (n < 3)
     throw OutlineError("need at least 3 distinct points, got " + std::to_string(n) + " finite points" +
                        (T.skipped ? " (" + std::to_string(T.skipped) + " non-finite skipped)" : std::string()));
-  const Box box = bounding_box(points, finite);
-  check_range(points, finite, box);
-  T.origin = exact_origin(points, finite, box);
-  if (custom.empty()) {
-    T.ids = order_translated(points, std::move(finite), T.origin, order);
-  } else {
-    std::erase_if(custom, [&](std::uint32_t i) { return i >= n_in || !is_finite(i); });
+  check_range(points, s);
+  // Positions of the finite points in the input; none needed when all are finite (the usual case).
+  const std::vector<std::uint32_t> finite = T.skipped ? finite_indices(points) : std::vector<std::uint32_t>{};
+  const bool given_order = !custom.empty();
+  if (given_order) {
+    std::erase_if(custom, [&](std::uint32_t i) { return i >= n_in || !is_finite(points[i]); });
     if (custom.size() != n) throw OutlineError("custom insertion order is not a permutation");
     T.ids = std::move(custom);
   }
-  T.xy.resize(n);
-  for (std::size_t v = 0; v < n; ++v) {
-    const Vec2& p = points[T.ids[v]];
-    T.xy[v] = {p.x - T.origin.x, p.y - T.origin.y};  // exact (exact_origin)
+  // The candidate origin first; if a translated coordinate would round, once more with origin 0 (full-
+  // precision input: exact as given), the order then also computed from the untranslated points.
+  for (Vec2 origin : {rounded_centroid(s), Vec2{0, 0}}) {
+    T.origin = origin;
+    if (!given_order) {
+      const Box tb{s.box.minx - origin.x, s.box.maxx - origin.x, s.box.miny - origin.y, s.box.maxy - origin.y};
+      T.ids = order_translated(points, finite, origin, tb, order);
+    }
+    if (translate_exactly(points, T)) {
+      T.xy_min = {s.box.minx - origin.x, s.box.miny - origin.y};  // exact, as every translated coordinate
+      T.xy_max = {s.box.maxx - origin.x, s.box.maxy - origin.y};
+      break;
+    }
   }
   if (release) std::vector<Vec2>().swap(*release);
   T.ghost = static_cast<std::uint32_t>(n);

@@ -25,7 +25,8 @@
 #include <span>
 #include <vector>
 
-#include "outline.hpp"
+#include "order.hpp"  // insertion_order
+#include "types.hpp"
 
 namespace hg::outline {
 
@@ -42,6 +43,7 @@ struct DelaunayStats {
 struct Triangulation {
   Vec2 origin;                    // the translation: xy[v] = input[ids[v]] - origin, exactly (often 0)
   std::vector<Vec2> xy;           // translated coordinates, by vertex id (insertion order), finite points only
+  Vec2 xy_min, xy_max;            // bounding box of xy
   std::vector<std::uint32_t> ids; // vertex id -> index in the input as given
   std::uint32_t ghost = 0;        // the vertex at infinity (= xy.size())
   // Triangle t has vertices tri[3t], tri[3t+1], tri[3t+2], counter-clockwise for finite triangles.
@@ -68,10 +70,6 @@ struct Triangulation {
   }
   std::size_t finite_count() const;
 };
-
-// The insertion order: a permutation of 0..n-1 (AsIs: identity; Hilbert: sorted along a Hilbert curve
-// over the bounding box, stable, so equal points keep their input order).
-std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order);
 
 // Skips non-finite points, validates (>= 3 distinct finite points, not all collinear, the limits above;
 // throws OutlineError naming the index) and triangulates.

@@ -7,22 +7,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "types.hpp"
+
 namespace hg::outline {
 
-struct Vec2 {
-  double x = 0, y = 0;
-};
-
-// Point location scheme of the Bowyer-Watson insertion (paper section 3.1).
-enum class Mode { Ordinary, DS, DSHI };
-// Insertion order: as given (scan order), or sorted along a space-filling curve first. Brio: biased
-// randomized insertion order (rounds growing 16-fold, each along the Hilbert curve): points land inside
-// the current mesh, so cavities stay small (about 4.4 triangles instead of 6.8 on camera grids).
-enum class Order { AsIs, Hilbert, Brio };
 // Automatic radius: one R for the whole cloud (global), or one per triangle following the local point
 // spacing (local: for clouds whose spacing varies, e.g. seen by a tilted camera). docs/outline-auto-radius.md.
 enum class AlphaMode { Global, Local };
@@ -55,12 +46,6 @@ AlphaMode parse_alpha_mode(const std::string&);  // "global" | "local"; throws O
 // hole centred on a grid point).
 inline constexpr double kDefaultMinHoleSpacings = 4.5;
 
-// Bad input (fewer than 3 distinct finite points, all collinear, out of the exact range, bad option):
-// message says what and where. Non-finite points are no error: they are skipped and counted.
-struct OutlineError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
 struct Options {
   double alpha_radius = 0;     // R in input units; <= 0: automatic, auto_factor x the point spacing
   double auto_factor = 0;      // <= 0: automatic_factor (alpha.hpp): 1.7 regular .. ~2.1-2.8 random cloud
@@ -74,14 +59,6 @@ struct Options {
   Order order = Order::Brio;   // docs/outline-core-performance.md: scan order makes long thin fans
   bool outer_only = false;     // paper's BFS from outside only: big triangles inside are kept (no holes)
   bool keep_triangles = false; // fill Result::triangles
-};
-
-struct Loop {
-  bool hole = false;                  // outer loops counter-clockwise, holes clockwise
-  double area = 0;                    // positive
-  double perimeter = 0;
-  std::vector<Vec2> points;           // closing edge last -> first implicit
-  std::vector<uint32_t> point_index;  // index of each point in the input as given (skipped points included)
 };
 
 struct Timings {

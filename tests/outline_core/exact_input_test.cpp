@@ -16,6 +16,7 @@
 
 #include "exact_checker.hpp"
 #include "outline_core/delaunay.hpp"
+#include "outline_core/outline.hpp"
 
 using namespace hg::outline;
 using namespace hg::outline::testing;
