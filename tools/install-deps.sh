@@ -3,13 +3,15 @@
 # is present it only checks (a fraction of a second) and installs nothing.
 # Not root: prints the exact apt-get line to run and exits 1.
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
+hg_answer install-deps "$0" "$@"
 
 packages=(
   # build
   cmake ninja-build ccache g++ pkg-config
   # runtime libraries
   liblcm-dev liblcm-bin liblcm-java libopenni2-dev libaravis-dev libusb-1.0-0-dev libeigen3-dev libopencv-dev
-  cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev
+  cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev libyaml-cpp-dev
   # lcm-spy, tools and tests
   default-jdk-headless default-jre libjchart2d-java libgtest-dev iproute2 xvfb python3 openssl
   # test-only oracle for the outline core (never needed to build or run the product)
