@@ -133,6 +133,19 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The one line hg-outline prints when the JSON goes to a file.
+void print_summary(const Args& args, const hg::outline::Result& result, double ms) {
+  std::size_t holes = 0;
+  for (auto& l : result.loops) holes += l.hole;
+  std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s\n",
+              args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes, holes,
+              result.holes_dropped, result.alpha_radius,
+              result.alpha_mode == hg::outline::AlphaMode::Local ? " (local, per triangle)"
+              : result.alpha_automatic                           ? " (automatic)"
+                                                                 : "",
+              ms, args.json_out.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -187,19 +200,8 @@ int main(int argc, char** argv) {
     }
     files.commit();
 
-    if (args.json_out.empty()) {
-      std::fwrite(json.data(), 1, json.size(), stdout);
-    } else {
-      std::size_t holes = 0;
-      for (auto& l : result.loops) holes += l.hole;
-      std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s\n",
-                  args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes, holes,
-                  result.holes_dropped, result.alpha_radius,
-                  result.alpha_mode == hg::outline::AlphaMode::Local ? " (local, per triangle)"
-                  : result.alpha_automatic                           ? " (automatic)"
-                                                                     : "",
-                  info.project_ms + result.time.total_ms, args.json_out.c_str());
-    }
+    if (args.json_out.empty()) std::fwrite(json.data(), 1, json.size(), stdout);
+    else print_summary(args, result, info.project_ms + result.time.total_ms);
     if (std::fflush(stdout) != 0) {
       std::fprintf(stderr, "hg-outline: error: writing to stdout failed\n");
       return 1;
