@@ -1,5 +1,6 @@
 #include "camera_bridge/camera_bridge.hpp"
 
+#include <limits>
 #include <algorithm>
 #include <cmath>
 
@@ -64,37 +65,37 @@ runtime::ProcessInfo process_info() {
   return {"hg-camera-bridge", "Depth camera -> plate points (HG_PLATE_CLOUD) and monitoring depth (HG_DEPTH).",
           details,
           {
-              {"source", "synthetic", "synthetic | files | openni2 | genicam"},
+              runtime::text_param("source", "synthetic", "synthetic | files | openni2 | genicam", {"synthetic", "files", "openni2", "genicam"}),
               {"scene", "three-parts", "synthetic: scene preset (" + joined(scene_preset_names()) + ")"},
               {"profile", "pm806", "synthetic: camera profile (" + joined(camera_profile_names()) + ")"},
-              {"seed", "", "synthetic: noise seed (default: the scene's)"},
-              {"noise-scale", "1", "synthetic: multiplies the profile's depth noise, dropout and mixed-pixel rate (0: clean)"},
+              {"seed", "", "synthetic: noise seed (default: the scene's)", false, runtime::ParamType::Integer},
+              {"noise-scale", "1", "synthetic: multiplies the profile's depth noise, dropout and mixed-pixel rate (0: clean)", false, runtime::ParamType::Number, 0},
               {"write-truth", "", "synthetic: write the scene's ground truth JSON to this file at start"},
               {"files", "", "files: directory of 16-bit depth PNGs, or one .png/.pcd/.ply file"},
               {"intrinsics", "", "files: intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
               {"loop", "", "files, .oni: start again after the last frame", true},
               {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
               {"genicam-device", "", "genicam: Aravis device id (Vendor-Model-Serial, serial or IP address); empty: the first 3-D camera found"},
-              {"genicam-format", "c16", "genicam: c16 (Coord3D_C16 range image) | abc32f (Coord3D_ABC32f organized cloud, Z kept)"},
-              {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame"},
-              {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)"},
-              {"trigger", "continuous", "continuous | job (one capture per job id of a job_request_t ACTION_START on HG_JOB_REQUEST)"},
-              {"parts", "largest", "largest | all: publish the largest part or every part (labelled)"},
-              {"plane", "ransac", "ransac | calibrated (then --plane-normal and --plane-offset)"},
-              {"plane-normal", "0,0,-1", "calibrated table normal in the camera frame, towards the camera"},
-              {"plane-offset", "-1.5", "calibrated plane: normal . p = offset (metres, negative)"},
-              {"ransac-iterations", "150", "RANSAC hypotheses"},
-              {"ransac-threshold", "0.004", "table inlier distance, metres"},
-              {"min-height", "0.003", "part pixels: at least this high above the table, metres"},
-              {"max-height", "0.040", "part pixels: at most this high above the table, metres"},
-              {"open-size", "2", "opening kernel against specks, pixels (0: none; no-depth pixels spared)"},
-              {"close-size", "3", "closing kernel against pin holes, pixels (0: none)"},
-              {"min-area", "0.002", "smallest part, m^2"},
-              {"top-tolerance", "0", "cloud points: within this of the top plane, metres (0: 4 sigma, >= 1 mm)"},
-              {"depth-rate", "1", "HG_DEPTH messages per second at most (0: none)"},
-              {"depth-decimation", "4", "HG_DEPTH keeps every n-th pixel of every n-th row"},
-              {"retry-min", "0.5", "seconds before the first re-open of a failed device"},
-              {"retry-max", "8", "back-off limit, seconds"},
+              runtime::text_param("genicam-format", "c16", "genicam: c16 (Coord3D_C16 range image) | abc32f (Coord3D_ABC32f organized cloud, Z kept)", {"c16", "abc32f"}),
+              {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame", false, runtime::ParamType::Number},
+              {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)", false, runtime::ParamType::Number},
+              runtime::text_param("trigger", "continuous", "continuous | job (one capture per job id of a job_request_t ACTION_START on HG_JOB_REQUEST)", {"continuous", "job"}),
+              runtime::text_param("parts", "largest", "largest | all: publish the largest part or every part (labelled)", {"largest", "all"}),
+              runtime::text_param("plane", "ransac", "ransac | calibrated (then --plane-normal and --plane-offset)", {"ransac", "calibrated"}),
+              {"plane-normal", "0,0,-1", "calibrated table normal in the camera frame, towards the camera", false, runtime::ParamType::Numbers},
+              {"plane-offset", "-1.5", "calibrated plane: normal . p = offset (metres, negative)", false, runtime::ParamType::Number},
+              {"ransac-iterations", "150", "RANSAC hypotheses", false, runtime::ParamType::Integer, 1},
+              {"ransac-threshold", "0.004", "table inlier distance, metres", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"min-height", "0.003", "part pixels: at least this high above the table, metres", false, runtime::ParamType::Number},
+              {"max-height", "0.040", "part pixels: at most this high above the table, metres", false, runtime::ParamType::Number},
+              {"open-size", "2", "opening kernel against specks, pixels (0: none; no-depth pixels spared)", false, runtime::ParamType::Integer, 0},
+              {"close-size", "3", "closing kernel against pin holes, pixels (0: none)", false, runtime::ParamType::Integer, 0},
+              {"min-area", "0.002", "smallest part, m^2", false, runtime::ParamType::Number, 0},
+              {"top-tolerance", "0", "cloud points: within this of the top plane, metres (0: 4 sigma, >= 1 mm)", false, runtime::ParamType::Number, 0},
+              {"depth-rate", "1", "HG_DEPTH messages per second at most (0: none)", false, runtime::ParamType::Number, 0},
+              {"depth-decimation", "4", "HG_DEPTH keeps every n-th pixel of every n-th row", false, runtime::ParamType::Integer, 1},
+              {"retry-min", "0.5", "seconds before the first re-open of a failed device", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"retry-max", "8", "back-off limit, seconds", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
               {"frame-id", "camera", "header.frame_id of the published messages"},
           }};
 }
@@ -401,23 +402,13 @@ void Bridge::publish_depth(const DepthFrame& frame) {
   node_.publish(channels::kDepth, m);
 }
 
-int run_main(int argc, char** argv) {
-  runtime::Node node(process_info(), argc, argv);
-  std::unique_ptr<DepthSource> source;
-  BridgeOptions options;
-  try {
-    options = options_from(node);
-    source = source_from(node);
-  } catch (const std::exception& e) {  // bad parameters: say why, like a bad command line
-    logf(Level::Error, "%s", e.what());
-    return 2;
-  }
+std::unique_ptr<Bridge> attach(runtime::Node& node) {
+  BridgeOptions options = options_from(node);
+  std::unique_ptr<DepthSource> source = source_from(node);
   logf(Level::Info, "source: %s; trigger: %s", source->describe().c_str(), options.job_trigger ? "job" : "continuous");
-  Bridge bridge(node, std::move(source), options);
-  bridge.start();
-  const int rc = node.run();
-  bridge.stop();
-  return rc;
+  auto bridge = std::make_unique<Bridge>(node, std::move(source), options);
+  bridge->start();
+  return bridge;  // its destructor stops the capture thread after the loop
 }
 
 }  // namespace hg::camera_bridge

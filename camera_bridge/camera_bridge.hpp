@@ -81,7 +81,8 @@ class Bridge {
   runtime::RateLimiter corrupt_log_{5, std::chrono::seconds(10)};
 };
 
-// The whole process (main() calls this).
-int run_main(int argc, char** argv);
+// Wires the process onto a node (runtime::run_process): reads the parameters (throws runtime::ConfigError or
+// std::invalid_argument on a bad one), opens the source and starts the capture thread.
+std::unique_ptr<Bridge> attach(runtime::Node& node);
 
 }  // namespace hg::camera_bridge

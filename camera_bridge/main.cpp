@@ -1,3 +1,4 @@
 #include "camera_bridge/camera_bridge.hpp"
+#include "runtime/process.hpp"
 
-int main(int argc, char** argv) { return hg::camera_bridge::run_main(argc, argv); }
+int main(int argc, char** argv) { return hg::runtime::run_process(hg::camera_bridge::process_info(), argc, argv, hg::camera_bridge::attach); }

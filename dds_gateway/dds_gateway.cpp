@@ -24,10 +24,10 @@ runtime::ProcessInfo process_info() {
           "given (tools/make-dds-security.sh makes a test set); without them the gateway runs unauthenticated,\n"
           "says so loudly and reports DEGRADED. See docs/dds_gateway.md.",
           {
-              {"dds-domain", "0", "DDS domain id (0..230)"},
+              {"dds-domain", "0", "DDS domain id (0..230)", false, runtime::ParamType::Integer, 0, 230},
               {"dds-topic-prefix", kDefaultTopicPrefix, "prefix of every DDS topic name"},
               {"dds-config", "", "Cyclone configuration (CYCLONEDDS_URI syntax: file://PATH or XML)"},
-              {"robot-status-max-rate", "10", "robot status forwarded at most this often, Hz (0: all)"},
+              {"robot-status-max-rate", "10", "robot status forwarded at most this often, Hz (0: all)", false, runtime::ParamType::Number, 0},
               {"dds-security-identity-ca", "", "DDS Security: identity CA certificate (PEM)"},
               {"dds-security-identity-cert", "", "DDS Security: this gateway's identity certificate (PEM)"},
               {"dds-security-private-key", "", "DDS Security: the identity's private key (PEM)"},
@@ -217,13 +217,6 @@ void Gateway::handle_job_request(const hgdds_JobRequest& r) {
   write(w_job_status_, &s, "job status");
 }
 
-std::unique_ptr<Gateway> attach(runtime::Node& node) {
-  try {
-    return std::make_unique<Gateway>(node, options_from(node));
-  } catch (const std::exception& e) {
-    logf(Level::Error, "%s", e.what());
-    return nullptr;
-  }
-}
+std::unique_ptr<Gateway> attach(runtime::Node& node) { return std::make_unique<Gateway>(node, options_from(node)); }
 
 }  // namespace hg::dds_gateway

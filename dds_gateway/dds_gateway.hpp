@@ -61,7 +61,7 @@ class Gateway {
   runtime::RateLimiter write_error_log_;
 };
 
-// Builds the gateway for `node`; nullptr (after logging why) if the DDS side cannot be made.
+// Builds the gateway for `node`; throws (runtime::ConfigError on a bad parameter) if the DDS side cannot be made.
 std::unique_ptr<Gateway> attach(runtime::Node& node);
 
 }  // namespace hg::dds_gateway

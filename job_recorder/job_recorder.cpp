@@ -45,7 +45,8 @@ std::shared_ptr<Recorder> attach(runtime::Node& node) {
   });
   node.every(std::chrono::milliseconds(1000), health);
   health();
-  return rec;
+  // Destroyed after the loop (runtime::run_process): open jobs end interrupted, with their last known state.
+  return std::shared_ptr<Recorder>(rec.get(), [rec](Recorder*) { rec->stop(runtime::now_utime()); });
 }
 
 }  // namespace hg::job_recorder

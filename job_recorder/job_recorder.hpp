@@ -11,7 +11,7 @@ namespace hg::job_recorder {
 runtime::ProcessInfo process_info();
 
 // Subscribes the job channels on the node and records into --dir. Throws std::exception when the directory
-// cannot be made.
+// cannot be made. Releasing the returned pointer stops the recorder (open jobs: interrupted).
 std::shared_ptr<Recorder> attach(runtime::Node& node);
 
 }  // namespace hg::job_recorder

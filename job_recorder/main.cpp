@@ -1,17 +1,4 @@
-#include <exception>
-
 #include "job_recorder/job_recorder.hpp"
-#include "runtime/log.hpp"
+#include "runtime/process.hpp"
 
-int main(int argc, char** argv) {
-  hg::runtime::Node node(hg::job_recorder::process_info(), argc, argv);
-  try {
-    auto recorder = hg::job_recorder::attach(node);
-    const int rc = node.run();
-    recorder->stop(hg::runtime::now_utime());  // open jobs: interrupted, with their last known state
-    return rc;
-  } catch (const std::exception& e) {
-    hg::runtime::logf(hg::runtime::Level::Error, "%s", e.what());
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return hg::runtime::run_process(hg::job_recorder::process_info(), argc, argv, hg::job_recorder::attach); }

@@ -1,12 +1,4 @@
 #include "outline_service/outline_service.hpp"
+#include "runtime/process.hpp"
 
-int main(int argc, char** argv) {
-  hg::runtime::Node node(hg::outline_service::process_info(), argc, argv);
-  try {
-    hg::outline_service::OutlineService service(node);
-    return node.run();
-  } catch (const hg::runtime::ConfigError& e) {
-    hg::runtime::logf(hg::runtime::Level::Error, "%s", e.what());
-    return 2;
-  }
-}
+int main(int argc, char** argv) { return hg::runtime::run_process(hg::outline_service::process_info(), argc, argv, hg::outline_service::attach); }

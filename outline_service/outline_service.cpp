@@ -29,13 +29,13 @@ runtime::ProcessInfo process_info() {
           "is cloud received -> outline published. A cloud that gives no valid loop is answered by an outline\n"
           "with status NO_LOOP or ERROR and the reason, never a made-up loop. One part_pose_t per part\n"
           "(largest first): area centroid and principal axis with the holes subtracted.",
-          {{"alpha-radius", "0", "alpha radius R in metres (triangles with circumradius > R are outside); 0: automatic"},
-           {"auto-factor", "0", "automatic R = factor x point spacing (sqrt(2 x median Delaunay triangle area)); 0: the outline core's default"},
-           {"alpha-mode", "global", "global: one automatic R for the cloud; local: R per triangle from the spacing around it (spacing varying across the cloud, tilted camera); not with alpha-radius"},
-           {"mode", "dshi", "point location: ordinary|ds|dshi"},
-           {"order", "brio", "insertion order: brio (default: biased randomized rounds of Hilbert order, 2-3x faster on camera clouds)|hilbert|as-is (the scan order the paper inserts in)"},
+          {{"alpha-radius", "0", "alpha radius R in metres (triangles with circumradius > R are outside); 0: automatic", false, runtime::ParamType::Number, 0},
+           {"auto-factor", "0", "automatic R = factor x point spacing (sqrt(2 x median Delaunay triangle area)); 0: the outline core's default", false, runtime::ParamType::Number, 0},
+           runtime::text_param("alpha-mode", "global", "global: one automatic R for the cloud; local: R per triangle from the spacing around it (spacing varying across the cloud, tilted camera); not with alpha-radius", {"global", "local"}),
+           runtime::text_param("mode", "dshi", "point location: ordinary|ds|dshi", {"ordinary", "ds", "dshi"}),
+           runtime::text_param("order", "brio", "insertion order: brio (default: biased randomized rounds of Hilbert order, 2-3x faster on camera clouds)|hilbert|as-is (the scan order the paper inserts in)", {"brio", "hilbert", "as-is"}),
            {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true},
-           {"min-hole-spacings", kMinHoleDefault, "drop holes smaller in area than (this x point spacing)^2: dropout, not cut-outs (0: keep all); the outline core's rule, as hg-outline"}}};
+           {"min-hole-spacings", kMinHoleDefault, "drop holes smaller in area than (this x point spacing)^2: dropout, not cut-outs (0: keep all); the outline core's rule, as hg-outline", false, runtime::ParamType::Number, 0}}};
 }
 
 ServiceOptions options_from(const runtime::Node& node) {
@@ -237,5 +237,7 @@ void OutlineService::work() {
     }
   }
 }
+
+std::unique_ptr<OutlineService> attach(runtime::Node& node) { return std::make_unique<OutlineService>(node); }
 
 }  // namespace hg::outline_service

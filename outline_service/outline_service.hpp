@@ -1,6 +1,8 @@
 // hg-outline-service: plate points (HG_PLATE_CLOUD) -> outline (HG_OUTLINE) + part pose (HG_PART_POSE).
 #pragma once
 
+#include <memory>
+
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -51,5 +53,9 @@ class OutlineService {
   bool busy_ = false;
   std::thread worker_;
 };
+
+// Wires the service onto a node (runtime::run_process). Throws runtime::ConfigError on a bad parameter.
+std::unique_ptr<OutlineService> attach(runtime::Node& node);
+
 
 }  // namespace hg::outline_service

@@ -3,6 +3,8 @@
 #include "runtime/path_file.hpp"
 
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -13,82 +15,71 @@ using runtime::ConfigError;
 using runtime::Param;
 
 std::vector<Param> planner_params() {
+  using runtime::flag_param;
+  using runtime::number_param;
+  using runtime::numbers_param;
+  using runtime::text_param;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const bool open = true;  // the range's lower end is excluded: the value must be > min
   return {
-      {"tool_radius", "0.01", "effective tool radius, m (job default)"},
-      {"chamfer_angle", "0.7853981633974483", "tool tilt toward the edge normal, rad (job default; 45 deg)"},
-      {"grind_speed", "0.02", "TCP speed along the edge, m/s (job default)"},
-      {"travel_speed", "0.2", "air-move speed, m/s (job default)"},
-      {"step", "0.002", "resampling step along the path, m (job default)"},
-      {"safe_height", "0.05", "approach/retract height above the plate, m (job default)"},
-      {"direction", "climb", "climb | conventional (hg-plan; a job request carries its own)"},
-      {"flipped", "", "plan for the flipped part (hg-plan; a job request carries its own)", true},
-      {"spindle_clockwise", "true", "spindle turns clockwise seen from above (decides what climb means)"},
-      {"approach_speed", "0.05", "speed of the vertical approach and retract, m/s (capped by travel_speed)"},
-      {"lead_radius", "0.01", "radius of the lead-in/lead-out arcs, m (smaller in small holes)"},
-      {"lead_angle", "1.5707963267948966", "sweep of the lead arcs, rad"},
-      {"z_offset", "0", "height of the grind points above the plate's top surface, m"},
-      {"pixel_pitch", "0", "pixel pitch of the outline, m; 0: estimated from the loops' staircase"},
-      {"smooth_window", "4", "residual windows of the smoothing fits are 2x this many vertices"},
-      {"corner_scale", "8", "length of the corner detector's line fits, in pixel pitches (at least 60 noise levels of a window mean)"},
-      {"corner_angle", "0.5235987755982988", "smallest turn treated as a corner, rad (30 deg)"},
-      {"edge_compensation", "true", "move loops from the outermost pixel centres to the edge (half a pitch)"},
-      {"arc_tolerance", "1e-5", "Clipper round-join tolerance, m"},
-      {"resample_corner_angle", "0.17453292519943295", "turn kept as a waypoint when resampling, rad"},
-      {"small_hole", "fail", "a hole too small for the tool, or edge out of its reach: fail (job FAILED) | skip (planned, warning)"},
-      {"coverage_tolerance", "0.0002", "every edge point must be within tool_radius + this of the grind path, m"},
-      {"resample_chord_error", "1e-5", "largest distance of a resampled chord from the offset ring, m"},
-      {"camera_to_base", "", "hand-eye calibration as 16 numbers, row-major 4x4; overrides camera_xyz/rpy"},
-      {"camera_xyz", "0.5,0,1.2", "camera origin in the robot base frame, m"},
-      {"camera_rpy", "3.141592653589793,0,0", "camera roll, pitch, yaw in the base frame, rad (Rz Ry Rx)"},
-      {"plane_origin", "0,0,1.19", "plate plane in the camera frame for outline files without one: origin"},
-      {"plane_u", "1,0,0", "... u axis"},
-      {"plane_v", "0,-1,0", "... v axis"},
-      {"plane_normal", "0,0,-1", "... normal (u, v, normal right-handed)"},
-      {"base_frame", "robot_base", "name of the robot base frame in the path"},
-      {"outline_frame", "", "hg-plan: frame of the outline file's plane: camera (camera_to_base applied) | robot_base "
-                            "(the base_frame: none applied); default: the file's \"frame\" (cloud or none: camera)"},
-      {"home", "0.5,0,0.3", "robot position (base frame) used as the start reference until HG_ROBOT_STATUS is heard"},
-      {"workspace_min", "-1,-1,0", "workspace box, base frame, m: lower corner"},
-      {"workspace_max", "1.5,1,1", "workspace box, base frame, m: upper corner"},
-      {"table_z", "0", "table top height in the base frame; every waypoint must be above it, m"},
-      {"max_speed", "0.5", "largest TCP speed allowed, m/s"},
-      {"max_accel", "2.0", "largest acceleration a corner may demand (v^2/r), m/s^2; = the robot bridge's max-accel"},
+      number_param("tool-radius", "0.01", "effective tool radius, m (job default)", 0, inf, open),
+      number_param("chamfer-angle", "0.7853981633974483", "tool tilt toward the edge normal, rad (job default; 45 deg; at most 80 deg)", 0, 1.3962634015954636),
+      number_param("grind-speed", "0.02", "TCP speed along the edge, m/s (job default)", 0, inf, open),
+      number_param("travel-speed", "0.2", "air-move speed, m/s (job default)", 0, inf, open),
+      number_param("step", "0.002", "resampling step along the path, m (job default)", 0, inf, open),
+      number_param("safe-height", "0.05", "approach/retract height above the plate, m (job default)", 0, inf, open),
+      text_param("direction", "climb", "hg-plan; a job request carries its own", {"climb", "conventional"}),
+      flag_param("flipped", "plan for the flipped part (hg-plan; a job request carries its own)"),
+      Param{"spindle-clockwise", "true", "spindle turns clockwise seen from above (decides what climb means)", false, runtime::ParamType::Flag},
+      number_param("approach-speed", "0.05", "speed of the vertical approach and retract, m/s (capped by travel-speed)", 0, inf, open),
+      number_param("lead-radius", "0.01", "radius of the lead-in/lead-out arcs, m (smaller in small holes)", 0, inf, open),
+      number_param("lead-angle", "1.5707963267948966", "sweep of the lead arcs, rad", 0, inf, open),
+      number_param("z-offset", "0", "height of the grind points above the plate's top surface, m"),
+      number_param("pixel-pitch", "0", "pixel pitch of the outline, m; 0: estimated from the loops' staircase", 0),
+      number_param("smooth-window", "4", "residual windows of the smoothing fits are 2x this many vertices", 0, inf, open),
+      number_param("corner-scale", "8", "length of the corner detector's line fits, in pixel pitches (at least 60 noise levels of a window mean)", 0, inf, open),
+      number_param("corner-angle", "0.5235987755982988", "smallest turn treated as a corner, rad (30 deg)", 0, 3.141592653589793),
+      Param{"edge-compensation", "true", "move loops from the outermost pixel centres to the edge (half a pitch)", false, runtime::ParamType::Flag},
+      number_param("arc-tolerance", "1e-5", "Clipper round-join tolerance, m", 0, inf, open),
+      number_param("resample-corner-angle", "0.17453292519943295", "turn kept as a waypoint when resampling, rad", 0, 3.141592653589793),
+      text_param("small-hole", "fail", "a hole too small for the tool, or edge out of its reach: fail (job FAILED), skip (planned, warning)", {"fail", "skip"}),
+      number_param("coverage-tolerance", "0.0002", "every edge point must be within tool-radius + this of the grind path, m", 0, inf, open),
+      number_param("resample-chord-error", "1e-5", "largest distance of a resampled chord from the offset ring, m", 0, inf, open),
+      numbers_param("camera-to-base", "", "hand-eye calibration as 16 numbers, row-major 4x4; overrides camera-xyz/rpy"),
+      numbers_param("camera-xyz", "0.5,0,1.2", "camera origin in the robot base frame, m"),
+      numbers_param("camera-rpy", "3.141592653589793,0,0", "camera roll, pitch, yaw in the base frame, rad (Rz Ry Rx)"),
+      numbers_param("plane-origin", "0,0,1.19", "plate plane in the camera frame for outline files without one: origin"),
+      numbers_param("plane-u", "1,0,0", "... u axis"),
+      numbers_param("plane-v", "0,-1,0", "... v axis"),
+      numbers_param("plane-normal", "0,0,-1", "... normal (u, v, normal right-handed)"),
+      text_param("base-frame", "robot_base", "name of the robot base frame in the path"),
+      text_param("outline-frame", "", "hg-plan: frame of the outline file's plane: camera (camera-to-base applied), robot_base "
+                                      "(the base-frame: none applied); default: the file's \"frame\" (cloud or none: camera)"),
+      numbers_param("home", "0.5,0,0.3", "robot position (base frame) used as the start reference until HG_ROBOT_STATUS is heard"),
+      numbers_param("workspace-min", "-1,-1,0", "workspace box, base frame, m: lower corner"),
+      numbers_param("workspace-max", "1.5,1,1", "workspace box, base frame, m: upper corner"),
+      number_param("table-z", "0", "table top height in the base frame; every waypoint must be above it, m"),
+      number_param("max-speed", "0.5", "largest TCP speed allowed, m/s", 0, inf, open),
+      number_param("max-accel", "2.0", "largest acceleration a corner may demand (v^2/r), m/s^2; = the robot bridge's max-accel", 0, inf, open),
+      number_param("outline-max-age", "2.0", "hg-path-planner: a job starts on the latest outline if it arrived at most this long ago (s), else on the next", 0),
+      number_param("outline-timeout", "10.0", "hg-path-planner: a job with no outline after this long fails, s", 0, inf, open),
   };
 }
 
-ParamLookup lookup_from(const runtime::Node& node) {
-  return {[&node](const std::string& k) { return node.param(k); },
-          [&node](const std::string& k) { return node.param_doubles(k); }};
+ParamLookup lookup_from(const runtime::Params& params) {
+  return {[&params](const std::string& k) { return params.text(k); },
+          [&params](const std::string& k) { return params.numbers(k); }};
 }
+
+ParamLookup lookup_from(const runtime::Node& node) { return lookup_from(node.params()); }
 
 ParamLookup lookup_from(const std::map<std::string, std::string>& cli, const runtime::Config& config) {
-  auto fallback = [](const std::string& k) -> std::string {
-    for (const auto& p : planner_params())
-      if (p.name == k) return p.is_flag && p.default_value.empty() ? "false" : p.default_value;
-    throw ConfigError("no planner parameter '" + k + "'");
-  };
-  return {[=, &config](const std::string& k) -> std::string {
-            if (auto it = cli.find(k); it != cli.end()) return it->second;
-            if (auto v = config.get_string(k)) return *v;
-            return fallback(k);
-          },
-          [=, &config](const std::string& k) -> std::vector<double> {
-            std::string text;
-            if (auto it = cli.find(k); it != cli.end()) text = it->second;
-            else if (config.has(k)) {
-              if (auto v = config.get_doubles(k)) return *v;
-            } else text = fallback(k);
-            std::vector<double> out;
-            std::stringstream ss(text);
-            std::string item;
-            while (std::getline(ss, item, ',')) {
-              char* end = nullptr;
-              const double d = std::strtod(item.c_str(), &end);
-              if (item.empty() || *end != '\0') throw ConfigError("parameter '" + k + "': '" + item + "' is not a number");
-              out.push_back(d);
-            }
-            return out;
-          }};
+  // The one precedence rule (runtime::Params), over the planner's declarations; shared so the lookup owns it.
+  auto params = std::make_shared<runtime::Params>(planner_params());
+  params->use_config(config);
+  for (const auto& [k, v] : cli) params->set(k, v);
+  return {[params](const std::string& k) { return params->text(k); },
+          [params](const std::string& k) { return params->numbers(k); }};
 }
 
 namespace {
@@ -117,12 +108,12 @@ Vec3 vec3(const ParamLookup& L, const std::string& key) {
 PlannerConfig config_from(const ParamLookup& L) {
   PlannerConfig c;
   JobParams& d = c.defaults;
-  d.tool_radius = num(L, "tool_radius");
-  d.chamfer_angle = num(L, "chamfer_angle");
-  d.grind_speed = num(L, "grind_speed");
-  d.travel_speed = num(L, "travel_speed");
+  d.tool_radius = num(L, "tool-radius");
+  d.chamfer_angle = num(L, "chamfer-angle");
+  d.grind_speed = num(L, "grind-speed");
+  d.travel_speed = num(L, "travel-speed");
   d.step = num(L, "step");
-  d.safe_height = num(L, "safe_height");
+  d.safe_height = num(L, "safe-height");
   const std::string dir = L.text("direction");
   if (dir == "climb") d.direction = Direction::Climb;
   else if (dir == "conventional") d.direction = Direction::Conventional;
@@ -130,52 +121,52 @@ PlannerConfig config_from(const ParamLookup& L) {
   d.flipped = boolean(L, "flipped");
   JobParams checked;
   if (std::string why = resolve_params(d, d, checked); !why.empty()) throw ConfigError("parameters: " + why);
-  c.spindle_clockwise = boolean(L, "spindle_clockwise");
-  c.approach_speed = num(L, "approach_speed");
-  c.lead_radius = num(L, "lead_radius");
-  c.lead_angle = num(L, "lead_angle");
-  c.z_offset = num(L, "z_offset");
-  c.smooth.pitch = num(L, "pixel_pitch");
-  c.smooth.window_pitches = num(L, "smooth_window");
-  c.smooth.corner_scale_pitches = num(L, "corner_scale");
-  c.smooth.corner_angle = num(L, "corner_angle");
-  c.smooth.edge_compensation = boolean(L, "edge_compensation");
-  c.arc_tolerance = num(L, "arc_tolerance");
-  c.resample_corner_angle = num(L, "resample_corner_angle");
-  c.coverage_tolerance = num(L, "coverage_tolerance");
-  c.resample_chord_error = num(L, "resample_chord_error");
+  c.spindle_clockwise = boolean(L, "spindle-clockwise");
+  c.approach_speed = num(L, "approach-speed");
+  c.lead_radius = num(L, "lead-radius");
+  c.lead_angle = num(L, "lead-angle");
+  c.z_offset = num(L, "z-offset");
+  c.smooth.pitch = num(L, "pixel-pitch");
+  c.smooth.window_pitches = num(L, "smooth-window");
+  c.smooth.corner_scale_pitches = num(L, "corner-scale");
+  c.smooth.corner_angle = num(L, "corner-angle");
+  c.smooth.edge_compensation = boolean(L, "edge-compensation");
+  c.arc_tolerance = num(L, "arc-tolerance");
+  c.resample_corner_angle = num(L, "resample-corner-angle");
+  c.coverage_tolerance = num(L, "coverage-tolerance");
+  c.resample_chord_error = num(L, "resample-chord-error");
   if (!(c.coverage_tolerance > 0) || !(c.resample_chord_error > 0))
-    throw ConfigError("coverage_tolerance and resample_chord_error must be > 0");
+    throw ConfigError("coverage-tolerance and resample-chord-error must be > 0");
   if (!(c.approach_speed > 0) || !(c.lead_radius > 0) || !(c.lead_angle > 0) || !(c.arc_tolerance > 0) ||
       !(c.smooth.window_pitches > 0) || !(c.smooth.corner_scale_pitches > 0))
-    throw ConfigError("approach_speed, lead_radius, lead_angle, arc_tolerance, smooth_window and corner_scale must be > 0");
-  const std::string sh = L.text("small_hole");
+    throw ConfigError("approach-speed, lead-radius, lead-angle, arc-tolerance, smooth-window and corner-scale must be > 0");
+  const std::string sh = L.text("small-hole");
   if (sh == "fail") c.small_hole = SmallHolePolicy::Fail;
   else if (sh == "skip") c.small_hole = SmallHolePolicy::Skip;
-  else throw ConfigError("parameter 'small_hole': '" + sh + "' is not fail or skip");
-  if (!L.text("camera_to_base").empty() || !L.list("camera_to_base").empty()) {
-    const std::vector<double> m = L.list("camera_to_base");
-    if (m.size() != 16) throw ConfigError("parameter 'camera_to_base': expected 16 numbers (row-major 4x4)");
+  else throw ConfigError("parameter 'small-hole': '" + sh + "' is not fail or skip");
+  if (!L.list("camera-to-base").empty()) {
+    const std::vector<double> m = L.list("camera-to-base");
+    if (m.size() != 16) throw ConfigError("parameter 'camera-to-base': expected 16 numbers (row-major 4x4)");
     Eigen::Matrix4d M;
     for (int r = 0; r < 4; ++r)
       for (int k = 0; k < 4; ++k) M(r, k) = m[r * 4 + k];
     const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
     if ((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0 ||
         M.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
-      throw ConfigError("parameter 'camera_to_base': not a rigid transform");
+      throw ConfigError("parameter 'camera-to-base': not a rigid transform");
     c.camera_to_base.matrix() = M;
   } else {
-    c.camera_to_base = pose_from_xyz_rpy(vec3(L, "camera_xyz"), vec3(L, "camera_rpy"));
+    c.camera_to_base = pose_from_xyz_rpy(vec3(L, "camera-xyz"), vec3(L, "camera-rpy"));
   }
-  c.default_plane = {vec3(L, "plane_origin"), vec3(L, "plane_u"), vec3(L, "plane_v"), vec3(L, "plane_normal")};
-  c.base_frame = L.text("base_frame");
+  c.default_plane = {vec3(L, "plane-origin"), vec3(L, "plane-u"), vec3(L, "plane-v"), vec3(L, "plane-normal")};
+  c.base_frame = L.text("base-frame");
   c.home = vec3(L, "home");
-  c.limits.workspace_min = vec3(L, "workspace_min");
-  c.limits.workspace_max = vec3(L, "workspace_max");
-  c.limits.table_z = num(L, "table_z");
-  c.limits.max_speed = num(L, "max_speed");
-  c.limits.max_accel = num(L, "max_accel");
-  if (!(c.limits.max_speed > 0) || !(c.limits.max_accel > 0)) throw ConfigError("max_speed and max_accel must be > 0");
+  c.limits.workspace_min = vec3(L, "workspace-min");
+  c.limits.workspace_max = vec3(L, "workspace-max");
+  c.limits.table_z = num(L, "table-z");
+  c.limits.max_speed = num(L, "max-speed");
+  c.limits.max_accel = num(L, "max-accel");
+  if (!(c.limits.max_speed > 0) || !(c.limits.max_accel > 0)) throw ConfigError("max-speed and max-accel must be > 0");
   return c;
 }
 
@@ -238,7 +229,7 @@ OutlineFrame resolve_outline_frame(const std::string& file_frame, const std::str
   f.used = chosen.empty() ? file_frame : chosen;
   if (f.used.empty() || f.used == "cloud") {
     f.used = "camera";
-    f.note = "an outline in its cloud's own coordinates is taken as the camera's view; give --outline_frame " +
+    f.note = "an outline in its cloud's own coordinates is taken as the camera's view; give --outline-frame " +
              cfg.base_frame + " if the cloud is in robot base coordinates";
   }
   if (f.used == cfg.base_frame) {
@@ -247,7 +238,7 @@ OutlineFrame resolve_outline_frame(const std::string& file_frame, const std::str
     f.camera_to_base = cfg.camera_to_base;
   } else {
     throw ConfigError("outline frame '" + f.used + "' is neither camera nor " + cfg.base_frame +
-                      " (the base_frame); give --outline_frame camera or --outline_frame " + cfg.base_frame);
+                      " (the base-frame); give --outline-frame camera or --outline-frame " + cfg.base_frame);
   }
   return f;
 }

@@ -14,7 +14,7 @@
 
 namespace hg::path_planner {
 
-// Every planner parameter with its default and help text (the process adds its own job-handling ones).
+// Every planner parameter (hg-path-planner and hg-plan read the same keys, config/path_planner.yaml).
 std::vector<runtime::Param> planner_params();
 
 // Where parameter values come from (command line > config file > default, as runtime::Node does).
@@ -23,6 +23,7 @@ struct ParamLookup {
   std::function<std::vector<double>(const std::string&)> list;
 };
 ParamLookup lookup_from(const runtime::Node& node);
+ParamLookup lookup_from(const runtime::Params& params);  // params must outlive the lookup
 // The same outside a process (hg-plan, hg-overview): `cli` (name -> value, lists as "a,b,c") > `config`
 // (must outlive the lookup) > the default of planner_params().
 ParamLookup lookup_from(const std::map<std::string, std::string>& cli, const runtime::Config& config);

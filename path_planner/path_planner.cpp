@@ -21,13 +21,10 @@ using runtime::logf;
 
 runtime::ProcessInfo process_info() {
   std::vector<runtime::Param> params = planner_params();
-  params.push_back({"outline_max_age", "2.0",
-                    "s: a job starts on the latest outline if it arrived at most this long ago, else on the next"});
-  params.push_back({"outline_timeout", "10.0", "s: a job with no outline after this long fails"});
   return {"hg-path-planner",
           "Outline (HG_OUTLINE) + job request (HG_JOB_REQUEST) -> grind path in the robot's base frame (HG_GRIND_PATH).",
           "Subscribes HG_OUTLINE, HG_JOB_REQUEST and HG_ROBOT_STATUS. On a job request with action START it\n"
-          "reports PLANNING on HG_JOB_STATUS, plans on the latest outline if it is fresh (outline_max_age) or else\n"
+          "reports PLANNING on HG_JOB_STATUS, plans on the latest outline if it is fresh (outline-max-age) or else\n"
           "on the next one, publishes grind_path_t on HG_GRIND_PATH and then PLANNED, or FAILED with the reason\n"
           "(outline with an error status, bad outline, hole too small for the tool, validation). Zero-valued job\n"
           "parameters take the configured defaults below. The path starts at the loop point nearest to the\n"
@@ -35,7 +32,7 @@ runtime::ProcessInfo process_info() {
           "a repeated START (or an ABORT) of a job id already seen is answered with the job's state while the\n"
           "planner holds or ended it (PLANNING, FAILED, ABORTED, REFUSED) and changes nothing; once PLANNED the\n"
           "robot bridge answers. See docs/path_planner.md.",
-          params};
+          std::move(params)};
 }
 
 namespace {
@@ -43,8 +40,8 @@ namespace {
 class Planner {
  public:
   Planner(runtime::Node& node) : node_(node), cfg_(config_from(lookup_from(node))) {
-    max_age_ = node.param_double("outline_max_age");
-    timeout_ = node.param_double("outline_timeout");
+    max_age_ = node.param_double("outline-max-age");
+    timeout_ = node.param_double("outline-timeout");
   }
 
   void on_outline(const hullgrind::outline_t& m, const runtime::Delivery& d) {

@@ -134,7 +134,7 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   bool dense = false;  // a boundary sampled like a pixel staircase (mean edge <= 1/200 of the loop)
   for (const Loop& l : in.loops) dense |= l.points.size() >= 200;
   if (!(res.pitch > 0) && dense && cfg.smooth.edge_compensation)
-    res.warnings.push_back("pixel pitch unknown (not a clean pixel staircase): no edge compensation; set pixel_pitch");
+    res.warnings.push_back("pixel pitch unknown (not a clean pixel staircase): no edge compensation; set pixel-pitch");
 
   std::vector<GrindLoop> grind;
   std::vector<std::size_t> skipped_warning(in.loops.size(), SIZE_MAX);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 #include "hullgrind/grind_path_t.hpp"
@@ -29,34 +30,35 @@ double mono_now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-Vec3 vec3_param(runtime::Node& node, const std::string& name) {
-  auto v = node.param_doubles(name);
-  if (v.size() != 3) throw std::invalid_argument("parameter '" + name + "' needs 3 numbers");
+Vec3 vec3_param(const runtime::Params& params, const std::string& name) {
+  auto v = params.numbers(name);
+  if (v.size() != 3) throw params.error(name, "needs 3 numbers x,y,z");
   return Vec3(v[0], v[1], v[2]);
 }
+Vec3 vec3_param(const runtime::Node& node, const std::string& name) { return vec3_param(node.params(), name); }
 
-Limits limits_from(runtime::Node& node) {
+}  // namespace
+
+Limits limits_from(const runtime::Params& params) {
   Limits l;
-  l.workspace_min = vec3_param(node, "workspace-min");
-  l.workspace_max = vec3_param(node, "workspace-max");
-  l.table_z = node.param_double("table-z");
-  l.max_speed = node.param_double("max-speed");
-  l.max_accel = node.param_double("max-accel");
+  l.workspace_min = vec3_param(params, "workspace-min");
+  l.workspace_max = vec3_param(params, "workspace-max");
+  l.table_z = params.number("table-z");
+  l.max_speed = params.number("max-speed");
+  l.max_accel = params.number("max-accel");
   for (int a = 0; a < 3; ++a)
-    if (!(l.workspace_min[a] < l.workspace_max[a])) throw std::invalid_argument("workspace-min must be below workspace-max on every axis");
+    if (!(l.workspace_min[a] < l.workspace_max[a])) throw params.error("workspace-min", "must be below workspace-max on every axis");
   return l;
 }
 
-ScriptOptions script_from(runtime::Node& node) {
+ScriptOptions script_from(const runtime::Params& params) {
   ScriptOptions s;
-  s.accel = node.param_double("accel");
-  s.blend_radius = node.param_double("blend-radius");
-  s.progress_register = int(node.param_int("ur-register"));
-  if (s.progress_register < 0 || s.progress_register > 47) throw std::invalid_argument("ur-register must be 0..47");
+  s.accel = params.number("accel");
+  s.blend_radius = params.number("blend-radius");
+  s.progress_register = int(params.integer("ur-register"));
+  if (s.progress_register < 0 || s.progress_register > 47) throw params.error("ur-register", "must be 0..47");
   return s;
 }
-
-}  // namespace
 
 runtime::ProcessInfo process_info() {
   return {"hg-robot-bridge",
@@ -71,40 +73,39 @@ runtime::ProcessInfo process_info() {
           "HG_RUN_ID (set by tools/run.sh): with --driver sim, a state file of another run is the last run's\n"
           "simulated robot: its job is reported ABORTED (interrupted) and the bridge starts clean.\n"
           "Sim faults on demand: SIGUSR1 = protective stop, SIGUSR2 = connection loss.\n"
-          "One-shot: --export FILE.script --path PATH.json writes the URScript of a path file and exits.\n"
+          "The URScript of a path file without the bus: hg-robot-export (the same keys).\n"
           "Details: docs/robot_bridge.md.",
           {
-              {"driver", "sim", "robot driver: sim | ur"},
-              {"export", "", "also write the URScript of every path run to this file (with --path: one-shot export)"},
-              {"path", "", "path JSON file (issue 8's path.json) for the one-shot --export"},
-              {"workspace-min", "-1.5,-1.5,-0.5", "workspace box minimum corner x,y,z in the robot base frame, m"},
-              {"workspace-max", "1.5,1.5,1.5", "workspace box maximum corner x,y,z, m"},
-              {"table-z", "-0.5", "table top height in the base frame: every point must be strictly above, m"},
-              {"max-speed", "0.25", "highest TCP speed a path may ask for, m/s"},
-              {"max-accel", "2.0", "highest TCP acceleration (corners: v^2/r), m/s^2"},
-              {"accel", "0.5", "tool acceleration commanded (UR a=, sim speed ramps), m/s^2; <= max-accel"},
-              {"blend-radius", "0.001", "UR blend radius between moves (capped at 40% of the shorter segment), m"},
-              {"path-timeout", "60", "an accepted job FAILS if its path does not arrive within this, s"},
-              {"progress-period", "0.2", "RUNNING progress reports at most this often, s"},
+              runtime::text_param("driver", "sim", "robot driver: sim | ur", {"sim", "ur"}),
+              {"export", "", "also write the URScript of every path run to this file"},
+              {"workspace-min", "-1.5,-1.5,-0.5", "workspace box minimum corner x,y,z in the robot base frame, m", false, runtime::ParamType::Numbers},
+              {"workspace-max", "1.5,1.5,1.5", "workspace box maximum corner x,y,z, m", false, runtime::ParamType::Numbers},
+              {"table-z", "-0.5", "table top height in the base frame: every point must be strictly above, m", false, runtime::ParamType::Number},
+              {"max-speed", "0.25", "highest TCP speed a path may ask for, m/s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"max-accel", "2.0", "highest TCP acceleration (corners: v^2/r), m/s^2", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"accel", "0.5", "tool acceleration commanded (UR a=, sim speed ramps), m/s^2; <= max-accel", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"blend-radius", "0.001", "UR blend radius between moves (capped at 40% of the shorter segment), m", false, runtime::ParamType::Number, 0},
+              {"path-timeout", "60", "an accepted job FAILS if its path does not arrive within this, s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"progress-period", "0.2", "RUNNING progress reports at most this often, s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
               {"state-file", "", "file remembering the running job and HG_RUN_ID across a crash (a restart reports it ABORTED and holds FAULT)"},
               {"frame", "robot_base", "robot base frame name (robot_status_t header.frame_id)"},
-              {"sim-time-scale", "1", "sim: simulated seconds per real second"},
-              {"sim-home", "0.5,0,0.3", "sim: TCP position at start-up, m"},
-              {"sim-home-orientation", "0,1,0,0", "sim: TCP orientation at start-up, quaternion w,x,y,z (default: tool down)"},
-              {"sim-fault", "none", "sim: fault to inject during a job: none|protective|estop|connection"},
-              {"sim-fault-index", "-1", "sim: inject when the robot starts towards this waypoint (-1: off)"},
-              {"sim-fault-time", "-1", "sim: inject this many simulated seconds into the job (-1: off)"},
+              {"sim-time-scale", "1", "sim: simulated seconds per real second", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"sim-home", "0.5,0,0.3", "sim: TCP position at start-up, m", false, runtime::ParamType::Numbers},
+              {"sim-home-orientation", "0,1,0,0", "sim: TCP orientation at start-up, quaternion w,x,y,z (default: tool down)", false, runtime::ParamType::Numbers},
+              runtime::text_param("sim-fault", "none", "sim: fault to inject during a job: none|protective|estop|connection", {"none", "protective", "estop", "connection"}),
+              {"sim-fault-index", "-1", "sim: inject when the robot starts towards this waypoint (-1: off)", false, runtime::ParamType::Integer, -1},
+              {"sim-fault-time", "-1", "sim: inject this many simulated seconds into the job (-1: off)", false, runtime::ParamType::Number},
               {"sim-fault-every-job", "", "sim: inject in every job, not only the first", true},
-              {"sim-outage", "2", "sim: a simulated connection loss lasts this long, s"},
+              {"sim-outage", "2", "sim: a simulated connection loss lasts this long, s", false, runtime::ParamType::Number, 0},
               {"ur-host", "127.0.0.1", "UR controller IPv4 address"},
               {"ur-allow-remote", "", "allow a non-loopback ur_host (a real robot)", true},
-              {"ur-script-port", "30002", "UR script port (secondary/primary interface)"},
-              {"ur-rtde-port", "30004", "UR RTDE port"},
-              {"ur-frequency", "125", "RTDE output frequency requested, Hz"},
-              {"ur-register", "24", "output integer register the program writes the waypoint index to"},
-              {"ur-data-timeout", "0.5", "no RTDE data for this long: connection lost, s"},
-              {"ur-backoff-initial", "0.2", "first reconnect delay, s (doubles per failure)"},
-              {"ur-backoff-max", "5", "longest reconnect delay, s"},
+              {"ur-script-port", "30002", "UR script port (secondary/primary interface)", false, runtime::ParamType::Integer, 1, 65535},
+              {"ur-rtde-port", "30004", "UR RTDE port", false, runtime::ParamType::Integer, 1, 65535},
+              {"ur-frequency", "125", "RTDE output frequency requested, Hz", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"ur-register", "24", "output integer register the program writes the waypoint index to", false, runtime::ParamType::Integer, 0, 47},
+              {"ur-data-timeout", "0.5", "no RTDE data for this long: connection lost, s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"ur-backoff-initial", "0.2", "first reconnect delay, s (doubles per failure)", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+              {"ur-backoff-max", "5", "longest reconnect delay, s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
           }};
 }
 
@@ -112,7 +113,7 @@ class Process {
  public:
   explicit Process(runtime::Node& node) : node_(node) {
     BridgeConfig cfg;
-    cfg.limits = limits_from(node);
+    cfg.limits = limits_from(node.params());
     cfg.path_timeout = node.param_double("path-timeout");
     cfg.progress_period = node.param_double("progress-period");
     cfg.state_file = node.param("state-file");
@@ -120,16 +121,16 @@ class Process {
     cfg.export_file = node.param("export");
     cfg.frame = node.param("frame");
     cfg.source = node.name();
-    cfg.script = script_from(node);
+    cfg.script = script_from(node.params());
     if (cfg.script.accel <= 0 || cfg.script.accel > cfg.limits.max_accel)
-      throw std::invalid_argument("accel must be in (0, max-accel]");
+      throw node.params().error("accel", "must be in (0, max-accel]");
     const std::string driver = node.param("driver");
     std::unique_ptr<Driver> d;
     if (driver == "sim") {
       SimOptions so;
       so.home.position = vec3_param(node, "sim-home");
       auto q = node.param_doubles("sim-home-orientation");
-      if (q.size() != 4) throw std::invalid_argument("sim-home-orientation needs 4 numbers w,x,y,z");
+      if (q.size() != 4) throw node.params().error("sim-home-orientation", "needs 4 numbers w,x,y,z");
       so.home.orientation = Quat(q[0], q[1], q[2], q[3]).normalized();
       so.accel = cfg.script.accel;
       so.time_scale = node.param_double("sim-time-scale");
@@ -138,7 +139,7 @@ class Process {
       so.fault_at_time = node.param_double("sim-fault-time");
       so.fault_every_job = node.param_bool("sim-fault-every-job");
       so.outage = node.param_double("sim-outage");
-      if (!(so.time_scale > 0)) throw std::invalid_argument("sim-time-scale must be positive");
+      if (!(so.time_scale > 0)) throw node.params().error("sim-time-scale", "must be positive");
       d = std::make_unique<SimDriver>(so);
       struct sigaction sa {};
       sa.sa_handler = on_sim_signal;
@@ -159,7 +160,7 @@ class Process {
       uo.backoff_max = node.param_double("ur-backoff-max");
       d = std::make_unique<UrDriver>(uo);
     } else {
-      throw std::invalid_argument("unknown driver '" + driver + "' (sim|ur)");
+      throw node.params().error("driver", "unknown driver '" + driver + "' (sim|ur)");
     }
     d->on_decode_error = [&node](const std::string& what) { node.count_decode_error("robot controller", what); };
     BridgeOutputs out;
@@ -206,19 +207,17 @@ void ProcessDeleter::operator()(Process* p) const { delete p; }
 
 ProcessHandle attach(runtime::Node& node) { return ProcessHandle(new Process(node)); }
 
-int export_script(runtime::Node& node) {
-  const std::string out_file = node.param("export");
-  if (out_file.empty()) throw std::invalid_argument("--path needs --export FILE.script");
-  const Path path = read_path_json(node.param("path"));
-  if (path.size() == 0) throw std::invalid_argument(node.param("path") + ": no waypoints");
+int export_script(const runtime::Params& params, const std::string& path_file, const std::string& out_file) {
+  const Path path = read_path_json(path_file);
+  if (path.size() == 0) throw std::invalid_argument(path_file + ": no waypoints");
   // Offline the robot's pose is unknown: check from the first waypoint.
   const Pose start{path.position[0], path.orientation[0]};
-  if (std::string why = check_path(path, start, limits_from(node)); !why.empty()) {
-    logf(Level::Error, "%s: refused: %s", node.param("path").c_str(), why.c_str());
+  if (std::string why = check_path(path, start, limits_from(params)); !why.empty()) {
+    logf(Level::Error, "%s: refused: %s", path_file.c_str(), why.c_str());
     return 1;
   }
   std::ofstream out(out_file, std::ios::trunc);
-  out << make_script(path, script_from(node));
+  out << make_script(path, script_from(params));
   if (!out) throw std::runtime_error("cannot write " + out_file);
   logf(Level::Info, "wrote %s: %zu waypoints of job %s", out_file.c_str(), path.size(), path.job_id.c_str());
   return 0;

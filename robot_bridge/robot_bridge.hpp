@@ -21,8 +21,12 @@ using ProcessHandle = std::unique_ptr<Process, ProcessDeleter>;
 // Wires the process's subscriptions and timers onto a node. Throws std::exception on a bad configuration.
 ProcessHandle attach(runtime::Node& node);
 
-// --export FILE --path PATH.json: writes the URScript of a path file and returns the exit code (0 when the
-// path passes the configured checks, 1 otherwise; the script is written only when it passes).
-int export_script(runtime::Node& node);
+// The cell's limits and the URScript options from the bridge's parameters (throw runtime::ConfigError).
+Limits limits_from(const runtime::Params& params);
+ScriptOptions script_from(const runtime::Params& params);
+
+// hg-robot-export: writes the URScript of a path file and returns the exit code (0 when the path passes the
+// configured checks, 1 otherwise; the script is written only when it passes).
+int export_script(const runtime::Params& params, const std::string& path_file, const std::string& out_file);
 
 }  // namespace hg::robot_bridge

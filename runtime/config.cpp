@@ -1,123 +1,140 @@
 #include "runtime/config.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
+#include <yaml-cpp/yaml.h>
+
 namespace hg::runtime {
+
+struct Config::Root {
+  YAML::Node node;
+};
+
+namespace {
+
+// Walks "a.b.c" through nested maps; an undefined node when any part is missing. Only const lookups
+// (a non-const operator[] inserts the key) and reset(), never operator= (which would overwrite content).
+YAML::Node find(const YAML::Node& root, const std::string& key) {
+  YAML::Node n;
+  n.reset(root);
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = key.find('.', start);
+    const std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (!n.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+    const YAML::Node& map = n;
+    const YAML::Node next = map[part];
+    // A missing key gives an invalid ("zombie") node that throws on every question but IsDefined().
+    if (!next.IsDefined()) return YAML::Node(YAML::NodeType::Undefined);
+    if (dot == std::string::npos) return next;
+    n.reset(next);
+    start = dot + 1;
+  }
+}
+
+bool parse_number(const std::string& s, double& out) {
+  char* end = nullptr;
+  out = std::strtod(s.c_str(), &end);
+  return !s.empty() && end && *end == '\0' && std::isfinite(out);
+}
+
+void collect_keys(const YAML::Node& map, const std::string& prefix, std::vector<std::string>& out) {
+  for (const auto& kv : map) {
+    const std::string key = prefix + kv.first.as<std::string>();
+    if (kv.second.IsMap()) collect_keys(kv.second, key + ".", out);
+    else out.push_back(key);
+  }
+}
+
+}  // namespace
 
 Config Config::load(const std::string& path) {
   std::ifstream probe(path);
-  if (!probe) throw ConfigError("config: cannot open '" + path + "'");
+  if (!probe) throw ConfigError("config '" + path + "': cannot open");
   std::stringstream text;
   text << probe.rdbuf();
   return from_string(text.str(), path);
 }
 
-namespace {
-// OpenCV's YAML reader keeps "value  # comment" as the value. Drop comments that start at the beginning
-// of a line or after a blank, outside quotes, so that ordinary YAML files read as people expect.
-std::string strip_comments(const std::string& yaml) {
-  std::string out;
-  out.reserve(yaml.size());
-  char quote = 0;
-  bool comment = false;
-  for (std::size_t i = 0; i < yaml.size(); ++i) {
-    char ch = yaml[i];
-    if (ch == '\n') {
-      comment = false;
-      quote = 0;
-    } else if (comment) {
-      continue;
-    } else if (quote) {
-      if (ch == quote) quote = 0;
-    } else if (ch == '"' || ch == '\'') {
-      quote = ch;
-    } else if (ch == '#' && (i == 0 || yaml[i - 1] == ' ' || yaml[i - 1] == '\t' || yaml[i - 1] == '\n')) {
-      if (!(i == 0 && yaml.rfind("%YAML", 0) == 0)) {
-        comment = true;
-        while (!out.empty() && (out.back() == ' ' || out.back() == '\t')) out.pop_back();
-        continue;
-      }
-    }
-    out += ch;
-  }
-  return out;
-}
-}  // namespace
-
 Config Config::from_string(const std::string& yaml, const std::string& name) {
   Config c;
   c.source_ = name;
-  std::string text = strip_comments(yaml);
-  // FileStorage wants the YAML directive; accept plain YAML files without it.
-  if (text.rfind("%YAML", 0) != 0 && text.find_first_not_of(" \t\r\n") != std::string::npos &&
-      text[text.find_first_not_of(" \t\r\n")] != '{')
-    text = "%YAML:1.0\n---\n" + text;
+  YAML::Node root;
   try {
-    c.fs_ = std::make_shared<cv::FileStorage>(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  } catch (const cv::Exception& e) {
-    throw ConfigError("config: cannot parse '" + name + "': " + e.msg);
+    root = YAML::Load(yaml);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("config '" + name + "': line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
-  if (!c.fs_->isOpened()) throw ConfigError("config: cannot parse '" + name + "'");
+  if (root.IsNull() || !root.IsDefined()) root = YAML::Node(YAML::NodeType::Map);  // an empty file
+  if (!root.IsMap()) throw ConfigError("config '" + name + "': the top level is not a map of keys");
+  c.root_ = std::make_shared<const Root>(Root{root});
   return c;
 }
 
-cv::FileNode Config::node(const std::string& key) const {
-  if (empty()) return {};
-  cv::FileNode n = fs_->root();
-  std::size_t start = 0;
-  while (true) {
-    std::size_t dot = key.find('.', start);
-    std::string part = key.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-    if (!n.isMap()) return {};
-    n = n[part];
-    if (n.empty() || dot == std::string::npos) return n;
-    start = dot + 1;
-  }
+ConfigError Config::error(const std::string& key, const std::string& what) const {
+  const int line = line_of(key);
+  return ConfigError("config '" + source_ + "'" + (line > 0 ? " line " + std::to_string(line) : std::string()) +
+                     ": key '" + key + "': " + what);
 }
 
 bool Config::has(const std::string& key) const {
-  cv::FileNode n = node(key);
-  return !n.empty() && !n.isNone();
+  if (!root_) return false;
+  const YAML::Node n = find(root_->node, key);
+  return n.IsDefined() && !n.IsNull();
+}
+
+std::vector<std::string> Config::keys() const {
+  std::vector<std::string> out;
+  if (root_) collect_keys(root_->node, "", out);
+  return out;
+}
+
+int Config::line_of(const std::string& key) const {
+  if (!root_) return 0;
+  const YAML::Node n = find(root_->node, key);
+  return n.IsDefined() && n.Mark().line >= 0 ? n.Mark().line + 1 : 0;
+}
+
+bool Config::is_list(const std::string& key) const {
+  if (!root_) return false;
+  return find(root_->node, key).IsSequence();
 }
 
 std::optional<std::string> Config::get_string(const std::string& key) const {
-  cv::FileNode n = node(key);
-  if (n.empty() || n.isNone()) return std::nullopt;
-  if (n.isString()) return n.string();
-  if (n.isInt()) return std::to_string(int(n));
-  if (n.isReal()) {
-    std::ostringstream s;
-    s.precision(17);
-    s << double(n);
-    return s.str();
-  }
-  throw ConfigError("config: '" + source_ + "': key '" + key + "' is not a scalar");
+  if (!has(key)) return std::nullopt;
+  const YAML::Node n = find(root_->node, key);
+  if (!n.IsScalar()) throw error(key, "expected a single value, not a list or map");
+  return n.Scalar();
 }
 
 std::optional<double> Config::get_double(const std::string& key) const {
-  cv::FileNode n = node(key);
-  if (n.empty() || n.isNone()) return std::nullopt;
-  if (n.isInt() || n.isReal()) return double(n);
-  if (n.isString()) {
-    std::string s = n.string();
-    char* end = nullptr;
-    double v = std::strtod(s.c_str(), &end);
-    if (!s.empty() && end && *end == '\0') return v;
-  }
-  throw ConfigError("config: '" + source_ + "': key '" + key + "' is not a number");
+  const std::optional<std::string> s = get_string(key);
+  if (!s) return std::nullopt;
+  double v = 0;
+  if (!parse_number(*s, v)) throw error(key, "'" + *s + "' is not a number");
+  return v;
+}
+
+std::optional<bool> Config::get_bool(const std::string& key) const {
+  const std::optional<std::string> s = get_string(key);
+  if (!s) return std::nullopt;
+  if (*s == "true") return true;
+  if (*s == "false") return false;
+  throw error(key, "'" + *s + "' is not true or false");
 }
 
 std::optional<std::vector<double>> Config::get_doubles(const std::string& key) const {
-  cv::FileNode n = node(key);
-  if (n.empty() || n.isNone()) return std::nullopt;
-  if (!n.isSeq()) throw ConfigError("config: '" + source_ + "': key '" + key + "' is not a list of numbers");
+  if (!has(key)) return std::nullopt;
+  const YAML::Node n = find(root_->node, key);
+  if (!n.IsSequence()) throw error(key, "expected a list of numbers, as [1, 2, 3]");
   std::vector<double> out;
-  for (auto it = n.begin(); it != n.end(); ++it) {
-    cv::FileNode e = *it;
-    if (!(e.isInt() || e.isReal()))
-      throw ConfigError("config: '" + source_ + "': key '" + key + "' has a non-number element");
-    out.push_back(double(e));
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    double v = 0;
+    if (!n[i].IsScalar() || !parse_number(n[i].Scalar(), v))
+      throw error(key, "element " + std::to_string(i) + " is not a number");
+    out.push_back(v);
   }
   return out;
 }

@@ -1,15 +1,12 @@
-// One configuration format for every process: a YAML (or JSON) file read with OpenCV's FileStorage.
-// Keys may be nested; "robot.workspace_min" reads key workspace_min inside map robot.
+// One configuration format for every process: a YAML file read with yaml-cpp (real booleans, lists,
+// nested maps). Keys may be nested; "robot.workspace-min" reads key workspace-min inside map robot.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <memory>
-
-#include <opencv2/core.hpp>
 
 namespace hg::runtime {
 
@@ -20,21 +17,31 @@ struct ConfigError : std::runtime_error {
 class Config {
  public:
   Config() = default;                          // empty: every lookup falls back to its default
-  static Config load(const std::string& path); // throws ConfigError naming the file
+  static Config load(const std::string& path); // throws ConfigError naming the file (and line)
   static Config from_string(const std::string& yaml, const std::string& name = "<string>");
 
-  bool empty() const { return !fs_ || !fs_->isOpened(); }
+  bool empty() const { return !root_; }
   const std::string& source() const { return source_; }
   bool has(const std::string& key) const;
+  // Every key whose value is not a map, nested ones dotted ("robot.speed"), in file order.
+  std::vector<std::string> keys() const;
+  // The line (1-based) a key is written on, 0 if unknown.
+  int line_of(const std::string& key) const;
 
   // Typed lookups; a key present with the wrong type throws ConfigError naming the file and key.
   std::optional<std::string> get_string(const std::string& key) const;
   std::optional<double> get_double(const std::string& key) const;
+  std::optional<bool> get_bool(const std::string& key) const;
   std::optional<std::vector<double>> get_doubles(const std::string& key) const;
+  // True when the key holds a YAML list (rather than a scalar).
+  bool is_list(const std::string& key) const;
+
+  // "config 'FILE': key 'KEY': WHAT" — the one shape of every configuration error.
+  ConfigError error(const std::string& key, const std::string& what) const;
 
  private:
-  cv::FileNode node(const std::string& key) const;
-  std::shared_ptr<cv::FileStorage> fs_;
+  struct Root;
+  std::shared_ptr<const Root> root_;
   std::string source_;
 };
 

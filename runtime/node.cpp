@@ -39,12 +39,6 @@ void install_signal_handlers() {
   signal(SIGPIPE, SIG_IGN);  // a peer closing a socket is an error to handle, not a reason to die
 }
 
-bool parse_bool(const std::string& v, bool& out) {
-  if (v == "true" || v == "1" || v == "yes" || v == "on") return out = true, true;
-  if (v == "false" || v == "0" || v == "no" || v == "off") return out = false, true;
-  return false;
-}
-
 }  // namespace
 
 std::int64_t now_utime() {
@@ -66,130 +60,40 @@ Node::Node(ProcessInfo info, int argc, char** argv) : info_(std::move(info)) {
     std::exit(1);
   }
   logf(Level::Info, "started, pid %d, LCM %s%s%s", int(getpid()), lcm_url_.c_str(),
-       config_.empty() ? "" : ", config ", config_.empty() ? "" : config_.source().c_str());
+       config().empty() ? "" : ", config ", config().empty() ? "" : config().source().c_str());
 }
 
 Node::~Node() = default;
 
-void Node::usage_and_exit(int code, const std::string& error) {
-  FILE* out = code == 0 ? stdout : stderr;
-  if (!error.empty()) fprintf(stderr, "%s: %s\n\n", info_.name.c_str(), error.c_str());
-  fprintf(out, "usage: %s [options]\n\n%s\n", info_.name.c_str(), info_.summary.c_str());
-  if (!info_.details.empty()) fprintf(out, "\n%s\n", info_.details.c_str());
-  fprintf(out, "\nOptions (each may also be set as a key in the --config file; the command line wins):\n");
-  if (info_.params.empty()) fprintf(out, "  (none)\n");
-  for (const Param& p : info_.params) {
-    std::string left = "  --" + p.name + (p.is_flag ? "" : " VALUE");
-    fprintf(out, "%-34s %s%s%s%s\n", left.c_str(), p.help.c_str(), p.default_value.empty() ? "" : " [default: ",
-            p.default_value.c_str(), p.default_value.empty() ? "" : "]");
-  }
-  fprintf(out, "\nCommon options:\n");
-  fprintf(out, "  --lcm-url URL                      LCM provider [default: $LCM_DEFAULT_URL, else %s]\n", kDefaultLcmUrl);
-  fprintf(out, "  --config FILE                      YAML config file (OpenCV FileStorage)\n");
-  fprintf(out, "  --log-level LEVEL                  debug|info|warn|error [default: info]\n");
-  fprintf(out, "  --help                             this text\n");
-  fprintf(out, "\nPublishes hullgrind.heartbeat_t on HG_HEARTBEAT at 1 Hz; exits cleanly on SIGINT/SIGTERM.\n");
-  std::exit(code);
-}
-
-const Param* Node::find_param(const std::string& name) const {
-  for (const Param& p : info_.params)
-    if (p.name == name) return &p;
-  return nullptr;
+void Node::print_usage(std::FILE* out) const {
+  std::fprintf(out, "usage: %s [options]\n\n%s\n", info_.name.c_str(), info_.summary.c_str());
+  if (!info_.details.empty()) std::fprintf(out, "\n%s\n", info_.details.c_str());
+  std::fprintf(out, "\nOptions (each may also be set as a key in the --config file; the command line wins):\n");
+  params_.print_options(out);
+  std::fprintf(out, "  --config FILE                      YAML config file (keys as the options above, without --)\n");
+  std::fprintf(out, "  --help, --help-markdown, --version this text, the options as a Markdown table, the version\n");
+  std::fprintf(out, "\nPublishes hullgrind.heartbeat_t on HG_HEARTBEAT at 1 Hz; exits cleanly on SIGINT/SIGTERM.\n"
+                    "Exit status: 0 clean stop, 1 cannot open LCM, 2 bad command line or config (one line names the key).\n");
 }
 
 void Node::parse(int argc, char** argv) {
-  std::string config_path, log_level;
-  lcm_url_ = default_lcm_url();
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") usage_and_exit(0);
-    if (arg.rfind("--", 0) != 0) {
-      positional_.push_back(arg);
-      continue;
-    }
-    std::string name = arg.substr(2), value;
-    bool has_value = false;
-    if (auto eq = name.find('='); eq != std::string::npos) {
-      value = name.substr(eq + 1);
-      name = name.substr(0, eq);
-      has_value = true;
-    }
-    const Param* p = find_param(name);
-    bool common = name == "lcm-url" || name == "config" || name == "log-level";
-    if (!p && !common) usage_and_exit(2, "unknown option --" + name);
-    if (p && p->is_flag) {
-      cli_[name] = has_value ? value : "true";
-      continue;
-    }
-    if (!has_value) {
-      if (i + 1 >= argc) usage_and_exit(2, "option --" + name + " needs a value");
-      value = argv[++i];
-    }
-    if (name == "lcm-url") lcm_url_ = value;
-    else if (name == "config") config_path = value;
-    else if (name == "log-level") log_level = value;
-    else cli_[name] = value;
-  }
+  std::vector<Param> all = info_.params;
+  all.push_back(text_param("lcm-url", default_lcm_url(), "LCM provider [$LCM_DEFAULT_URL, else " + std::string(kDefaultLcmUrl) + "]"));
+  all.push_back(text_param("log-level", "info", "log threshold", {"debug", "info", "warn", "error"}));
+  params_ = Params(std::move(all));
   try {
-    if (!log_level.empty()) set_log_level(parse_level(log_level));
-    if (!config_path.empty()) config_ = Config::load(config_path);
-    // Validate every parameter's type now, so a bad value stops the process at start, not mid-job.
-    for (const Param& p : info_.params) {
-      if (p.is_flag) param_bool(p.name);
+    switch (params_.parse(argc, argv)) {
+      case Params::Action::Help: print_usage(stdout); std::exit(0);
+      case Params::Action::HelpMarkdown: std::fputs(params_.markdown().c_str(), stdout); std::exit(0);
+      case Params::Action::Version: std::printf("%s %s\n", info_.name.c_str(), version()); std::exit(0);
+      case Params::Action::Run: break;
     }
+    set_log_level(parse_level(params_.text("log-level")));
+    lcm_url_ = params_.text("lcm-url");
   } catch (const std::exception& e) {
-    usage_and_exit(2, e.what());
+    std::fprintf(stderr, "%s: %s (see --help)\n", info_.name.c_str(), e.what());
+    std::exit(2);
   }
-}
-
-bool Node::param_given(const std::string& name) const { return cli_.count(name) || config_.has(name); }
-
-std::string Node::param(const std::string& name) const {
-  if (auto it = cli_.find(name); it != cli_.end()) return it->second;
-  if (auto v = config_.get_string(name)) return *v;
-  const Param* p = find_param(name);
-  if (!p) throw ConfigError("no such parameter '" + name + "'");
-  return p->is_flag && p->default_value.empty() ? "false" : p->default_value;
-}
-
-double Node::param_double(const std::string& name) const {
-  std::string v = param(name);
-  char* end = nullptr;
-  double d = std::strtod(v.c_str(), &end);
-  if (v.empty() || *end != '\0') throw ConfigError("parameter '" + name + "': '" + v + "' is not a number");
-  return d;
-}
-
-std::int64_t Node::param_int(const std::string& name) const {
-  std::string v = param(name);
-  char* end = nullptr;
-  long long d = std::strtoll(v.c_str(), &end, 10);
-  if (v.empty() || *end != '\0') throw ConfigError("parameter '" + name + "': '" + v + "' is not an integer");
-  return d;
-}
-
-bool Node::param_bool(const std::string& name) const {
-  std::string v = param(name);
-  bool b = false;
-  if (!parse_bool(v, b)) throw ConfigError("parameter '" + name + "': '" + v + "' is not true/false");
-  return b;
-}
-
-std::vector<double> Node::param_doubles(const std::string& name) const {
-  if (!cli_.count(name)) {
-    if (auto list = config_.get_doubles(name)) return *list;
-  }
-  std::vector<double> out;
-  std::stringstream ss(param(name));
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    char* end = nullptr;
-    double d = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0') throw ConfigError("parameter '" + name + "': '" + item + "' is not a number");
-    out.push_back(d);
-  }
-  return out;
 }
 
 void Node::add_handler(const std::string& channel,

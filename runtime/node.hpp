@@ -8,6 +8,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdio>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -23,17 +24,11 @@
 #include "runtime/config.hpp"
 #include "runtime/lcm_url.hpp"
 #include "runtime/log.hpp"
+#include "runtime/params.hpp"
 
 namespace hg::runtime {
 
 std::int64_t now_utime();
-
-struct Param {
-  std::string name;           // command line --name, config key name (dots for nesting)
-  std::string default_value;  // as text; empty string: no default
-  std::string help;
-  bool is_flag = false;       // a flag takes no value on the command line ("true" when given)
-};
 
 struct ProcessInfo {
   std::string name;           // "hg-outline-service"
@@ -53,7 +48,8 @@ struct Delivery {
   std::size_t size = 0;
 };
 
-// Parses argv. --help prints usage and exits 0; a bad command line or config prints why and exits 2.
+// Parses argv. --help / --help-markdown / --version print and exit 0; a bad command line or config prints
+// one line naming the command line or the file and the key, and exits 2.
 class Node {
  public:
   Node(ProcessInfo info, int argc, char** argv);
@@ -63,16 +59,18 @@ class Node {
 
   const std::string& name() const { return info_.name; }
   const std::string& lcm_url() const { return lcm_url_; }
-  const Config& config() const { return config_; }
-  std::vector<std::string> positional() const { return positional_; }
+  const Config& config() const { return params_.config(); }
+  const Params& params() const { return params_; }
+  std::vector<std::string> positional() const { return params_.positional(); }
 
   // Parameter lookups (command line > config > default). Throw ConfigError on a value of the wrong type.
-  std::string param(const std::string& name) const;
-  double param_double(const std::string& name) const;
-  std::int64_t param_int(const std::string& name) const;
-  bool param_bool(const std::string& name) const;
-  std::vector<double> param_doubles(const std::string& name) const;  // "a,b,c" or a YAML list
-  bool param_given(const std::string& name) const;
+  // (runtime::Params does the work; ConfigError messages name the command line or the file and the key.)
+  std::string param(const std::string& name) const { return params_.text(name); }
+  double param_double(const std::string& name) const { return params_.number(name); }
+  std::int64_t param_int(const std::string& name) const { return params_.integer(name); }
+  bool param_bool(const std::string& name) const { return params_.flag(name); }
+  std::vector<double> param_doubles(const std::string& name) const { return params_.numbers(name); }  // "a,b,c" or a YAML list
+  bool param_given(const std::string& name) const { return params_.given(name); }
 
   lcm::LCM& lcm() { return *lcm_; }
   Counters& counters() { return counters_; }
@@ -121,15 +119,12 @@ class Node {
   };
   void publish_heartbeat();
   void parse(int argc, char** argv);
-  [[noreturn]] void usage_and_exit(int code, const std::string& error = "");
-  const Param* find_param(const std::string& name) const;
+  void print_usage(std::FILE* out) const;
   void add_handler(const std::string& channel, std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn);
   void fill_header(const std::string& channel, std::int64_t& seq, std::int64_t& utime);
 
   ProcessInfo info_;
-  std::map<std::string, std::string> cli_;  // parameters given on the command line
-  std::vector<std::string> positional_;
-  Config config_;
+  Params params_;
   std::string lcm_url_;
   std::unique_ptr<lcm::LCM> lcm_;
   std::vector<std::unique_ptr<Handler>> handlers_;

@@ -7,6 +7,8 @@
 #   tools/fuzz-readers.sh [SECONDS] [text|pcd|ply ...]
 #   HG_FUZZ_BUILD=dir  build directory (default build-fuzz)   HG_FUZZ_JOBS=n  build jobs (default 2)
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
+hg_answer fuzz-readers "$0" "$@"
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}

@@ -3,6 +3,8 @@
 # is present it only checks (a fraction of a second) and installs nothing.
 # Not root: prints the exact apt-get line to run and exits 1.
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
+hg_answer install-deps "$0" "$@"
 
 packages=(
   # build

@@ -3,6 +3,8 @@
 # identity certificates, and governance and permissions documents signed (S/MIME) by the permissions CA.
 # For tests and for a first install; a plant with its own PKI supplies the same files (docs/dds_gateway.md).
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
+hg_answer_version make-dds-security "$@"
 
 usage() {
   cat <<'USAGE'

@@ -12,6 +12,8 @@
 # Every run has its own HG_RUN_ID: the simulated robot of a run that was stopped mid-job reports that job
 # ABORTED (interrupted) and starts clean; a real robot (--driver ur) keeps its FAULT until RESET.
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
+hg_answer_version run "$@"
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 BIN=${BIN:-$ROOT/build/bin}

@@ -5,6 +5,8 @@
 #   tools/spy-screenshot.sh [OUT.png]   (HG_BUILD_DIR: build directory, default build/)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$here/version.sh"
+hg_answer spy-screenshot "$0" "$@"
 repo="$(dirname "$here")"
 if [[ "${HG_IN_NETNS:-}" != "1" ]]; then
   exec "$repo/tests/netns.sh" "$0" "$@"

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "sim/fake_genicam/fake_camera.hpp"
+#include "runtime/version.hpp"
 
 using namespace hg::camera_bridge;
 
@@ -50,6 +51,7 @@ int usage(bool ok) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-fake-genicam")) return 0;
   FakeGenicamOptions o;
   std::string scene = "plate-hole-slot", profile = "pm806", seed;
   double noise = 1.0;

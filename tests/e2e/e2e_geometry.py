@@ -35,7 +35,7 @@ def pose_xyz_rpy(xyz, rpy):
 
 # ---- the planner's configuration, read independently of the planner's code ----
 def read_yaml_scalars(path):
-    """Top-level `key: value` lines of an OpenCV FileStorage YAML (numbers, [lists], strings)."""
+    """Top-level `key: value` lines of a YAML file (numbers, [lists], strings)."""
     out = {}
     with open(path) as f:
         for line in f:
@@ -62,7 +62,7 @@ def planner_settings(yaml_path, command):
             try:
                 cfg[key] = [float(x) for x in val.split(",")] if "," in val else float(val)
             except ValueError:
-                cfg[key] = val  # a word (e.g. --small_hole skip)
+                cfg[key] = val  # a word (e.g. --small-hole skip)
     return cfg
 
 

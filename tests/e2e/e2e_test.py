@@ -54,7 +54,7 @@ TOP_FACE_TOLERANCE = 1.0e-3
 # is too small"), about one frame in seven. The tests that need DONE use the planner's documented
 # small_hole: skip (planned without it, warning in PLANNED); E2EWholePipeline checks independently that
 # every true hole is ground.
-PLANNER_ARGS = ["--small_hole", "skip"]
+PLANNER_ARGS = ["--small-hole", "skip"]
 # Known issue (issue 8 brief): the robot bridge refuses a path whose corner needs more than max-accel
 # (v^2/r; the planner does not slow down at corners yet). Now and then a noisy frame gives a grind corner
 # of ~0.2 mm radius, too tight at the default 0.02 m/s. The jobs that must go DONE ask for half that grind
@@ -80,11 +80,11 @@ def planner_extra_args(truth):
     """The pixel pitch on the plate from the camera's intrinsics and distance, as docs/path_planner.md says a
     deployment configures it for noisy clouds (unknown, the planner skips edge compensation: the loops sit
     half a pixel inside). Only if the shipped planner command does not set it already."""
-    if "--pixel_pitch" in E.process_command("planner"):
+    if "--pixel-pitch" in E.process_command("planner"):
         return []
     cam = truth["camera"]
     distance = cam["mount_height"] - max(p["thickness"] for p in truth["parts"])
-    return ["--pixel_pitch", "%.6g" % (distance / cam["fx"])]
+    return ["--pixel-pitch", "%.6g" % (distance / cam["fx"])]
 
 
 class PipelineCase(unittest.TestCase):
@@ -142,9 +142,9 @@ class E2EWholePipeline(PipelineCase):
     def check_path_against_truth(self, path, truth):
         # Expected frames: table --(truth camera_from_table)--> camera --(planner hand-eye config)--> base.
         cfg = G.planner_settings(os.path.join(E.CONFIG, "path_planner.yaml"), E.process_command("planner"))
-        camera_to_base = G.pose_xyz_rpy(cfg["camera_xyz"], cfg["camera_rpy"])
+        camera_to_base = G.pose_xyz_rpy(cfg["camera-xyz"], cfg["camera-rpy"])
         base_to_table = G.rigid_inverse(G.matmul(camera_to_base, truth["camera_from_table"]))
-        radius = cfg["tool_radius"]  # the job request leaves it at 0: the configured default
+        radius = cfg["tool-radius"]  # the job request leaves it at 0: the configured default
         self.assertEqual(len(truth["parts"]), 1, "the shipped scene has one part (camera: --parts largest)")
         part = truth["parts"][0]
         rings = [part["outer"]] + part["holes"]

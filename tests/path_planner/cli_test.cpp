@@ -1,5 +1,5 @@
 // hg-plan: outline JSON file in, path.json out (the schema make run writes), errors and --help; the README's
-// chain hg-gen -> hg-outline -> hg-plan -> hg-robot-bridge --export.
+// chain hg-gen -> hg-outline -> hg-plan -> hg-robot-export; config errors that name the file and key.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -40,7 +40,7 @@ const char* kOutline = R"({"loops": [
 TEST(PathPlannerCli, WritesThePathSchema) {
   write(tmp("outline.json"), kOutline);
   std::string out;
-  ASSERT_EQ(run(tmp("outline.json") + " --job-id j1 --tool_radius 0.005 -o " + tmp("path.json"), &out), 0) << out;
+  ASSERT_EQ(run(tmp("outline.json") + " --job-id j1 --tool-radius 0.005 -o " + tmp("path.json"), &out), 0) << out;
   nlohmann::json j = nlohmann::json::parse(std::ifstream(tmp("path.json")));
   EXPECT_EQ(j["job_id"], "j1");
   EXPECT_EQ(j["frame"], "robot_base");
@@ -68,18 +68,61 @@ TEST(PathPlannerCli, FailuresAndHelp) {
   std::string out;
   EXPECT_EQ(run("--help", &out), 0);
   EXPECT_NE(out.find("usage: hg-plan"), std::string::npos);
-  EXPECT_NE(out.find("--small_hole"), std::string::npos);
+  EXPECT_NE(out.find("--small-hole"), std::string::npos);
   write(tmp("bad.json"), "{\"loops\": [{\"points\": [[0, 0], [1]]}]}");
   EXPECT_EQ(run(tmp("bad.json"), &out), 2);
   EXPECT_NE(out.find("loops[0].points[1]"), std::string::npos) << out;
   write(tmp("outline.json"), kOutline);
-  EXPECT_EQ(run(tmp("outline.json") + " --tool_radius 0.03", &out), 1);  // 40 mm hole, 60 mm tool
+  EXPECT_EQ(run(tmp("outline.json") + " --tool-radius 0.03", &out), 1);  // 40 mm hole, 60 mm tool
   EXPECT_NE(out.find("hole 1 is too small"), std::string::npos) << out;
-  EXPECT_EQ(run(tmp("outline.json") + " --tool_radius 0.03 --small_hole skip -o " + tmp("p2.json"), &out), 0) << out;
+  EXPECT_EQ(run(tmp("outline.json") + " --tool-radius 0.03 --small-hole skip -o " + tmp("p2.json"), &out), 0) << out;
   EXPECT_NE(out.find("warning: skipped"), std::string::npos) << out;
-  EXPECT_EQ(run(tmp("outline.json") + " --workspace_max 0.6,1,1", &out), 1);
+  EXPECT_EQ(run(tmp("outline.json") + " --workspace-max 0.6,1,1", &out), 1);
   EXPECT_NE(out.find("outside the workspace box"), std::string::npos) << out;
   EXPECT_EQ(run(tmp("outline.json") + " --no_such_option 1", &out), 2);
+}
+
+// The shipped config file is read whole (every key known to hg-plan); a bad one stops hg-plan with exit 2
+// and one line naming the file, the key and what is wrong; the command line beats the file.
+TEST(PathPlannerCli, ConfigFileErrorsNameTheFileAndKey) {
+  std::string out;
+  write(tmp("outline.json"), kOutline);
+  const std::string shipped = std::string(HG_SOURCE_DIR) + "/config/path_planner.yaml";
+  // (its coverage policy fails this outline's tight hole corners: skip, so that the run must succeed)
+  ASSERT_EQ(run("--config " + shipped + " --small-hole skip " + tmp("outline.json") + " -o " + tmp("p.json"), &out), 0) << out;
+  struct Case {
+    std::string yaml, expected;
+  } cases[] = {
+      {"tool_radius: 0.01\n", "line 1: key 'tool_radius': old spelling of 'tool-radius'"},
+      {"grind-speed: 0.02\ntool-radus: 0.01\n", "line 2: key 'tool-radus': unknown key (nearest known: 'tool-radius')"},
+      {"tool-radius: -0.01\n", "key 'tool-radius': -0.01 is out of range (> 0)"},
+      {"spindle-clockwise: sometimes\n", "key 'spindle-clockwise': 'sometimes' is not true or false"},
+      {"camera-xyz: [0.5, zero, 1.2]\n", "key 'camera-xyz': element 1 is not a number"},
+      {"small-hole: ignore\n", "key 'small-hole': 'ignore' is not one of fail | skip"},
+  };
+  for (const Case& c : cases) {
+    const std::string file = tmp("bad.yaml");
+    write(file, c.yaml);
+    EXPECT_EQ(run("--config " + file + " " + tmp("outline.json"), &out), 2) << c.yaml;
+    EXPECT_NE(out.find("config '" + file + "'"), std::string::npos) << out;
+    EXPECT_NE(out.find(c.expected), std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;  // one line
+  }
+  EXPECT_EQ(run(tmp("outline.json") + " --tool_radius 0.005", &out), 2);
+  EXPECT_NE(out.find("--tool_radius is the old spelling of --tool-radius"), std::string::npos) << out;
+  // Precedence: the file's value over the default, the command line's over the file's.
+  write(tmp("r.yaml"), "tool-radius: 0.007\n");
+  ASSERT_EQ(run("--config " + tmp("r.yaml") + " " + tmp("outline.json") + " -o " + tmp("f.json"), &out), 0) << out;
+  ASSERT_EQ(run("--config " + tmp("r.yaml") + " --tool-radius 0.005 " + tmp("outline.json") + " -o " + tmp("c.json"), &out), 0);
+  ASSERT_EQ(run(tmp("outline.json") + " --small-hole skip -o " + tmp("d.json"), &out), 0) << out;  // 10 mm: skip
+  auto radius = [](const std::string& path) {
+    std::stringstream ss;
+    ss << std::ifstream(path).rdbuf();
+    return nlohmann::json::parse(ss.str())["tool_radius"].get<double>();
+  };
+  EXPECT_EQ(radius(tmp("f.json")), 0.007);
+  EXPECT_EQ(radius(tmp("c.json")), 0.005);
+  EXPECT_EQ(radius(tmp("d.json")), 0.01);  // the declared default
 }
 
 namespace {
@@ -110,7 +153,7 @@ double ring_distance(double px, double py, const nlohmann::json& ring) {
 }  // namespace
 
 // The README's chain on a generated 3-D cloud (table frame = robot base frame, table top at z = 0):
-// hg-gen -> hg-outline -> hg-plan --outline_frame robot_base -> hg-robot-bridge --export. Without the flag
+// hg-gen -> hg-outline -> hg-plan --outline-frame robot_base -> hg-robot-export. Without the flag
 // hg-plan takes the cloud as the camera's view and fails, printing the transform and the workspace box.
 // The grind waypoints are checked against hg-gen's ground truth: a tool radius from the true edge, on the
 // plate's top surface.
@@ -134,13 +177,13 @@ TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
     EXPECT_EQ(run_tool("hg-plan " + outline + " -o " + path, &out), 1) << out;
     EXPECT_NE(out.find("camera-to-base applied: [1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.2; 0 0 0 1]"), std::string::npos) << out;
     EXPECT_NE(out.find("outside the workspace box (-1.0000, -1.0000, 0.0000) .. (1.5000, 1.0000, 1.0000)"), std::string::npos) << out;
-    EXPECT_NE(out.find("--outline_frame robot_base"), std::string::npos) << out;
+    EXPECT_NE(out.find("--outline-frame robot_base"), std::string::npos) << out;
 
-    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline_frame robot_base --pixel_pitch 0.002 --tool_radius " +
+    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline-frame robot_base --pixel-pitch 0.002 --tool-radius " +
                            std::to_string(radius) + " -o " + path, &out), 0) << out;
     EXPECT_NE(out.find("camera-to-base applied: none (identity)"), std::string::npos) << out;
-    ASSERT_EQ(run_tool("hg-robot-bridge --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml --export " +
-                           script + " --path " + path, &out), 0) << out;
+    ASSERT_EQ(run_tool("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml -o " +
+                           script + " " + path, &out), 0) << out;
 
     const nlohmann::json p = nlohmann::json::parse(slurp(path));
     const nlohmann::json truth = nlohmann::json::parse(slurp(cloud + ".truth.json"))["parts"][0];

@@ -48,11 +48,11 @@ TEST(PathPlannerFrame, MatrixAndXyzRpyConfigAgree) {
                          return v;
                        }};
   };
-  const PlannerConfig a = config_from(lookup({{"camera_to_base", m}}));
-  const PlannerConfig b = config_from(lookup({{"camera_xyz", "0.3,-0.2,1.1"}, {"camera_rpy", "3.0,0.1,-0.4"}}));
+  const PlannerConfig a = config_from(lookup({{"camera-to-base", m}}));
+  const PlannerConfig b = config_from(lookup({{"camera-xyz", "0.3,-0.2,1.1"}, {"camera-rpy", "3.0,0.1,-0.4"}}));
   EXPECT_LT((a.camera_to_base.matrix() - b.camera_to_base.matrix()).norm(), 1e-12);
-  EXPECT_THROW(config_from(lookup({{"camera_to_base", "1,0,0,0, 0,2,0,0, 0,0,1,0, 0,0,0,1"}})), hg::runtime::ConfigError);
-  EXPECT_THROW(config_from(lookup({{"tool_radius", "-1"}})), hg::runtime::ConfigError);
+  EXPECT_THROW(config_from(lookup({{"camera-to-base", "1,0,0,0, 0,2,0,0, 0,0,1,0, 0,0,0,1"}})), hg::runtime::ConfigError);
+  EXPECT_THROW(config_from(lookup({{"tool-radius", "-1"}})), hg::runtime::ConfigError);
 }
 
 TEST(PathPlannerFrame, NormalPointingDownIsTurnedUpWithoutMovingThePlate) {

@@ -75,7 +75,7 @@ class PathPlannerProcess : public testing::Test {
   void SetUp() override {
     ASSERT_TRUE(lcm.good()) << "no LCM: the test must run inside tests/netns.sh";
     planner = hg::test::ChildProcess(
-        {std::string(HG_BIN_DIR) + "/hg-path-planner", "--log-level", "warn", "--outline_max_age", "30"});
+        {std::string(HG_BIN_DIR) + "/hg-path-planner", "--log-level", "warn", "--outline-max-age", "30"});
     ASSERT_TRUE(planner.started());
     // Subscribed once it beats.
     ASSERT_TRUE(wait_for([&] { return !bus.beats.empty(); }, 5s)) << "no heartbeat from hg-path-planner";

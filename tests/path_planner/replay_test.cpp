@@ -98,7 +98,7 @@ TEST(PathPlannerReplay, EveryPlannedPathPassesTheRobotBridgesCheck) {
   const std::vector<hullgrind::plate_cloud_t> cs = clouds();
   ASSERT_EQ(cs.size(), 2u);
   const rb::Limits limits = bridge_limits();
-  const PlannerConfig cfg = planner_config({{"camera_xyz", "0.5,0,1.5"}, {"small_hole", "skip"}});  // the scene has tiny holes
+  const PlannerConfig cfg = planner_config({{"camera-xyz", "0.5,0,1.5"}, {"small-hole", "skip"}});  // the scene has tiny holes
   ASSERT_EQ(cfg.limits.max_accel, limits.max_accel) << "config/path_planner.yaml max_accel must equal "
                                                        "config/robot_bridge.yaml max-accel";
   EXPECT_LE(cfg.limits.max_speed, limits.max_speed) << "config/path_planner.yaml max_speed above the bridge's max-speed";
@@ -151,7 +151,7 @@ TEST(PathPlannerReplay, MakeRunSceneFramesPassTheRobotBridgesCheck) {
   namespace cb = hg::camera_bridge;
   const rb::Limits limits = bridge_limits();
   // small_hole skip: some frames' noise opens a spurious pin hole in the outline (reported as a warning).
-  const PlannerConfig cfg = planner_config({{"camera_xyz", "0.5,0,1.5"}, {"small_hole", "skip"}});
+  const PlannerConfig cfg = planner_config({{"camera-xyz", "0.5,0,1.5"}, {"small-hole", "skip"}});
   PlannerConfig unlimited = cfg;
   unlimited.limits.max_accel = 1e12;
   const cb::SceneSpec spec = cb::scene_preset("plate-hole-slot");
@@ -209,9 +209,9 @@ std::vector<double> ground_truth_errors(const std::string& scene, const std::str
     // The pixel pitch on the plate, as config/pipeline.toml gives it to the planner: plate top distance / fx.
     const double pitch = (std::abs(f.table_offset) - f.part_thickness[0]) / f.intrinsics.fx;
     // The camera above the table origin, looking down (config/pipeline.toml's hand-eye for the pm806).
-    const PlannerConfig cfg = planner_config({{"camera_xyz", "0.5,0," + std::to_string(profile.mount_height)},
-                                              {"small_hole", "skip"},
-                                              {"pixel_pitch", std::to_string(pitch)}});
+    const PlannerConfig cfg = planner_config({{"camera-xyz", "0.5,0," + std::to_string(profile.mount_height)},
+                                              {"small-hole", "skip"},
+                                              {"pixel-pitch", std::to_string(pitch)}});
     const cb::Segmentation seg = cb::segment(f.depth, f.intrinsics, cb::SegmentParams{});
     EXPECT_EQ(seg.status, cb::SegmentStatus::Ok) << seg.text;
     if (seg.status != cb::SegmentStatus::Ok) return {};

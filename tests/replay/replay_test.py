@@ -50,7 +50,7 @@ class ReplayCameraLog(unittest.TestCase):
         cam = truth["camera"]
         pitch = (cam["mount_height"] - max(p["thickness"] for p in truth["parts"])) / cam["fx"]
         p = E.Pipeline("replay5", without=("camera", "robot", "dds"),
-                       extra_args={"planner": ["--pixel_pitch", "%.6g" % pitch]})
+                       extra_args={"planner": ["--pixel-pitch", "%.6g" % pitch]})
         failed = True
         try:
             p.start()
@@ -75,10 +75,10 @@ class ReplayCameraLog(unittest.TestCase):
 
     def check(self, path, outline, truth, p):
         cfg = G.planner_settings(os.path.join(E.CONFIG, "path_planner.yaml"), E.process_command("planner"))
-        camera_to_base = G.pose_xyz_rpy(cfg["camera_xyz"], cfg["camera_rpy"])
+        camera_to_base = G.pose_xyz_rpy(cfg["camera-xyz"], cfg["camera-rpy"])
         base_to_table = G.rigid_inverse(G.matmul(camera_to_base, truth["camera_from_table"]))
-        radius = cfg["tool_radius"]
-        tilt = cfg["chamfer_angle"]
+        radius = cfg["tool-radius"]
+        tilt = cfg["chamfer-angle"]
         # Every part of the scene was in the cloud (the log was recorded with --parts all): one outer loop
         # per part, one hole per cut-out.
         rings, owners = [], []

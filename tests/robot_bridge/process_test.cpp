@@ -120,7 +120,7 @@ TEST(RobotBridgeProcess, ExportWritesTheScriptOfAPathFile) {
       {"position": [0.4, 0, 0.2], "orientation": [0, 1, 0, 0], "speed": 0.05, "kind": "approach"},
       {"position": [0.45, 0.0000004, 0.2], "orientation": [0, 1, 0, 0], "speed": 0.02, "kind": "grind"}]})";
   }
-  std::string cmd = std::string(HG_BIN_DIR) + "/hg-robot-bridge --export " + script + " --path " + json + " 2>/dev/null";
+  std::string cmd = std::string(HG_BIN_DIR) + "/hg-robot-export -o " + script + " " + json + " 2>/dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   std::ifstream in(script);
   std::stringstream ss;
@@ -130,7 +130,7 @@ TEST(RobotBridgeProcess, ExportWritesTheScriptOfAPathFile) {
   EXPECT_NE(ss.str().find("v=0.020000"), std::string::npos);
   // Too fast for the limits: refused, exit 1, no script.
   std::remove(script.c_str());
-  cmd = std::string(HG_BIN_DIR) + "/hg-robot-bridge --max-speed 0.01 --export " + script + " --path " + json + " 2>/dev/null";
+  cmd = std::string(HG_BIN_DIR) + "/hg-robot-export --max-speed 0.01 -o " + script + " " + json + " 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 1);
   EXPECT_FALSE(std::ifstream(script).good());
   std::remove(json.c_str());

@@ -188,6 +188,45 @@ class TestLifecycle(SupervisorCase):
         self.assertIn("command must be a non-empty list", r.stderr)
 
 
+class TestPipelineFile(SupervisorCase):
+    """A pipeline file with a value of the wrong type or an unknown key: one message naming the file and the
+    key, exit 2, no traceback, nothing started."""
+
+    def run_bad(self, text):
+        bad = os.path.join(self.dir, "typed.toml")
+        with open(bad, "w") as f:
+            f.write(text)
+        r = subprocess.run([sys.executable, SUPERVISOR, "run", bad], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           text=True, timeout=30)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assertIn(bad, r.stderr)
+        return r.stderr
+
+    def test_type_errors_name_the_file_and_key(self):
+        proc = '\n[[process]]\nname = "x"\ncommand = ["/bin/true"]\n'
+        cases = [
+            ('[supervisor]\nlog_max_bytes = "big"\n' + proc, "key 'log_max_bytes' must be an integer"),
+            ('[supervisor]\nheartbeat_watch = 1\n' + proc, "key 'heartbeat_watch' must be true or false"),
+            ('[supervisor]\nstop_timeout = true\n' + proc, "key 'stop_timeout' must be a number"),
+            (proc + 'heartbeat_timeout = "2.5"\n', "process 0: key 'heartbeat_timeout' must be a number"),
+            (proc + 'env = ["A=1"]\n', "process 0: key 'env' must be a table"),
+            (proc + 'crash_restarts = 2.5\n', "process 0: key 'crash_restarts' must be an integer"),
+            ('[[process]]\nname = "x"\ncommand = ["a", 3]\n', "command must be a non-empty list of strings"),
+            ('supervisor = 3\n' + proc, "key 'supervisor' must be a table"),
+            ('process = [1, 2]\n', "process 0: key 'process' must be a list of tables"),
+        ]
+        for text, expected in cases:
+            with self.subTest(expected=expected):
+                self.assertIn(expected, self.run_bad(text))
+
+    def test_unknown_key_names_the_nearest(self):
+        err = self.run_bad('[supervisor]\nlog_max_byte = 10\n\n[[process]]\nname = "x"\ncommand = ["/bin/true"]\n')
+        self.assertIn("unknown key 'log_max_byte' (nearest known: 'log_max_bytes')", err)
+        err = self.run_bad('[[process]]\nname = "x"\ncommand = ["/bin/true"]\nrestarts = "always"\n')
+        self.assertIn("process 0: unknown key 'restarts' (nearest known: 'restart')", err)
+
+
 class TestBus(SupervisorCase):
     def test_heartbeat_stall_restarts_the_process(self):
         path = self.pipeline([{"name": "robot", "command": ["hg-robot-bridge"], "wait_heartbeat": True,

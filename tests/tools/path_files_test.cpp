@@ -1,5 +1,5 @@
 // Path files between the tools: every path file a tool writes (hg-plan, hg-overview, the path_file writer)
-// is read back by every reader (the path_file reader, the robot bridge's, hg-robot-bridge --export), and
+// is read back by every reader (the path_file reader, the robot bridge's, hg-robot-export), and
 // hg-overview draws the path with the calibration the run used. The recorded run is made here: a job's
 // cloud, outline, path (planned with a camera pose that overrides the config's) and statuses in an LCM log.
 #include <gtest/gtest.h>
@@ -153,8 +153,8 @@ void every_reader_reads(const std::string& file, const hullgrind::grind_path_t& 
   }
   std::string out;
   const std::string script = tmp("job.script");
-  ASSERT_EQ(run("hg-robot-bridge --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml --export " +
-                    script + " --path " + file, &out), 0) << out;
+  ASSERT_EQ(run("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml -o " +
+                    script + " " + file, &out), 0) << out;
   const std::string s = slurp(script);
   int moves = 0;
   for (std::size_t at = s.find("  move"); at != std::string::npos; at = s.find("  move", at + 1)) ++moves;
@@ -185,13 +185,13 @@ TEST(PathFiles, EveryWriterIsReadByEveryReader) {
   // 2. hg-overview (make run's out/path.json)
   std::string out;
   ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov") + " --planner-config " + kPlannerConfig +
-                    " --camera_xyz 0.5,0,1.5", &out), 0) << out;
+                    " --camera-xyz 0.5,0,1.5", &out), 0) << out;
   every_reader_reads(tmp("ov") + "/path.json", logged);
 
   // 3. hg-plan, on the outline hg-overview wrote ("frame": "camera"), with the run's camera pose
   EXPECT_EQ(nlohmann::json::parse(slurp(tmp("ov") + "/outline.json"))["frame"], "camera");
   ASSERT_EQ(run("hg-plan " + tmp("ov") + "/outline.json --config " + kPlannerConfig +
-                    " --camera_xyz 0.5,0,1.5 --small_hole skip --job-id J1 -o " + tmp("plan.json"), &out), 0) << out;
+                    " --camera-xyz 0.5,0,1.5 --small-hole skip --job-id J1 -o " + tmp("plan.json"), &out), 0) << out;
   hullgrind::grind_path_t planned = logged;
   planned.outline_seq = -1;  // an outline file has no bus sequence number
   // The outline file carries the loops and plane through JSON: the same doubles, so the same plan.
@@ -243,7 +243,7 @@ TEST(Overview, DrawsThePathOnThePlateWithTheRunsCalibration) {
   // hg-overview with the planner's command line from the pipeline file: that calibration, no warning.
   std::string out;
   ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov") + " --planner-args --config " +
-                    kPlannerConfig + " --camera_xyz 0.5,0,1.5 --pixel_pitch 0.001342 --small_hole skip --lcm-url memq://",
+                    kPlannerConfig + " --camera-xyz 0.5,0,1.5 --pixel-pitch 0.001342 --small-hole skip --lcm-url memq://",
                 &out), 0) << out;
   EXPECT_NE(out.find("[1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.5; 0 0 0 1]"), std::string::npos) << out;
   EXPECT_EQ(out.find("warning"), std::string::npos) << out;

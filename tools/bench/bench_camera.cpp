@@ -14,10 +14,12 @@
 #include "camera_bridge/camera_bridge.hpp"
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
+#include "runtime/version.hpp"
 
 using namespace hg::camera_bridge;
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-bench-camera")) return 0;
   int frames = 30;
   std::string scene = "three-parts";
   bool all_parts = false;

@@ -14,10 +14,12 @@
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 #include "outline_service/outline_service.hpp"
+#include "runtime/version.hpp"
 
 namespace cb = hg::camera_bridge;
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-bench-outline-service")) return 0;
   int runs = 20;
   std::string scene = "plate-hole-slot";
   for (int i = 1; i < argc; ++i) {

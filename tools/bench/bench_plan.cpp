@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include "runtime/version.hpp"
+#include <cstring>
 
 using namespace hg::path_planner;
 
@@ -55,10 +57,14 @@ void run(const char* label, const std::vector<Loop>& loops, const PlannerConfig&
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-plan-bench")) return 0;
+  const char* usage = "usage: hg-plan-bench [vertices >= 100] [runs >= 1]\n"
+                      "Times the planner on a generated plate outline of about this many vertices (docs/BENCHMARKS-planner.md).\n";
+  if (argc > 1 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"))) return std::fputs(usage, stdout), 0;
   const long want = argc > 1 ? std::atol(argv[1]) : 10000;
   const int runs = argc > 2 ? std::atoi(argv[2]) : 21;
   if (want < 100 || runs < 1) {
-    std::fprintf(stderr, "usage: hg-plan-bench [vertices >= 100] [runs >= 1]\n");
+    std::fputs(usage, stderr);
     return 2;
   }
   // vertices ~ perimeter / pitch: find the pitch by a few secant-like steps

@@ -35,6 +35,7 @@
 #include "partgen/synth.hpp"
 #include "partgen/writers.hpp"
 #include "peers.hpp"
+#include "runtime/version.hpp"
 
 namespace hg::bench {
 namespace {
@@ -506,6 +507,7 @@ std::string load_average() {
 }  // namespace hg::bench
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-bench")) return 0;
   using namespace hg::bench;
   if (argc == 4 && std::string(argv[1]).rfind("--child-", 0) == 0) {
     try {

@@ -6,7 +6,7 @@ config/pipeline.toml running on this machine under tools/supervisor, in a networ
 
 For each profile: the shipped pipeline with the camera on the synthetic source of that profile in job
 trigger mode (it renders a frame when a job asks, so no renderer runs in the background and steals CPU
-from the pipeline), the planner with small_hole: skip (a noisy
+from the pipeline), the planner with small-hole: skip (a noisy
 frame's few-pixel gap would otherwise fail the job and leave no path to time), the robot simulated 100x
 faster than real time (only so that 50 jobs fit in a few
 minutes; the robot is idle while the next frame is processed either way). Jobs are sent one after another,
@@ -37,6 +37,9 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SRC = os.path.abspath(os.path.join(HERE, "..", ".."))
+sys.path.insert(0, os.path.join(SRC, "tools"))
+sys.dont_write_bytecode = True  # --help and --version leave no files behind
+from hgversion import version  # noqa: E402
 sys.path.insert(0, os.path.join(SRC, "tests", "e2e"))  # the e2e tests' pipeline driver (same owner)
 
 TARGET_MS = {"pm806": 60.0, "lsr-l": 250.0}
@@ -144,7 +147,7 @@ def bench_profile(E, profile, frames, warmup):
     the load averages before and after."""
     import tomllib
     p = E.Pipeline("bench-" + profile, without=("camera",), extra_args={"robot": ["--sim-time-scale", "100"],
-                   "planner": ["--small_hole", "skip", "--camera_xyz", "0.5,0,%g" % MOUNT_HEIGHT[profile]]})
+                   "planner": ["--small-hole", "skip", "--camera-xyz", "0.5,0,%g" % MOUNT_HEIGHT[profile]]})
     # The camera first, as in the shipped file, on the synthetic source of this profile.
     with open(p.toml, "rb") as f:
         mine = tomllib.load(f)
@@ -200,6 +203,7 @@ def analyse(log, jobs):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--version", action="version", version="pipeline_latency " + version())
     ap.add_argument("--profile", action="append", choices=sorted(TARGET_MS), help="camera profile(s) [both]")
     ap.add_argument("--frames", type=int, default=50, help="measured frames (jobs) per profile [50]")
     ap.add_argument("--warmup", type=int, default=2, help="jobs before the measured ones, not counted [2]")

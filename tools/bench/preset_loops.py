@@ -13,6 +13,10 @@ import os
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
+sys.dont_write_bytecode = True  # --help and --version leave no files behind
+from hgversion import version  # noqa: E402
+
 PRESETS = [f"{group}-{i}" for group in ("low", "down", "high") for i in range(1, 7)]
 
 
@@ -57,6 +61,12 @@ def score(directory, name, options, binary):
 
 
 def main():
+    if len(sys.argv) >= 2 and sys.argv[1] in ("--help", "-h"):
+        print(__doc__)
+        return 0
+    if len(sys.argv) >= 2 and sys.argv[1] == "--version":
+        print("preset_loops " + version())
+        return 0
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     binary = os.environ.get("HG_OUTLINE", "build/bin/hg-outline")

@@ -13,8 +13,13 @@
 #include <unistd.h>
 
 int main(int argc, char** argv) {
+  static const char usage[] =
+      "usage: hg-bench-rss OUTFILE COMMAND [ARGS...]\n"
+      "Runs COMMAND (a path) and writes \"maxrss_kb wall_ms exit_status\" to OUTFILE (hg-bench's memory figures).\n";
+  if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) return fputs(usage, stdout), 0;
+  if (argc == 2 && !strcmp(argv[1], "--version")) return printf("hg-bench-rss %s\n", HG_VERSION), 0;
   if (argc < 3) {
-    fprintf(stderr, "usage: hg-bench-rss OUTFILE COMMAND [ARGS...]\n");
+    fputs(usage, stderr);
     return 2;
   }
   struct timespec t0, t1;

@@ -9,10 +9,12 @@
 
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/sources.hpp"
+#include "runtime/version.hpp"
 
 using namespace hg::camera_bridge;
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-camera-render")) return 0;
   std::string scene = "three-parts", profile = "pm806", out;
   int frames = 1;
   for (int i = 1; i < argc; ++i) {

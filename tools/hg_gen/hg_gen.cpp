@@ -4,17 +4,19 @@
 #include "partgen/synth.hpp"
 #include "partgen/writers.hpp"
 
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
+#include "runtime/params.hpp"
+#include "runtime/version.hpp"
 
 using namespace hg::partgen;
 
@@ -53,29 +55,14 @@ Options:
   --all DIR         write every preset into DIR as <preset>.<ext> plus <preset>.<ext>.truth.json
   --list            list shapes (with exact area and perimeter) and presets
   --fit-presets     fit every preset's pitch to the paper's point count and print the table
-  --help            this text
+  --config FILE     a YAML file with any of these options as keys (the command line wins)
+  --help            this text; --help-markdown: the options as a table; --version
 Exit status: 0 on success, 2 on bad usage or input, 1 when a file cannot be written.
 )";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
-
-double parse_double(const std::string& opt, const std::string& s) {
-  double v = 0;
-  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (r.ec != std::errc() || r.ptr != s.data() + s.size() || !std::isfinite(v))
-    throw UsageError(opt + ": '" + s + "' is not a finite number");
-  return v;
-}
-
-std::uint64_t parse_u64(const std::string& opt, const std::string& s) {
-  std::uint64_t v = 0;
-  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (r.ec != std::errc() || r.ptr != s.data() + s.size())
-    throw UsageError(opt + ": '" + s + "' is not a non-negative integer");
-  return v;
-}
 
 struct Args {
   std::optional<std::string> shape, preset, scene, out, all, format;
@@ -85,34 +72,54 @@ struct Args {
   std::uint64_t seed = 1;
 };
 
+// The options, declared once (runtime::Params: parsing, types and ranges, --help-markdown).
+std::vector<hg::runtime::Param> gen_params() {
+  using namespace hg::runtime;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Param out = text_param("output", "", "output cloud file");
+  out.alias = "-o";
+  return {text_param("shape", "", "one part of the catalogue (see --list)"),
+          text_param("preset", "", "a paper-sized cloud: low-1..6, high-1..6, down-1..6"),
+          text_param("scene", "", "four different parts on one table", {"demo"}),
+          number_param("scale", "", "multiply every length of the shape", 0, inf, true),
+          number_param("pitch", "", "pixel spacing on the table, m", 0, inf, true),
+          number_param("rotate", "", "rotation of the part against the pixel grid, deg"),
+          number_param("thickness", "", "plate thickness, m", 0.006, 0.030),
+          number_param("noise", "0", "Gaussian in-plane noise sigma, m", 0),
+          number_param("depth-noise", "0", "Gaussian depth noise sigma, m", 0),
+          number_param("dropout", "0", "fraction of pixels lost at random", 0, 1),
+          flag_param("jagged", "edge pixels kept with probability equal to the pixel's covered fraction"),
+          integer_param("seed", "1", "random seed", 0),
+          text_param("format", "", "xyz | pcd | pcd-ascii (default: from OUT's extension)", {"xyz", "pcd", "pcd-ascii"}),
+          out,
+          text_param("all", "", "write every preset into this directory"),
+          flag_param("list", "list shapes and presets"),
+          flag_param("fit-presets", "fit every preset's pitch to the paper's point count")};
+}
+
 Args parse(int argc, char** argv) {
+  hg::runtime::Params p(gen_params());
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string opt = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw UsageError(opt + " needs a value");
-      return argv[++i];
-    };
-    if (opt == "--shape") a.shape = value();
-    else if (opt == "--preset") a.preset = value();
-    else if (opt == "--scene") a.scene = value();
-    else if (opt == "--scale") a.scale = parse_double(opt, value());
-    else if (opt == "--pitch") a.pitch = parse_double(opt, value());
-    else if (opt == "--rotate") a.rotate = parse_double(opt, value());
-    else if (opt == "--thickness") a.thickness = parse_double(opt, value());
-    else if (opt == "--noise") a.noise = parse_double(opt, value());
-    else if (opt == "--depth-noise") a.depth_noise = parse_double(opt, value());
-    else if (opt == "--dropout") a.dropout = parse_double(opt, value());
-    else if (opt == "--jagged") a.jagged = true;
-    else if (opt == "--seed") a.seed = parse_u64(opt, value());
-    else if (opt == "--format") a.format = value();
-    else if (opt == "-o" || opt == "--output") a.out = value();
-    else if (opt == "--all") a.all = value();
-    else if (opt == "--list") a.list = true;
-    else if (opt == "--fit-presets") a.fit = true;
-    else if (opt == "--help" || opt == "-h") a.help = true;
-    else throw UsageError("unknown option '" + opt + "' (see --help)");
+  const auto action = p.parse(argc, argv);  // throws runtime::ConfigError naming the option
+  if (action == hg::runtime::Params::Action::HelpMarkdown) {
+    std::fputs(p.markdown().c_str(), stdout);
+    std::exit(0);
   }
+  a.help = action != hg::runtime::Params::Action::Run;
+  if (a.help) return a;
+  if (!p.positional().empty()) throw UsageError("unexpected argument '" + p.positional()[0] + "' (see --help)");
+  auto text = [&](const char* name, std::optional<std::string>& to) {
+    if (p.given(name)) to = p.text(name);
+  };
+  auto number = [&](const char* name, std::optional<double>& to) {
+    if (p.given(name)) to = p.number(name);
+  };
+  text("shape", a.shape), text("preset", a.preset), text("scene", a.scene), text("output", a.out), text("all", a.all);
+  text("format", a.format);
+  number("scale", a.scale), number("pitch", a.pitch), number("rotate", a.rotate), number("thickness", a.thickness);
+  a.noise = p.number("noise"), a.depth_noise = p.number("depth-noise"), a.dropout = p.number("dropout");
+  a.jagged = p.flag("jagged"), a.list = p.flag("list"), a.fit = p.flag("fit-presets");
+  a.seed = std::uint64_t(p.integer("seed"));
   return a;
 }
 
@@ -254,9 +261,13 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-gen")) return 0;
   try {
     return run(argc, argv);
   } catch (const UsageError& e) {
+    std::fprintf(stderr, "hg-gen: %s\n", e.what());
+    return 2;
+  } catch (const hg::runtime::ConfigError& e) {  // a bad option: names it
     std::fprintf(stderr, "hg-gen: %s\n", e.what());
     return 2;
   } catch (const std::invalid_argument& e) {

@@ -7,11 +7,14 @@
 #include <new>
 #include <string>
 #include <string_view>
+#include <limits>
+#include <vector>
 
 #include "cloud_io/cloud_io.hpp"
 #include "cloud_io/outline_writers.hpp"
 #include "outline_core/alpha.hpp"  // kDefaultAutoFactor, for --help
 #include "outline_core/outline.hpp"
+#include "runtime/params.hpp"
 
 namespace {
 
@@ -55,7 +58,8 @@ options
   --draw-triangles      also draw the Delaunay triangles in the SVG/PNG
   --triangles FILE      write the Delaunay triangles, one "i j k" per line, 0-based indices into the
                         points as read (a merged duplicate is its first occurrence)
-  -h, --help            show this text
+  --config FILE         a YAML file with any of these options as keys (the command line wins)
+  -h, --help            show this text; --help-markdown: the options as a table; --version
 Long options that take a value also accept --option=VALUE.
 
 Every output file is written whole or not at all; on any error nothing is written.
@@ -66,116 +70,80 @@ struct Args {
   std::string input, json_out, svg_out, png_out, tri_out;
   hg::outline::Options opt;
   bool draw_triangles = false;
-  bool have_alpha = false, have_factor = false;
 };
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-double positive_number(std::string_view opt, const std::string& s) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != s.size() || s.empty() || !std::isfinite(v) || v <= 0)
-    throw UsageError(std::string(opt) + " needs a positive number, got '" + s + "'");
-  return v;
+// The options, declared once (runtime::Params parses them and checks types and ranges; --help-markdown).
+std::vector<hg::runtime::Param> outline_params() {
+  using namespace hg::runtime;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Param output = text_param("output", "", "write the outline JSON to FILE (default: print it on stdout)");
+  output.alias = "-o";
+  return {number_param("alpha-radius", "", "triangles with circumradius > R are outside (input units); default: automatic", 0, inf, true),
+          number_param("auto-factor", "", "the K of the automatic radius K x point spacing", 0, inf, true),
+          text_param("alpha-mode", "global", "one automatic radius, or one per triangle", {"global", "local"}),
+          number_param("min-hole-spacings", "", "drop holes smaller in area than (M x spacing)^2", 0),
+          text_param("mode", "dshi", "point location", {"ordinary", "ds", "dshi"}),
+          text_param("order", "brio", "insertion order", {"brio", "hilbert", "as-is"}),
+          flag_param("outer-only", "remove only big triangles connected to the outside (no holes)"),
+          output,
+          text_param("svg", "", "write an SVG picture"),
+          text_param("png", "", "write a PNG picture"),
+          flag_param("draw-triangles", "also draw the Delaunay triangles in the SVG/PNG"),
+          text_param("triangles", "", "write the Delaunay triangles, one \"i j k\" per line")};
 }
 
-Args parse_args(int argc, char** argv, bool& help) {
+Args args_from(const hg::runtime::Params& p) {
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    std::string value;
-    bool inline_value = false;
-    if (arg.rfind("--", 0) == 0) {
-      if (auto eq = arg.find('='); eq != std::string::npos) {
-        value = arg.substr(eq + 1);
-        arg = arg.substr(0, eq);
-        inline_value = true;
-      }
-    }
-    auto take = [&]() -> std::string {
-      if (inline_value) return value;
-      if (i + 1 >= argc) throw UsageError(arg + " needs a value");
-      return argv[++i];
-    };
-    auto flag = [&] {
-      if (inline_value) throw UsageError(arg + " takes no value");
-    };
-    if (arg == "-h" || arg == "--help") {
-      help = true;
-      return a;
-    } else if (arg == "--alpha-radius") {
-      a.opt.alpha_radius = positive_number(arg, take());
-      a.have_alpha = true;
-    } else if (arg == "--auto-factor") {
-      a.opt.auto_factor = positive_number(arg, take());
-      a.have_factor = true;
-    } else if (arg == "--alpha-mode") {
-      std::string m = take();
-      try {
-        a.opt.alpha_mode = hg::outline::parse_alpha_mode(m);
-      } catch (const std::exception&) {
-        throw UsageError("--alpha-mode must be global or local, got '" + m + "'");
-      }
-    } else if (arg == "--min-hole-spacings") {
-      const std::string v = take();
-      try {
-        a.opt.min_hole_spacings = std::stod(v) == 0 && v.find_first_not_of("+-0.") == std::string::npos ? 0 : positive_number(arg, v);
-      } catch (const std::exception&) {
-        throw UsageError(arg + " needs a number >= 0, got '" + v + "'");
-      }
-    } else if (arg == "--mode") {
-      std::string m = take();
-      try {
-        a.opt.mode = hg::outline::parse_mode(m);
-      } catch (const std::exception&) {
-        throw UsageError("--mode must be ordinary, ds or dshi, got '" + m + "'");
-      }
-    } else if (arg == "--order") {
-      std::string o = take();
-      try {
-        a.opt.order = hg::outline::parse_order(o);
-      } catch (const std::exception&) {
-        throw UsageError("--order must be brio, hilbert or as-is, got '" + o + "'");
-      }
-    } else if (arg == "--outer-only") {
-      flag();
-      a.opt.outer_only = true;
-    } else if (arg == "-o" || arg == "--output") {
-      a.json_out = take();
-    } else if (arg == "--svg") {
-      a.svg_out = take();
-    } else if (arg == "--png") {
-      a.png_out = take();
-    } else if (arg == "--triangles") {
-      a.tri_out = take();
-    } else if (arg == "--draw-triangles") {
-      flag();
-      a.draw_triangles = true;
-    } else if (arg.size() > 1 && arg[0] == '-') {
-      throw UsageError("unknown option '" + arg + "'");
-    } else {
-      if (!a.input.empty()) throw UsageError("more than one input file ('" + a.input + "', '" + arg + "')");
-      a.input = arg;
-    }
-  }
-  if (a.input.empty()) throw UsageError("no input file");
-  if (a.have_alpha && a.have_factor) throw UsageError("give --alpha-radius or --auto-factor, not both");
-  if (a.have_alpha && a.opt.alpha_mode == hg::outline::AlphaMode::Local)
+  if (p.positional().size() != 1)
+    throw UsageError(p.positional().empty() ? "no input file" : "more than one input file ('" + p.positional()[0] + "', '" + p.positional()[1] + "')");
+  a.input = p.positional()[0];
+  const bool have_alpha = p.given("alpha-radius"), have_factor = p.given("auto-factor");
+  if (have_alpha) a.opt.alpha_radius = p.number("alpha-radius");
+  if (have_factor) a.opt.auto_factor = p.number("auto-factor");
+  if (p.given("min-hole-spacings")) a.opt.min_hole_spacings = p.number("min-hole-spacings");
+  a.opt.alpha_mode = hg::outline::parse_alpha_mode(p.text("alpha-mode"));
+  a.opt.mode = hg::outline::parse_mode(p.text("mode"));
+  a.opt.order = hg::outline::parse_order(p.text("order"));
+  a.opt.outer_only = p.flag("outer-only");
+  a.draw_triangles = p.flag("draw-triangles");
+  a.json_out = p.text("output"), a.svg_out = p.text("svg"), a.png_out = p.text("png"), a.tri_out = p.text("triangles");
+  if (have_alpha && have_factor) throw UsageError("give --alpha-radius or --auto-factor, not both");
+  if (have_alpha && a.opt.alpha_mode == hg::outline::AlphaMode::Local)
     throw UsageError("--alpha-mode local sets the radius per triangle: not with --alpha-radius");
   for (const std::string* out : {&a.json_out, &a.svg_out, &a.png_out, &a.tri_out})
     if (!out->empty() && *out == a.input) throw UsageError("output file '" + *out + "' is the input file");
   return a;
 }
 
+void usage(std::FILE* f, const hg::runtime::Params&) {
+  std::string text = kUsage;
+  char k[32];
+  std::snprintf(k, sizeof k, "%g", hg::outline::kDefaultAutoFactor);
+  text.replace(text.find("{K}"), 3, k);
+  std::snprintf(k, sizeof k, "%g", hg::outline::kDefaultMinHoleSpacings);
+  text.replace(text.find("{M}"), 3, k);
+  std::fputs(text.c_str(), f);
+}
+
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The one line hg-outline prints when the JSON goes to a file.
+void print_summary(const Args& args, const hg::outline::Result& result, double ms) {
+  std::size_t holes = 0;
+  for (auto& l : result.loops) holes += l.hole;
+  std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s\n",
+              args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes, holes,
+              result.holes_dropped, result.alpha_radius,
+              result.alpha_mode == hg::outline::AlphaMode::Local ? " (local, per triangle)"
+              : result.alpha_automatic                           ? " (automatic)"
+                                                                 : "",
+              ms, args.json_out.c_str());
 }
 
 }  // namespace
@@ -184,19 +152,11 @@ int main(int argc, char** argv) {
   namespace io = hg::outline::io;
   Args args;
   try {
-    bool help = false;
-    args = parse_args(argc, argv, help);
-    if (help) {
-      std::string usage = kUsage;
-      char k[32];
-      std::snprintf(k, sizeof k, "%g", hg::outline::kDefaultAutoFactor);
-      usage.replace(usage.find("{K}"), 3, k);
-      std::snprintf(k, sizeof k, "%g", hg::outline::kDefaultMinHoleSpacings);
-      usage.replace(usage.find("{M}"), 3, k);
-      std::fputs(usage.c_str(), stdout);
-      return 0;
-    }
-  } catch (const UsageError& e) {
+    hg::runtime::Params params(outline_params());
+    const auto action = params.parse(argc, argv);
+    if (action != hg::runtime::Params::Action::Run) return hg::runtime::answer(action, "hg-outline", params, usage);
+    args = args_from(params);
+  } catch (const std::exception& e) {  // UsageError, runtime::ConfigError
     std::fprintf(stderr, "hg-outline: %s\n(hg-outline --help shows the options)\n", e.what());
     return 2;
   }
@@ -240,19 +200,8 @@ int main(int argc, char** argv) {
     }
     files.commit();
 
-    if (args.json_out.empty()) {
-      std::fwrite(json.data(), 1, json.size(), stdout);
-    } else {
-      std::size_t holes = 0;
-      for (auto& l : result.loops) holes += l.hole;
-      std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s\n",
-                  args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes, holes,
-                  result.holes_dropped, result.alpha_radius,
-                  result.alpha_mode == hg::outline::AlphaMode::Local ? " (local, per triangle)"
-                  : result.alpha_automatic                           ? " (automatic)"
-                                                                     : "",
-                  info.project_ms + result.time.total_ms, args.json_out.c_str());
-    }
+    if (args.json_out.empty()) std::fwrite(json.data(), 1, json.size(), stdout);
+    else print_summary(args, result, info.project_ms + result.time.total_ms);
     if (std::fflush(stdout) != 0) {
       std::fprintf(stderr, "hg-outline: error: writing to stdout failed\n");
       return 1;

@@ -10,6 +10,7 @@
 
 #include "cli.hpp"
 #include "registry.hpp"
+#include "runtime/version.hpp"
 
 namespace {
 
@@ -92,6 +93,7 @@ struct Dump {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-lcm-dump")) return 0;
   std::string url = default_lcm_url();
   std::string channels = "HG_.*";
   std::string type_name;

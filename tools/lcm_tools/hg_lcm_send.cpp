@@ -16,6 +16,7 @@
 #include "registry.hpp"
 #include "runtime/channels.hpp"
 #include "sample.hpp"
+#include "runtime/version.hpp"
 
 namespace {
 
@@ -286,6 +287,7 @@ int cmd_json(lcm::LCM& lcm, const Schema& schema, Args& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-lcm-send")) return 0;
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigaction(SIGINT, &sa, nullptr);

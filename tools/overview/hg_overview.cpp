@@ -12,6 +12,7 @@
 #include "path_planner/io.hpp"
 #include "runtime/path_file.hpp"
 #include "tools/overview/overview.hpp"
+#include "runtime/version.hpp"
 
 namespace {
 
@@ -27,7 +28,7 @@ Reads a recorded run (tools/record) and writes, for one job (default: the last S
 The picture brings the path (robot base frame) back onto the plate with the camera-to-base calibration the
 planner used; give the planner's settings as the run gave them:
   --planner-config FILE  the planner's config file [default: config/path_planner.yaml]
-  --NAME VALUE           any planner parameter (hg-plan --help lists them), e.g. --camera_xyz 0.5,0,1.5
+  --NAME VALUE           any planner parameter (hg-plan --help lists them), e.g. --camera-xyz 0.5,0,1.5
   --planner-args ARG...  the rest of the command line is the planner's own (as in the pipeline file, without
                          the program): its --config and its planner parameters are taken, other options skipped
 The calibration used is printed; a grind path more than 5 mm off the outline's plane is warned about (on
@@ -58,6 +59,7 @@ void take_planner_args(int argc, char** argv, int first, std::string& config, st
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-overview")) return 0;
   std::string log_path, out_dir, job_id, planner_config = "config/path_planner.yaml";
   std::map<std::string, std::string> planner_cli;
   for (int i = 1; i < argc; ++i) {

@@ -12,6 +12,7 @@
 
 #include "cloud_io/cloud_io.hpp"
 #include "outline_core/outline.hpp"
+#include "runtime/version.hpp"
 
 using namespace hg::outline;
 
@@ -31,10 +32,12 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: hg-core-timing FILE [--runs N] [--only CONFIG] [--mode M]\n");
-    return 2;
-  }
+  if (hg::runtime::answer_version(argc, argv, "hg-core-timing")) return 0;
+  const char* usage = "usage: hg-core-timing FILE [--runs N] [--only CONFIG] [--mode M]\n"
+                      "Times the outline core's stages on a point-cloud file per insertion order (docs/BENCHMARKS.md).\n";
+  for (int i = 1; i < argc; ++i)
+    if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) return std::fputs(usage, stdout), 0;
+  if (argc < 2) return std::fputs(usage, stderr), 2;
   std::string file = argv[1], only;
   int runs = 5;
   Mode mode = Mode::DSHI;

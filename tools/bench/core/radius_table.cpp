@@ -16,6 +16,7 @@
 #include "tools/bench/core/tilted_camera.hpp"
 #include "partgen/shapes.hpp"
 #include "outline_core/outline.hpp"
+#include "runtime/version.hpp"
 
 using namespace hg::outline;
 
@@ -140,6 +141,11 @@ int tilted_table(const Options& base, double points) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-radius-table")) return 0;
+  const char* usage = "usage: hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode M] [--boundary] | --tilted POINTS\n"
+                      "The automatic radius's table on generated plates (docs/outline-auto-radius.md).\n";
+  for (int i = 1; i < argc; ++i)
+    if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) return std::fputs(usage, stdout), 0;
   std::string size = "17k";
   int seeds = 4;
   Options base;
@@ -153,7 +159,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--boundary")) boundary = true;
     else if (!std::strcmp(argv[i], "--tilted") && i + 1 < argc) tilted_points = std::atof(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode M] [--boundary] | --tilted POINTS\n");
+      std::fputs(usage, stderr);
       return 2;
     }
   }

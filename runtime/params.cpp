@@ -1,0 +1,316 @@
+#include "runtime/params.hpp"
+#include "runtime/version.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+#ifndef HG_VERSION
+#define HG_VERSION "unknown"
+#endif
+
+namespace hg::runtime {
+namespace {
+
+bool parse_bool(const std::string& v, bool& out) {
+  if (v == "true" || v == "1" || v == "yes" || v == "on") return out = true, true;
+  if (v == "false" || v == "0" || v == "no" || v == "off") return out = false, true;
+  return false;
+}
+
+bool parse_double(const std::string& s, double& out) {
+  char* end = nullptr;
+  out = std::strtod(s.c_str(), &end);
+  return !s.empty() && *end == '\0' && std::isfinite(out);
+}
+
+std::string number_text(double v) {  // the shortest text that reads back as v
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string range_text(const Param& p) {
+  const bool lo = std::isfinite(p.min), hi = std::isfinite(p.max);
+  if (!lo && !hi) return "";
+  if (lo && !hi) return std::string(p.min_open ? "> " : ">= ") + number_text(p.min);
+  if (!lo) return "<= " + number_text(p.max);
+  return std::string(p.min_open ? "(" : "[") + number_text(p.min) + ", " + number_text(p.max) + "]";
+}
+
+const char* type_name(ParamType t) {
+  switch (t) {
+    case ParamType::Number: return "number";
+    case ParamType::Integer: return "integer";
+    case ParamType::Flag: return "true|false";
+    case ParamType::Numbers: return "list of numbers";
+    default: return "text";
+  }
+}
+
+bool is_builtin(const std::string& name) { return name == "config" || name == "help" || name == "version"; }
+
+}  // namespace
+
+Param text_param(std::string name, std::string def, std::string help, std::vector<std::string> choices) {
+  Param p{std::move(name), std::move(def), std::move(help)};
+  p.choices = std::move(choices);
+  return p;
+}
+Param number_param(std::string name, std::string def, std::string help, double min, double max, bool min_open) {
+  Param p{std::move(name), std::move(def), std::move(help), false, ParamType::Number, min, max, min_open};
+  return p;
+}
+Param integer_param(std::string name, std::string def, std::string help, double min, double max) {
+  return Param{std::move(name), std::move(def), std::move(help), false, ParamType::Integer, min, max};
+}
+Param numbers_param(std::string name, std::string def, std::string help) {
+  return Param{std::move(name), std::move(def), std::move(help), false, ParamType::Numbers};
+}
+Param flag_param(std::string name, std::string help) { return Param{std::move(name), "", std::move(help), true}; }
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+const char* version() { return HG_VERSION; }
+
+bool answer_version(int argc, const char* const* argv, const char* name) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--version") {
+      std::printf("%s %s\n", name, version());
+      return true;
+    }
+  return false;
+}
+
+int answer(Params::Action action, const std::string& program, const Params& params,
+           const std::function<void(std::FILE*, const Params&)>& usage) {
+  if (action == Params::Action::Help) usage(stdout, params);
+  else if (action == Params::Action::HelpMarkdown) std::fputs(params.markdown().c_str(), stdout);
+  else if (action == Params::Action::Version) std::printf("%s %s\n", program.c_str(), version());
+  return 0;
+}
+
+Params::Params(std::vector<Param> declared) : declared_(std::move(declared)) {}
+
+const Param* Params::find(const std::string& name) const {
+  for (const Param& p : declared_)
+    if (p.name == name || (!p.alias.empty() && p.alias == name)) return &p;
+  return nullptr;
+}
+
+std::string Params::unknown_key_message(const std::string& key, bool command_line) const {
+  const std::string dash = command_line ? "--" : "'", end = command_line ? "" : "'";
+  std::string kebab = key;
+  std::replace(kebab.begin(), kebab.end(), '_', '-');
+  if (kebab != key && find(kebab))
+    return (command_line ? "--" + key + " is the " : std::string()) + "old spelling of " + dash + kebab + end +
+           " (keys are kebab-case)";
+  const Param* nearest = nullptr;
+  std::size_t best = std::string::npos;
+  for (const Param& p : declared_) {
+    const std::size_t d = edit_distance(kebab, p.name);
+    if (d < best) best = d, nearest = &p;
+  }
+  return (command_line ? "unknown option --" + key : std::string("unknown key")) + (nearest ? " (nearest known: " + dash + nearest->name + end + ")" : std::string());
+}
+
+Params::Action Params::parse(int argc, const char* const* argv) {
+  // --help and --version first: they answer whatever else the command line says, and touch nothing.
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") return Action::Help;
+    if (a == "--help-markdown") return Action::HelpMarkdown;
+    if (a == "--version") return Action::Version;
+  }
+  std::string config_path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--") {
+      positional_.insert(positional_.end(), argv + i + 1, argv + argc);
+      break;
+    }
+    const bool is_alias = a.size() == 2 && a[0] == '-' && a != "--" && find(a);
+    if (a.rfind("--", 0) != 0 && !is_alias) {
+      positional_.push_back(a);
+      continue;
+    }
+    std::string name = is_alias ? a : a.substr(2), value;
+    bool has_value = false;
+    if (auto eq = name.find('='); eq != std::string::npos) {
+      value = name.substr(eq + 1), name = name.substr(0, eq), has_value = true;
+    }
+    const Param* p = name == "config" ? nullptr : find(name);
+    if (!p && name != "config") throw ConfigError("command line: " + unknown_key_message(name, true));
+    if (p && p->is_flag) {
+      cli_[p->name] = has_value ? value : "true";
+      continue;
+    }
+    if (!has_value) {
+      if (i + 1 >= argc) throw ConfigError("command line: option " + a + " needs a value");
+      value = argv[++i];
+    }
+    if (p) cli_[p->name] = value;
+    else config_path = value;
+  }
+  if (!config_path.empty()) use_config(Config::load(config_path));
+  check_values();
+  return Action::Run;
+}
+
+void Params::use_config(Config config) {
+  config_ = std::move(config);
+  check_config_keys();
+}
+
+void Params::set(const std::string& name, const std::string& value) {
+  const Param* p = find(name);
+  if (!p) throw ConfigError("command line: " + unknown_key_message(name, true));
+  cli_[p->name] = value;
+}
+
+void Params::check_config_keys() const {
+  for (const std::string& key : config_.keys())
+    if (!find(key) || is_builtin(key)) throw config_.error(key, unknown_key_message(key, false));
+}
+
+void Params::check_values() const {
+  for (const Param& p : declared_) {
+    if (!given(p.name) && p.default_value.empty()) continue;  // optional, read by the program if at all
+    switch (p.kind()) {
+      case ParamType::Number: number(p.name); break;
+      case ParamType::Integer: integer(p.name); break;
+      case ParamType::Flag: flag(p.name); break;
+      case ParamType::Numbers: numbers(p.name); break;
+      case ParamType::Text: text(p.name); break;
+    }
+  }
+}
+
+std::string Params::origin(const std::string& name) const {
+  if (cli_.count(name)) return "command line";
+  if (config_.has(name)) {
+    const int line = config_.line_of(name);
+    return "config '" + config_.source() + "'" + (line > 0 ? " line " + std::to_string(line) : "");
+  }
+  return "default";
+}
+
+ConfigError Params::error(const std::string& name, const std::string& what) const {
+  if (cli_.count(name)) return ConfigError("command line: --" + name + ": " + what);
+  return ConfigError(origin(name) + ": key '" + name + "': " + what);
+}
+
+bool Params::given(const std::string& name) const { return cli_.count(name) || config_.has(name); }
+
+std::string Params::text(const std::string& name) const {
+  const Param* p = find(name);
+  if (!p) throw ConfigError("no such parameter '" + name + "'");
+  std::string v;
+  if (auto it = cli_.find(name); it != cli_.end()) v = it->second;
+  else if (config_.is_list(name)) {
+    const std::vector<double> list = config_.get_doubles(name).value();
+    for (double d : list) v += (v.empty() ? "" : ",") + number_text(d);
+  } else if (auto s = config_.get_string(name)) v = *s;
+  else v = p->is_flag && p->default_value.empty() ? "false" : p->default_value;
+  if (!p->choices.empty() && std::find(p->choices.begin(), p->choices.end(), v) == p->choices.end()) {
+    std::string all;
+    for (const std::string& c : p->choices) all += (all.empty() ? "" : " | ") + c;
+    throw error(name, "'" + v + "' is not one of " + all);
+  }
+  return v;
+}
+
+double Params::number(const std::string& name) const {
+  const std::string v = text(name);
+  double d = 0;
+  if (!parse_double(v, d)) throw error(name, "'" + v + "' is not a number");
+  const Param& p = *find(name);
+  if (d < p.min || (p.min_open && d == p.min) || d > p.max) throw error(name, v + " is out of range (" + range_text(p) + ")");
+  return d;
+}
+
+std::int64_t Params::integer(const std::string& name) const {
+  const std::string v = text(name);
+  char* end = nullptr;
+  const long long d = std::strtoll(v.c_str(), &end, 10);
+  if (v.empty() || *end != '\0') throw error(name, "'" + v + "' is not an integer");
+  const Param& p = *find(name);
+  if (double(d) < p.min || double(d) > p.max) throw error(name, v + " is out of range (" + range_text(p) + ")");
+  return d;
+}
+
+bool Params::flag(const std::string& name) const {
+  const std::string v = text(name);
+  bool b = false;
+  if (!parse_bool(v, b)) throw error(name, "'" + v + "' is not true or false");
+  return b;
+}
+
+std::vector<double> Params::numbers(const std::string& name) const {
+  if (!cli_.count(name) && config_.is_list(name)) {
+    std::vector<double> out = *config_.get_doubles(name);
+    const Param& p = *find(name);
+    for (double d : out)
+      if (d < p.min || d > p.max) throw error(name, number_text(d) + " is out of range (" + range_text(p) + ")");
+    return out;
+  }
+  std::vector<double> out;
+  std::stringstream ss(text(name));
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    double d = 0;
+    if (!parse_double(item, d)) throw error(name, "'" + item + "' is not a number (a list is a,b,c)");
+    out.push_back(d);
+  }
+  return out;
+}
+
+void Params::print_options(std::FILE* out) const {
+  if (declared_.empty()) std::fprintf(out, "  (none)\n");
+  for (const Param& p : declared_) {
+    std::string left = "  " + (p.alias.empty() ? "" : p.alias + ", ") + "--" + p.name;
+    if (!p.is_flag) left += p.kind() == ParamType::Numbers ? " A,B,.." : p.kind() == ParamType::Flag ? " true|false" : " VALUE";
+    std::string extra;
+    if (!p.choices.empty()) {
+      for (const std::string& c : p.choices) extra += (extra.empty() ? " {" : "|") + c;
+      extra += "}";
+    }
+    if (const std::string r = range_text(p); !r.empty()) extra += " (" + r + ")";
+    if (!p.default_value.empty()) extra += " [default: " + p.default_value + "]";
+    std::fprintf(out, "%-34s %s%s\n", left.c_str(), p.help.c_str(), extra.c_str());
+  }
+}
+
+std::string Params::markdown() const {
+  std::ostringstream md;
+  md << "| key | type | default | range | what |\n|---|---|---|---|---|\n";
+  for (const Param& p : declared_) {
+    std::string range = range_text(p);
+    for (const std::string& c : p.choices) range += (range.empty() ? "" : " \\| ") + c;
+    auto cell = [](const std::string& text) {  // a '|' inside a cell would end it
+      std::string out;
+      for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
+      return out;
+    };
+    const std::string help = cell(p.help);
+    md << "| `" << p.name << "` | " << cell(type_name(p.kind())) << " | " << (p.default_value.empty() ? "" : "`" + p.default_value + "`")
+       << " | " << range << " | " << help << " |\n";
+  }
+  return md.str();
+}
+
+}  // namespace hg::runtime

@@ -1,0 +1,106 @@
+// Parameters declared once (name, type, default, help, range) and read the same way by every process and
+// command-line tool: the command line wins over the --config file, which wins over the default. Keys are
+// kebab-case (--tool-radius, as --lcm-url); an old snake_case spelling is refused naming the new key, and
+// an unknown key (command line or config file) is an error naming the file and the nearest known key.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "runtime/config.hpp"
+
+namespace hg::runtime {
+
+enum class ParamType { Text, Number, Integer, Flag, Numbers };
+
+struct Param {
+  std::string name;           // kebab-case: --name on the command line, key name in the config file
+  std::string default_value;  // as text (lists as "a,b,c"); empty: no default
+  std::string help;
+  bool is_flag = false;       // a flag takes no value on the command line ("true" when given)
+  ParamType type = ParamType::Text;  // a flag is always ParamType::Flag
+  double min = -std::numeric_limits<double>::infinity();  // Number / Integer / every element of Numbers
+  double max = std::numeric_limits<double>::infinity();
+  bool min_open = false;             // true: the value must be > min, not >= min
+  std::vector<std::string> choices{};  // Text: the only values accepted (empty: any)
+  std::string alias{};               // a short command-line spelling, e.g. "-o"
+
+  ParamType kind() const { return is_flag ? ParamType::Flag : type; }
+};
+
+// Declaration helpers: number_param("tool-radius", "0.01", "effective tool radius, m", 0, inf, /*open*/ true).
+Param text_param(std::string name, std::string def, std::string help, std::vector<std::string> choices = {});
+Param number_param(std::string name, std::string def, std::string help,
+             double min = -std::numeric_limits<double>::infinity(),
+             double max = std::numeric_limits<double>::infinity(), bool min_open = false);
+Param integer_param(std::string name, std::string def, std::string help,
+              double min = -std::numeric_limits<double>::infinity(),
+              double max = std::numeric_limits<double>::infinity());
+Param numbers_param(std::string name, std::string def, std::string help);
+Param flag_param(std::string name, std::string help);
+
+// Levenshtein distance (for "did you mean").
+std::size_t edit_distance(const std::string& a, const std::string& b);
+
+class Params {
+ public:
+  enum class Action { Run, Help, HelpMarkdown, Version };
+
+  Params() = default;
+  explicit Params(std::vector<Param> declared);
+
+  // Parses argv[1..] and loads --config FILE. Every value is checked against its type and range before
+  // this returns, so a bad value stops the program at start. Throws ConfigError naming the command line or
+  // the config file and the key. --help, --help-markdown and --version only return their Action.
+  Action parse(int argc, const char* const* argv);
+  // Replaces the config file (tests, tools that take a config from elsewhere); checks it as parse does.
+  void use_config(Config config);
+  void set(const std::string& name, const std::string& value);  // as if given on the command line
+
+  const std::vector<Param>& declared() const { return declared_; }
+  const Param* find(const std::string& name) const;
+  const std::vector<std::string>& positional() const { return positional_; }
+  const Config& config() const { return config_; }
+
+  // Lookups (command line > config > default). Throw ConfigError on a value of the wrong type.
+  std::string text(const std::string& name) const;
+  double number(const std::string& name) const;
+  std::int64_t integer(const std::string& name) const;
+  bool flag(const std::string& name) const;
+  std::vector<double> numbers(const std::string& name) const;  // "a,b,c" on the command line, a YAML list
+  bool given(const std::string& name) const;                   // on the command line or in the config
+
+  // Where the value of `name` comes from: "command line", "config 'FILE' line N" or "default".
+  std::string origin(const std::string& name) const;
+  // An error about parameter `name` naming where its value came from and the key.
+  ConfigError error(const std::string& name, const std::string& what) const;
+
+  // The options as --help lists them, and as a Markdown table (docs).
+  void print_options(std::FILE* out) const;
+  std::string markdown() const;
+
+ private:
+  void check_config_keys() const;
+  void check_values() const;
+  std::string unknown_key_message(const std::string& key, bool command_line) const;
+
+  std::vector<Param> declared_;
+  std::map<std::string, std::string> cli_;
+  std::vector<std::string> positional_;
+  Config config_;
+};
+
+// The version every executable prints for --version.
+const char* version();
+
+// For a command-line tool's main: prints what --help (usage), --help-markdown or --version asked for, on
+// standard output; returns the exit code (0).
+int answer(Params::Action action, const std::string& program, const Params& params,
+           const std::function<void(std::FILE*, const Params&)>& usage);
+
+}  // namespace hg::runtime

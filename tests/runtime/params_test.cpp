@@ -1,0 +1,188 @@
+// runtime::Params and runtime::Config: one precedence rule (command line > config file > default), YAML
+// types (real booleans, lists), and errors that name the file, the key and the nearest known key.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "runtime/node.hpp"
+#include "runtime/params.hpp"
+
+namespace hr = hg::runtime;
+
+namespace {
+
+std::vector<hr::Param> declared() {
+  return {hr::number_param("tool-radius", "0.01", "tool radius, m", 0, 1, true),
+          hr::integer_param("ransac-iterations", "150", "hypotheses", 1),
+          hr::text_param("small-hole", "fail", "policy", {"fail", "skip"}),
+          hr::numbers_param("workspace-min", "-1,-1,0", "box corner"),
+          hr::flag_param("dry-run", "do nothing"),
+          hr::Param{"edge-compensation", "true", "a flag that defaults to true", false, hr::ParamType::Flag},
+          hr::text_param("frame", "robot_base", "frame name")};
+}
+
+std::string temp_yaml(const std::string& content) {
+  char name[] = "/tmp/hg-params-XXXXXX.yaml";
+  const int fd = mkstemps(name, 5);
+  EXPECT_GE(fd, 0);
+  EXPECT_EQ(write(fd, content.data(), content.size()), ssize_t(content.size()));
+  close(fd);
+  return name;
+}
+
+// Parses args (argv[0] added) and returns the ConfigError's message, or "" when parsing succeeded.
+std::string parse_error(std::vector<std::string> args) {
+  args.insert(args.begin(), "hg-test");
+  std::vector<const char*> argv;
+  for (const auto& a : args) argv.push_back(a.c_str());
+  hr::Params p(declared());
+  try {
+    p.parse(int(argv.size()), argv.data());
+  } catch (const hr::ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+hr::Params parsed(std::vector<std::string> args) {
+  args.insert(args.begin(), "hg-test");
+  std::vector<const char*> argv;
+  for (const auto& a : args) argv.push_back(a.c_str());
+  hr::Params p(declared());
+  EXPECT_EQ(p.parse(int(argv.size()), argv.data()), hr::Params::Action::Run);
+  return p;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(RuntimeParams, CommandLineBeatsConfigBeatsDefault) {
+  const std::string cfg = temp_yaml("tool-radius: 0.02\nsmall-hole: skip\nworkspace-min: [-2, -3, 0.5]\ndry-run: true\n");
+  const hr::Params p = parsed({"--config", cfg, "--tool-radius", "0.03", "--workspace-min=4,5,6"});
+  EXPECT_EQ(p.number("tool-radius"), 0.03);                                   // command line over config
+  EXPECT_EQ(p.numbers("workspace-min"), (std::vector<double>{4, 5, 6}));      // command line over config list
+  EXPECT_EQ(p.text("small-hole"), "skip");                                    // config over default
+  EXPECT_TRUE(p.flag("dry-run"));                                             // config (a YAML boolean)
+  EXPECT_EQ(p.integer("ransac-iterations"), 150);                             // default
+  EXPECT_EQ(p.text("frame"), "robot_base");
+  EXPECT_EQ(p.origin("tool-radius"), "command line");
+  EXPECT_EQ(p.origin("small-hole"), "config '" + cfg + "' line 2");
+  EXPECT_EQ(p.origin("frame"), "default");
+  EXPECT_TRUE(p.given("small-hole"));
+  EXPECT_FALSE(p.given("frame"));
+  unlink(cfg.c_str());
+}
+
+TEST(RuntimeParams, YamlBooleansAndLists) {
+  const std::string cfg = temp_yaml("edge-compensation: false\ndry-run: true\nworkspace-min: [1.5, -2.25e-3, 7]\n");
+  const hr::Params p = parsed({"--config", cfg});
+  EXPECT_FALSE(p.flag("edge-compensation"));
+  EXPECT_TRUE(p.flag("dry-run"));
+  EXPECT_EQ(p.numbers("workspace-min"), (std::vector<double>{1.5, -2.25e-3, 7}));
+  EXPECT_EQ(p.text("workspace-min"), "1.5,-0.00225,7");
+  const hr::Params d = parsed({});
+  EXPECT_TRUE(d.flag("edge-compensation"));  // its default
+  EXPECT_FALSE(d.flag("dry-run"));           // a flag without a default is false
+  EXPECT_TRUE(parsed({"--dry-run"}).flag("dry-run"));
+  EXPECT_FALSE(parsed({"--edge-compensation=false"}).flag("edge-compensation"));
+  unlink(cfg.c_str());
+}
+
+TEST(RuntimeParams, UnknownConfigKeyNamesFileKeyAndNearestKey) {
+  const std::string cfg = temp_yaml("frame: base\ntool-radus: 0.02\n");
+  const std::string e = parse_error({"--config", cfg});
+  EXPECT_TRUE(contains(e, cfg)) << e;
+  EXPECT_TRUE(contains(e, "line 2")) << e;
+  EXPECT_TRUE(contains(e, "'tool-radus'")) << e;
+  EXPECT_TRUE(contains(e, "nearest known: 'tool-radius'")) << e;
+  unlink(cfg.c_str());
+}
+
+TEST(RuntimeParams, UnknownOptionNamesNearestKey) {
+  const std::string e = parse_error({"--ransac-iteration", "3"});
+  EXPECT_TRUE(contains(e, "command line")) << e;
+  EXPECT_TRUE(contains(e, "unknown option --ransac-iteration")) << e;
+  EXPECT_TRUE(contains(e, "nearest known: --ransac-iterations")) << e;
+}
+
+TEST(RuntimeParams, OldSnakeCaseSpellingIsRefusedNamingTheNewKey) {
+  const std::string on_line = parse_error({"--tool_radius", "0.02"});
+  EXPECT_TRUE(contains(on_line, "--tool_radius is the old spelling of --tool-radius")) << on_line;
+  const std::string cfg = temp_yaml("small_hole: skip\n");
+  const std::string in_file = parse_error({"--config", cfg});
+  EXPECT_TRUE(contains(in_file, cfg)) << in_file;
+  EXPECT_TRUE(contains(in_file, "key 'small_hole': old spelling of 'small-hole'")) << in_file;
+  unlink(cfg.c_str());
+}
+
+TEST(RuntimeParams, BadValuesNameWhereTheyCameFrom) {
+  const std::string cfg = temp_yaml("frame: base\nworkspace-min: [1, two, 3]\n");
+  std::string e = parse_error({"--config", cfg});
+  EXPECT_TRUE(contains(e, cfg) && contains(e, "line 2") && contains(e, "'workspace-min'")) << e;
+  unlink(cfg.c_str());
+  const std::string range = temp_yaml("tool-radius: 0\n");  // the range is (0, 1]
+  e = parse_error({"--config", range});
+  EXPECT_TRUE(contains(e, range) && contains(e, "'tool-radius'") && contains(e, "out of range")) << e;
+  unlink(range.c_str());
+  const std::string choice = temp_yaml("small-hole: ignore\n");
+  e = parse_error({"--config", choice});
+  EXPECT_TRUE(contains(e, choice) && contains(e, "'small-hole'") && contains(e, "fail | skip")) << e;
+  unlink(choice.c_str());
+  const std::string quoted_flag = temp_yaml("dry-run: maybe\n");
+  e = parse_error({"--config", quoted_flag});
+  EXPECT_TRUE(contains(e, quoted_flag) && contains(e, "'dry-run'")) << e;
+  unlink(quoted_flag.c_str());
+  e = parse_error({"--ransac-iterations", "2.5"});
+  EXPECT_TRUE(contains(e, "command line") && contains(e, "--ransac-iterations") && contains(e, "integer")) << e;
+  e = parse_error({"--tool-radius", "1.5"});
+  EXPECT_TRUE(contains(e, "--tool-radius") && contains(e, "out of range")) << e;
+  EXPECT_EQ(parse_error({"--tool-radius", "1"}), "");  // the upper end is included
+}
+
+TEST(RuntimeParams, HelpAndVersionAnswerBeforeAnythingElse) {
+  hr::Params p(declared());
+  const char* help[] = {"hg-test", "--config", "/nonexistent.yaml", "--no-such", "--help"};
+  EXPECT_EQ(p.parse(5, help), hr::Params::Action::Help);  // nothing is opened or checked
+  const char* version[] = {"hg-test", "--tool_radius", "--version"};
+  EXPECT_EQ(p.parse(3, version), hr::Params::Action::Version);
+  const std::string md = p.markdown();
+  for (const hr::Param& d : declared()) EXPECT_TRUE(contains(md, "| `" + d.name + "` |")) << d.name;
+}
+
+TEST(RuntimeParams, EditDistance) {
+  EXPECT_EQ(hr::edit_distance("kitten", "sitting"), 3u);
+  EXPECT_EQ(hr::edit_distance("", "abc"), 3u);
+  EXPECT_EQ(hr::edit_distance("tool-radius", "tool-radius"), 0u);
+  // Metric properties on random strings: symmetry, identity, triangle inequality, length bounds.
+  std::mt19937 rng(7);
+  auto random_string = [&] {
+    std::string s(rng() % 9, 'a');
+    for (char& c : s) c = char('a' + rng() % 3);
+    return s;
+  };
+  for (int i = 0; i < 500; ++i) {
+    const std::string a = random_string(), b = random_string(), c = random_string();
+    const std::size_t ab = hr::edit_distance(a, b);
+    EXPECT_EQ(ab, hr::edit_distance(b, a));
+    EXPECT_EQ(ab == 0, a == b);
+    EXPECT_LE(hr::edit_distance(a, c), ab + hr::edit_distance(b, c));
+    EXPECT_GE(ab, a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
+    EXPECT_LE(ab, std::max(a.size(), b.size()));
+  }
+}
+
+TEST(RuntimeParamsDeathTest, ProcessWithBadValueExits2NamingFileAndKey) {
+  const std::string cfg = temp_yaml("speed: fast\n");
+  hr::ProcessInfo info{"hg-test", "a test process", "", {hr::number_param("speed", "0.05", "m/s", 0)}};
+  std::vector<std::string> args = {"hg-test", "--lcm-url", "memq://", "--config", cfg};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  EXPECT_EXIT(hr::Node(info, int(args.size()), argv.data()), testing::ExitedWithCode(2),
+              "hg-test: config '" + cfg + "' line 1: key 'speed': 'fast' is not a number");
+  unlink(cfg.c_str());
+}
+
+}  // namespace
