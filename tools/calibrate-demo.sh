@@ -8,6 +8,8 @@
 # through HG_ROBOT_MOVE; the demo runs in a network namespace of its own (tests/netns.sh, loopback only).
 # Exits non-zero when a target is missed: eye-to-hand <= 0.5 mm and 0.05 deg, eye-in-hand <= 1.0 mm and 0.1 deg.
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
+hg_answer_version calibrate-demo "$@"
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 if [[ "${HG_IN_NETNS:-}" != "1" ]]; then exec "$ROOT/tests/netns.sh" "$0" "$@"; fi

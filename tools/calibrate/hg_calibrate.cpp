@@ -11,6 +11,7 @@
 #include "calibration/target.hpp"
 #include "cell/cell.hpp"
 #include "runtime/lcm_url.hpp"
+#include "runtime/version.hpp"
 #include "tools/calibrate/robot_moves.hpp"
 #include "tools/calibrate/session.hpp"
 
@@ -312,6 +313,7 @@ bool parse(int argc, char** argv, Args& a) {
 
 int main(int argc, char** argv) {
   Args a;
+  if (hg::runtime::answer_version(argc, argv, "hg-calibrate")) return 0;
   try {
     if (argc >= 2 && std::string(argv[1]) == "--help") {
       std::fputs(kUsage, stdout);

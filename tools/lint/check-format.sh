@@ -2,6 +2,8 @@
 # Lists the tracked C++ files that clang-format (with the repository's .clang-format) would change and
 # exits 1 when there is any. Changes nothing.
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/../version.sh"
+hg_answer_version check-format "$@"
 
 usage() {
   cat <<'USAGE'

@@ -4,6 +4,8 @@
 # scripts outside tests/). Extents come from universal-ctags (`ctags --fields=+ne`: line and end). A
 # lambda or nested function counts as part of the function around it.
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/../version.sh"
+hg_answer_version check-function-length "$@"
 
 usage() {
   cat <<'USAGE'
