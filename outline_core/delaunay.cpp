@@ -487,13 +487,18 @@ Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order or
     T.ids = std::move(custom);
   }
   // The candidate origin first; if a translated coordinate would round, once more with origin 0 (full-
-  // precision input: exact as given), the order then also computed from the untranslated points.
-  for (Vec2 origin : {rounded_centroid(s), Vec2{0, 0}}) {
+  // precision input: exact as given). The insertion order is computed once, from the candidate: the
+  // order decides the speed only (the triangulation is the Delaunay one of the points as given, up to
+  // cocircular ties, which the alpha boundary does not depend on), and sorting again costs more than
+  // the whole copy.
+  T.origin = rounded_centroid(s);
+  if (!given_order) {
+    const Vec2 o = T.origin;
+    const Box tb{s.box.minx - o.x, s.box.maxx - o.x, s.box.miny - o.y, s.box.maxy - o.y};
+    T.ids = order_translated(points, finite, o, tb, order);
+  }
+  for (Vec2 origin : {T.origin, Vec2{0, 0}}) {
     T.origin = origin;
-    if (!given_order) {
-      const Box tb{s.box.minx - origin.x, s.box.maxx - origin.x, s.box.miny - origin.y, s.box.maxy - origin.y};
-      T.ids = order_translated(points, finite, origin, tb, order);
-    }
     if (translate_exactly(points, T)) {
       T.xy_min = {s.box.minx - origin.x, s.box.miny - origin.y};  // exact, as every translated coordinate
       T.xy_max = {s.box.maxx - origin.x, s.box.maxy - origin.y};
