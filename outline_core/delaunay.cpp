@@ -448,19 +448,18 @@ Vec2 rounded_centroid(const InputSummary& s) {
   return o;
 }
 
-// xy[v] = points[ids[v]] - origin; false if any of these subtractions rounded (checked on the way, by
-// the error term of each: one pass for the copy and the check).
+// xy[v] = points[ids[v]] - origin; false, as soon as one is found, if any of these subtractions rounded
+// (checked on the way, by the error term of each: one pass for the copy and the check).
 bool translate_exactly(std::span<const Vec2> points, Triangulation& T) {
   const std::size_t n = T.ids.size();
   const Vec2 o = T.origin;
   T.xy.resize(n);
-  bool exact = true;
   for (std::size_t v = 0; v < n; ++v) {
     const Vec2& p = points[T.ids[v]];
     T.xy[v] = {p.x - o.x, p.y - o.y};
-    exact &= pred::difference_is_exact(p.x, o.x) & pred::difference_is_exact(p.y, o.y);
+    if (!(pred::difference_is_exact(p.x, o.x) & pred::difference_is_exact(p.y, o.y))) return false;
   }
-  return exact;
+  return true;
 }
 
 // The triangulation of the finite points; `release`, when given, is the vector `points` views: it is
