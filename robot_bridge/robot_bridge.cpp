@@ -109,6 +109,51 @@ runtime::ProcessInfo process_info() {
           }};
 }
 
+// The simulated robot from the sim-* parameters; SIGUSR1 / SIGUSR2 then inject its faults.
+std::unique_ptr<Driver> make_sim_driver(runtime::Node& node, const ScriptOptions& script) {
+  SimOptions so;
+  so.home.position = vec3_param(node, "sim-home");
+  auto q = node.param_doubles("sim-home-orientation");
+  if (q.size() != 4) throw node.params().error("sim-home-orientation", "needs 4 numbers w,x,y,z");
+  so.home.orientation = Quat(q[0], q[1], q[2], q[3]).normalized();
+  so.accel = script.accel;
+  so.time_scale = node.param_double("sim-time-scale");
+  so.fault = parse_sim_fault(node.param("sim-fault"));
+  so.fault_at_index = int(node.param_int("sim-fault-index"));
+  so.fault_at_time = node.param_double("sim-fault-time");
+  so.fault_every_job = node.param_bool("sim-fault-every-job");
+  so.outage = node.param_double("sim-outage");
+  if (!(so.time_scale > 0)) throw node.params().error("sim-time-scale", "must be positive");
+  struct sigaction sa {};
+  sa.sa_handler = on_sim_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;
+  sigaction(SIGUSR1, &sa, nullptr);
+  sigaction(SIGUSR2, &sa, nullptr);
+  return std::make_unique<SimDriver>(so);
+}
+
+// The Universal Robots driver from the ur-* parameters.
+std::unique_ptr<Driver> make_ur_driver(runtime::Node& node, const ScriptOptions& script) {
+  UrOptions uo;
+  uo.host = node.param("ur-host");
+  uo.allow_remote = node.param_bool("ur-allow-remote");
+  uo.script_port = int(node.param_int("ur-script-port"));
+  uo.rtde_port = int(node.param_int("ur-rtde-port"));
+  uo.frequency = node.param_double("ur-frequency");
+  uo.script = script;
+  uo.data_timeout = node.param_double("ur-data-timeout");
+  uo.backoff_initial = node.param_double("ur-backoff-initial");
+  uo.backoff_max = node.param_double("ur-backoff-max");
+  return std::make_unique<UrDriver>(uo);
+}
+
+std::unique_ptr<Driver> make_driver(runtime::Node& node, const std::string& driver, const ScriptOptions& script) {
+  if (driver == "sim") return make_sim_driver(node, script);
+  if (driver == "ur") return make_ur_driver(node, script);
+  throw node.params().error("driver", "unknown driver '" + driver + "' (sim|ur)");
+}
+
 class Process {
  public:
   explicit Process(runtime::Node& node) : node_(node) {
@@ -125,43 +170,7 @@ class Process {
     if (cfg.script.accel <= 0 || cfg.script.accel > cfg.limits.max_accel)
       throw node.params().error("accel", "must be in (0, max-accel]");
     const std::string driver = node.param("driver");
-    std::unique_ptr<Driver> d;
-    if (driver == "sim") {
-      SimOptions so;
-      so.home.position = vec3_param(node, "sim-home");
-      auto q = node.param_doubles("sim-home-orientation");
-      if (q.size() != 4) throw node.params().error("sim-home-orientation", "needs 4 numbers w,x,y,z");
-      so.home.orientation = Quat(q[0], q[1], q[2], q[3]).normalized();
-      so.accel = cfg.script.accel;
-      so.time_scale = node.param_double("sim-time-scale");
-      so.fault = parse_sim_fault(node.param("sim-fault"));
-      so.fault_at_index = int(node.param_int("sim-fault-index"));
-      so.fault_at_time = node.param_double("sim-fault-time");
-      so.fault_every_job = node.param_bool("sim-fault-every-job");
-      so.outage = node.param_double("sim-outage");
-      if (!(so.time_scale > 0)) throw node.params().error("sim-time-scale", "must be positive");
-      d = std::make_unique<SimDriver>(so);
-      struct sigaction sa {};
-      sa.sa_handler = on_sim_signal;
-      sigemptyset(&sa.sa_mask);
-      sa.sa_flags = SA_RESTART;
-      sigaction(SIGUSR1, &sa, nullptr);
-      sigaction(SIGUSR2, &sa, nullptr);
-    } else if (driver == "ur") {
-      UrOptions uo;
-      uo.host = node.param("ur-host");
-      uo.allow_remote = node.param_bool("ur-allow-remote");
-      uo.script_port = int(node.param_int("ur-script-port"));
-      uo.rtde_port = int(node.param_int("ur-rtde-port"));
-      uo.frequency = node.param_double("ur-frequency");
-      uo.script = cfg.script;
-      uo.data_timeout = node.param_double("ur-data-timeout");
-      uo.backoff_initial = node.param_double("ur-backoff-initial");
-      uo.backoff_max = node.param_double("ur-backoff-max");
-      d = std::make_unique<UrDriver>(uo);
-    } else {
-      throw node.params().error("driver", "unknown driver '" + driver + "' (sim|ur)");
-    }
+    std::unique_ptr<Driver> d = make_driver(node, driver, cfg.script);
     d->on_decode_error = [&node](const std::string& what) { node.count_decode_error("robot controller", what); };
     BridgeOutputs out;
     out.job_status = [&node](hullgrind::job_status_t& s) { node.publish(channels::kJobStatus, s); };

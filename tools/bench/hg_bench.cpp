@@ -21,6 +21,7 @@
 #include <random>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -506,18 +507,10 @@ std::string load_average() {
 }  // namespace
 }  // namespace hg::bench
 
-int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-bench")) return 0;
-  using namespace hg::bench;
-  if (argc == 4 && std::string(argv[1]).rfind("--child-", 0) == 0) {
-    try {
-      return child_main(argv[1], argv[2], std::strtod(argv[3], nullptr));
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "hg-bench child: %s\n", e.what());
-      return 1;
-    }
-  }
-  const Args a = parse_args(argc, argv);
+namespace hg::bench {
+
+// The report's header: command, date, machine, compiler, run counts, cloud options, peers, --include.
+Report report_header(int argc, char** argv, const Args& a) {
   Report report;
   for (int i = 0; i < argc; ++i) {
     std::string s = argv[i];
@@ -551,12 +544,35 @@ int main(int argc, char** argv) {
   if (!a.include.empty()) {
     std::ifstream f(a.include);
     if (!f) {
-      std::fprintf(stderr, "hg-bench: cannot read --include %s\n", a.include.c_str());
-      return 2;
+      throw std::runtime_error("cannot read --include " + a.include);
     }
     std::stringstream ss;
     ss << f.rdbuf();
     report.include_text = ss.str();
+  }
+  return report;
+}
+
+}  // namespace hg::bench
+
+int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-bench")) return 0;
+  using namespace hg::bench;
+  if (argc == 4 && std::string(argv[1]).rfind("--child-", 0) == 0) {
+    try {
+      return child_main(argv[1], argv[2], std::strtod(argv[3], nullptr));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hg-bench child: %s\n", e.what());
+      return 1;
+    }
+  }
+  const Args a = parse_args(argc, argv);
+  Report report;
+  try {
+    report = report_header(argc, argv, a);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hg-bench: %s\n", e.what());
+    return 2;
   }
   report.load_start = load_average();
 

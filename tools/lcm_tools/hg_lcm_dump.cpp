@@ -92,8 +92,7 @@ struct Dump {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-lcm-dump")) return 0;
+struct DumpArgs {
   std::string url = default_lcm_url();
   std::string channels = "HG_.*";
   std::string type_name;
@@ -101,26 +100,71 @@ int main(int argc, char** argv) {
   double timeout = -1;
   bool summary = false;
   DecodeOptions opt;
+};
+
+// The command line into `a`; -1 to go on, else the exit code (0 after --help, 2 on a usage error).
+int parse_args(int argc, char** argv, DumpArgs& a) {
   try {
     Args args(argc, argv, 1);
     while (!args.done()) {
-      std::string a = args.next();
-      if (a == "--help" || a == "-h") {
+      std::string o = args.next();
+      if (o == "--help" || o == "-h") {
         std::fputs(kUsage, stdout);
         return 0;
-      } else if (a == "--lcm-url") url = args.value();
-      else if (a == "--channels") channels = args.value();
-      else if (a == "--type") type_name = args.value();
-      else if (a == "--count") count = args.integer(0, 1LL << 62);
-      else if (a == "--timeout") timeout = args.number(0, 1e9);
-      else if (a == "--full") opt.full = args.flag();
-      else if (a == "--summary") summary = args.flag();
-      else throw UsageError("unknown option '" + a + "' (see --help)");
+      } else if (o == "--lcm-url") a.url = args.value();
+      else if (o == "--channels") a.channels = args.value();
+      else if (o == "--type") a.type_name = args.value();
+      else if (o == "--count") a.count = args.integer(0, 1LL << 62);
+      else if (o == "--timeout") a.timeout = args.number(0, 1e9);
+      else if (o == "--full") a.opt.full = args.flag();
+      else if (o == "--summary") a.summary = args.flag();
+      else throw UsageError("unknown option '" + o + "' (see --help)");
     }
   } catch (const UsageError& e) {
     std::fprintf(stderr, "hg-lcm-dump: %s\n", e.what());
     return 2;
   }
+  return -1;
+}
+
+// Handles messages until a signal, the count, closed output or the timeout; 1 if LCM failed, 3 if the
+// timeout came before the count, else 0.
+int receive(lcm::LCM& lcm, const Dump& dump, long long count, double timeout) {
+  using clock = std::chrono::steady_clock;
+  const auto deadline = clock::now() + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(timeout));
+  while (!g_stop && !dump.output_closed && !(count >= 0 && dump.printed >= count)) {
+    int wait_ms = 100;  // short, so a signal is noticed quickly
+    if (timeout >= 0) {
+      auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - clock::now()).count();
+      if (left <= 0) return count >= 0 && dump.printed < count ? 3 : 0;
+      wait_ms = static_cast<int>(std::min<long long>(left, wait_ms));
+    }
+    if (lcm.handleTimeout(wait_ms) < 0 && !g_stop) {
+      std::fprintf(stderr, "hg-lcm-dump: LCM receive failed\n");
+      return 1;
+    }
+  }
+  return 0;
+}
+
+void print_summary(const Dump& dump) {
+  long long decoded = 0, errors = 0;
+  for (const auto& [channel, st] : dump.stats) {
+    std::string types;
+    for (const auto& [t, n] : st.types) types += " " + t + "=" + std::to_string(n);
+    std::fprintf(stderr, "hg-lcm-dump: summary %s decoded %lld errors %lld%s\n", channel.c_str(), st.decoded,
+                 st.errors, types.c_str());
+    decoded += st.decoded;
+    errors += st.errors;
+  }
+  std::fprintf(stderr, "hg-lcm-dump: summary total decoded %lld printed %lld errors %lld\n", decoded, dump.printed,
+               errors);
+}
+
+int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-lcm-dump")) return 0;
+  DumpArgs a;
+  if (const int rc = parse_args(argc, argv, a); rc >= 0) return rc;
 
   Schema schema;
   try {
@@ -130,11 +174,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hg-lcm-dump: schema: %s\n", e.what());
     return 1;
   }
-  Dump dump{schema, opt, "", count, 0, false, {}};
-  if (!type_name.empty()) {
-    const Struct* t = schema.find(type_name);
+  Dump dump{schema, a.opt, "", a.count, 0, false, {}};
+  if (!a.type_name.empty()) {
+    const Struct* t = schema.find(a.type_name);
     if (!t) {
-      std::fprintf(stderr, "hg-lcm-dump: unknown type '%s'\n", type_name.c_str());
+      std::fprintf(stderr, "hg-lcm-dump: unknown type '%s'\n", a.type_name.c_str());
       return 2;
     }
     dump.type_filter = t->full_name();
@@ -146,48 +190,18 @@ int main(int argc, char** argv) {
   sigaction(SIGTERM, &sa, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
 
-  lcm::LCM lcm(with_receive_buffer(url));  // big clouds: see runtime/lcm_url.hpp
+  lcm::LCM lcm(with_receive_buffer(a.url));  // big clouds: see runtime/lcm_url.hpp
   if (!lcm.good()) {
-    std::fprintf(stderr, "hg-lcm-dump: cannot open LCM at %s\n", url.c_str());
+    std::fprintf(stderr, "hg-lcm-dump: cannot open LCM at %s\n", a.url.c_str());
     return 1;
   }
-  lcm.subscribe(channels, &Dump::on_message, &dump);
+  lcm.subscribe(a.channels, &Dump::on_message, &dump);
   // Tests and the supervisor wait for this line before publishing.
-  std::fprintf(stderr, "hg-lcm-dump: listening on %s channels %s\n", url.c_str(), channels.c_str());
+  std::fprintf(stderr, "hg-lcm-dump: listening on %s channels %s\n", a.url.c_str(), a.channels.c_str());
   std::fflush(stderr);
 
-  using clock = std::chrono::steady_clock;
-  const auto deadline = clock::now() + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(timeout));
-  bool timed_out = false;
-  while (!g_stop && !dump.output_closed && !(count >= 0 && dump.printed >= count)) {
-    int wait_ms = 100;  // short, so a signal is noticed quickly
-    if (timeout >= 0) {
-      auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - clock::now()).count();
-      if (left <= 0) {
-        timed_out = true;
-        break;
-      }
-      wait_ms = static_cast<int>(std::min<long long>(left, wait_ms));
-    }
-    if (lcm.handleTimeout(wait_ms) < 0 && !g_stop) {
-      std::fprintf(stderr, "hg-lcm-dump: LCM receive failed\n");
-      return 1;
-    }
-  }
-
-  if (summary) {
-    long long decoded = 0, errors = 0;
-    for (const auto& [channel, st] : dump.stats) {
-      std::string types;
-      for (const auto& [t, n] : st.types) types += " " + t + "=" + std::to_string(n);
-      std::fprintf(stderr, "hg-lcm-dump: summary %s decoded %lld errors %lld%s\n", channel.c_str(), st.decoded,
-                   st.errors, types.c_str());
-      decoded += st.decoded;
-      errors += st.errors;
-    }
-    std::fprintf(stderr, "hg-lcm-dump: summary total decoded %lld printed %lld errors %lld\n", decoded, dump.printed,
-                 errors);
-  }
-  if (timed_out && count >= 0 && dump.printed < count) return 3;
-  return 0;
+  const int rc = receive(lcm, dump, a.count, a.timeout);
+  if (rc == 1) return 1;
+  if (a.summary) print_summary(dump);
+  return rc;
 }
