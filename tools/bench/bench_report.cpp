@@ -134,7 +134,7 @@ void header_section(std::ostream& o, const Report& r) {
     << "- Clouds: " << r.cloud_options << "\n"
     << "- Runs: " << r.runs << " per method (ordinary: " << r.ordinary_runs << "; CGAL Alpha_shape_2 and PCL: "
     << r.slow_runs << " on low/down, " << r.slow_runs_high << " on high)\n"
-    << "- R: the product's automatic radius (1.7 × the point spacing h = sqrt(2 × median Delaunay triangle area), docs/outline-auto-radius.md), then the "
+    << "- R: the product's automatic radius (k × the point spacing h = sqrt(2 × median Delaunay triangle area), k = 1.7 on regular clouds rising toward the largest empty circle of a random set on irregular ones; docs/outline-auto-radius.md), then the "
        "same R for every method and peer (CGAL Alpha_shape_2: alpha = R², REGULARIZED; PCL: setAlpha(R), "
        "which PCL compares with the circumradius)\n"
     << "- Peers: CGAL " << r.cgal_version << ", PCL " << r.pcl_version << "\n\n";
