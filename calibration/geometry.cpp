@@ -122,9 +122,10 @@ void check_rotation_diversity(const std::vector<Eigen::Isometry3d>& flange_to_ba
   for (const auto& a : axes)
     for (const auto& b : axes) widest = std::max(widest, std::acos(std::min(1.0, std::abs(a.dot(b)))));
   if (widest < min_rotation)
-    throw CalibrationError("hand-eye: views without enough rotation: every rotation between views is about one "
-                           "axis (axes within " + std::to_string(widest * 180 / M_PI) +
-                           " deg); tilt the camera about a second axis");
+    throw CalibrationError(
+        "hand-eye: views without enough rotation: every rotation between views is about one "
+        "axis (axes within " +
+        std::to_string(widest * 180 / M_PI) + " deg); tilt the camera about a second axis");
 }
 
 HandEyeMethod solve_one(const std::vector<Eigen::Isometry3d>& f2b, const std::vector<Eigen::Isometry3d>& t2c,
@@ -185,7 +186,8 @@ HandEyeResult solve_eye_in_hand(const std::vector<Eigen::Isometry3d>& flange_to_
     throw CalibrationError("hand-eye: " + std::to_string(flange_to_base.size()) + " robot poses but " +
                            std::to_string(target_to_camera.size()) + " target poses");
   if (flange_to_base.size() < 3)
-    throw CalibrationError("hand-eye: " + std::to_string(flange_to_base.size()) + " views, need at least 3 (5 advised)");
+    throw CalibrationError("hand-eye: " + std::to_string(flange_to_base.size()) +
+                           " views, need at least 3 (5 advised)");
   check_rotation_diversity(flange_to_base, min_rotation);
   HandEyeResult r;
   r.methods.push_back(solve_one(flange_to_base, target_to_camera, cv::CALIB_HAND_EYE_TSAI, "tsai"));

@@ -28,8 +28,8 @@ Circle fit_circle(const std::vector<Eigen::Vector2d>& points);
 
 struct RigidFit {
   Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  // to = transform * from
-  std::vector<double> residuals;  // metres, |transform * from_i - to_i| per feature
-  double rms = 0, worst = 0;      // metres
+  std::vector<double> residuals;                                // metres, |transform * from_i - to_i| per feature
+  double rms = 0, worst = 0;                                    // metres
   int worst_index = -1;
 };
 
@@ -42,7 +42,7 @@ RigidFit fit_rigid(const std::vector<Eigen::Vector3d>& from, const std::vector<E
 double spread_off_line(const std::vector<Eigen::Vector3d>& points);
 
 struct HandEyeMethod {
-  std::string name;                                          // "tsai", "park"
+  std::string name;  // "tsai", "park"
   Eigen::Isometry3d camera_to_flange = Eigen::Isometry3d::Identity();
   // Per view: where the target lands in the base frame through this view (flange * X * target_in_camera),
   // against the mean over the views: translation (m) and rotation (rad) distance.
@@ -51,7 +51,7 @@ struct HandEyeMethod {
 };
 
 struct HandEyeResult {
-  std::vector<HandEyeMethod> methods;  // tsai, park
+  std::vector<HandEyeMethod> methods;   // tsai, park
   double disagreement_translation = 0;  // m between the methods' camera_to_flange
   double disagreement_rotation = 0;     // rad
 };

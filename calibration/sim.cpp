@@ -22,8 +22,9 @@ Eigen::Isometry3d table_to_base() {
 Eigen::Isometry3d camera_to_flange() {
   // Camera 80 mm beside the tool axis and 120 mm up it, looking along the flange's z, turned 90 deg.
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = (Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()) *
-                Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  T.linear() =
+      (Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   T.translation() = Eigen::Vector3d(0.08, 0.0, 0.12);
   return T;
 }
@@ -37,7 +38,8 @@ View render_plate(const cb::CameraProfile& profile, const Eigen::Isometry3d& pla
   const double b = std::asin(std::clamp(M(0, 2), -1.0, 1.0));
   const double a = std::atan2(-M(1, 2), M(2, 2)), c = std::atan2(-M(0, 1), M(0, 0));
   const Eigen::Matrix3d tilt =
-      (Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(b, Eigen::Vector3d::UnitY())).toRotationMatrix();
+      (Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(b, Eigen::Vector3d::UnitY()))
+          .toRotationMatrix();
   Eigen::Matrix3d A;
   A << tilt.col(0), tilt.col(1), -Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d sol = A.fullPivLu().solve(F * plate_to_camera.translation());
@@ -103,7 +105,8 @@ EyeToHandSession eye_to_hand(const std::string& profile_name, int placements, do
   for (int k = 0; k < placements; ++k) {
     // Plate centre within 0.2 m x 0.12 m of the point under the camera, turned up to 45 deg.
     const Eigen::Isometry3d plate_to_table =
-        pose(0.2 * u(rng), 0.12 * u(rng), 0, Eigen::AngleAxisd(0.8 * u(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix()) *
+        pose(0.2 * u(rng), 0.12 * u(rng), 0,
+             Eigen::AngleAxisd(0.8 * u(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix()) *
         pose(-0.21, -0.15, 0, Eigen::Matrix3d::Identity());
     const Eigen::Isometry3d table_to_camera = pose(0, 0, prof.mount_height, flip);
     View v = render_plate(prof, table_to_camera * plate_to_table, seed, k);
@@ -132,12 +135,14 @@ EyeInHandSession eye_in_hand(const std::string& profile_name, int views, double 
     // Camera over the plate centre, tilted about the table's x and y, turned about its optical axis.
     const Eigen::Matrix3d R = flip * (Eigen::AngleAxisd(0.25 * u(rng), Eigen::Vector3d::UnitX()) *
                                       Eigen::AngleAxisd(0.25 * u(rng), Eigen::Vector3d::UnitY()) *
-                                      Eigen::AngleAxisd(0.6 * u(rng), Eigen::Vector3d::UnitZ())).toRotationMatrix();
+                                      Eigen::AngleAxisd(0.6 * u(rng), Eigen::Vector3d::UnitZ()))
+                                         .toRotationMatrix();
     const Eigen::Isometry3d plate_to_camera =
         pose(0.03 * u(rng), 0.03 * u(rng), h + 0.1 * u(rng), R) * pose(-0.21, -0.15, 0, Eigen::Matrix3d::Identity());
     View v = render_plate(prof, plate_to_camera, seed, k);
     // The robot pose that puts the camera there (truth), then what the robot reports.
-    const Eigen::Isometry3d flange = s.plate_to_base_true * v.plate_to_camera.inverse() * s.camera_to_flange_true.inverse();
+    const Eigen::Isometry3d flange =
+        s.plate_to_base_true * v.plate_to_camera.inverse() * s.camera_to_flange_true.inverse();
     Eigen::Isometry3d reported = flange;
     reported.linear() = flange.linear() * small_rotation(rng, 0.1 * pose_noise);
     reported.translation() += Eigen::Vector3d(n(rng), n(rng), n(rng));

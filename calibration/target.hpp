@@ -31,16 +31,16 @@ Drawing calibration_plate_drawing();
 struct SeenHole {
   Eigen::Vector3d centre_camera = Eigen::Vector3d::Zero();  // on the plate's top plane, camera frame
   double diameter = 0;
-  double fit_rms = 0;  // metres
-  int points = 0;      // loop vertices of the fit
+  double fit_rms = 0;      // metres
+  int points = 0;          // loop vertices of the fit
   int drawing_index = -1;  // matched hole of the drawing, -1 none
 };
 
 struct PlateView {
   std::vector<SeenHole> holes;  // matched ones only, in drawing order
   Eigen::Isometry3d plate_to_camera = Eigen::Isometry3d::Identity();
-  RigidFit pattern_fit;         // drawing -> camera of the matched holes
-  std::string text;             // what was found
+  RigidFit pattern_fit;  // drawing -> camera of the matched holes
+  std::string text;      // what was found
 };
 
 struct DetectOptions {

@@ -36,6 +36,66 @@ std::string joined(const std::vector<std::string>& v) {
 }
 }  // namespace
 
+// The bridge's parameters: sources, plane finding, part segmentation, monitoring and retry.
+static std::vector<runtime::Param> bridge_params() {
+  return {
+      runtime::text_param("source", "synthetic", "synthetic | files | openni2 | genicam",
+                          {"synthetic", "files", "openni2", "genicam"}),
+      {"scene", "three-parts", "synthetic: scene preset (" + joined(scene_preset_names()) + ")"},
+      {"profile", "pm806", "synthetic: camera profile (" + joined(camera_profile_names()) + ")"},
+      {"seed", "", "synthetic: noise seed (default: the scene's)", false, runtime::ParamType::Integer},
+      {"noise-scale", "1", "synthetic: multiplies the profile's depth noise, dropout and mixed-pixel rate (0: clean)",
+       false, runtime::ParamType::Number, 0},
+      {"write-truth", "", "synthetic: write the scene's ground truth JSON to this file at start"},
+      {"files", "", "files: directory of 16-bit depth PNGs, or one .png/.pcd/.ply file"},
+      {"intrinsics", "",
+       "files: intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
+      {"loop", "", "files, .oni: start again after the last frame", true},
+      {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
+      {"genicam-device", "",
+       "genicam: Aravis device id (Vendor-Model-Serial, serial or IP address); empty: the first 3-D camera found"},
+      runtime::text_param("genicam-format", "c16",
+                          "genicam: c16 (Coord3D_C16 range image) | abc32f (Coord3D_ABC32f organized cloud, Z kept)",
+                          {"c16", "abc32f"}),
+      {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame", false,
+       runtime::ParamType::Number},
+      {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)", false,
+       runtime::ParamType::Number},
+      runtime::text_param("trigger", "continuous",
+                          "continuous | job (one capture per job id of a job_request_t ACTION_START on HG_JOB_REQUEST)",
+                          {"continuous", "job"}),
+      runtime::text_param("parts", "largest", "largest | all: publish the largest part or every part (labelled)",
+                          {"largest", "all"}),
+      runtime::text_param("plane", "ransac", "ransac | calibrated (then --plane-normal and --plane-offset)",
+                          {"ransac", "calibrated"}),
+      {"plane-normal", "0,0,-1", "calibrated table normal in the camera frame, towards the camera", false,
+       runtime::ParamType::Numbers},
+      {"plane-offset", "-1.5", "calibrated plane: normal . p = offset (metres, negative)", false,
+       runtime::ParamType::Number},
+      {"ransac-iterations", "150", "RANSAC hypotheses", false, runtime::ParamType::Integer, 1},
+      {"ransac-threshold", "0.004", "table inlier distance, metres", false, runtime::ParamType::Number, 0,
+       std::numeric_limits<double>::infinity(), true},
+      {"min-height", "0.003", "part pixels: at least this high above the table, metres", false,
+       runtime::ParamType::Number},
+      {"max-height", "0.040", "part pixels: at most this high above the table, metres", false,
+       runtime::ParamType::Number},
+      {"open-size", "2", "opening kernel against specks, pixels (0: none; no-depth pixels spared)", false,
+       runtime::ParamType::Integer, 0},
+      {"close-size", "3", "closing kernel against pin holes, pixels (0: none)", false, runtime::ParamType::Integer, 0},
+      {"min-area", "0.002", "smallest part, m^2", false, runtime::ParamType::Number, 0},
+      {"top-tolerance", "0", "cloud points: within this of the top plane, metres (0: 4 sigma, >= 1 mm)", false,
+       runtime::ParamType::Number, 0},
+      {"depth-rate", "1", "HG_DEPTH messages per second at most (0: none)", false, runtime::ParamType::Number, 0},
+      {"depth-decimation", "4", "HG_DEPTH keeps every n-th pixel of every n-th row", false, runtime::ParamType::Integer,
+       1},
+      {"retry-min", "0.5", "seconds before the first re-open of a failed device", false, runtime::ParamType::Number, 0,
+       std::numeric_limits<double>::infinity(), true},
+      {"retry-max", "8", "back-off limit, seconds", false, runtime::ParamType::Number, 0,
+       std::numeric_limits<double>::infinity(), true},
+      {"frame-id", "camera", "header.frame_id of the published messages"},
+  };
+}
+
 runtime::ProcessInfo process_info() {
   std::string details =
       "Captures depth frames, finds the table plane (RANSAC, or a calibrated plane refined by least squares),\n"
@@ -56,48 +116,15 @@ runtime::ProcessInfo process_info() {
   details += ". openni2 is NOT in this build (camera_bridge/openni2 missing at configure time).";
 #endif
 #if HG_HAVE_GENICAM
-  details += "\ngenicam: a GigE Vision / USB3 Vision 3-D camera through Aravis (Coord3D_C16 range images or\n"
-             "Coord3D_ABC32f organized clouds, Scan3d scale/offset/focal length/principal point; software trigger per job with --trigger job, else\n"
-             "free-running; incomplete frames counted as dropped; see docs/cameras.md).";
+  details +=
+      "\ngenicam: a GigE Vision / USB3 Vision 3-D camera through Aravis (Coord3D_C16 range images or\n"
+      "Coord3D_ABC32f organized clouds, Scan3d scale/offset/focal length/principal point; software trigger per job with --trigger job, else\n"
+      "free-running; incomplete frames counted as dropped; see docs/cameras.md).";
 #else
   details += "\ngenicam is NOT in this build (libaravis-dev missing at configure time).";
 #endif
-  return {"hg-camera-bridge", "Depth camera -> plate points (HG_PLATE_CLOUD) and monitoring depth (HG_DEPTH).",
-          details,
-          {
-              runtime::text_param("source", "synthetic", "synthetic | files | openni2 | genicam", {"synthetic", "files", "openni2", "genicam"}),
-              {"scene", "three-parts", "synthetic: scene preset (" + joined(scene_preset_names()) + ")"},
-              {"profile", "pm806", "synthetic: camera profile (" + joined(camera_profile_names()) + ")"},
-              {"seed", "", "synthetic: noise seed (default: the scene's)", false, runtime::ParamType::Integer},
-              {"noise-scale", "1", "synthetic: multiplies the profile's depth noise, dropout and mixed-pixel rate (0: clean)", false, runtime::ParamType::Number, 0},
-              {"write-truth", "", "synthetic: write the scene's ground truth JSON to this file at start"},
-              {"files", "", "files: directory of 16-bit depth PNGs, or one .png/.pcd/.ply file"},
-              {"intrinsics", "", "files: intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
-              {"loop", "", "files, .oni: start again after the last frame", true},
-              {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
-              {"genicam-device", "", "genicam: Aravis device id (Vendor-Model-Serial, serial or IP address); empty: the first 3-D camera found"},
-              runtime::text_param("genicam-format", "c16", "genicam: c16 (Coord3D_C16 range image) | abc32f (Coord3D_ABC32f organized cloud, Z kept)", {"c16", "abc32f"}),
-              {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame", false, runtime::ParamType::Number},
-              {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)", false, runtime::ParamType::Number},
-              runtime::text_param("trigger", "continuous", "continuous | job (one capture per job id of a job_request_t ACTION_START on HG_JOB_REQUEST)", {"continuous", "job"}),
-              runtime::text_param("parts", "largest", "largest | all: publish the largest part or every part (labelled)", {"largest", "all"}),
-              runtime::text_param("plane", "ransac", "ransac | calibrated (then --plane-normal and --plane-offset)", {"ransac", "calibrated"}),
-              {"plane-normal", "0,0,-1", "calibrated table normal in the camera frame, towards the camera", false, runtime::ParamType::Numbers},
-              {"plane-offset", "-1.5", "calibrated plane: normal . p = offset (metres, negative)", false, runtime::ParamType::Number},
-              {"ransac-iterations", "150", "RANSAC hypotheses", false, runtime::ParamType::Integer, 1},
-              {"ransac-threshold", "0.004", "table inlier distance, metres", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"min-height", "0.003", "part pixels: at least this high above the table, metres", false, runtime::ParamType::Number},
-              {"max-height", "0.040", "part pixels: at most this high above the table, metres", false, runtime::ParamType::Number},
-              {"open-size", "2", "opening kernel against specks, pixels (0: none; no-depth pixels spared)", false, runtime::ParamType::Integer, 0},
-              {"close-size", "3", "closing kernel against pin holes, pixels (0: none)", false, runtime::ParamType::Integer, 0},
-              {"min-area", "0.002", "smallest part, m^2", false, runtime::ParamType::Number, 0},
-              {"top-tolerance", "0", "cloud points: within this of the top plane, metres (0: 4 sigma, >= 1 mm)", false, runtime::ParamType::Number, 0},
-              {"depth-rate", "1", "HG_DEPTH messages per second at most (0: none)", false, runtime::ParamType::Number, 0},
-              {"depth-decimation", "4", "HG_DEPTH keeps every n-th pixel of every n-th row", false, runtime::ParamType::Integer, 1},
-              {"retry-min", "0.5", "seconds before the first re-open of a failed device", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"retry-max", "8", "back-off limit, seconds", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"frame-id", "camera", "header.frame_id of the published messages"},
-          }};
+  return {"hg-camera-bridge", "Depth camera -> plate points (HG_PLATE_CLOUD) and monitoring depth (HG_DEPTH).", details,
+          bridge_params()};
 }
 
 BridgeOptions options_from(const runtime::Node& node) {
@@ -108,7 +135,8 @@ BridgeOptions options_from(const runtime::Node& node) {
   o.job_trigger = trigger == "job";
   o.rate = node.param_double("rate");
   const std::string parts = node.param("parts");
-  if (parts != "largest" && parts != "all") throw runtime::ConfigError("--parts must be largest or all, not '" + parts + "'");
+  if (parts != "largest" && parts != "all")
+    throw runtime::ConfigError("--parts must be largest or all, not '" + parts + "'");
   SegmentParams& s = o.segment;
   s.all_parts = parts == "all";
   const std::string plane = node.param("plane");
@@ -131,7 +159,8 @@ BridgeOptions options_from(const runtime::Node& node) {
   s.top_tolerance = node.param_double("top-tolerance");
   o.depth_rate = node.param_double("depth-rate");
   o.depth_decimation = static_cast<int>(node.param_int("depth-decimation"));
-  if (o.depth_decimation < 1 || o.depth_decimation > 64) throw runtime::ConfigError("--depth-decimation must be in 1..64");
+  if (o.depth_decimation < 1 || o.depth_decimation > 64)
+    throw runtime::ConfigError("--depth-decimation must be in 1..64");
   o.retry_min = node.param_double("retry-min");
   o.retry_max = node.param_double("retry-max");
   if (!(o.retry_min > 0) || !(o.retry_max >= o.retry_min))
@@ -196,8 +225,9 @@ std::unique_ptr<DepthSource> source_from(const runtime::Node& node) {
     o.format = format == "c16" ? GenicamFormat::c16 : GenicamFormat::abc32f;
     return std::make_unique<GenicamSource>(o);
 #else
-    throw runtime::ConfigError("--source genicam is not available in this build: libaravis-dev (aravis-0.8) was not "
-                               "there when the project was configured");
+    throw runtime::ConfigError(
+        "--source genicam is not available in this build: libaravis-dev (aravis-0.8) was not "
+        "there when the project was configured");
 #endif
   }
   throw runtime::ConfigError("--source must be synthetic, files, openni2 or genicam, not '" + kind + "'");
@@ -226,10 +256,11 @@ void fill_plate_cloud(const Segmentation& s, plate_cloud_t& m) {
 Bridge::Bridge(runtime::Node& node, std::unique_ptr<DepthSource> source, BridgeOptions options)
     : node_(node), source_(std::move(source)), opt_(std::move(options)) {
   if (opt_.job_trigger) {
-    node_.subscribe<hullgrind::job_request_t>(
-        channels::kJobRequest, [this](const hullgrind::job_request_t& m, const runtime::Delivery&) {
-          if (m.action == hullgrind::job_request_t::ACTION_START) on_job(m.job_id);
-        });
+    node_.subscribe<hullgrind::job_request_t>(channels::kJobRequest,
+                                              [this](const hullgrind::job_request_t& m, const runtime::Delivery&) {
+                                                if (m.action == hullgrind::job_request_t::ACTION_START)
+                                                  on_job(m.job_id);
+                                              });
   }
 }
 
@@ -335,7 +366,8 @@ void Bridge::process(DepthFrame& frame) {
       logf(Level::Warn, "skipped corrupt frame %lld: %s (%lld so far%s)", (long long)frame.seq, why.c_str(),
            (long long)corrupt_.load(), suppressed ? (", " + std::to_string(suppressed) + " not logged").c_str() : "");
     if (++corrupt_in_a_row_ == opt_.degraded_after)
-      node_.set_state(heartbeat_t::STATE_DEGRADED, std::to_string(corrupt_in_a_row_) + " corrupt frames in a row: " + why);
+      node_.set_state(heartbeat_t::STATE_DEGRADED,
+                      std::to_string(corrupt_in_a_row_) + " corrupt frames in a row: " + why);
     return;
   }
   if (corrupt_in_a_row_ >= opt_.degraded_after) node_.set_state(heartbeat_t::STATE_OK);
@@ -361,7 +393,9 @@ void Bridge::process(DepthFrame& frame) {
   ++processed_;
   if (!job.empty())
     logf(Level::Info, "job '%s': frame %lld -> %s, %d points, %d part(s)%s%s", job.c_str(), (long long)frame.seq,
-         s.status == SegmentStatus::Ok ? "OK" : s.status == SegmentStatus::NoPart ? "NO_PART" : "BAD_FRAME",
+         s.status == SegmentStatus::Ok       ? "OK"
+         : s.status == SegmentStatus::NoPart ? "NO_PART"
+                                             : "BAD_FRAME",
          msg.n, int(msg.num_parts), s.text.empty() ? "" : ": ", s.text.c_str());
   else if (s.status != SegmentStatus::Ok)
     logf(Level::Debug, "frame %lld: %s", (long long)frame.seq, s.text.c_str());

@@ -22,21 +22,20 @@
 #include "runtime/job_ledger.hpp"
 #include "runtime/node.hpp"
 
-
 namespace hg::camera_bridge {
 
 runtime::ProcessInfo process_info();
 
 struct BridgeOptions {
-  bool job_trigger = false;        // true: one capture per job id (job_request_t ACTION_START); false: continuous
-  double rate = 2.0;               // continuous: at most this many frames processed per second (<= 0: all)
+  bool job_trigger = false;  // true: one capture per job id (job_request_t ACTION_START); false: continuous
+  double rate = 2.0;         // continuous: at most this many frames processed per second (<= 0: all)
   SegmentParams segment;
-  double depth_rate = 1.0;         // HG_DEPTH messages per second at most (0: none)
-  int depth_decimation = 4;        // HG_DEPTH keeps every n-th pixel of every n-th row
+  double depth_rate = 1.0;                  // HG_DEPTH messages per second at most (0: none)
+  int depth_decimation = 4;                 // HG_DEPTH keeps every n-th pixel of every n-th row
   double retry_min = 0.5, retry_max = 8.0;  // seconds, back-off after a device failure
   std::chrono::milliseconds grab_timeout{500};
   std::string frame_id = "camera";
-  int degraded_after = 10;         // this many corrupt frames in a row: heartbeat DEGRADED
+  int degraded_after = 10;  // this many corrupt frames in a row: heartbeat DEGRADED
 };
 
 // Reads the options from the node's parameters (see process_info()). Throws runtime::ConfigError.

@@ -68,12 +68,14 @@ std::string frame_defect(const cv::Mat& depth, const Intrinsics& in) {
   if (in.width <= 0 || in.height <= 0 || !(in.fx > 0) || !(in.fy > 0) || !(in.depth_unit > 0) ||
       !std::isfinite(in.cx) || !std::isfinite(in.cy))
     return "bad intrinsics (" + std::to_string(in.width) + "x" + std::to_string(in.height) + ", fx " +
-           std::to_string(in.fx) + ", fy " + std::to_string(in.fy) + ", depth unit " + std::to_string(in.depth_unit) + ")";
+           std::to_string(in.fx) + ", fy " + std::to_string(in.fy) + ", depth unit " + std::to_string(in.depth_unit) +
+           ")";
   if (depth.empty()) return "empty depth image";
-  if (depth.type() != CV_16UC1) return "depth image is not 16-bit single-channel (OpenCV type " + std::to_string(depth.type()) + ")";
+  if (depth.type() != CV_16UC1)
+    return "depth image is not 16-bit single-channel (OpenCV type " + std::to_string(depth.type()) + ")";
   if (depth.cols != in.width || depth.rows != in.height)
-    return "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) + " but the intrinsics say " +
-           std::to_string(in.width) + "x" + std::to_string(in.height);
+    return "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
+           " but the intrinsics say " + std::to_string(in.width) + "x" + std::to_string(in.height);
   if (cv::countNonZero(depth) == 0) return "no valid pixel (all zero)";
   return {};
 }
@@ -130,7 +132,8 @@ bool ransac_plane(const std::vector<Eigen::Vector3d>& samples, const SegmentPara
     if (std::abs(h.z()) < 0.5) continue;  // a table seen more than 60 degrees off axis is not our cell
     const double o = h.dot(a);
     std::size_t score = 0;
-    for (std::size_t i = 0; i < samples.size(); i += eval_step) score += std::abs(h.dot(samples[i]) - o) < P.ransac_threshold;
+    for (std::size_t i = 0; i < samples.size(); i += eval_step)
+      score += std::abs(h.dot(samples[i]) - o) < P.ransac_threshold;
     if (score > best) {
       best = score;
       plane = {h, o};
@@ -186,7 +189,8 @@ void height_band_mask(const cv::Mat& depth, const Rays& ray, const Plane& table,
   nodata.create(H, W, CV_8UC1);
   std::vector<float> na(W);
   for (int c = 0; c < W; ++c) na[c] = static_cast<float>(n.x() * ray.a[c] * ray.unit);
-  const float lo = static_cast<float>(P.min_height + table.offset), hi = static_cast<float>(P.max_height + table.offset);
+  const float lo = static_cast<float>(P.min_height + table.offset),
+              hi = static_cast<float>(P.max_height + table.offset);
   for (int r = 0; r < H; ++r) {
     const std::uint16_t* dr = depth.ptr<std::uint16_t>(r);
     std::uint8_t* mr = mask.ptr<std::uint8_t>(r);
@@ -291,7 +295,8 @@ int gather_parts(const cv::Mat& depth, const Rays& ray, const cv::Mat& cc, const
   labels.create(H, W, CV_8UC1);
   std::size_t expect = 0;
   for (int k : keep) expect += comp.area[k];
-  pts.x.reserve(expect), pts.y.reserve(expect), pts.z.reserve(expect), pts.part.reserve(expect), pts.pixel.reserve(expect);
+  pts.x.reserve(expect), pts.y.reserve(expect), pts.z.reserve(expect), pts.part.reserve(expect),
+      pts.pixel.reserve(expect);
   // Only the rows of the kept components can hold a label.
   int by0 = H, by1 = 0;
   for (int k : keep) by0 = std::min(by0, comp.first_row[k]), by1 = std::max(by1, comp.last_row[k] + 1);

@@ -33,10 +33,10 @@ struct SegmentParams {
   // Part mask: height above the table within [min_height, max_height].
   double min_height = 0.003;
   double max_height = 0.040;
-  int open_size = 2;                // square kernel of the opening against specks (pixels); 0 or 1: none
-  int close_size = 3;               // square kernel of the closing of pin holes (pixels); 0 or 1: none
-  double min_area = 0.002;          // m^2 on the table; smaller components are ignored
-  bool all_parts = false;           // false: the largest part only
+  int open_size = 2;        // square kernel of the opening against specks (pixels); 0 or 1: none
+  int close_size = 3;       // square kernel of the closing of pin holes (pixels); 0 or 1: none
+  double min_area = 0.002;  // m^2 on the table; smaller components are ignored
+  bool all_parts = false;   // false: the largest part only
   // A mask pixel becomes a cloud point only when its height is within this of the fitted top plane
   // (drops mixed pixels half way down an edge and side-wall pixels). 0: automatic, 4 sigma of the
   // top-plane residuals but at least 1 mm.
@@ -56,9 +56,9 @@ struct Segmentation {
   // Plate top plane: p = origin + u * u_axis + v * v_axis, normal = u_axis x v_axis (towards the camera).
   Eigen::Vector3d origin = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
   Eigen::Vector3d u_axis = Eigen::Vector3d::Zero(), v_axis = Eigen::Vector3d::Zero();
-  double thickness = 0;      // metres: top plane above the table (at the origin)
+  double thickness = 0;  // metres: top plane above the table (at the origin)
   int num_parts = 0;
-  cv::Mat labels;            // CV_8UC1: 0 none, k + 1 part k (the cleaned mask, before the top tolerance)
+  cv::Mat labels;  // CV_8UC1: 0 none, k + 1 part k (the cleaned mask, before the top tolerance)
   // Points in scan-line (row-major image) order.
   std::vector<float> u, v;
   std::vector<std::int16_t> part;

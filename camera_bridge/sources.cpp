@@ -48,7 +48,8 @@ Intrinsics read_intrinsics(const std::string& path) {
       if (required) throw SourceError("intrinsics file '" + path + "': key '" + key + "' missing");
       return fallback;
     }
-    if (!n.isReal() && !n.isInt()) throw SourceError("intrinsics file '" + path + "': key '" + key + "' is not a number");
+    if (!n.isReal() && !n.isInt())
+      throw SourceError("intrinsics file '" + path + "': key '" + key + "' is not a number");
     return static_cast<double>(n);
   };
   const double w = num("width", true, 0), h = num("height", true, 0);
@@ -69,8 +70,8 @@ Intrinsics read_intrinsics(const std::string& path) {
 void write_intrinsics(const Intrinsics& in, const std::string& path) {
   cv::FileStorage fsw(path, cv::FileStorage::WRITE);
   if (!fsw.isOpened()) throw std::runtime_error("cannot write intrinsics file '" + path + "'");
-  fsw << "width" << in.width << "height" << in.height << "fx" << in.fx << "fy" << in.fy << "cx" << in.cx
-      << "cy" << in.cy << "depth_unit" << in.depth_unit;
+  fsw << "width" << in.width << "height" << in.height << "fx" << in.fx << "fy" << in.fy << "cx" << in.cx << "cy"
+      << in.cy << "depth_unit" << in.depth_unit;
 }
 
 // ---- clouds ----

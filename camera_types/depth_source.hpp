@@ -24,7 +24,7 @@ struct DepthFrame {
   std::int64_t seq = 0;    // frame counter of the source
   std::int64_t utime = 0;  // capture time, microseconds since the epoch
   Intrinsics intrinsics;
-  cv::Mat depth;           // CV_16UC1, height x width
+  cv::Mat depth;  // CV_16UC1, height x width
 };
 
 // The device is missing, lost or unreadable; what() says which and why.

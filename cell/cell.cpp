@@ -189,7 +189,8 @@ std::string write_cell(const std::string& path, const Cell& c) {
   validate(c, path);
   YAML::Emitter out;
   out.SetDoublePrecision(17);
-  out << YAML::Comment("hullgrind cell file (docs/cell.md): metres, radians, seconds; robot base frame.") << YAML::Newline;
+  out << YAML::Comment("hullgrind cell file (docs/cell.md): metres, radians, seconds; robot base frame.")
+      << YAML::Newline;
   YAML::Node root;
   YAML::Node cal;
   cal["camera-to-base"] = rows(c.calibration.camera_to_base);

@@ -18,7 +18,7 @@ struct CellError : std::runtime_error {
 
 struct Calibration {
   Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();  // p_base = T * p_camera
-  std::string date;     // ISO 8601 UTC, when it was measured
+  std::string date;                                                  // ISO 8601 UTC, when it was measured
   std::string method;   // "eye-to-hand umeyama", "eye-in-hand tsai", "manual", ...
   double rms_mm = 0;    // RMS residual of the fit, mm
   double worst_mm = 0;  // largest residual, mm

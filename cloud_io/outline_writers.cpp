@@ -77,12 +77,9 @@ nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar,
   j["search_cost"] = r.search_cost;
   j["incircle_tests"] = r.incircle_tests;
   j["orient_tests"] = r.orient_tests;
-  j["time_ms"] = {{"read", info.read_ms},
-                  {"project", info.project_ms},
-                  {"triangulate", r.time.triangulate_ms},
-                  {"alpha", r.time.alpha_ms},
-                  {"loops", r.time.loops_ms},
-                  {"total", info.project_ms + r.time.total_ms}};
+  j["time_ms"] = {
+      {"read", info.read_ms},     {"project", info.project_ms}, {"triangulate", r.time.triangulate_ms},
+      {"alpha", r.time.alpha_ms}, {"loops", r.time.loops_ms},   {"total", info.project_ms + r.time.total_ms}};
   if (planar.projected) {
     j["plane"] = {{"origin", arr3(planar.plane.origin)}, {"normal", arr3(planar.plane.normal)},
                   {"u", arr3(planar.plane.u)},           {"v", arr3(planar.plane.v)},
@@ -170,8 +167,10 @@ std::string render_svg(std::span<const Vec2> points, const Result& r, bool draw_
   }
   std::size_t holes = std::count_if(r.loops.begin(), r.loops.end(), [](const Loop& l) { return l.hole; });
   s += "<text x=\"10\" y=\"" + std::to_string(view.height - 10) + "\" font-family=\"sans-serif\" font-size=\"14\">";
-  s += std::to_string(points.size()) + " points" + (step > 1 ? " (every " + std::to_string(step) + "th drawn)" : std::string()) + ", ";
-  s += "<tspan fill=\"" + std::string(kOuterColour) + "\">" + std::to_string(r.loops.size() - holes) + " outer</tspan>, ";
+  s += std::to_string(points.size()) + " points" +
+       (step > 1 ? " (every " + std::to_string(step) + "th drawn)" : std::string()) + ", ";
+  s += "<tspan fill=\"" + std::string(kOuterColour) + "\">" + std::to_string(r.loops.size() - holes) +
+       " outer</tspan>, ";
   s += "<tspan fill=\"" + std::string(kHoleColour) + "\">" + std::to_string(holes) + " holes</tspan>, R = ";
   char radius[32];  // in the input's units, as the PNG legend: metres need more than one decimal
   std::snprintf(radius, sizeof radius, "%.4g", r.alpha_radius);
@@ -185,7 +184,8 @@ std::vector<unsigned char> render_png(std::span<const Vec2> points, const Result
   cv::Mat img(view.height, view.width, CV_8UC3, cv::Scalar(255, 255, 255));
   constexpr int shift = 4;  // sub-pixel coordinates for OpenCV's drawing
   auto pt = [&](const Vec2& p) {
-    return cv::Point(static_cast<int>(std::lround(view.px(p) * (1 << shift))), static_cast<int>(std::lround(view.py(p) * (1 << shift))));
+    return cv::Point(static_cast<int>(std::lround(view.px(p) * (1 << shift))),
+                     static_cast<int>(std::lround(view.py(p) * (1 << shift))));
   };
   if (draw_triangles) {
     for (auto& t : r.delaunay_triangles) {
@@ -218,7 +218,8 @@ std::vector<unsigned char> render_png(std::span<const Vec2> points, const Result
   char legend[160];
   std::snprintf(legend, sizeof legend, "%zu points, %zu outer (blue), %zu holes (red), R = %.4g", points.size(),
                 r.loops.size() - holes, holes, r.alpha_radius);
-  cv::putText(img, legend, cv::Point(10, view.height - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(img, legend, cv::Point(10, view.height - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
+              cv::LINE_AA);
   // libpng directly, not OpenCV's imgcodecs: linking imgcodecs maps ~140 shared libraries (GDAL, ...) into
   // hg-outline, ~40 MB of its peak memory, for this one call.
   png_image image{};

@@ -19,20 +19,20 @@ struct WriteError : std::runtime_error {
 };
 
 struct RunInfo {
-  std::string input;          // file name as given
-  std::string format;         // Cloud::format
+  std::string input;   // file name as given
+  std::string format;  // Cloud::format
   bool has_z = false;
-  double read_ms = 0;         // parsing the file
-  double project_ms = 0;      // plane fit + projection (part of time_ms.total)
+  double read_ms = 0;     // parsing the file
+  double project_ms = 0;  // plane fit + projection (part of time_ms.total)
   // The frame the input's coordinates (and so the plane and the loops) are in: "cloud" for a file (its own
   // coordinates, whatever they are), "camera" for the camera bridge's plate cloud.
   std::string frame = "cloud";
 };
 
-// Keys: frame (RunInfo::frame), points_read, points_used, duplicates_merged, alpha_radius, mode, order, triangles, search_cost,
-// time_ms {read, triangulate, alpha, loops, total}, loops [{hole, area, perimeter, points}], plus
-// input, alpha_automatic, alpha_mode, spacing, nn_spacing_median, holes_dropped, incircle_tests, orient_tests, time_ms.project; for 3-D input
-// also plane {origin, normal, u, v, rms_distance, max_distance} and per loop points_3d.
+// Keys: frame (RunInfo::frame), points_read, points_used, duplicates_merged, alpha_radius, mode, order, triangles,
+// search_cost, time_ms {read, triangulate, alpha, loops, total}, loops [{hole, area, perimeter, points}], plus input,
+// alpha_automatic, alpha_mode, spacing, nn_spacing_median, holes_dropped, incircle_tests, orient_tests,
+// time_ms.project; for 3-D input also plane {origin, normal, u, v, rms_distance, max_distance} and per loop points_3d.
 // time_ms.total is everything after reading: projection + compute_outline.
 nlohmann::ordered_json outline_json(const Result& result, const PlanarPoints& planar, const RunInfo& info);
 

@@ -57,7 +57,8 @@ PlanarPoints to_plane(const Cloud& cloud, const std::string& name) {
     for (std::size_t i : finite) planar = planar && p[3 * i + 2] == p[3 * finite[0] + 2];
   }
   if (planar) {
-    for (std::size_t i = 0; i < n; ++i) out.points[i] = finite_point(p + 3 * i) ? Vec2{p[3 * i], p[3 * i + 1]} : Vec2{kNaN, kNaN};
+    for (std::size_t i = 0; i < n; ++i)
+      out.points[i] = finite_point(p + 3 * i) ? Vec2{p[3 * i], p[3 * i + 1]} : Vec2{kNaN, kNaN};
     return out;
   }
   refuse_collinear(p, finite);
@@ -107,7 +108,8 @@ PlanarPoints to_plane(const Cloud& cloud, const std::string& name) {
   }
   // Coordinates near the double range overflow the covariance: say so instead of passing NaN on.
   bool ok = normal.allFinite() && std::isfinite(sum2);
-  for (std::size_t k = 0; k < nf && ok; ++k) ok = std::isfinite(out.points[finite[k]].x) && std::isfinite(out.points[finite[k]].y);
+  for (std::size_t k = 0; k < nf && ok; ++k)
+    ok = std::isfinite(out.points[finite[k]].x) && std::isfinite(out.points[finite[k]].y);
   if (!ok) throw ReadError(name + ": coordinates too large for the plane fit (overflow in the least-squares sums)");
   out.rms_distance = std::sqrt(sum2 / static_cast<double>(nf));
   out.max_distance = maxd;

@@ -120,9 +120,13 @@ enum class Scalar : std::uint8_t { I8, U8, I16, U16, I32, U32, I64, U64, F32, F6
 
 inline std::size_t scalar_size(Scalar s) {
   switch (s) {
-    case Scalar::I8: case Scalar::U8: return 1;
-    case Scalar::I16: case Scalar::U16: return 2;
-    case Scalar::I32: case Scalar::U32: case Scalar::F32: return 4;
+    case Scalar::I8:
+    case Scalar::U8: return 1;
+    case Scalar::I16:
+    case Scalar::U16: return 2;
+    case Scalar::I32:
+    case Scalar::U32:
+    case Scalar::F32: return 4;
     default: return 8;
   }
 }
@@ -156,13 +160,29 @@ inline double load_scalar(Scalar s, const char* p) {
 inline std::uint64_t load_count(Scalar s, const char* p, bool& ok) {
   ok = true;
   switch (s) {
-    case Scalar::I8: { auto v = load<std::int8_t>(p); ok = v >= 0; return ok ? v : 0; }
+    case Scalar::I8: {
+      auto v = load<std::int8_t>(p);
+      ok = v >= 0;
+      return ok ? v : 0;
+    }
     case Scalar::U8: return load<std::uint8_t>(p);
-    case Scalar::I16: { auto v = load<std::int16_t>(p); ok = v >= 0; return ok ? v : 0; }
+    case Scalar::I16: {
+      auto v = load<std::int16_t>(p);
+      ok = v >= 0;
+      return ok ? v : 0;
+    }
     case Scalar::U16: return load<std::uint16_t>(p);
-    case Scalar::I32: { auto v = load<std::int32_t>(p); ok = v >= 0; return ok ? v : 0; }
+    case Scalar::I32: {
+      auto v = load<std::int32_t>(p);
+      ok = v >= 0;
+      return ok ? v : 0;
+    }
     case Scalar::U32: return load<std::uint32_t>(p);
-    case Scalar::I64: { auto v = load<std::int64_t>(p); ok = v >= 0; return ok ? static_cast<std::uint64_t>(v) : 0; }
+    case Scalar::I64: {
+      auto v = load<std::int64_t>(p);
+      ok = v >= 0;
+      return ok ? static_cast<std::uint64_t>(v) : 0;
+    }
     case Scalar::U64: return load<std::uint64_t>(p);
     default: ok = false; return 0;
   }

@@ -23,9 +23,12 @@ void lzf_decompress(std::string_view in, char* out, std::size_t out_size, const 
     if (ctrl < 32) {  // literal run of ctrl + 1 bytes
       std::size_t len = ctrl + 1;
       if (static_cast<std::size_t>(in_end - ip) < len)
-        fail_byte(name, at(run_start), "truncated data: LZF literal run of " + std::to_string(len) + " bytes runs past the compressed block");
+        fail_byte(
+            name, at(run_start),
+            "truncated data: LZF literal run of " + std::to_string(len) + " bytes runs past the compressed block");
       if (out_size - op < len)
-        fail_byte(name, at(run_start), "corrupt LZF data: output would exceed the declared uncompressed size " + std::to_string(out_size));
+        fail_byte(name, at(run_start),
+                  "corrupt LZF data: output would exceed the declared uncompressed size " + std::to_string(out_size));
       std::memcpy(out + op, ip, len);
       ip += len;
       op += len;
@@ -39,15 +42,19 @@ void lzf_decompress(std::string_view in, char* out, std::size_t out_size, const 
       std::size_t dist = ((static_cast<std::size_t>(ctrl & 0x1f) << 8) | *ip++) + 1;
       len += 2;
       if (dist > op)
-        fail_byte(name, at(run_start), "corrupt LZF data: back reference " + std::to_string(dist) + " bytes before the start of the output");
+        fail_byte(name, at(run_start),
+                  "corrupt LZF data: back reference " + std::to_string(dist) + " bytes before the start of the output");
       if (out_size - op < len)
-        fail_byte(name, at(run_start), "corrupt LZF data: output would exceed the declared uncompressed size " + std::to_string(out_size));
+        fail_byte(name, at(run_start),
+                  "corrupt LZF data: output would exceed the declared uncompressed size " + std::to_string(out_size));
       // Byte by byte: source and destination overlap when dist < len (a repeated pattern).
       for (std::size_t k = 0; k < len; ++k, ++op) out[op] = out[op - dist];
     }
   }
   if (op != out_size)
-    fail_byte(name, at(in_end), "truncated data: LZF block decodes to " + std::to_string(op) + " bytes, header declares " + std::to_string(out_size));
+    fail_byte(name, at(in_end),
+              "truncated data: LZF block decodes to " + std::to_string(op) + " bytes, header declares " +
+                  std::to_string(out_size));
 }
 
 namespace {
@@ -62,8 +69,12 @@ struct Field {
 
 bool to_scalar(char type, std::uint64_t size, Scalar& s) {
   switch (type) {
-    case 'I': s = size == 1 ? Scalar::I8 : size == 2 ? Scalar::I16 : size == 4 ? Scalar::I32 : Scalar::I64; return size == 1 || size == 2 || size == 4 || size == 8;
-    case 'U': s = size == 1 ? Scalar::U8 : size == 2 ? Scalar::U16 : size == 4 ? Scalar::U32 : Scalar::U64; return size == 1 || size == 2 || size == 4 || size == 8;
+    case 'I':
+      s = size == 1 ? Scalar::I8 : size == 2 ? Scalar::I16 : size == 4 ? Scalar::I32 : Scalar::I64;
+      return size == 1 || size == 2 || size == 4 || size == 8;
+    case 'U':
+      s = size == 1 ? Scalar::U8 : size == 2 ? Scalar::U16 : size == 4 ? Scalar::U32 : Scalar::U64;
+      return size == 1 || size == 2 || size == 4 || size == 8;
     case 'F': s = size == 4 ? Scalar::F32 : Scalar::F64; return size == 4 || size == 8;
   }
   return false;
@@ -95,7 +106,9 @@ bool read_keyword(Header& h, const std::string& key, const std::vector<std::stri
   auto need_fields = [&] {
     if (h.fields.empty()) fail_line(name, line_no, "bad header: " + key + " before FIELDS");
     if (nvals != h.fields.size())
-      fail_line(name, line_no, "bad header: " + key + " has " + std::to_string(nvals) + " values for " + std::to_string(h.fields.size()) + " fields");
+      fail_line(name, line_no,
+                "bad header: " + key + " has " + std::to_string(nvals) + " values for " +
+                    std::to_string(h.fields.size()) + " fields");
   };
   auto u64 = [&](std::size_t i) {
     std::uint64_t v;
@@ -110,7 +123,8 @@ bool read_keyword(Header& h, const std::string& key, const std::vector<std::stri
     for (std::size_t i = 1; i < tok.size(); ++i) {
       Field f;
       f.name = std::string(tok[i]);
-      if (f.name != "_" && std::any_of(h.fields.begin(), h.fields.end(), [&](const Field& g) { return g.name == f.name; }))
+      if (f.name != "_" &&
+          std::any_of(h.fields.begin(), h.fields.end(), [&](const Field& g) { return g.name == f.name; }))
         fail_line(name, line_no, "bad header: field " + quote(f.name) + " given twice");
       h.fields.push_back(std::move(f));
     }
@@ -139,8 +153,10 @@ bool read_keyword(Header& h, const std::string& key, const std::vector<std::stri
     if (nvals != 1) fail_line(name, line_no, "bad header: " + key + " needs one value");
     std::uint64_t v = u64(1);
     if (key == "WIDTH") h.width = v, h.have_width = true;
-    else if (key == "HEIGHT") h.height = v;
-    else h.points = v, h.have_points = true, h.points_line = line_no;
+    else if (key == "HEIGHT")
+      h.height = v;
+    else
+      h.points = v, h.have_points = true, h.points_line = line_no;
   } else if (key == "DATA") {
     if (nvals != 1) fail_line(name, line_no, "bad header: DATA needs one value (ascii, binary or binary_compressed)");
     h.data_kind = std::string(tok[1]);
@@ -159,7 +175,8 @@ Header read_header(LineCursor& cur, const std::string& name) {
   std::vector<std::string_view> tok;
   while (true) {
     if (!cur.next(line)) fail_line(name, cur.line_no, "bad header: file ends before the DATA line");
-    if (line.find('\0') != std::string_view::npos) fail_line(name, cur.line_no, "bad header: binary bytes in a header line (not a PCD file?)");
+    if (line.find('\0') != std::string_view::npos)
+      fail_line(name, cur.line_no, "bad header: binary bytes in a header line (not a PCD file?)");
     std::string_view t = trim(line);
     if (t.empty() || t[0] == '#') continue;
     split_blanks(t, tok);
@@ -171,7 +188,8 @@ Header read_header(LineCursor& cur, const std::string& name) {
 void layout(Header& h, const std::string& name) {
   const std::size_t data_line = h.data_line;
   if (h.data_kind != "ascii" && h.data_kind != "binary" && h.data_kind != "binary_compressed")
-    fail_line(name, data_line, "unsupported format: DATA " + quote(h.data_kind) + " (expected ascii, binary or binary_compressed)");
+    fail_line(name, data_line,
+              "unsupported format: DATA " + quote(h.data_kind) + " (expected ascii, binary or binary_compressed)");
   if (h.fields.empty()) fail_line(name, data_line, "bad header: no FIELDS line");
   if (!h.have_size) fail_line(name, data_line, "bad header: no SIZE line");
   if (!h.have_type) fail_line(name, data_line, "bad header: no TYPE line");
@@ -181,12 +199,16 @@ void layout(Header& h, const std::string& name) {
   if (!mul_ok(h.width, h.height, wh)) fail_line(name, data_line, "wrong counts: WIDTH x HEIGHT overflows");
   if (!h.have_points) h.points = wh;
   else if (h.points != wh)
-    fail_line(name, h.points_line, "wrong counts: POINTS " + std::to_string(h.points) + " but WIDTH x HEIGHT = " + std::to_string(h.width) + " x " + std::to_string(h.height) + " = " + std::to_string(wh));
+    fail_line(name, h.points_line,
+              "wrong counts: POINTS " + std::to_string(h.points) + " but WIDTH x HEIGHT = " + std::to_string(h.width) +
+                  " x " + std::to_string(h.height) + " = " + std::to_string(wh));
 
   for (std::size_t i = 0; i < h.fields.size(); ++i) {
     Field& f = h.fields[i];
     if (!to_scalar(f.type, f.size, f.scalar))
-      fail_line(name, h.type_line > h.size_line ? h.type_line : h.size_line, "bad header: field " + quote(f.name) + " has TYPE " + std::string(1, f.type) + " with SIZE " + std::to_string(f.size));
+      fail_line(name, h.type_line > h.size_line ? h.type_line : h.size_line,
+                "bad header: field " + quote(f.name) + " has TYPE " + std::string(1, f.type) + " with SIZE " +
+                    std::to_string(f.size));
     f.offset = h.record;
     std::uint64_t bytes;
     if (!mul_ok(f.size, f.count, bytes) || !add_ok(h.record, bytes, h.record))
@@ -202,10 +224,12 @@ void layout(Header& h, const std::string& name) {
 void read_ascii(const Header& h, LineCursor& cur, std::size_t remaining, const std::string& name, Cloud& cloud) {
   std::uint64_t tokens_per_point = 0;
   for (auto& f : h.fields)
-    if (!add_ok(tokens_per_point, f.count, tokens_per_point)) fail_line(name, h.count_line, "bad header: COUNT total overflows");
+    if (!add_ok(tokens_per_point, f.count, tokens_per_point))
+      fail_line(name, h.count_line, "bad header: COUNT total overflows");
   // Each point takes at least 2 bytes per value: caps the reservation; a header that claims more
   // points than the file holds ends in the "truncated data" error below, nothing absurd is allocated.
-  cloud.xyz.reserve(3 * std::min<std::uint64_t>(h.points, remaining / (2 * std::min<std::uint64_t>(tokens_per_point, 1u << 30)) + 1));
+  cloud.xyz.reserve(
+      3 * std::min<std::uint64_t>(h.points, remaining / (2 * std::min<std::uint64_t>(tokens_per_point, 1u << 30)) + 1));
   // Token index of each axis in a line.
   std::uint64_t axis_tok[3] = {0, 0, 0};
   for (std::uint64_t i = 0, t = 0; i < h.fields.size(); t += h.fields[i].count, ++i)
@@ -217,23 +241,30 @@ void read_ascii(const Header& h, LineCursor& cur, std::size_t remaining, const s
   while (cur.next(line)) {
     split_blanks(line, tok);
     if (tok.empty()) continue;
-    if (n == h.points) fail_line(name, cur.line_no, "wrong counts: more data lines than the " + std::to_string(h.points) + " points declared");
+    if (n == h.points)
+      fail_line(name, cur.line_no,
+                "wrong counts: more data lines than the " + std::to_string(h.points) + " points declared");
     if (tok.size() != tokens_per_point)
-      fail_line(name, cur.line_no, "wrong number of values: " + std::to_string(tok.size()) + " (FIELDS/COUNT declare " + std::to_string(tokens_per_point) + ")");
+      fail_line(name, cur.line_no,
+                "wrong number of values: " + std::to_string(tok.size()) + " (FIELDS/COUNT declare " +
+                    std::to_string(tokens_per_point) + ")");
     double v[3] = {0, 0, 0};
     for (int k = 0; k < (h.has_z() ? 3 : 2); ++k) {
       std::string_view s = tok[axis_tok[k]];
       switch (parse_number(s, v[k])) {
-        case Num::Ok: case Num::NonFinite: break;  // NaN: a no-return pixel, kept and counted
+        case Num::Ok:
+        case Num::NonFinite: break;  // NaN: a no-return pixel, kept and counted
         case Num::Bad: fail_line(name, cur.line_no, std::string("bad number ") + quote(s) + " for " + axis_name(k));
-        case Num::Range: fail_line(name, cur.line_no, std::string("number out of range ") + quote(s) + " for " + axis_name(k));
+        case Num::Range:
+          fail_line(name, cur.line_no, std::string("number out of range ") + quote(s) + " for " + axis_name(k));
       }
     }
     cloud.xyz.insert(cloud.xyz.end(), v, v + 3);
     ++n;
   }
   if (n != h.points)
-    fail_line(name, cur.line_no, "truncated data: " + std::to_string(n) + " points found, header declares " + std::to_string(h.points));
+    fail_line(name, cur.line_no,
+              "truncated data: " + std::to_string(n) + " points found, header declares " + std::to_string(h.points));
 }
 
 // binary_compressed: two size words, then one LZF block of the fields one after the other (decompressed
@@ -245,24 +276,33 @@ void decompress_block(const Header& h, std::string_view data, std::size_t data_s
   const std::uint32_t csize = load<std::uint32_t>(data.data() + data_start);
   const std::uint32_t usize = load<std::uint32_t>(data.data() + data_start + 4);
   if (usize != data_bytes)
-    fail_byte(name, data_start + 4, "wrong counts: uncompressed size " + std::to_string(usize) + " but " + std::to_string(h.points) + " points of " + std::to_string(h.record) + " bytes need " + std::to_string(data_bytes));
+    fail_byte(name, data_start + 4,
+              "wrong counts: uncompressed size " + std::to_string(usize) + " but " + std::to_string(h.points) +
+                  " points of " + std::to_string(h.record) + " bytes need " + std::to_string(data_bytes));
   if (csize > remaining - 8)
-    fail_byte(name, data.size(), "truncated data: compressed block of " + std::to_string(csize) + " bytes from byte " + std::to_string(data_start + 8) + ", file has " + std::to_string(remaining - 8));
+    fail_byte(name, data.size(),
+              "truncated data: compressed block of " + std::to_string(csize) + " bytes from byte " +
+                  std::to_string(data_start + 8) + ", file has " + std::to_string(remaining - 8));
   // An LZF back reference emits at most 264 bytes from 3 input bytes: a larger ratio is a lie.
   if (static_cast<std::uint64_t>(usize) > static_cast<std::uint64_t>(csize) * 88 + 88)
-    fail_byte(name, data_start + 4, "wrong counts: uncompressed size " + std::to_string(usize) + " impossible from " + std::to_string(csize) + " compressed bytes");
+    fail_byte(name, data_start + 4,
+              "wrong counts: uncompressed size " + std::to_string(usize) + " impossible from " + std::to_string(csize) +
+                  " compressed bytes");
   if (remaining - 8 > csize) {
     // PCL may pad the file after the block; anything but zero padding means the sizes are wrong.
     std::string_view tail = data.substr(data_start + 8 + csize);
     if (tail.find_first_not_of('\0') != std::string_view::npos)
-      fail_byte(name, data_start + 8 + csize, "wrong counts: " + std::to_string(tail.size()) + " bytes of unexpected data after the compressed block");
+      fail_byte(
+          name, data_start + 8 + csize,
+          "wrong counts: " + std::to_string(tail.size()) + " bytes of unexpected data after the compressed block");
   }
   out.resize(usize);
   lzf_decompress(data.substr(data_start + 8, csize), out.data(), usize, name, data_start + 8);
 }
 
 // binary (records, array of structs) or binary_compressed (field blocks, struct of arrays).
-void read_binary(const Header& h, std::string_view data, std::size_t data_start, const std::string& name, Cloud& cloud) {
+void read_binary(const Header& h, std::string_view data, std::size_t data_start, const std::string& name,
+                 Cloud& cloud) {
   const std::size_t remaining = data.size() - data_start;
   const std::uint64_t points = h.points, record = h.record;
   std::uint64_t data_bytes;
@@ -273,9 +313,14 @@ void read_binary(const Header& h, std::string_view data, std::size_t data_start,
   const bool soa = h.data_kind != "binary";
   if (!soa) {
     if (data_bytes > remaining)
-      fail_byte(name, data.size(), "truncated data: " + std::to_string(points) + " points of " + std::to_string(record) + " bytes need " + std::to_string(data_bytes) + " bytes from byte " + std::to_string(data_start) + ", file has " + std::to_string(remaining));
+      fail_byte(name, data.size(),
+                "truncated data: " + std::to_string(points) + " points of " + std::to_string(record) + " bytes need " +
+                    std::to_string(data_bytes) + " bytes from byte " + std::to_string(data_start) + ", file has " +
+                    std::to_string(remaining));
     if (data_bytes < remaining)
-      fail_byte(name, data_start + data_bytes, "wrong counts: " + std::to_string(remaining - data_bytes) + " bytes of unexpected data after the " + std::to_string(points) + " points declared");
+      fail_byte(name, data_start + data_bytes,
+                "wrong counts: " + std::to_string(remaining - data_bytes) + " bytes of unexpected data after the " +
+                    std::to_string(points) + " points declared");
     base = data.data() + data_start;
   } else {
     decompress_block(h, data, data_start, data_bytes, name, decompressed);
@@ -301,7 +346,8 @@ Cloud parse_pcd(std::string_view data, const std::string& name) {
   cloud.has_z = h.has_z();
   cloud.format = "pcd " + h.data_kind;
   if (h.data_kind == "ascii") read_ascii(h, cur, data.size() - cur.pos, name, cloud);
-  else read_binary(h, data, cur.pos, name, cloud);
+  else
+    read_binary(h, data, cur.pos, name, cloud);
   return count_nonfinite(cloud);
 }
 

@@ -14,8 +14,8 @@ namespace {
 struct Property {
   std::string name;
   bool is_list = false;
-  Scalar type = Scalar::F32;        // scalar type, or the item type of a list
-  Scalar count_type = Scalar::U8;   // list length type
+  Scalar type = Scalar::F32;       // scalar type, or the item type of a list
+  Scalar count_type = Scalar::U8;  // list length type
 };
 
 struct Element {
@@ -27,10 +27,10 @@ struct Element {
 
 bool parse_type(std::string_view s, Scalar& t) {
   static const std::pair<std::string_view, Scalar> names[] = {
-      {"char", Scalar::I8},   {"int8", Scalar::I8},     {"uchar", Scalar::U8},    {"uint8", Scalar::U8},
-      {"short", Scalar::I16}, {"int16", Scalar::I16},   {"ushort", Scalar::U16},  {"uint16", Scalar::U16},
-      {"int", Scalar::I32},   {"int32", Scalar::I32},   {"uint", Scalar::U32},    {"uint32", Scalar::U32},
-      {"float", Scalar::F32}, {"float32", Scalar::F32}, {"double", Scalar::F64},  {"float64", Scalar::F64}};
+      {"char", Scalar::I8},   {"int8", Scalar::I8},     {"uchar", Scalar::U8},   {"uint8", Scalar::U8},
+      {"short", Scalar::I16}, {"int16", Scalar::I16},   {"ushort", Scalar::U16}, {"uint16", Scalar::U16},
+      {"int", Scalar::I32},   {"int32", Scalar::I32},   {"uint", Scalar::U32},   {"uint32", Scalar::U32},
+      {"float", Scalar::F32}, {"float32", Scalar::F32}, {"double", Scalar::F64}, {"float64", Scalar::F64}};
   for (auto& [n, v] : names)
     if (s == n) {
       t = v;
@@ -63,7 +63,8 @@ Property read_property(const std::vector<std::string_view>& tok, std::size_t lin
     if (!parse_type(tok[1], p.type)) fail_line(name, line_no, "bad header: unknown type " + quote(tok[1]));
     p.name = std::string(tok[2]);
   } else {
-    fail_line(name, line_no, "bad header: property line must be 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
+    fail_line(name, line_no,
+              "bad header: property line must be 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
   }
   return p;
 }
@@ -75,7 +76,8 @@ Header read_header(LineCursor& cur, const std::string& name) {
   std::vector<std::string_view> tok;
   while (true) {
     if (!cur.next(line)) fail_line(name, cur.line_no, "bad header: file ends before end_header");
-    if (line.find('\0') != std::string_view::npos) fail_line(name, cur.line_no, "bad header: binary bytes in a header line");
+    if (line.find('\0') != std::string_view::npos)
+      fail_line(name, cur.line_no, "bad header: binary bytes in a header line");
     split_blanks(line, tok);
     if (tok.empty()) continue;
     if (tok[0] == "end_header") break;
@@ -84,7 +86,8 @@ Header read_header(LineCursor& cur, const std::string& name) {
       if (tok.size() != 3) fail_line(name, cur.line_no, "bad header: format line needs a format and a version");
       h.format = std::string(tok[1]);
       if (h.format != "ascii" && h.format != "binary_little_endian")
-        fail_line(name, cur.line_no, "unsupported format " + quote(h.format) + " (ascii and binary_little_endian are read)");
+        fail_line(name, cur.line_no,
+                  "unsupported format " + quote(h.format) + " (ascii and binary_little_endian are read)");
     } else if (tok[0] == "element") {
       Element e;
       if (tok.size() != 3 || !parse_u64(tok[2], e.count))
@@ -114,25 +117,32 @@ void find_vertex(Header& h, const std::string& name) {
     for (std::size_t p = 0; p < el.props.size(); ++p)
       for (int k = 0; k < 3; ++k)
         if (el.props[p].name == axis_name(k)) {
-          if (h.axis_prop[k] >= 0) fail_line(name, el.header_line, std::string("bad header: vertex property ") + axis_name(k) + " given twice");
-          if (el.props[p].is_list) fail_line(name, el.header_line, std::string("bad header: vertex property ") + axis_name(k) + " is a list");
+          if (h.axis_prop[k] >= 0)
+            fail_line(name, el.header_line,
+                      std::string("bad header: vertex property ") + axis_name(k) + " given twice");
+          if (el.props[p].is_list)
+            fail_line(name, el.header_line, std::string("bad header: vertex property ") + axis_name(k) + " is a list");
           h.axis_prop[k] = static_cast<int>(p);
         }
   }
   if (h.vertex_elem < 0) fail_line(name, h.end_line, "bad header: no vertex element");
-  if (h.axis_prop[0] < 0 || h.axis_prop[1] < 0) fail_line(name, h.vertex().header_line, "bad header: vertex element has no x and y properties");
+  if (h.axis_prop[0] < 0 || h.axis_prop[1] < 0)
+    fail_line(name, h.vertex().header_line, "bad header: vertex element has no x and y properties");
   if (h.vertex().count == 0) fail_line(name, h.vertex().header_line, "no points in file (vertex count 0)");
 }
 
 // A binary element without lists: count fixed-size records from `pos` (advanced past them).
-void read_binary_records(const Header& h, std::size_t e, std::string_view data, std::size_t& pos, const std::string& name,
-                         Cloud& cloud) {
+void read_binary_records(const Header& h, std::size_t e, std::string_view data, std::size_t& pos,
+                         const std::string& name, Cloud& cloud) {
   const Element& el = h.elements[e];
   std::uint64_t rec = 0;
   for (auto& p : el.props) rec += scalar_size(p.type);
   std::uint64_t bytes;
   if (!mul_ok(rec, el.count, bytes) || bytes > data.size() - pos)
-    fail_byte(name, data.size(), "truncated data: element " + quote(el.name) + " needs " + std::to_string(el.count) + " x " + std::to_string(rec) + " bytes from byte " + std::to_string(pos) + ", file has " + std::to_string(data.size() - pos));
+    fail_byte(name, data.size(),
+              "truncated data: element " + quote(el.name) + " needs " + std::to_string(el.count) + " x " +
+                  std::to_string(rec) + " bytes from byte " + std::to_string(pos) + ", file has " +
+                  std::to_string(data.size() - pos));
   if (static_cast<int>(e) == h.vertex_elem) {
     std::uint64_t off[3] = {0, 0, 0};
     for (int k = 0; k < h.naxes(); ++k)
@@ -145,13 +155,15 @@ void read_binary_records(const Header& h, std::size_t e, std::string_view data, 
 }
 
 // A binary element with lists: instance by instance; each takes at least one byte (the list length).
-void read_binary_instances(const Header& h, std::size_t e, std::string_view data, std::size_t& pos, const std::string& name,
-                           Cloud& cloud) {
+void read_binary_instances(const Header& h, std::size_t e, std::string_view data, std::size_t& pos,
+                           const std::string& name, Cloud& cloud) {
   const Element& el = h.elements[e];
   for (std::uint64_t i = 0; i < el.count; ++i) {
     for (std::size_t p = 0; p < el.props.size(); ++p) {
       const Property& pr = el.props[p];
-      auto where = [&] { return "element " + quote(el.name) + " " + std::to_string(i) + ", property " + quote(pr.name); };
+      auto where = [&] {
+        return "element " + quote(el.name) + " " + std::to_string(i) + ", property " + quote(pr.name);
+      };
       if (!pr.is_list) {
         const std::size_t sz = scalar_size(pr.type);
         if (data.size() - pos < sz) fail_byte(name, pos, "truncated data in " + where());
@@ -169,18 +181,23 @@ void read_binary_instances(const Header& h, std::size_t e, std::string_view data
       pos += csz;
       std::uint64_t bytes;
       if (!mul_ok(n, scalar_size(pr.type), bytes) || bytes > data.size() - pos)
-        fail_byte(name, pos, "truncated data in " + where() + ": list of " + std::to_string(n) + " items runs past the end of the file");
+        fail_byte(
+            name, pos,
+            "truncated data in " + where() + ": list of " + std::to_string(n) + " items runs past the end of the file");
       pos += bytes;
     }
   }
 }
 
-void read_binary(const Header& h, std::string_view data, std::size_t data_start, const std::string& name, Cloud& cloud) {
+void read_binary(const Header& h, std::string_view data, std::size_t data_start, const std::string& name,
+                 Cloud& cloud) {
   const std::size_t remaining = data.size() - data_start;
   const std::uint64_t nvert = h.vertex().count;
   // Bounds the reservation: a vertex takes at least one byte per property.
   if (nvert > remaining / std::max<std::size_t>(1, h.vertex().props.size()))
-    fail_line(name, h.vertex().header_line, "wrong counts: " + std::to_string(nvert) + " vertices cannot fit in the " + std::to_string(remaining) + " bytes after the header");
+    fail_line(name, h.vertex().header_line,
+              "wrong counts: " + std::to_string(nvert) + " vertices cannot fit in the " + std::to_string(remaining) +
+                  " bytes after the header");
   cloud.xyz.resize(3 * nvert);
   std::size_t pos = data_start;
   for (std::size_t e = 0; e < h.elements.size(); ++e) {
@@ -192,7 +209,9 @@ void read_binary(const Header& h, std::string_view data, std::size_t data_start,
       read_binary_instances(h, e, data, pos, name, cloud);
   }
   if (pos != data.size())
-    fail_byte(name, pos, "wrong counts: " + std::to_string(data.size() - pos) + " bytes of unexpected data after the last element");
+    fail_byte(
+        name, pos,
+        "wrong counts: " + std::to_string(data.size() - pos) + " bytes of unexpected data after the last element");
 }
 
 // Instance i of element e on one ascii line (tokens `tok`), its x, y [, z] stored when it is a vertex.
@@ -203,13 +222,17 @@ void read_ascii_instance(const Header& h, std::size_t e, std::uint64_t i, const 
   for (std::size_t p = 0; p < el.props.size(); ++p) {
     const Property& pr = el.props[p];
     if (t >= tok.size())
-      fail_line(name, line_no, "wrong number of values: element " + quote(el.name) + " line ends before property " + quote(pr.name));
+      fail_line(name, line_no,
+                "wrong number of values: element " + quote(el.name) + " line ends before property " + quote(pr.name));
     if (pr.is_list) {
       std::uint64_t n;
-      if (!parse_u64(tok[t], n)) fail_line(name, line_no, "bad list length " + quote(tok[t]) + " for property " + quote(pr.name));
+      if (!parse_u64(tok[t], n))
+        fail_line(name, line_no, "bad list length " + quote(tok[t]) + " for property " + quote(pr.name));
       ++t;
       if (n > tok.size() - t)
-        fail_line(name, line_no, "wrong number of values: list " + quote(pr.name) + " declares " + std::to_string(n) + " items, line has " + std::to_string(tok.size() - t));
+        fail_line(name, line_no,
+                  "wrong number of values: list " + quote(pr.name) + " declares " + std::to_string(n) +
+                      " items, line has " + std::to_string(tok.size() - t));
       t += n;
       continue;
     }
@@ -218,23 +241,30 @@ void read_ascii_instance(const Header& h, std::size_t e, std::uint64_t i, const 
         if (h.axis_prop[k] == static_cast<int>(p)) {
           double v;
           switch (parse_number(tok[t], v)) {
-            case Num::Ok: case Num::NonFinite: break;  // a NaN/Inf vertex is kept and counted
-            case Num::Bad: fail_line(name, line_no, std::string("bad number ") + quote(tok[t]) + " for " + axis_name(k));
-            case Num::Range: fail_line(name, line_no, std::string("number out of range ") + quote(tok[t]) + " for " + axis_name(k));
+            case Num::Ok:
+            case Num::NonFinite: break;  // a NaN/Inf vertex is kept and counted
+            case Num::Bad:
+              fail_line(name, line_no, std::string("bad number ") + quote(tok[t]) + " for " + axis_name(k));
+            case Num::Range:
+              fail_line(name, line_no, std::string("number out of range ") + quote(tok[t]) + " for " + axis_name(k));
           }
           cloud.xyz[3 * i + k] = v;
         }
     ++t;
   }
   if (t != tok.size())
-    fail_line(name, line_no, "wrong number of values: " + std::to_string(tok.size()) + " on the line, element " + quote(el.name) + " has " + std::to_string(t));
+    fail_line(name, line_no,
+              "wrong number of values: " + std::to_string(tok.size()) + " on the line, element " + quote(el.name) +
+                  " has " + std::to_string(t));
 }
 
 // ascii: one element instance per (non-blank) line.
 void read_ascii(const Header& h, LineCursor& cur, std::size_t remaining, const std::string& name, Cloud& cloud) {
   const std::uint64_t nvert = h.vertex().count;
   if (nvert > remaining / 2 + 1)
-    fail_line(name, h.vertex().header_line, "wrong counts: " + std::to_string(nvert) + " vertices cannot fit in the " + std::to_string(remaining) + " bytes after the header");
+    fail_line(name, h.vertex().header_line,
+              "wrong counts: " + std::to_string(nvert) + " vertices cannot fit in the " + std::to_string(remaining) +
+                  " bytes after the header");
   cloud.xyz.resize(3 * nvert);
   std::string_view line;
   std::vector<std::string_view> tok;
@@ -244,7 +274,9 @@ void read_ascii(const Header& h, LineCursor& cur, std::size_t remaining, const s
     for (std::uint64_t i = 0; i < el.count; ++i) {
       do {
         if (!cur.next(line))
-          fail_line(name, cur.line_no, "truncated data: file ends at element " + quote(el.name) + " " + std::to_string(i) + " of " + std::to_string(el.count));
+          fail_line(name, cur.line_no,
+                    "truncated data: file ends at element " + quote(el.name) + " " + std::to_string(i) + " of " +
+                        std::to_string(el.count));
         split_blanks(line, tok);
       } while (tok.empty());
       read_ascii_instance(h, e, i, tok, cur.line_no, name, cloud);
@@ -266,7 +298,8 @@ Cloud parse_ply(std::string_view data, const std::string& name) {
   cloud.has_z = h.axis_prop[2] >= 0;
   cloud.format = "ply " + h.format;
   if (h.format == "binary_little_endian") read_binary(h, data, cur.pos, name, cloud);
-  else read_ascii(h, cur, data.size() - cur.pos, name, cloud);
+  else
+    read_ascii(h, cur, data.size() - cur.pos, name, cloud);
   return count_nonfinite(cloud);
 }
 

@@ -97,9 +97,12 @@ Cloud parse_text_cloud(std::string_view data, const std::string& name) {
     const int used = cloud.has_z ? 3 : 2;
     for (int k = 0; k < used; ++k) {
       switch (parse_number(fields[k], v[k])) {
-        case Num::Ok: case Num::NonFinite: break;  // a NaN/Inf point is kept and counted
-        case Num::Bad: fail_line(name, cur.line_no, std::string("bad number ") + quote(fields[k]) + " for " + axis_name(k));
-        case Num::Range: fail_line(name, cur.line_no, std::string("number out of range ") + quote(fields[k]) + " for " + axis_name(k));
+        case Num::Ok:
+        case Num::NonFinite: break;  // a NaN/Inf point is kept and counted
+        case Num::Bad:
+          fail_line(name, cur.line_no, std::string("bad number ") + quote(fields[k]) + " for " + axis_name(k));
+        case Num::Range:
+          fail_line(name, cur.line_no, std::string("number out of range ") + quote(fields[k]) + " for " + axis_name(k));
       }
     }
     cloud.xyz.insert(cloud.xyz.end(), v, v + 3);

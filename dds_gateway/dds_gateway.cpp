@@ -12,29 +12,31 @@ using runtime::Level;
 using runtime::logf;
 
 runtime::ProcessInfo process_info() {
-  return {"hg-dds-gateway",
-          "LCM <-> Cyclone DDS bridge for plant systems (MES, line control, dashboards).",
-          "LCM -> DDS: outline, part poses, grind paths, job status, robot status (at most\n"
-          "--robot-status-max-rate Hz), heartbeats as the per-process health topic. Outline, grind path,\n"
-          "job status and health are transient-local, keep-last-1 per key: a late joiner gets the current state.\n"
-          "DDS -> LCM: job requests, checked (ids, parameter ranges) first; a refused one gets a REFUSED job\n"
-          "status saying why, on LCM and DDS, and never reaches HG_JOB_REQUEST.\n"
-          "Cyclone is configured by --dds-config (default: $CYCLONEDDS_URI, else the shipped loopback-only\n"
-          "dds_gateway/config/cyclonedds-lo.xml). DDS Security is on when the six --dds-security-* files are\n"
-          "given (tools/make-dds-security.sh makes a test set); without them the gateway runs unauthenticated,\n"
-          "says so loudly and reports DEGRADED. See docs/dds_gateway.md.",
-          {
-              {"dds-domain", "0", "DDS domain id (0..230)", false, runtime::ParamType::Integer, 0, 230},
-              {"dds-topic-prefix", kDefaultTopicPrefix, "prefix of every DDS topic name"},
-              {"dds-config", "", "Cyclone configuration (CYCLONEDDS_URI syntax: file://PATH or XML)"},
-              {"robot-status-max-rate", "10", "robot status forwarded at most this often, Hz (0: all)", false, runtime::ParamType::Number, 0},
-              {"dds-security-identity-ca", "", "DDS Security: identity CA certificate (PEM)"},
-              {"dds-security-identity-cert", "", "DDS Security: this gateway's identity certificate (PEM)"},
-              {"dds-security-private-key", "", "DDS Security: the identity's private key (PEM)"},
-              {"dds-security-permissions-ca", "", "DDS Security: permissions CA certificate (PEM)"},
-              {"dds-security-governance", "", "DDS Security: governance document signed by the permissions CA"},
-              {"dds-security-permissions", "", "DDS Security: this gateway's permissions, signed by the permissions CA"},
-          }};
+  return {
+      "hg-dds-gateway",
+      "LCM <-> Cyclone DDS bridge for plant systems (MES, line control, dashboards).",
+      "LCM -> DDS: outline, part poses, grind paths, job status, robot status (at most\n"
+      "--robot-status-max-rate Hz), heartbeats as the per-process health topic. Outline, grind path,\n"
+      "job status and health are transient-local, keep-last-1 per key: a late joiner gets the current state.\n"
+      "DDS -> LCM: job requests, checked (ids, parameter ranges) first; a refused one gets a REFUSED job\n"
+      "status saying why, on LCM and DDS, and never reaches HG_JOB_REQUEST.\n"
+      "Cyclone is configured by --dds-config (default: $CYCLONEDDS_URI, else the shipped loopback-only\n"
+      "dds_gateway/config/cyclonedds-lo.xml). DDS Security is on when the six --dds-security-* files are\n"
+      "given (tools/make-dds-security.sh makes a test set); without them the gateway runs unauthenticated,\n"
+      "says so loudly and reports DEGRADED. See docs/dds_gateway.md.",
+      {
+          {"dds-domain", "0", "DDS domain id (0..230)", false, runtime::ParamType::Integer, 0, 230},
+          {"dds-topic-prefix", kDefaultTopicPrefix, "prefix of every DDS topic name"},
+          {"dds-config", "", "Cyclone configuration (CYCLONEDDS_URI syntax: file://PATH or XML)"},
+          {"robot-status-max-rate", "10", "robot status forwarded at most this often, Hz (0: all)", false,
+           runtime::ParamType::Number, 0},
+          {"dds-security-identity-ca", "", "DDS Security: identity CA certificate (PEM)"},
+          {"dds-security-identity-cert", "", "DDS Security: this gateway's identity certificate (PEM)"},
+          {"dds-security-private-key", "", "DDS Security: the identity's private key (PEM)"},
+          {"dds-security-permissions-ca", "", "DDS Security: permissions CA certificate (PEM)"},
+          {"dds-security-governance", "", "DDS Security: governance document signed by the permissions CA"},
+          {"dds-security-permissions", "", "DDS Security: this gateway's permissions, signed by the permissions CA"},
+      }};
 }
 
 Options options_from(const runtime::Node& node) {
@@ -50,8 +52,7 @@ Options options_from(const runtime::Node& node) {
     o.cyclone_config = (env && *env) ? env : "file://" + shipped_cyclone_config();
   }
   o.robot_status_max_rate = node.param_double("robot-status-max-rate");
-  if (!(o.robot_status_max_rate >= 0))
-    throw runtime::ConfigError("robot-status-max-rate must be >= 0 (0: no limit)");
+  if (!(o.robot_status_max_rate >= 0)) throw runtime::ConfigError("robot-status-max-rate must be >= 0 (0: no limit)");
   o.security.identity_ca = node.param("dds-security-identity-ca");
   o.security.identity_certificate = node.param("dds-security-identity-cert");
   o.security.private_key = node.param("dds-security-private-key");
@@ -84,7 +85,8 @@ Gateway::Gateway(runtime::Node& node, Options options)
   } else {
     logf(Level::Warn, "*****************************************************************************");
     logf(Level::Warn, "* NO DDS SECURITY: the DDS side runs UNAUTHENTICATED and UNENCRYPTED.        *");
-    logf(Level::Warn, "* Anyone on DDS domain %3d can read the cell's data and inject job requests. *", options_.domain);
+    logf(Level::Warn, "* Anyone on DDS domain %3d can read the cell's data and inject job requests. *",
+         options_.domain);
     logf(Level::Warn, "* Give the six --dds-security-* files (docs/dds_gateway.md) to secure it.    *");
     logf(Level::Warn, "*****************************************************************************");
     node_.set_state(hullgrind::heartbeat_t::STATE_DEGRADED,
@@ -98,33 +100,40 @@ Gateway::Gateway(runtime::Node& node, Options options)
   // it drops the newest, so even a state topic would end on a stale state. 10000: 10 s of that stream.
   node_.set_queue_capacity(10000);
 
-  node_.subscribe<hullgrind::outline_t>(channels::kOutline, [this](const hullgrind::outline_t& m, const runtime::Delivery&) {
-    OutlineSample s;
-    to_dds(m, s);
-    write(w_outline_, &s.s, "outline");
-  });
-  node_.subscribe<hullgrind::part_pose_t>(channels::kPartPose, [this](const hullgrind::part_pose_t& m, const runtime::Delivery&) {
-    hgdds_PartPose s = to_dds(m);
-    write(w_part_pose_, &s, "part pose");
-  });
-  node_.subscribe<hullgrind::grind_path_t>(channels::kGrindPath, [this](const hullgrind::grind_path_t& m, const runtime::Delivery&) {
-    GrindPathSample s;
-    to_dds(m, s);
-    write(w_grind_path_, &s.s, "grind path");
-  });
-  node_.subscribe<hullgrind::job_status_t>(channels::kJobStatus, [this](const hullgrind::job_status_t& m, const runtime::Delivery&) {
-    // The gateway's own refusals went to DDS directly (handle_job_request); do not send them twice.
-    if (m.source == node_.name()) return;
-    hgdds_JobStatus s = to_dds(m);
-    write(w_job_status_, &s, "job status");
-  });
-  node_.subscribe<hullgrind::robot_status_t>(channels::kRobotStatus,
-                                             [this](const hullgrind::robot_status_t& m, const runtime::Delivery&) { on_robot_status(m); });
-  node_.subscribe<hullgrind::heartbeat_t>(channels::kHeartbeat, [this](const hullgrind::heartbeat_t& m, const runtime::Delivery&) {
-    hgdds_Health s = to_dds(m);
-    if (m.process == node_.name() && m.pid == ::getpid()) s.thinned = thinned_;
-    write(w_health_, &s, "health");
-  });
+  node_.subscribe<hullgrind::outline_t>(channels::kOutline,
+                                        [this](const hullgrind::outline_t& m, const runtime::Delivery&) {
+                                          OutlineSample s;
+                                          to_dds(m, s);
+                                          write(w_outline_, &s.s, "outline");
+                                        });
+  node_.subscribe<hullgrind::part_pose_t>(channels::kPartPose,
+                                          [this](const hullgrind::part_pose_t& m, const runtime::Delivery&) {
+                                            hgdds_PartPose s = to_dds(m);
+                                            write(w_part_pose_, &s, "part pose");
+                                          });
+  node_.subscribe<hullgrind::grind_path_t>(channels::kGrindPath,
+                                           [this](const hullgrind::grind_path_t& m, const runtime::Delivery&) {
+                                             GrindPathSample s;
+                                             to_dds(m, s);
+                                             write(w_grind_path_, &s.s, "grind path");
+                                           });
+  node_.subscribe<hullgrind::job_status_t>(channels::kJobStatus,
+                                           [this](const hullgrind::job_status_t& m, const runtime::Delivery&) {
+                                             // The gateway's own refusals went to DDS directly (handle_job_request); do
+                                             // not send them twice.
+                                             if (m.source == node_.name()) return;
+                                             hgdds_JobStatus s = to_dds(m);
+                                             write(w_job_status_, &s, "job status");
+                                           });
+  node_.subscribe<hullgrind::robot_status_t>(
+      channels::kRobotStatus,
+      [this](const hullgrind::robot_status_t& m, const runtime::Delivery&) { on_robot_status(m); });
+  node_.subscribe<hullgrind::heartbeat_t>(channels::kHeartbeat,
+                                          [this](const hullgrind::heartbeat_t& m, const runtime::Delivery&) {
+                                            hgdds_Health s = to_dds(m);
+                                            if (m.process == node_.name() && m.pid == ::getpid()) s.thinned = thinned_;
+                                            write(w_health_, &s, "health");
+                                          });
   // Job requests and the rate-limited robot status are served from the LCM loop, so every LCM publish
   // happens on one thread; 5 ms keeps a request's delay far below anything a plant system would notice.
   node_.every(std::chrono::milliseconds(5), [this] {

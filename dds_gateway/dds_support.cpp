@@ -17,8 +17,8 @@ bool SecurityFiles::any() const {
 
 std::string SecurityFiles::problem() const {
   const std::pair<const char*, const std::string*> files[] = {
-      {"identity CA", &identity_ca},       {"identity certificate", &identity_certificate},
-      {"private key", &private_key},       {"permissions CA", &permissions_ca},
+      {"identity CA", &identity_ca},        {"identity certificate", &identity_certificate},
+      {"private key", &private_key},        {"permissions CA", &permissions_ca},
       {"governance document", &governance}, {"permissions document", &permissions}};
   for (const auto& [what, path] : files) {
     if (path->empty()) return std::string("DDS Security needs all six files; the ") + what + " is not given";

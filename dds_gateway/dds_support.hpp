@@ -19,13 +19,13 @@ struct DdsError : std::runtime_error {
 
 // Topic names are prefix + these suffixes ("hg_" + "outline" = "hg_outline").
 namespace topic {
-inline constexpr const char* kOutline = "outline";          // hgdds::Outline      state
-inline constexpr const char* kPartPose = "part_pose";       // hgdds::PartPose     stream
-inline constexpr const char* kGrindPath = "grind_path";     // hgdds::GrindPath    state, key job_id
-inline constexpr const char* kJobStatus = "job_status";     // hgdds::JobStatus    state, key job_id
-inline constexpr const char* kRobotStatus = "robot_status"; // hgdds::RobotStatus  stream (rate-limited)
-inline constexpr const char* kHealth = "health";            // hgdds::Health       state, key process
-inline constexpr const char* kJobRequest = "job_request";   // hgdds::JobRequest   plant -> cell, key job_id
+inline constexpr const char* kOutline = "outline";           // hgdds::Outline      state
+inline constexpr const char* kPartPose = "part_pose";        // hgdds::PartPose     stream
+inline constexpr const char* kGrindPath = "grind_path";      // hgdds::GrindPath    state, key job_id
+inline constexpr const char* kJobStatus = "job_status";      // hgdds::JobStatus    state, key job_id
+inline constexpr const char* kRobotStatus = "robot_status";  // hgdds::RobotStatus  stream (rate-limited)
+inline constexpr const char* kHealth = "health";             // hgdds::Health       state, key process
+inline constexpr const char* kJobRequest = "job_request";    // hgdds::JobRequest   plant -> cell, key job_id
 }  // namespace topic
 
 inline constexpr const char* kDefaultTopicPrefix = "hg_";
@@ -64,7 +64,11 @@ class Entity {
   ~Entity() { reset(); }
   Entity(Entity&& o) noexcept : e_(o.e_) { o.e_ = 0; }
   Entity& operator=(Entity&& o) noexcept {
-    if (this != &o) { reset(); e_ = o.e_; o.e_ = 0; }
+    if (this != &o) {
+      reset();
+      e_ = o.e_;
+      o.e_ = 0;
+    }
     return *this;
   }
   dds_entity_t get() const { return e_; }

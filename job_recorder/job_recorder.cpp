@@ -26,23 +26,23 @@ std::shared_ptr<Recorder> attach(runtime::Node& node) {
   auto health = [rec, &node] {
     const RecorderStats& s = rec->stats();
     if (s.write_errors > 0)
-      node.set_state(hullgrind::heartbeat_t::STATE_DEGRADED, std::to_string(s.write_errors) + " writes failed in " +
-                                                                  rec->root().string());
+      node.set_state(hullgrind::heartbeat_t::STATE_DEGRADED,
+                     std::to_string(s.write_errors) + " writes failed in " + rec->root().string());
     else
       node.set_state(hullgrind::heartbeat_t::STATE_OK);
   };
-  node.subscribe<hullgrind::job_request_t>(channels::kJobRequest, [rec](const hullgrind::job_request_t& m, const runtime::Delivery& d) {
-    rec->on_request(m, d.recv_utime);
-  });
-  node.subscribe<hullgrind::job_status_t>(channels::kJobStatus, [rec](const hullgrind::job_status_t& m, const runtime::Delivery& d) {
-    rec->on_status(m, d.recv_utime);
-  });
-  node.subscribe<hullgrind::outline_t>(channels::kOutline, [rec](const hullgrind::outline_t& m, const runtime::Delivery& d) {
-    rec->on_outline(m, d.recv_utime);
-  });
-  node.subscribe<hullgrind::grind_path_t>(channels::kGrindPath, [rec](const hullgrind::grind_path_t& m, const runtime::Delivery& d) {
-    rec->on_path(m, d.recv_utime);
-  });
+  node.subscribe<hullgrind::job_request_t>(
+      channels::kJobRequest,
+      [rec](const hullgrind::job_request_t& m, const runtime::Delivery& d) { rec->on_request(m, d.recv_utime); });
+  node.subscribe<hullgrind::job_status_t>(
+      channels::kJobStatus,
+      [rec](const hullgrind::job_status_t& m, const runtime::Delivery& d) { rec->on_status(m, d.recv_utime); });
+  node.subscribe<hullgrind::outline_t>(
+      channels::kOutline,
+      [rec](const hullgrind::outline_t& m, const runtime::Delivery& d) { rec->on_outline(m, d.recv_utime); });
+  node.subscribe<hullgrind::grind_path_t>(
+      channels::kGrindPath,
+      [rec](const hullgrind::grind_path_t& m, const runtime::Delivery& d) { rec->on_path(m, d.recv_utime); });
   node.every(std::chrono::milliseconds(1000), health);
   health();
   // Destroyed after the loop (runtime::run_process): open jobs end interrupted, with their last known state.

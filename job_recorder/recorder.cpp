@@ -63,7 +63,7 @@ std::string job_dir_name(const std::string& job_id) {
   }
   if (name.size() > kMaxName) {
     std::size_t keep = kKeptPrefix;
-    while (keep > 0 && name[keep - 1] == '%') --keep;             // never cut an escape in two
+    while (keep > 0 && name[keep - 1] == '%') --keep;  // never cut an escape in two
     if (keep >= 2 && name[keep - 2] == '%') keep -= 2;
     char buf[24];
     std::snprintf(buf, sizeof buf, "~%016llx", static_cast<unsigned long long>(fnv1a(job_id)));
@@ -83,9 +83,15 @@ std::string iso_time(std::int64_t utime) {
 }
 
 json request_json(const hullgrind::job_request_t& r) {
-  return {{"action", runtime::job_action_name(r.action)}, {"job_id", r.job_id}, {"part_id", r.part_id},
-          {"tool_radius", r.tool_radius}, {"chamfer_angle", r.chamfer_angle}, {"grind_speed", r.grind_speed},
-          {"travel_speed", r.travel_speed}, {"step", r.step}, {"safe_height", r.safe_height},
+  return {{"action", runtime::job_action_name(r.action)},
+          {"job_id", r.job_id},
+          {"part_id", r.part_id},
+          {"tool_radius", r.tool_radius},
+          {"chamfer_angle", r.chamfer_angle},
+          {"grind_speed", r.grind_speed},
+          {"travel_speed", r.travel_speed},
+          {"step", r.step},
+          {"safe_height", r.safe_height},
           {"direction", r.direction == hullgrind::job_request_t::DIRECTION_CONVENTIONAL ? "conventional" : "climb"},
           {"flipped", r.flipped}};
 }
@@ -109,7 +115,8 @@ void Recorder::load_open_records(std::int64_t now_utime) {
     if (rec.value("final", false) || rec.contains("interrupted")) continue;
     const std::string id = rec["job_id"];
     records_[id] = std::move(rec);
-    mark_interrupted(records_[id], "hg-job-recorder was not running when the job ended (or it has not ended)", now_utime);
+    mark_interrupted(records_[id], "hg-job-recorder was not running when the job ended (or it has not ended)",
+                     now_utime);
   }
 }
 
@@ -134,8 +141,13 @@ json* Recorder::record(const std::string& job_id, std::int64_t utime) {
   if (records_.size() >= kRecordsInMemory)
     std::erase_if(records_, [](const auto& kv) { return kv.second.value("final", false); });
   ++stats_.records;
-  return &(records_[job_id] = json{{"job_id", job_id}, {"part_id", ""}, {"created", iso_time(utime)},
-                                   {"created_utime", utime}, {"state", "NONE"}, {"final", false}, {"requests", 0}});
+  return &(records_[job_id] = json{{"job_id", job_id},
+                                   {"part_id", ""},
+                                   {"created", iso_time(utime)},
+                                   {"created_utime", utime},
+                                   {"state", "NONE"},
+                                   {"final", false},
+                                   {"requests", 0}});
 }
 
 void Recorder::write_file(const fs::path& path, const std::string& text) {
@@ -158,7 +170,9 @@ void Recorder::write_file(const fs::path& path, const std::string& text) {
   }
 }
 
-void Recorder::save(const std::string& job_id) { write_file(dir_of(job_id) / "job.json", records_[job_id].dump(1) + "\n"); }
+void Recorder::save(const std::string& job_id) {
+  write_file(dir_of(job_id) / "job.json", records_[job_id].dump(1) + "\n");
+}
 
 void Recorder::append_event(const std::string& job_id, const json& event) {
   std::ofstream out(dir_of(job_id) / "events.jsonl", std::ios::app);
@@ -168,8 +182,11 @@ void Recorder::append_event(const std::string& job_id, const json& event) {
 }
 
 void Recorder::mark_interrupted(json& rec, const std::string& why, std::int64_t utime) {
-  rec["interrupted"] = {{"at", iso_time(utime)}, {"at_utime", utime}, {"why", why},
-                        {"last_state", rec.value("state", "NONE")}, {"last_update", rec.value("updated", "")}};
+  rec["interrupted"] = {{"at", iso_time(utime)},
+                        {"at_utime", utime},
+                        {"why", why},
+                        {"last_state", rec.value("state", "NONE")},
+                        {"last_update", rec.value("updated", "")}};
   const std::string id = rec["job_id"];
   append_event(id, {{"time", iso_time(utime)}, {"utime", utime}, {"event", "interrupted"}, {"why", why}});
   save(id);
@@ -194,8 +211,13 @@ void Recorder::on_status(const hullgrind::job_status_t& s, std::int64_t utime) {
   json* rec = record(s.job_id, utime);
   if (!rec) return;
   const std::string state = runtime::job_state_name(s.state);
-  append_event(s.job_id, {{"time", iso_time(utime)}, {"utime", utime}, {"event", "status"}, {"source", s.source},
-                          {"state", state}, {"progress", s.progress}, {"message", s.message}});
+  append_event(s.job_id, {{"time", iso_time(utime)},
+                          {"utime", utime},
+                          {"event", "status"},
+                          {"source", s.source},
+                          {"state", state},
+                          {"progress", s.progress},
+                          {"message", s.message}});
   if ((*rec)["part_id"] == "" && !s.part_id.empty()) (*rec)["part_id"] = s.part_id;
   if (rec->value("final", false)) return save(s.job_id);  // the first end stands; later words are events
   // A status after an interruption: the job went on (the recorder was the one that died).
@@ -229,18 +251,25 @@ void Recorder::on_path(const hullgrind::grind_path_t& p, std::int64_t utime) {
   if (!rec) return;
   const fs::path dir = dir_of(p.job_id);
   const bool first = !rec->contains("path");
-  append_event(p.job_id, {{"time", iso_time(utime)}, {"utime", utime}, {"event", "path"}, {"waypoints", p.n},
-                          {"outline_seq", p.outline_seq}, {"kept", first}});
-  if (!first) return save(p.job_id);  // a job has one path: the first
+  append_event(p.job_id, {{"time", iso_time(utime)},
+                          {"utime", utime},
+                          {"event", "path"},
+                          {"waypoints", p.n},
+                          {"outline_seq", p.outline_seq},
+                          {"kept", first}});
+  if (!first) return save(p.job_id);                     // a job has one path: the first
   write_file(dir / "path.json", path_file::to_text(p));  // the one path file writer
-  (*rec)["path"] = {{"file", "path.json"}, {"waypoints", p.n}, {"outline_seq", p.outline_seq},
+  (*rec)["path"] = {{"file", "path.json"},          {"waypoints", p.n}, {"outline_seq", p.outline_seq},
                     {"tool_radius", p.tool_radius}, {"frame", p.frame}, {"time", iso_time(utime)}};
   for (auto it = outlines_.rbegin(); it != outlines_.rend(); ++it) {
     if (it->header.seq != p.outline_seq) continue;
     write_file(dir / "outline.json", outline::io::outline_message_json(*it, nullptr).dump(1) + "\n");
     int holes = 0;
     for (const auto& l : it->loops) holes += l.hole;
-    (*rec)["outline"] = {{"file", "outline.json"}, {"seq", it->header.seq}, {"loops", it->num_loops}, {"holes", holes},
+    (*rec)["outline"] = {{"file", "outline.json"},
+                         {"seq", it->header.seq},
+                         {"loops", it->num_loops},
+                         {"holes", holes},
                          {"time", iso_time(it->header.utime)}};
     break;
   }
@@ -252,7 +281,8 @@ void Recorder::on_path(const hullgrind::grind_path_t& p, std::int64_t utime) {
 void Recorder::stop(std::int64_t utime) {
   for (auto& [id, rec] : records_)
     if (!rec.value("final", false) && !rec.contains("interrupted"))
-      mark_interrupted(rec, "hg-job-recorder stopped while the job was " + rec.value("state", std::string("NONE")), utime);
+      mark_interrupted(rec, "hg-job-recorder stopped while the job was " + rec.value("state", std::string("NONE")),
+                       utime);
 }
 
 }  // namespace hg::job_recorder

@@ -36,10 +36,10 @@ std::string job_dir_name(const std::string& job_id);
 std::string iso_time(std::int64_t utime);
 
 struct RecorderStats {
-  std::int64_t records = 0;        // jobs recorded (folders made) by this recorder
-  std::int64_t write_errors = 0;   // files that could not be written
-  std::int64_t bad_records = 0;    // unreadable job.json files found at start (skipped, left as they are)
-  std::int64_t rejected_ids = 0;   // messages with an empty job id
+  std::int64_t records = 0;       // jobs recorded (folders made) by this recorder
+  std::int64_t write_errors = 0;  // files that could not be written
+  std::int64_t bad_records = 0;   // unreadable job.json files found at start (skipped, left as they are)
+  std::int64_t rejected_ids = 0;  // messages with an empty job id
 };
 
 class Recorder {

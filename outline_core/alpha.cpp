@@ -49,7 +49,6 @@ float radix_median(std::size_t count, Key key) {
   return f;
 }
 
-
 // Median of a small buffer (the upper middle for an even count, as radix_median).
 float small_median(std::vector<float>& v) {
   if (v.empty()) return std::numeric_limits<float>::infinity();
@@ -98,7 +97,7 @@ class AreaMedian {
   std::size_t used_ = 0;
 };
 
-constexpr std::uint8_t kGhostClass = 0;    // rclass of a ghost triangle slot
+constexpr std::uint8_t kGhostClass = 0;  // rclass of a ghost triangle slot
 constexpr std::uint8_t kUndecided = 255;
 
 // Class of q = r^2 / scale2 > 0 from its bits: 16 per octave (exponent and top 4 mantissa bits), 1 at
@@ -117,7 +116,9 @@ struct TriangleMeasure {
 };
 
 // Twice the signed area with `c` as the pivot, as orient2d computes it.
-inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) { return (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x); }
+inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x);
+}
 
 // Area and circumradius class of a finite counter-clockwise triangle. The area is the middle of the
 // three pivots' values, a function of the vertex set (the same for every insertion order, whatever
@@ -130,7 +131,8 @@ inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) { return (
   TriangleMeasure m{std::fabs(mid) / 2, kUndecided};
   const double abx = a.x - b.x, aby = a.y - b.y, bcx = b.x - c.x, bcy = b.y - c.y, cax = c.x - a.x, cay = c.y - a.y;
   const double N = (abx * abx + aby * aby) * (bcx * bcx + bcy * bcy) * (cax * cax + cay * cay);
-  const double errD = pred::kOrientBound * (std::fabs((a.x - c.x) * (b.y - c.y)) + std::fabs((a.y - c.y) * (b.x - c.x)));
+  const double errD =
+      pred::kOrientBound * (std::fabs((a.x - c.x) * (b.y - c.y)) + std::fabs((a.y - c.y) * (b.x - c.x)));
   const double den = 4 * (dc * dc) * scale2;
   if (std::fabs(dc) > 1e6 * errD && std::isnormal(N) && std::isnormal(den)) {
     const double q = N / den;
@@ -159,7 +161,8 @@ double median_triangle_spacing(const Triangulation& T) { return scan_triangles(T
 TriangleScan scan_triangles(const Triangulation& T) {
   TriangleScan scan;
   // The box of the inserted vertices is that of all (a merged duplicate has its representative's coordinates).
-  scan.scale2 = (T.xy_max.x - T.xy_min.x) * (T.xy_max.y - T.xy_min.y) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
+  scan.scale2 =
+      (T.xy_max.x - T.xy_min.x) * (T.xy_max.y - T.xy_min.y) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
   if (!std::isnormal(scan.scale2)) scan.scale2 = 0;  // no classes: every decision exact
   const std::size_t slots = T.slots();
   scan.rclass.assign(slots, kGhostClass);
@@ -303,8 +306,8 @@ std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool 
   });
 }
 
-std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing,
-                                               double k, bool outer_only) {
+std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing, double k,
+                                               bool outer_only) {
   return classify_with(T, outer_only, [&](std::size_t t) {
     if (T.is_ghost(t)) return Triangle::Ghost;
     const double R = local_radius(vertex_spacing, k, T.tri[3 * t], T.tri[3 * t + 1], T.tri[3 * t + 2]);

@@ -71,8 +71,8 @@ std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool 
 std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool outer_only, const TriangleScan& scan);
 // The same with a radius per triangle: R_t = k x (middle of the three vertex spacings), a symmetric
 // function of the triangle's vertex set, compared exactly with the circumradius as above.
-std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing,
-                                               double k, bool outer_only);
+std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span<const float> vertex_spacing, double k,
+                                               bool outer_only);
 // R_t of classify_alpha_local for the vertices u, v, w.
 double local_radius(std::span<const float> vertex_spacing, double k, std::uint32_t u, std::uint32_t v, std::uint32_t w);
 
@@ -80,8 +80,9 @@ double local_radius(std::span<const float> vertex_spacing, double k, std::uint32
 // loops. At a pinch vertex the outgoing edge paired with an incoming one is the next free edge of the
 // same fan of inside triangles; a closed chain that still visits a vertex twice is split there, so every
 // loop is a simple polygon with >= 3 vertices. `input` (the points as given) may be empty when the
-// triangulation came from triangulate_releasing and released them: coordinates are then xy + origin. Outer loops (counter-clockwise) first, then holes
-// (clockwise), each group by decreasing area; each loop starts at its smallest point index.
+// triangulation came from triangulate_releasing and released them: coordinates are then xy + origin. Outer loops
+// (counter-clockwise) first, then holes (clockwise), each group by decreasing area; each loop starts at its smallest
+// point index.
 std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::uint8_t>& inside,
                                 std::span<const Vec2> input);
 

@@ -24,8 +24,7 @@ std::string fmt(double v) {
 
 class Builder {
  public:
-  Builder(Triangulation& T, Mode mode)
-      : T_(T), mode_(mode), xy_(T.xy.data()), ghost_(T.ghost) {}
+  Builder(Triangulation& T, Mode mode) : T_(T), mode_(mode), xy_(T.xy.data()), ghost_(T.ghost) {}
 
   void run(std::size_t n);  // inserts vertices 0 .. n-1 in this order
 
@@ -94,7 +93,8 @@ class Builder {
     const std::uint32_t t = g / 3, i = g - 3 * t;
     const std::uint32_t b = tri[g], a = tri[3 * t + (i == 2 ? 0 : i + 1)], c = tri[3 * t + (i == 0 ? 2 : i - 1)];
     if (c == ghost_ || a == ghost_ || b == ghost_) [[unlikely]] {
-      const std::uint32_t u = c == ghost_ ? b : (a == ghost_ ? c : a), v = c == ghost_ ? a : (a == ghost_ ? b : c);  // finite edge u -> v
+      const std::uint32_t u = c == ghost_ ? b : (a == ghost_ ? c : a),
+                          v = c == ghost_ ? a : (a == ghost_ ? b : c);  // finite edge u -> v
       ++orients;
       const double o = pred::orient2d(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
       return o > 0 || (o == 0 && strictly_between(u, v, p));
@@ -250,7 +250,8 @@ void Builder::insert(std::uint32_t v) {
   } else {
     t0 = walk(mode_ == Mode::DS ? ds_tri_ : last_, p);
   }
-  if (dup_ == kNone && t0 == kNone) throw OutlineError("internal error: no triangle in conflict with point " + std::to_string(v));
+  if (dup_ == kNone && t0 == kNone)
+    throw OutlineError("internal error: no triangle in conflict with point " + std::to_string(v));
   if (dup_ != kNone) {
     T_.vrep[v] = dup_;
     ++T_.duplicates;
@@ -313,12 +314,16 @@ void Builder::run(std::size_t n) {
   std::size_t k2 = k1 + 1;
   if (k1 < n) {
     const std::uint32_t p1 = order(k1);
-    while (k2 < n && pred::orient2d(xy_[p0].x, xy_[p0].y, xy_[p1].x, xy_[p1].y, xy_[order(k2)].x, xy_[order(k2)].y) == 0) ++k2;
+    while (k2 < n &&
+           pred::orient2d(xy_[p0].x, xy_[p0].y, xy_[p1].x, xy_[p1].y, xy_[order(k2)].x, xy_[order(k2)].y) == 0)
+      ++k2;
   }
   if (k1 >= n || k2 >= n) {
     std::vector<Vec2> distinct(xy_, xy_ + n);
-    std::sort(distinct.begin(), distinct.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-    const auto e = std::unique(distinct.begin(), distinct.end(), [](const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; });
+    std::sort(distinct.begin(), distinct.end(),
+              [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    const auto e = std::unique(distinct.begin(), distinct.end(),
+                               [](const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; });
     const std::size_t count = static_cast<std::size_t>(e - distinct.begin());
     if (count < 3) throw OutlineError("need at least 3 distinct points, got " + std::to_string(count));
     throw OutlineError("all " + std::to_string(count) + " distinct points are collinear");
@@ -417,15 +422,19 @@ void check_range(std::span<const Vec2> points, const InputSummary& s) {
     Vec2 c{s.sx / static_cast<double>(s.finite), s.sy / static_cast<double>(s.finite)};
     if (!std::isfinite(c.x) || !std::isfinite(c.y)) c = {b.minx / 2 + b.maxx / 2, b.miny / 2 + b.maxy / 2};
     auto dist = [&](std::uint32_t i) { return std::max(std::fabs(points[i].x - c.x), std::fabs(points[i].y - c.y)); };
-    const std::uint32_t extreme = *std::max_element(finite.begin(), finite.end(), [&](std::uint32_t i, std::uint32_t j) { return dist(i) < dist(j); });
-    throw OutlineError("point " + std::to_string(extreme) + " (x=" + fmt(points[extreme].x) + ", y=" + fmt(points[extreme].y) +
+    const std::uint32_t extreme = *std::max_element(
+        finite.begin(), finite.end(), [&](std::uint32_t i, std::uint32_t j) { return dist(i) < dist(j); });
+    throw OutlineError("point " + std::to_string(extreme) + " (x=" + fmt(points[extreme].x) +
+                       ", y=" + fmt(points[extreme].y) +
                        ") is too far from the others: the cloud must span less than 1e60 for exact predicates");
   }
   if (!s.tiny) return;  // every finite coordinate is 0 or at least 2^-118: within the resolution
   for (std::size_t i = 0; i < points.size(); ++i)
-    if (is_finite(points[i]) && (!pred::within_exact_resolution(points[i].x) || !pred::within_exact_resolution(points[i].y)))
-      throw OutlineError("point " + std::to_string(i) + " (x=" + fmt(points[i].x) + ", y=" + fmt(points[i].y) +
-                         ") has a coordinate too finely resolved for exact predicates (a set bit below 2^-170, about 7e-52)");
+    if (is_finite(points[i]) &&
+        (!pred::within_exact_resolution(points[i].x) || !pred::within_exact_resolution(points[i].y)))
+      throw OutlineError(
+          "point " + std::to_string(i) + " (x=" + fmt(points[i].x) + ", y=" + fmt(points[i].y) +
+          ") has a coordinate too finely resolved for exact predicates (a set bit below 2^-170, about 7e-52)");
 }
 
 // The candidate translation: the centroid rounded to a multiple of a power of two about 2^-20 of the
@@ -439,7 +448,8 @@ Vec2 rounded_centroid(const InputSummary& s) {
   const Box& b = s.box;
   const double n = static_cast<double>(s.finite);
   Vec2 o{s.sx / n, s.sy / n};
-  if (!std::isfinite(o.x) || !std::isfinite(o.y)) o = {b.minx / 2 + b.maxx / 2, b.miny / 2 + b.maxy / 2};  // the sum overflowed
+  if (!std::isfinite(o.x) || !std::isfinite(o.y))
+    o = {b.minx / 2 + b.maxx / 2, b.miny / 2 + b.maxy / 2};  // the sum overflowed
   const double extent = std::max(b.maxx - b.minx, b.maxy - b.miny);
   if (!(std::isfinite(extent) && extent > 0)) return {0, 0};
   const double unit = std::ldexp(1.0, std::ilogb(extent) - 20);

@@ -41,11 +41,11 @@ struct DelaunayStats {
 };
 
 struct Triangulation {
-  Vec2 origin;                    // the translation: xy[v] = input[ids[v]] - origin, exactly (often 0)
-  std::vector<Vec2> xy;           // translated coordinates, by vertex id (insertion order), finite points only
-  Vec2 xy_min, xy_max;            // bounding box of xy
-  std::vector<std::uint32_t> ids; // vertex id -> index in the input as given
-  std::uint32_t ghost = 0;        // the vertex at infinity (= xy.size())
+  Vec2 origin;                     // the translation: xy[v] = input[ids[v]] - origin, exactly (often 0)
+  std::vector<Vec2> xy;            // translated coordinates, by vertex id (insertion order), finite points only
+  Vec2 xy_min, xy_max;             // bounding box of xy
+  std::vector<std::uint32_t> ids;  // vertex id -> index in the input as given
+  std::uint32_t ghost = 0;         // the vertex at infinity (= xy.size())
   // Triangle t has vertices tri[3t], tri[3t+1], tri[3t+2], counter-clockwise for finite triangles.
   // Half-edge h = 3t+i runs from tri[h] to tri[next(h)]; twin[h] is the same edge in the neighbour.
   std::vector<std::uint32_t> tri;

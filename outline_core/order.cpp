@@ -88,7 +88,11 @@ std::uint8_t brio_round(Vec2 p, int rounds) {
   std::memcpy(&bx, &x, 8);
   std::memcpy(&by, &y, 8);
   std::uint64_t h = bx * 0x9e3779b97f4a7c15ull ^ (by + 0x632be59bd9b4e019ull + (bx << 6) + (bx >> 2));
-  h ^= h >> 31; h *= 0xbf58476d1ce4e5b9ull; h ^= h >> 27; h *= 0x94d049bb133111ebull; h ^= h >> 31;
+  h ^= h >> 31;
+  h *= 0xbf58476d1ce4e5b9ull;
+  h ^= h >> 27;
+  h *= 0x94d049bb133111ebull;
+  h ^= h >> 31;
   const int level = (h == 0 ? 64 : __builtin_ctzll(h)) / 4;  // P(level >= k) = 16^-k
   return static_cast<std::uint8_t>(rounds - std::min(rounds, level));
 }
@@ -150,23 +154,33 @@ std::vector<std::uint32_t> order_positions(std::size_t n, At at, const Box& box,
 Box bounding_box(std::span<const Vec2> points) {
   Box b{points[0].x, points[0].x, points[0].y, points[0].y};
   for (const Vec2& p : points)
-    b.minx = std::min(b.minx, p.x), b.maxx = std::max(b.maxx, p.x), b.miny = std::min(b.miny, p.y), b.maxy = std::max(b.maxy, p.y);
+    b.minx = std::min(b.minx, p.x), b.maxx = std::max(b.maxx, p.x), b.miny = std::min(b.miny, p.y),
+    b.maxy = std::max(b.maxy, p.y);
   return b;
 }
 
 std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order) {
   if (xy.empty()) return {};
-  return order_positions(xy.size(), [&](std::size_t k) { return xy[k]; }, bounding_box(xy), order);
+  return order_positions(
+      xy.size(), [&](std::size_t k) { return xy[k]; }, bounding_box(xy), order);
 }
 
-std::vector<std::uint32_t> order_translated(std::span<const Vec2> points, std::span<const std::uint32_t> finite, Vec2 origin,
-                                            const Box& box, Order order) {
+std::vector<std::uint32_t> order_translated(std::span<const Vec2> points, std::span<const std::uint32_t> finite,
+                                            Vec2 origin, const Box& box, Order order) {
   if (finite.empty())
-    return order_positions(points.size(), [&](std::size_t k) { return Vec2{points[k].x - origin.x, points[k].y - origin.y}; }, box, order);
-  std::vector<std::uint32_t> ids = order_positions(finite.size(), [&](std::size_t k) {
-    const Vec2& p = points[finite[k]];
-    return Vec2{p.x - origin.x, p.y - origin.y};
-  }, box, order);
+    return order_positions(
+        points.size(),
+        [&](std::size_t k) {
+          return Vec2{points[k].x - origin.x, points[k].y - origin.y};
+        },
+        box, order);
+  std::vector<std::uint32_t> ids = order_positions(
+      finite.size(),
+      [&](std::size_t k) {
+        const Vec2& p = points[finite[k]];
+        return Vec2{p.x - origin.x, p.y - origin.y};
+      },
+      box, order);
   for (std::uint32_t& i : ids) i = finite[i];
   return ids;
 }

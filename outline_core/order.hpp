@@ -25,7 +25,7 @@ std::vector<std::uint32_t> insertion_order(std::span<const Vec2> xy, Order order
 // fly as fl(p - origin) (only an ordering, so rounding is harmless; equal points get equal keys), as
 // indices into `points`. `box` bounds the translated points (the input box translated: rounding is
 // monotone).
-std::vector<std::uint32_t> order_translated(std::span<const Vec2> points, std::span<const std::uint32_t> finite, Vec2 origin,
-                                            const Box& box, Order order);
+std::vector<std::uint32_t> order_translated(std::span<const Vec2> points, std::span<const std::uint32_t> finite,
+                                            Vec2 origin, const Box& box, Order order);
 
 }  // namespace hg::outline

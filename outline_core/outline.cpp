@@ -33,8 +33,7 @@ AlphaMode parse_alpha_mode(const std::string& s) {
 namespace {
 
 void check_options(const Options& options) {
-  if (!std::isfinite(options.alpha_radius))
-    throw OutlineError("alpha radius must be a finite number");
+  if (!std::isfinite(options.alpha_radius)) throw OutlineError("alpha radius must be a finite number");
   if (std::isnan(options.auto_factor) || std::isinf(options.auto_factor))
     throw OutlineError("auto factor must be a finite number");
   if (!(options.min_hole_spacings >= 0) || std::isinf(options.min_hole_spacings))
@@ -87,8 +86,8 @@ std::vector<std::uint8_t> classify_by_options(const Triangulation& T, const Opti
   const TriangleScan scan = scan_triangles(T);
   res.spacing = scan.spacing;
   res.alpha_mode = options.alpha_mode;
-  const double k = options.auto_factor > 0 ? options.auto_factor
-                                           : automatic_factor(res.nn_spacing_median / res.spacing, T.inserted);
+  const double k =
+      options.auto_factor > 0 ? options.auto_factor : automatic_factor(res.nn_spacing_median / res.spacing, T.inserted);
   if (options.alpha_mode == AlphaMode::Local) {
     // Result::alpha_radius then reports k x the global spacing, for scale; each triangle has its own.
     local = local_spacing(T);
@@ -105,7 +104,9 @@ std::vector<std::uint8_t> classify_by_options(const Triangulation& T, const Opti
 // triangulation (then the loops take their coordinates from it).
 Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const Options& options) {
   using Clock = std::chrono::steady_clock;
-  auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
   check_options(options);
 
   const auto t0 = Clock::now();
@@ -113,8 +114,8 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   res.points_read = points.size();
   res.mode = options.mode;
   res.order = options.order;
-  const Triangulation T =
-      owned ? triangulate_releasing(*owned, options.mode, options.order) : triangulate(points, options.mode, options.order);
+  const Triangulation T = owned ? triangulate_releasing(*owned, options.mode, options.order)
+                                : triangulate(points, options.mode, options.order);
   if (owned) points = *owned;  // empty if released
   const auto t1 = Clock::now();
 
@@ -164,7 +165,9 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
 
 }  // namespace
 
-Result compute_outline(std::span<const Vec2> points, const Options& options) { return run_outline(points, nullptr, options); }
+Result compute_outline(std::span<const Vec2> points, const Options& options) {
+  return run_outline(points, nullptr, options);
+}
 
 Result compute_outline(std::vector<Vec2>&& points, const Options& options) {
   std::vector<Vec2> owned = std::move(points);  // consumed: released during the triangulation when possible

@@ -36,8 +36,8 @@ inline const char* to_string(Order o) {
   return "?";
 }
 inline const char* to_string(AlphaMode a) { return a == AlphaMode::Local ? "local" : "global"; }
-Mode parse_mode(const std::string&);    // "ordinary" | "ds" | "dshi"; throws OutlineError
-Order parse_order(const std::string&);  // "as-is" | "hilbert" | "brio"; throws OutlineError
+Mode parse_mode(const std::string&);             // "ordinary" | "ds" | "dshi"; throws OutlineError
+Order parse_order(const std::string&);           // "as-is" | "hilbert" | "brio"; throws OutlineError
 AlphaMode parse_alpha_mode(const std::string&);  // "global" | "local"; throws OutlineError
 
 // Default of Options::min_hole_spacings: holes under (4.5 spacings)^2 = 20.25 s^2 are dropped. Measured
@@ -47,8 +47,8 @@ AlphaMode parse_alpha_mode(const std::string&);  // "global" | "local"; throws O
 inline constexpr double kDefaultMinHoleSpacings = 4.5;
 
 struct Options {
-  double alpha_radius = 0;     // R in input units; <= 0: automatic, auto_factor x the point spacing
-  double auto_factor = 0;      // <= 0: automatic_factor (alpha.hpp): 1.7 regular .. ~2.1-2.8 random cloud
+  double alpha_radius = 0;  // R in input units; <= 0: automatic, auto_factor x the point spacing
+  double auto_factor = 0;   // <= 0: automatic_factor (alpha.hpp): 1.7 regular .. ~2.1-2.8 random cloud
   // Global: R = k x spacing of the whole cloud; Local: each triangle's R = k x the spacing around its
   // vertices (automatic radius only: an explicit alpha_radius with Local is refused).
   AlphaMode alpha_mode = AlphaMode::Global;
@@ -56,9 +56,9 @@ struct Options {
   // is Result::spacing (Local: the median spacing at the hole's vertices). 0 keeps every hole.
   double min_hole_spacings = kDefaultMinHoleSpacings;
   Mode mode = Mode::DSHI;
-  Order order = Order::Brio;   // docs/outline-core-performance.md: scan order makes long thin fans
-  bool outer_only = false;     // paper's BFS from outside only: big triangles inside are kept (no holes)
-  bool keep_triangles = false; // fill Result::triangles
+  Order order = Order::Brio;    // docs/outline-core-performance.md: scan order makes long thin fans
+  bool outer_only = false;      // paper's BFS from outside only: big triangles inside are kept (no holes)
+  bool keep_triangles = false;  // fill Result::triangles
 };
 
 struct Timings {
@@ -66,26 +66,26 @@ struct Timings {
 };
 
 struct Result {
-  std::size_t points_read = 0;        // as given
-  std::size_t points_skipped = 0;     // with a NaN or infinite coordinate: left out
-  std::size_t points_used = 0;        // distinct (finite) points triangulated
+  std::size_t points_read = 0;     // as given
+  std::size_t points_skipped = 0;  // with a NaN or infinite coordinate: left out
+  std::size_t points_used = 0;     // distinct (finite) points triangulated
   std::size_t duplicates_merged = 0;
-  double alpha_radius = 0;            // R actually used
+  double alpha_radius = 0;  // R actually used
   bool alpha_automatic = false;
-  double nn_spacing_median = 0;       // median nearest-neighbour distance (input units; shrinks with noise)
-  double spacing = 0;                 // point spacing sqrt(2 x median Delaunay triangle area): the unit of R
+  double nn_spacing_median = 0;  // median nearest-neighbour distance (input units; shrinks with noise)
+  double spacing = 0;            // point spacing sqrt(2 x median Delaunay triangle area): the unit of R
   AlphaMode alpha_mode = AlphaMode::Global;
-  std::size_t holes_dropped = 0;      // holes below Options::min_hole_spacings, not in `loops`
+  std::size_t holes_dropped = 0;  // holes below Options::min_hole_spacings, not in `loops`
   Mode mode = Mode::DSHI;
   Order order = Order::AsIs;
-  std::size_t triangles = 0;          // finite Delaunay triangles
-  std::uint64_t search_cost = 0;      // triangles visited: point location + cavity search (the paper's measure)
+  std::size_t triangles = 0;             // finite Delaunay triangles
+  std::uint64_t search_cost = 0;         // triangles visited: point location + cavity search (the paper's measure)
   std::uint64_t search_cost_locate = 0;  // part of search_cost: point location (walk, or Ordinary's full scan)
   std::uint64_t search_cost_cavity = 0;  // part of search_cost: neighbours tested by the cavity search
   std::uint64_t cavity_triangles = 0;    // triangles deleted over all insertions (mean cavity size x points)
   std::uint64_t incircle_tests = 0;
   std::uint64_t orient_tests = 0;
-  std::vector<Loop> loops;            // outer loops first, then holes
+  std::vector<Loop> loops;  // outer loops first, then holes
   // Final Delaunay triangles (only with Options::keep_triangles), counter-clockwise, indices into the
   // input as given; a merged duplicate is referred to by its first occurrence.
   std::vector<std::array<uint32_t, 3>> delaunay_triangles;

@@ -51,14 +51,21 @@ using Expansion = std::vector<double>;  // components by increasing magnitude, n
 // h = e + f. Merge by magnitude, then a chain of two-sums (the "linear expansion sum"), zeros dropped.
 void sum(const Expansion& e, const Expansion& f, Expansion& h) {
   h.clear();
-  if (e.empty()) { h = f; return; }
-  if (f.empty()) { h = e; return; }
+  if (e.empty()) {
+    h = f;
+    return;
+  }
+  if (f.empty()) {
+    h = e;
+    return;
+  }
   Expansion g;
   g.reserve(e.size() + f.size());
   std::size_t i = 0, j = 0;
   while (i < e.size() && j < f.size()) {
     if (std::fabs(e[i]) < std::fabs(f[j])) g.push_back(e[i++]);
-    else g.push_back(f[j++]);
+    else
+      g.push_back(f[j++]);
   }
   while (i < e.size()) g.push_back(e[i++]);
   while (j < f.size()) g.push_back(f[j++]);
@@ -242,7 +249,9 @@ inline Fixed<2> fdiff(double a, double b) {
 }
 
 template <int N>
-double fsign(const Fixed<N>& e) { return e.n == 0 ? 0.0 : e.c[e.n - 1]; }
+double fsign(const Fixed<N>& e) {
+  return e.n == 0 ? 0.0 : e.c[e.n - 1];
+}
 
 // ax*by - ay*bx for 2-component inputs: at most 16 components.
 Fixed<16> fcross(const Fixed<2>& ax, const Fixed<2>& ay, const Fixed<2>& bx, const Fixed<2>& by) {
@@ -297,8 +306,10 @@ namespace {
       const double l[2] = {l0, l1}, r[2] = {r0, r1};
       double lz[2], rz[2];
       int ln = 0, rn = 0;
-      for (double v : l) if (v != 0) lz[ln++] = v;
-      for (double v : r) if (v != 0) rz[rn++] = v;
+      for (double v : l)
+        if (v != 0) lz[ln++] = v;
+      for (double v : r)
+        if (v != 0) rz[rn++] = v;
       return sum_raw(lz, ln, rz, rn, out);
     };
     // (ux^2 + uy^2) * cross: the lift is an exact expansion of at most 4 components; with coordinates of
@@ -373,8 +384,8 @@ double incircle_few_bits(double ax, double ay, double bx, double by, double cx, 
   for (int k = 0; k < 6; ++k) q[k] = static_cast<std::int64_t>(d[k] * scale);
   const std::int64_t L[3] = {q[0] * q[0] + q[1] * q[1], q[2] * q[2] + q[3] * q[3], q[4] * q[4] + q[5] * q[5]};
   const std::int64_t C[3] = {q[2] * q[5] - q[4] * q[3], q[4] * q[1] - q[0] * q[5], q[0] * q[3] - q[2] * q[1]};
-  const __int128 det = static_cast<__int128>(L[0]) * C[0] + static_cast<__int128>(L[1]) * C[1] +
-                       static_cast<__int128>(L[2]) * C[2];
+  const __int128 det =
+      static_cast<__int128>(L[0]) * C[0] + static_cast<__int128>(L[1]) * C[1] + static_cast<__int128>(L[2]) * C[2];
   return det > 0 ? 1.0 : (det < 0 ? -1.0 : 0.0);
 }
 

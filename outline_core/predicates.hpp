@@ -32,7 +32,7 @@ inline bool within_exact_resolution(double v) {
   std::memcpy(&bits, &v, 8);
   const int e = static_cast<int>((bits >> 52) & 0x7ff);
   const std::uint64_t mant = bits & ((std::uint64_t{1} << 52) - 1);
-  if (e == 0) return mant == 0;                                   // zero, or subnormal
+  if (e == 0) return mant == 0;                                                // zero, or subnormal
   return e - 1075 + __builtin_ctzll(mant | (std::uint64_t{1} << 52)) >= -170;  // v = mant' 2^(e - 1075)
 }
 

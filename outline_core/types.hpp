@@ -26,10 +26,10 @@ struct OutlineError : std::runtime_error {
 };
 
 struct Loop {
-  bool hole = false;                  // outer loops counter-clockwise, holes clockwise
-  double area = 0;                    // positive
+  bool hole = false;  // outer loops counter-clockwise, holes clockwise
+  double area = 0;    // positive
   double perimeter = 0;
-  std::vector<Vec2> points;           // closing edge last -> first implicit
+  std::vector<Vec2> points;                // closing edge last -> first implicit
   std::vector<std::uint32_t> point_index;  // index of each point in the input as given (skipped points included)
 };
 

@@ -22,26 +22,39 @@ const std::string kMinHoleDefault = [] {
 }  // namespace
 
 runtime::ProcessInfo process_info() {
-  return {"hg-outline-service",
-          "Plate points (HG_PLATE_CLOUD) -> outline (HG_OUTLINE) + part pose (HG_PART_POSE).",
-          "Runs the DSHI outline core on every plate cloud. If clouds arrive faster than it computes, the\n"
-          "newest wins: older ones are dropped and counted (heartbeat 'dropped'); the heartbeat's last_latency\n"
-          "is cloud received -> outline published. A cloud that gives no valid loop is answered by an outline\n"
-          "with status NO_LOOP or ERROR and the reason, never a made-up loop. One part_pose_t per part\n"
-          "(largest first): area centroid and principal axis with the holes subtracted.",
-          {{"alpha-radius", "0", "alpha radius R in metres (triangles with circumradius > R are outside); 0: automatic", false, runtime::ParamType::Number, 0},
-           {"auto-factor", "0", "automatic R = factor x point spacing (sqrt(2 x median Delaunay triangle area)); 0: the outline core's default", false, runtime::ParamType::Number, 0},
-           runtime::text_param("alpha-mode", "global", "global: one automatic R for the cloud; local: R per triangle from the spacing around it (spacing varying across the cloud, tilted camera); not with alpha-radius", {"global", "local"}),
-           runtime::text_param("mode", "dshi", "point location: ordinary|ds|dshi", {"ordinary", "ds", "dshi"}),
-           runtime::text_param("order", "brio", "insertion order: brio (default: biased randomized rounds of Hilbert order, 2-3x faster on camera clouds)|hilbert|as-is (the scan order the paper inserts in)", {"brio", "hilbert", "as-is"}),
-           {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true},
-           {"min-hole-spacings", kMinHoleDefault, "drop holes smaller in area than (this x point spacing)^2: dropout, not cut-outs (0: keep all); the outline core's rule, as hg-outline", false, runtime::ParamType::Number, 0}}};
+  return {
+      "hg-outline-service",
+      "Plate points (HG_PLATE_CLOUD) -> outline (HG_OUTLINE) + part pose (HG_PART_POSE).",
+      "Runs the DSHI outline core on every plate cloud. If clouds arrive faster than it computes, the\n"
+      "newest wins: older ones are dropped and counted (heartbeat 'dropped'); the heartbeat's last_latency\n"
+      "is cloud received -> outline published. A cloud that gives no valid loop is answered by an outline\n"
+      "with status NO_LOOP or ERROR and the reason, never a made-up loop. One part_pose_t per part\n"
+      "(largest first): area centroid and principal axis with the holes subtracted.",
+      {{"alpha-radius", "0", "alpha radius R in metres (triangles with circumradius > R are outside); 0: automatic",
+        false, runtime::ParamType::Number, 0},
+       {"auto-factor", "0",
+        "automatic R = factor x point spacing (sqrt(2 x median Delaunay triangle area)); 0: the outline core's default",
+        false, runtime::ParamType::Number, 0},
+       runtime::text_param(
+           "alpha-mode", "global",
+           "global: one automatic R for the cloud; local: R per triangle from the spacing around it (spacing varying across the cloud, tilted camera); not with alpha-radius",
+           {"global", "local"}),
+       runtime::text_param("mode", "dshi", "point location: ordinary|ds|dshi", {"ordinary", "ds", "dshi"}),
+       runtime::text_param(
+           "order", "brio",
+           "insertion order: brio (default: biased randomized rounds of Hilbert order, 2-3x faster on camera clouds)|hilbert|as-is (the scan order the paper inserts in)",
+           {"brio", "hilbert", "as-is"}),
+       {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true},
+       {"min-hole-spacings", kMinHoleDefault,
+        "drop holes smaller in area than (this x point spacing)^2: dropout, not cut-outs (0: keep all); the outline core's rule, as hg-outline",
+        false, runtime::ParamType::Number, 0}}};
 }
 
 ServiceOptions options_from(const runtime::Node& node) {
   ServiceOptions o;
   o.min_hole_spacings = node.param_double("min-hole-spacings");
-  if (!(o.min_hole_spacings >= 0) || std::isinf(o.min_hole_spacings)) throw runtime::ConfigError("min-hole-spacings must be a number >= 0");
+  if (!(o.min_hole_spacings >= 0) || std::isinf(o.min_hole_spacings))
+    throw runtime::ConfigError("min-hole-spacings must be a number >= 0");
   o.alpha_radius = node.param_double("alpha-radius");
   o.auto_factor = node.param_double("auto-factor");
   // Each key parsed on its own, so that the error names it.
@@ -127,7 +140,8 @@ std::vector<hullgrind::part_pose_t> pose_messages(const hullgrind::plate_cloud_t
     m.centroid_uv[0] = p.centroid.x;
     m.centroid_uv[1] = p.centroid.y;
     for (int i = 0; i < 3; ++i)
-      m.centroid_xyz[i] = cloud.plane_origin[i] + p.centroid.x * cloud.plane_u_axis[i] + p.centroid.y * cloud.plane_v_axis[i];
+      m.centroid_xyz[i] =
+          cloud.plane_origin[i] + p.centroid.x * cloud.plane_u_axis[i] + p.centroid.y * cloud.plane_v_axis[i];
     m.principal_axis_angle = p.principal_axis_angle;
     m.area = p.area;
     m.bbox_min_uv[0] = p.bbox_min.x, m.bbox_min_uv[1] = p.bbox_min.y;
@@ -155,7 +169,9 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& se
   if (cloud.status != hullgrind::plate_cloud_t::STATUS_OK)
     return fail(hullgrind::outline_t::STATUS_NO_LOOP,
                 "the plate cloud has no part (status " + std::to_string(cloud.status) + ": " + cloud.status_text + ")");
-  if (cloud.n < 3) return fail(hullgrind::outline_t::STATUS_NO_LOOP, "the plate cloud has " + std::to_string(cloud.n) + " points; 3 are needed");
+  if (cloud.n < 3)
+    return fail(hullgrind::outline_t::STATUS_NO_LOOP,
+                "the plate cloud has " + std::to_string(cloud.n) + " points; 3 are needed");
 
   std::vector<outline::Vec2> pts(std::size_t(cloud.n));
   for (int i = 0; i < cloud.n; ++i) pts[std::size_t(i)] = {cloud.u[std::size_t(i)], cloud.v[std::size_t(i)]};
@@ -168,8 +184,10 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& se
   }
   out.compute_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   c.holes_dropped = int(r.holes_dropped);  // gaps of a few missing pixels, dropped by the core's rule
-  if (!put_result(r, out)) return fail(hullgrind::outline_t::STATUS_NO_LOOP, "no outer loop found (alpha radius " +
-                                                                        std::to_string(r.alpha_radius) + " m too small for the point spacing?)");
+  if (!put_result(r, out))
+    return fail(
+        hullgrind::outline_t::STATUS_NO_LOOP,
+        "no outer loop found (alpha radius " + std::to_string(r.alpha_radius) + " m too small for the point spacing?)");
   out.num_loops = int32_t(out.loops.size());
   out.status = hullgrind::outline_t::STATUS_OK;
   c.poses = pose_messages(cloud, r.loops);
@@ -177,14 +195,15 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& se
 }
 
 OutlineService::OutlineService(runtime::Node& node) : node_(node), options_(options_from(node)) {
-  node_.subscribe<hullgrind::plate_cloud_t>(channels::kPlateCloud, [this](const hullgrind::plate_cloud_t& cloud,
-                                                                          const runtime::Delivery& d) {
-    std::lock_guard lock(mutex_);
-    if (pending_) node_.count_dropped();  // superseded before the worker took it
-    pending_ = cloud;
-    pending_recv_utime_ = d.recv_utime;
-    wake_.notify_one();
-  });
+  node_.subscribe<hullgrind::plate_cloud_t>(channels::kPlateCloud,
+                                            [this](const hullgrind::plate_cloud_t& cloud, const runtime::Delivery& d) {
+                                              std::lock_guard lock(mutex_);
+                                              if (pending_)
+                                                node_.count_dropped();  // superseded before the worker took it
+                                              pending_ = cloud;
+                                              pending_recv_utime_ = d.recv_utime;
+                                              wake_.notify_one();
+                                            });
   worker_ = std::thread([this] { work(); });
 }
 

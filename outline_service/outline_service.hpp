@@ -27,7 +27,7 @@ ServiceOptions options_from(const runtime::Node& node);  // throws runtime::Conf
 struct Computed {
   hullgrind::outline_t outline;
   std::vector<hullgrind::part_pose_t> poses;  // one per part, largest first; empty unless status OK
-  int holes_dropped = 0;                       // below the minimum hole size (Result::holes_dropped)
+  int holes_dropped = 0;                      // below the minimum hole size (Result::holes_dropped)
 };
 
 // The whole computation for one cloud, without LCM: never throws on bad input; a cloud that yields no
@@ -56,6 +56,5 @@ class OutlineService {
 
 // Wires the service onto a node (runtime::run_process). Throws runtime::ConfigError on a bad parameter.
 std::unique_ptr<OutlineService> attach(runtime::Node& node);
-
 
 }  // namespace hg::outline_service

@@ -10,8 +10,8 @@ namespace hg::outline_service {
 
 struct PartPose {
   outline::Vec2 centroid;
-  double area = 0;                 // holes subtracted
-  double principal_axis_angle = 0; // major axis from the x axis, radians, in (-pi/2, pi/2]
+  double area = 0;                  // holes subtracted
+  double principal_axis_angle = 0;  // major axis from the x axis, radians, in (-pi/2, pi/2]
   outline::Vec2 bbox_min, bbox_max;
   double major_extent = 0, minor_extent = 0;
   std::size_t outer_loop = 0;      // index of the outer loop in the input

@@ -32,7 +32,8 @@ class SegmentGrid {
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
     index_.resize(start_.back());
-    for (std::size_t i = 0; i < segs.size(); ++i) each_cell(segs[i], [&](std::size_t c) { index_[fill[c]++] = std::uint32_t(i); });
+    for (std::size_t i = 0; i < segs.size(); ++i)
+      each_cell(segs[i], [&](std::size_t c) { index_[fill[c]++] = std::uint32_t(i); });
   }
   // Distance to the nearest segment, or infinity when none is within one cell width.
   double nearest(const Vec2& p) const {
@@ -41,7 +42,8 @@ class SegmentGrid {
     for (int yy = std::max(0, y - 1); yy <= std::min(gy_ - 1, y + 1); ++yy)
       for (int xx = std::max(0, x - 1); xx <= std::min(gx_ - 1, x + 1); ++xx) {
         const std::size_t c = std::size_t(yy) * gx_ + xx;
-        for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) best = std::min(best, segment_distance(p, segs_[index_[k]]));
+        for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k)
+          best = std::min(best, segment_distance(p, segs_[index_[k]]));
       }
     return best;
   }
@@ -147,7 +149,10 @@ LoopCoverage edge_coverage(const Ring& edge, const std::vector<Segment2>& tool_p
   const std::size_t from = first_reached == N ? 0 : first_reached;
   for (std::size_t k = 0; k < N;) {
     const std::size_t j = (from + k) % N;
-    if (reached[j]) { ++k; continue; }
+    if (reached[j]) {
+      ++k;
+      continue;
+    }
     UnreachedStretch st;
     const std::size_t before = (j + N - 1) % N;
     st.start = first_reached == N ? 0 : std::fmod(samples[j].s - samples[before].ahead / 2 + c.length, c.length);

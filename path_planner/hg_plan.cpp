@@ -15,25 +15,27 @@ using namespace hg::path_planner;
 namespace {
 
 void usage(std::FILE* f, const hg::runtime::Params& params) {
-  std::fprintf(f,
-               "usage: hg-plan [options] OUTLINE.json\n"
-               "Plans a grind path from an outline JSON file (hg-outline's format: loops [{hole, points [[x, y], ...]}],\n"
-               "plane {origin, normal, u, v} optional, frame optional) and writes a path file (docs/path_file.md:\n"
-               "{\"job_id\", \"frame\", \"outline_seq\", \"tool_radius\", \"tilt\", \"flipped\", \"waypoints\": [{position,\n"
-               "orientation [w, x, y, z], speed, kind, loop}], coverage {tolerance, unreached_length, loops [{loop, hole,\n"
-               "length, reached_fraction, unreached [{start, length, concave, points}]}]}}) in the robot base frame, metres.\n"
-               "Loops without a plane (a 2-D outline) are placed on the plane given by plane-* below (camera frame).\n"
-               "Frames: the outline file's \"frame\" says which frame its plane is in: camera (camera-to-base is\n"
-               "applied), robot_base (the base-frame: used as it is) or cloud (hg-outline: the input cloud's own\n"
-               "coordinates, taken as the camera frame). --outline-frame overrides it: a cloud in robot base\n"
-               "coordinates plans with --outline-frame robot_base. The transform applied is printed on stderr.\n"
-               "The start point is the loop point nearest to `home` (no robot is heard here).\n"
-               "Prints a one-line summary on stderr. Exit status: 0 planned, 1 planning failed (reason on stderr),\n"
-               "2 bad command line, config or input file.\n\n"
-               "options (command line > --config FILE, the same keys as hg-path-planner, config/path_planner.yaml > default):\n");
+  std::fprintf(
+      f,
+      "usage: hg-plan [options] OUTLINE.json\n"
+      "Plans a grind path from an outline JSON file (hg-outline's format: loops [{hole, points [[x, y], ...]}],\n"
+      "plane {origin, normal, u, v} optional, frame optional) and writes a path file (docs/path_file.md:\n"
+      "{\"job_id\", \"frame\", \"outline_seq\", \"tool_radius\", \"tilt\", \"flipped\", \"waypoints\": [{position,\n"
+      "orientation [w, x, y, z], speed, kind, loop}], coverage {tolerance, unreached_length, loops [{loop, hole,\n"
+      "length, reached_fraction, unreached [{start, length, concave, points}]}]}}) in the robot base frame, metres.\n"
+      "Loops without a plane (a 2-D outline) are placed on the plane given by plane-* below (camera frame).\n"
+      "Frames: the outline file's \"frame\" says which frame its plane is in: camera (camera-to-base is\n"
+      "applied), robot_base (the base-frame: used as it is) or cloud (hg-outline: the input cloud's own\n"
+      "coordinates, taken as the camera frame). --outline-frame overrides it: a cloud in robot base\n"
+      "coordinates plans with --outline-frame robot_base. The transform applied is printed on stderr.\n"
+      "The start point is the loop point nearest to `home` (no robot is heard here).\n"
+      "Prints a one-line summary on stderr. Exit status: 0 planned, 1 planning failed (reason on stderr),\n"
+      "2 bad command line, config or input file.\n\n"
+      "options (command line > --config FILE, the same keys as hg-path-planner, config/path_planner.yaml > default):\n");
   params.print_options(f);
-  std::fprintf(f, "  --config FILE                      YAML config file (keys as the options above, without --)\n"
-                  "  --help, --help-markdown, --version this text, the options as a Markdown table, the version\n");
+  std::fprintf(f,
+               "  --config FILE                      YAML config file (keys as the options above, without --)\n"
+               "  --help, --help-markdown, --version this text, the options as a Markdown table, the version\n");
 }
 
 std::vector<hg::runtime::Param> hg_plan_params() {
@@ -83,7 +85,8 @@ int main(int argc, char** argv) {
   try {
     const hg::runtime::Params::Action action = params.parse(argc, argv);
     if (action != hg::runtime::Params::Action::Run) return hg::runtime::answer(action, "hg-plan", params, usage);
-    if (params.positional().size() != 1) throw hg::runtime::ConfigError("command line: give one OUTLINE.json (see --help)");
+    if (params.positional().size() != 1)
+      throw hg::runtime::ConfigError("command line: give one OUTLINE.json (see --help)");
     input = params.positional()[0];
     cfg = config_from(lookup_from(params));
   } catch (const std::exception& e) {
@@ -111,11 +114,13 @@ int main(int argc, char** argv) {
                    cfg.base_frame.c_str());
     return 1;
   }
-  if (!write_text(params.text("output"), path_json(params.text("job-id"), cfg.base_frame, r, outline.seq).dump(1) + "\n")) {
+  if (!write_text(params.text("output"),
+                  path_json(params.text("job-id"), cfg.base_frame, r, outline.seq).dump(1) + "\n")) {
     std::fprintf(stderr, "hg-plan: cannot write %s\n", params.text("output").c_str());
     return 2;
   }
-  std::fprintf(stderr, "hg-plan: %zu waypoints, %d loops, %d speeds lowered at corners, pitch %.3f mm, planned in %.2f ms\n",
+  std::fprintf(stderr,
+               "hg-plan: %zu waypoints, %d loops, %d speeds lowered at corners, pitch %.3f mm, planned in %.2f ms\n",
                r.path.size(), r.loops_planned, r.slowed, r.pitch * 1e3, r.seconds * 1e3);
   return 0;
 }

@@ -23,46 +23,72 @@ std::vector<Param> planner_params() {
   const bool open = true;  // the range's lower end is excluded: the value must be > min
   return {
       number_param("tool-radius", "0.01", "effective tool radius, m (job default)", 0, inf, open),
-      number_param("chamfer-angle", "0.7853981633974483", "tool tilt toward the edge normal, rad (job default; 45 deg; at most 80 deg)", 0, 1.3962634015954636),
+      number_param("chamfer-angle", "0.7853981633974483",
+                   "tool tilt toward the edge normal, rad (job default; 45 deg; at most 80 deg)", 0,
+                   1.3962634015954636),
       number_param("grind-speed", "0.02", "TCP speed along the edge, m/s (job default)", 0, inf, open),
       number_param("travel-speed", "0.2", "air-move speed, m/s (job default)", 0, inf, open),
       number_param("step", "0.002", "resampling step along the path, m (job default)", 0, inf, open),
       number_param("safe-height", "0.05", "approach/retract height above the plate, m (job default)", 0, inf, open),
       text_param("direction", "climb", "hg-plan; a job request carries its own", {"climb", "conventional"}),
       flag_param("flipped", "plan for the flipped part (hg-plan; a job request carries its own)"),
-      Param{"spindle-clockwise", "true", "spindle turns clockwise seen from above (decides what climb means)", false, runtime::ParamType::Flag},
-      number_param("approach-speed", "0.05", "speed of the vertical approach and retract, m/s (capped by travel-speed)", 0, inf, open),
-      number_param("lead-radius", "0.01", "radius of the lead-in/lead-out arcs, m (smaller in small holes)", 0, inf, open),
+      Param{"spindle-clockwise", "true", "spindle turns clockwise seen from above (decides what climb means)", false,
+            runtime::ParamType::Flag},
+      number_param("approach-speed", "0.05", "speed of the vertical approach and retract, m/s (capped by travel-speed)",
+                   0, inf, open),
+      number_param("lead-radius", "0.01", "radius of the lead-in/lead-out arcs, m (smaller in small holes)", 0, inf,
+                   open),
       number_param("lead-angle", "1.5707963267948966", "sweep of the lead arcs, rad", 0, inf, open),
       number_param("z-offset", "0", "height of the grind points above the plate's top surface, m"),
       number_param("pixel-pitch", "0", "pixel pitch of the outline, m; 0: estimated from the loops' staircase", 0),
-      number_param("smooth-window", "4", "residual windows of the smoothing fits are 2x this many vertices", 0, inf, open),
-      number_param("corner-scale", "8", "length of the corner detector's line fits, in pixel pitches (at least 60 noise levels of a window mean)", 0, inf, open),
-      number_param("corner-angle", "0.5235987755982988", "smallest turn treated as a corner, rad (30 deg)", 0, 3.141592653589793),
-      Param{"edge-compensation", "true", "move loops from the outermost pixel centres to the edge (half a pitch)", false, runtime::ParamType::Flag},
+      number_param("smooth-window", "4", "residual windows of the smoothing fits are 2x this many vertices", 0, inf,
+                   open),
+      number_param(
+          "corner-scale", "8",
+          "length of the corner detector's line fits, in pixel pitches (at least 60 noise levels of a window mean)", 0,
+          inf, open),
+      number_param("corner-angle", "0.5235987755982988", "smallest turn treated as a corner, rad (30 deg)", 0,
+                   3.141592653589793),
+      Param{"edge-compensation", "true", "move loops from the outermost pixel centres to the edge (half a pitch)",
+            false, runtime::ParamType::Flag},
       number_param("arc-tolerance", "1e-5", "Clipper round-join tolerance, m", 0, inf, open),
-      number_param("resample-corner-angle", "0.17453292519943295", "turn kept as a waypoint when resampling, rad", 0, 3.141592653589793),
-      text_param("small-hole", "fail", "a hole too small for the tool, or edge out of its reach: fail (job FAILED), skip (planned, warning)", {"fail", "skip"}),
-      number_param("coverage-tolerance", "0.0002", "every edge point must be within tool-radius + this of the grind path, m", 0, inf, open),
-      number_param("resample-chord-error", "1e-5", "largest distance of a resampled chord from the offset ring, m", 0, inf, open),
-      numbers_param("camera-to-base", "", "hand-eye calibration as 16 numbers, row-major 4x4; overrides camera-xyz/rpy"),
+      number_param("resample-corner-angle", "0.17453292519943295", "turn kept as a waypoint when resampling, rad", 0,
+                   3.141592653589793),
+      text_param("small-hole", "fail",
+                 "a hole too small for the tool, or edge out of its reach: fail (job FAILED), skip (planned, warning)",
+                 {"fail", "skip"}),
+      number_param("coverage-tolerance", "0.0002",
+                   "every edge point must be within tool-radius + this of the grind path, m", 0, inf, open),
+      number_param("resample-chord-error", "1e-5", "largest distance of a resampled chord from the offset ring, m", 0,
+                   inf, open),
+      numbers_param("camera-to-base", "",
+                    "hand-eye calibration as 16 numbers, row-major 4x4; overrides camera-xyz/rpy"),
       numbers_param("camera-xyz", "0.5,0,1.2", "camera origin in the robot base frame, m"),
       numbers_param("camera-rpy", "3.141592653589793,0,0", "camera roll, pitch, yaw in the base frame, rad (Rz Ry Rx)"),
-      numbers_param("plane-origin", "0,0,1.19", "plate plane in the camera frame for outline files without one: origin"),
+      numbers_param("plane-origin", "0,0,1.19",
+                    "plate plane in the camera frame for outline files without one: origin"),
       numbers_param("plane-u", "1,0,0", "... u axis"),
       numbers_param("plane-v", "0,-1,0", "... v axis"),
       numbers_param("plane-normal", "0,0,-1", "... normal (u, v, normal right-handed)"),
       text_param("base-frame", "robot_base", "name of the robot base frame in the path"),
-      text_param("outline-frame", "", "hg-plan: frame of the outline file's plane: camera (camera-to-base applied), robot_base "
-                                      "(the base-frame: none applied); default: the file's \"frame\" (cloud or none: camera)"),
-      numbers_param("home", "0.5,0,0.3", "robot position (base frame) used as the start reference until HG_ROBOT_STATUS is heard"),
+      text_param("outline-frame", "",
+                 "hg-plan: frame of the outline file's plane: camera (camera-to-base applied), robot_base "
+                 "(the base-frame: none applied); default: the file's \"frame\" (cloud or none: camera)"),
+      numbers_param("home", "0.5,0,0.3",
+                    "robot position (base frame) used as the start reference until HG_ROBOT_STATUS is heard"),
       numbers_param("workspace-min", "-1,-1,0", "workspace box, base frame, m: lower corner"),
       numbers_param("workspace-max", "1.5,1,1", "workspace box, base frame, m: upper corner"),
       number_param("table-z", "0", "table top height in the base frame; every waypoint must be above it, m"),
       number_param("max-speed", "0.5", "largest TCP speed allowed, m/s", 0, inf, open),
-      number_param("max-accel", "2.0", "largest acceleration a corner may demand (v^2/r), m/s^2; = the robot bridge's max-accel", 0, inf, open),
-      number_param("outline-max-age", "2.0", "hg-path-planner: a job starts on the latest outline if it arrived at most this long ago (s), else on the next", 0),
-      number_param("outline-timeout", "10.0", "hg-path-planner: a job with no outline after this long fails, s", 0, inf, open),
+      number_param("max-accel", "2.0",
+                   "largest acceleration a corner may demand (v^2/r), m/s^2; = the robot bridge's max-accel", 0, inf,
+                   open),
+      number_param(
+          "outline-max-age", "2.0",
+          "hg-path-planner: a job starts on the latest outline if it arrived at most this long ago (s), else on the next",
+          0),
+      number_param("outline-timeout", "10.0", "hg-path-planner: a job with no outline after this long fails, s", 0, inf,
+                   open),
   };
 }
 
@@ -88,7 +114,8 @@ double num(const ParamLookup& L, const std::string& key) {
   const std::string v = L.text(key);
   char* end = nullptr;
   const double d = std::strtod(v.c_str(), &end);
-  if (v.empty() || *end != '\0' || !std::isfinite(d)) throw ConfigError("parameter '" + key + "': '" + v + "' is not a number");
+  if (v.empty() || *end != '\0' || !std::isfinite(d))
+    throw ConfigError("parameter '" + key + "': '" + v + "' is not a number");
   return d;
 }
 bool boolean(const ParamLookup& L, const std::string& key) {
@@ -116,8 +143,10 @@ PlannerConfig config_from(const ParamLookup& L) {
   d.safe_height = num(L, "safe-height");
   const std::string dir = L.text("direction");
   if (dir == "climb") d.direction = Direction::Climb;
-  else if (dir == "conventional") d.direction = Direction::Conventional;
-  else throw ConfigError("parameter 'direction': '" + dir + "' is not climb or conventional");
+  else if (dir == "conventional")
+    d.direction = Direction::Conventional;
+  else
+    throw ConfigError("parameter 'direction': '" + dir + "' is not climb or conventional");
   d.flipped = boolean(L, "flipped");
   JobParams checked;
   if (std::string why = resolve_params(d, d, checked); !why.empty()) throw ConfigError("parameters: " + why);
@@ -139,11 +168,14 @@ PlannerConfig config_from(const ParamLookup& L) {
     throw ConfigError("coverage-tolerance and resample-chord-error must be > 0");
   if (!(c.approach_speed > 0) || !(c.lead_radius > 0) || !(c.lead_angle > 0) || !(c.arc_tolerance > 0) ||
       !(c.smooth.window_pitches > 0) || !(c.smooth.corner_scale_pitches > 0))
-    throw ConfigError("approach-speed, lead-radius, lead-angle, arc-tolerance, smooth-window and corner-scale must be > 0");
+    throw ConfigError(
+        "approach-speed, lead-radius, lead-angle, arc-tolerance, smooth-window and corner-scale must be > 0");
   const std::string sh = L.text("small-hole");
   if (sh == "fail") c.small_hole = SmallHolePolicy::Fail;
-  else if (sh == "skip") c.small_hole = SmallHolePolicy::Skip;
-  else throw ConfigError("parameter 'small-hole': '" + sh + "' is not fail or skip");
+  else if (sh == "skip")
+    c.small_hole = SmallHolePolicy::Skip;
+  else
+    throw ConfigError("parameter 'small-hole': '" + sh + "' is not fail or skip");
   if (!L.list("camera-to-base").empty()) {
     const std::vector<double> m = L.list("camera-to-base");
     if (m.size() != 16) throw ConfigError("parameter 'camera-to-base': expected 16 numbers (row-major 4x4)");

@@ -40,10 +40,10 @@ OutlineInput read_outline_json(const std::string& text, const Plane& default_pla
 // calibration; the base_frame: identity (the plane is in robot base coordinates already); cloud (hg-outline:
 // the input cloud's own coordinates) or nothing: camera, with a note saying so. Anything else: ConfigError.
 struct OutlineFrame {
-  std::string declared;   // what the file says ("(none)" when it says nothing)
-  std::string used;       // camera or the base_frame
+  std::string declared;  // what the file says ("(none)" when it says nothing)
+  std::string used;      // camera or the base_frame
   Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();
-  std::string note;       // set when the choice was a guess
+  std::string note;  // set when the choice was a guess
 };
 OutlineFrame resolve_outline_frame(const std::string& file_frame, const std::string& chosen, const PlannerConfig& cfg);
 // A 4x4 transform as "[r00 r01 r02 t0; ...; 0 0 0 1]" (the camera_to_base parameter's order, row-major).

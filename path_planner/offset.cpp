@@ -18,7 +18,7 @@ constexpr double kUnit = 1e-6;  // metres per Clipper unit
 // neighbour or of the line through their neighbours are removed (CleanPolygon); it is far below the arc
 // tolerance (10 um) and the accuracy targets (0.3 mm).
 constexpr double kCleanUnits = 3;
-}
+}  // namespace
 
 std::vector<Ring> offset_ring(const Ring& ring, bool hole, double distance, double arc_tolerance) {
   std::vector<Ring> out;
@@ -44,12 +44,14 @@ std::vector<Ring> offset_ring(const Ring& ring, bool hole, double distance, doub
     if (!ClipperLib::Orientation(sp) || sp.size() < 3) continue;
     Ring r;
     r.reserve(sp.size());
-    for (const ClipperLib::IntPoint& q : sp) r.emplace_back(ref.x() + double(q.X) * kUnit, ref.y() + double(q.Y) * kUnit);
+    for (const ClipperLib::IntPoint& q : sp)
+      r.emplace_back(ref.x() + double(q.X) * kUnit, ref.y() + double(q.Y) * kUnit);
     if (hole) std::reverse(r.begin(), r.end());  // canonical: material on the left
     out.push_back(std::move(r));
   }
   // Largest first: callers that expect one ring take the front.
-  std::sort(out.begin(), out.end(), [](const Ring& a, const Ring& b) { return std::abs(signed_area(a)) > std::abs(signed_area(b)); });
+  std::sort(out.begin(), out.end(),
+            [](const Ring& a, const Ring& b) { return std::abs(signed_area(a)) > std::abs(signed_area(b)); });
   return out;
 }
 

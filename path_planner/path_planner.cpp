@@ -21,18 +21,19 @@ using runtime::logf;
 
 runtime::ProcessInfo process_info() {
   std::vector<runtime::Param> params = planner_params();
-  return {"hg-path-planner",
-          "Outline (HG_OUTLINE) + job request (HG_JOB_REQUEST) -> grind path in the robot's base frame (HG_GRIND_PATH).",
-          "Subscribes HG_OUTLINE, HG_JOB_REQUEST and HG_ROBOT_STATUS. On a job request with action START it\n"
-          "reports PLANNING on HG_JOB_STATUS, plans on the latest outline if it is fresh (outline-max-age) or else\n"
-          "on the next one, publishes grind_path_t on HG_GRIND_PATH and then PLANNED, or FAILED with the reason\n"
-          "(outline with an error status, bad outline, hole too small for the tool, validation). Zero-valued job\n"
-          "parameters take the configured defaults below. The path starts at the loop point nearest to the\n"
-          "robot's TCP (HG_ROBOT_STATUS) or to `home` until the robot has been heard. A job id is planned once:\n"
-          "a repeated START (or an ABORT) of a job id already seen is answered with the job's state while the\n"
-          "planner holds or ended it (PLANNING, FAILED, ABORTED, REFUSED) and changes nothing; once PLANNED the\n"
-          "robot bridge answers. See docs/path_planner.md.",
-          std::move(params)};
+  return {
+      "hg-path-planner",
+      "Outline (HG_OUTLINE) + job request (HG_JOB_REQUEST) -> grind path in the robot's base frame (HG_GRIND_PATH).",
+      "Subscribes HG_OUTLINE, HG_JOB_REQUEST and HG_ROBOT_STATUS. On a job request with action START it\n"
+      "reports PLANNING on HG_JOB_STATUS, plans on the latest outline if it is fresh (outline-max-age) or else\n"
+      "on the next one, publishes grind_path_t on HG_GRIND_PATH and then PLANNED, or FAILED with the reason\n"
+      "(outline with an error status, bad outline, hole too small for the tool, validation). Zero-valued job\n"
+      "parameters take the configured defaults below. The path starts at the loop point nearest to the\n"
+      "robot's TCP (HG_ROBOT_STATUS) or to `home` until the robot has been heard. A job id is planned once:\n"
+      "a repeated START (or an ABORT) of a job id already seen is answered with the job's state while the\n"
+      "planner holds or ended it (PLANNING, FAILED, ABORTED, REFUSED) and changes nothing; once PLANNED the\n"
+      "robot bridge answers. See docs/path_planner.md.",
+      std::move(params)};
 }
 
 namespace {
@@ -48,7 +49,8 @@ class Planner {
     latest_ = m;
     latest_utime_ = d.recv_utime;
     if (m.status != hullgrind::outline_t::STATUS_OK)
-      logf(Level::Info, "outline %lld has error status %d: %s", (long long)m.header.seq, int(m.status), m.error_text.c_str());
+      logf(Level::Info, "outline %lld has error status %d: %s", (long long)m.header.seq, int(m.status),
+           m.error_text.c_str());
     if (pending_) plan_now();
   }
 
@@ -89,9 +91,7 @@ class Planner {
   }
 
  private:
-  bool latest_fresh() const {
-    return latest_ && double(runtime::now_utime() - latest_utime_) * 1e-6 <= max_age_;
-  }
+  bool latest_fresh() const { return latest_ && double(runtime::now_utime() - latest_utime_) * 1e-6 <= max_age_; }
 
   // Publishes a status of the job; `record` false for an answer to a repeat (the ledger keeps the state).
   void status(const hullgrind::job_request_t& r, std::int8_t state, double progress, const std::string& msg,
@@ -166,12 +166,14 @@ class Planner {
 
 void attach(runtime::Node& node) {
   auto p = std::make_shared<Planner>(node);
-  node.subscribe<hullgrind::outline_t>(channels::kOutline,
-                                       [p](const hullgrind::outline_t& m, const runtime::Delivery& d) { p->on_outline(m, d); });
+  node.subscribe<hullgrind::outline_t>(
+      channels::kOutline, [p](const hullgrind::outline_t& m, const runtime::Delivery& d) { p->on_outline(m, d); });
   node.subscribe<hullgrind::job_request_t>(
-      channels::kJobRequest, [p](const hullgrind::job_request_t& m, const runtime::Delivery& d) { p->on_request(m, d); });
+      channels::kJobRequest,
+      [p](const hullgrind::job_request_t& m, const runtime::Delivery& d) { p->on_request(m, d); });
   node.subscribe<hullgrind::robot_status_t>(
-      channels::kRobotStatus, [p](const hullgrind::robot_status_t& m, const runtime::Delivery& d) { p->on_robot(m, d); });
+      channels::kRobotStatus,
+      [p](const hullgrind::robot_status_t& m, const runtime::Delivery& d) { p->on_robot(m, d); });
   node.every(std::chrono::milliseconds(100), [p] { p->tick(); });
 }
 

@@ -41,16 +41,16 @@ struct Plane {
 };
 
 struct OutlineInput {
-  Plane plane;              // camera frame (plan() applies camera_to_base to it)
-  std::string frame;        // the frame an outline file says its plane is in ("" when it does not say)
-  bool plane_given = false; // an outline file had a plane (else: the configured default plane)
+  Plane plane;               // camera frame (plan() applies camera_to_base to it)
+  std::string frame;         // the frame an outline file says its plane is in ("" when it does not say)
+  bool plane_given = false;  // an outline file had a plane (else: the configured default plane)
   std::vector<Loop> loops;
-  std::int64_t seq = -1;    // outline header.seq, copied into the path
+  std::int64_t seq = -1;  // outline header.seq, copied into the path
 };
 
 // ---- geometry helpers (polygon/polygon.hpp) ----
-using polygon::signed_area;
 using polygon::ring_length;
+using polygon::signed_area;
 // Makes every ring canonical (outer CCW, holes CW) by reversing those that are not.
 void make_canonical(std::vector<Loop>& loops);
 // Area centroid and principal (major) axis direction of the outer loops minus the holes.
@@ -74,13 +74,13 @@ std::vector<Loop> mirror_for_flip(const std::vector<Loop>& loops);
 
 // ---- 1. de-noise the pixel staircase, keeping corners ----
 struct SmoothOptions {
-  double pitch = 0;                  // pixel pitch on the plate; <= 0: estimate from the outline
-  double window_pitches = 4;         // residual windows are 2x this many vertices (misfit test, noise level)
-  double corner_scale_pitches = 8;   // length of the one-sided line fits of the corner detector, in units
-                                     // (the pitch, or the vertex spacing when noise spreads it)
+  double pitch = 0;                          // pixel pitch on the plate; <= 0: estimate from the outline
+  double window_pitches = 4;                 // residual windows are 2x this many vertices (misfit test, noise level)
+  double corner_scale_pitches = 8;           // length of the one-sided line fits of the corner detector, in units
+                                             // (the pitch, or the vertex spacing when noise spreads it)
   double corner_angle = 0.5235987755982988;  // 30 deg: smaller turns are treated as curves
-  bool edge_compensation = true;     // move the loop from the outermost pixel centres to the edge
-  double noise = 0;                  // noise of a window mean, m (estimate_noise); 0: from the ring itself
+  bool edge_compensation = true;             // move the loop from the outermost pixel centres to the edge
+  double noise = 0;                          // noise of a window mean, m (estimate_noise); 0: from the ring itself
 };
 struct SmoothedRing {
   Ring points;
@@ -131,23 +131,23 @@ Eigen::Quaterniond tool_orientation(const Vec2& tangent, const Vec2& away_normal
 // ---- 5. sequencing: ordering, start points, leads, approach/retract ----
 enum Kind : std::int8_t { kApproach = 0, kLeadIn = 1, kGrind = 2, kLeadOut = 3, kRetract = 4, kTravel = 5 };
 struct PlateWaypoint {
-  Vec3 position;            // plate frame
+  Vec3 position;  // plate frame
   Eigen::Quaterniond orientation;
   double speed;
   std::int8_t kind;
-  std::int16_t loop;        // index into the outline's loops; -1 for air moves
+  std::int16_t loop;  // index into the outline's loops; -1 for air moves
 };
 struct GrindLoop {
-  SampledRing ring;         // canonical orientation
+  SampledRing ring;  // canonical orientation
   bool hole = false;
-  int loop_index = 0;       // outline loop it came from
+  int loop_index = 0;  // outline loop it came from
 };
 struct SequenceOptions {
   double tilt = 0;
   double grind_speed = 0.02, travel_speed = 0.2, approach_speed = 0.05;
   double step = 0.002;
   double safe_height = 0.05;
-  double z = 0;             // height of the grind points above the plate top surface
+  double z = 0;  // height of the grind points above the plate top surface
   double lead_radius = 0.01;
   double lead_angle = 1.5707963267948966;
   Direction direction = Direction::Climb;
@@ -164,14 +164,14 @@ Ordering order_loops(const std::vector<GrindLoop>& loops, const Vec2& start);
 // p0 inclusive. Lead-out is the mirror image: starts at p0, leaves tangentially.
 std::vector<Vec2> lead_in_arc(const Vec2& p0, const Vec2& tangent, const Vec2& away, double radius, double sweep,
                               double step);
-std::vector<Vec2> lead_out_arc(const Vec2& p0, const Vec2& tangent, const Vec2& away, double radius,
-                               double sweep, double step);
+std::vector<Vec2> lead_out_arc(const Vec2& p0, const Vec2& tangent, const Vec2& away, double radius, double sweep,
+                               double step);
 std::vector<PlateWaypoint> sequence(const std::vector<GrindLoop>& loops, const Vec2& start,
                                     const SequenceOptions& options);
 
 // ---- 6. into the robot base frame ----
 struct Waypoint {
-  Vec3 position;            // robot base frame
+  Vec3 position;  // robot base frame
   Eigen::Quaterniond orientation;
   double speed;
   std::int8_t kind;
@@ -215,17 +215,17 @@ struct Segment2 {
 // starts at the lead-in's end), projected onto the plate plane.
 std::vector<Segment2> grind_segments(const std::vector<Waypoint>& path, const Eigen::Isometry3d& plate_to_base);
 struct UnreachedStretch {
-  double start = 0;            // arc length from the edge ring's first vertex to the stretch's start, m
-  double length = 0;           // m
+  double start = 0;   // arc length from the edge ring's first vertex to the stretch's start, m
+  double length = 0;  // m
   Vec2 from = Vec2::Zero(), to = Vec2::Zero();  // end points (plate frame)
-  bool concave = false;        // at a concave corner, or a concave bend tighter than the tool
-  std::vector<Vec2> points;    // the edge samples in the stretch, in order (plate frame)
+  bool concave = false;                         // at a concave corner, or a concave bend tighter than the tool
+  std::vector<Vec2> points;                     // the edge samples in the stretch, in order (plate frame)
 };
 struct LoopCoverage {
   int loop = 0;
   bool hole = false;
-  double length = 0;           // edge length, m
-  double unreached_length = 0; // m
+  double length = 0;            // edge length, m
+  double unreached_length = 0;  // m
   std::vector<UnreachedStretch> unreached;
   double reached_fraction() const { return length > 0 ? 1 - unreached_length / length : 1; }
 };
@@ -255,7 +255,7 @@ enum class SmallHolePolicy { Fail, Skip };
 struct PlannerConfig {
   JobParams defaults;
   SmoothOptions smooth;
-  double arc_tolerance = 1e-5;         // Clipper round-join tolerance, metres
+  double arc_tolerance = 1e-5;                         // Clipper round-join tolerance, metres
   double resample_corner_angle = 0.17453292519943295;  // 10 deg
   double approach_speed = 0.05;
   double lead_radius = 0.01;
@@ -263,28 +263,29 @@ struct PlannerConfig {
   double z_offset = 0;
   bool spindle_clockwise = true;
   SmallHolePolicy small_hole = SmallHolePolicy::Fail;  // also what an edge the tool cannot reach does
-  double coverage_tolerance = 2e-4;    // edge points may be this much farther than the tool radius, m
-  double resample_chord_error = 1e-5;  // largest distance of a resampled chord from the offset ring, m (as arc_tolerance)
+  double coverage_tolerance = 2e-4;                    // edge points may be this much farther than the tool radius, m
+  double resample_chord_error =
+      1e-5;  // largest distance of a resampled chord from the offset ring, m (as arc_tolerance)
   Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();
-  Plane default_plane;                 // used when an outline file has no plane
-  Vec3 home = Vec3(0.5, 0, 0.3);       // base frame; start reference when the robot's position is unknown
+  Plane default_plane;            // used when an outline file has no plane
+  Vec3 home = Vec3(0.5, 0, 0.3);  // base frame; start reference when the robot's position is unknown
   std::string base_frame = "robot_base";
   Limits limits;
 };
 struct PlanResult {
   bool ok = false;
-  std::string reason;                  // why not, when !ok
+  std::string reason;  // why not, when !ok
   std::vector<std::string> warnings;
   std::vector<Waypoint> path;
-  JobParams params;                    // as used
-  double pitch = 0;                    // pixel pitch used by the smoothing
+  JobParams params;  // as used
+  double pitch = 0;  // pixel pitch used by the smoothing
   int loops_planned = 0;
   int slowed = 0;                      // waypoint speeds lowered for corners (limit_corner_speeds)
   std::vector<LoopCoverage> coverage;  // per outline loop (edge_coverage), when the path was made
   double unreached_length = 0;         // sum over the loops, m
   double coverage_tolerance = 0;       // as used
   Eigen::Isometry3d plate_to_base = Eigen::Isometry3d::Identity();  // plate frame of the coverage -> base
-  double seconds = 0;                  // planning time
+  double seconds = 0;                                               // planning time
 };
 // Fills zero-valued job parameters from the defaults; returns a reason when a parameter is unusable.
 std::string resolve_params(const JobParams& requested, const JobParams& defaults, JobParams& out);

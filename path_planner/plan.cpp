@@ -61,7 +61,8 @@ PathCoverage path_coverage(OutlineInput in, const std::vector<Waypoint>& path, d
   double pitch = 0;
   const std::vector<Ring> edges = edges_to_grind(in, flipped, cfg, pitch);
   pc.plate_to_base = plate_to_base(in.plane, cfg.camera_to_base);
-  pc.loops = loops_coverage(in.loops, edges, grind_segments(path, pc.plate_to_base), tool_radius, cfg.coverage_tolerance);
+  pc.loops =
+      loops_coverage(in.loops, edges, grind_segments(path, pc.plate_to_base), tool_radius, cfg.coverage_tolerance);
   return pc;
 }
 
@@ -177,7 +178,8 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
     if (!c.unreached.empty()) {
       const std::string text = describe_unreached(c, T, P.tool_radius, cfg.coverage_tolerance, cfg.base_frame);
       if (skipped_warning[k] != SIZE_MAX) res.warnings[skipped_warning[k]] += ": " + text;
-      else if (cfg.small_hole == SmallHolePolicy::Skip) res.warnings.push_back("not reached: " + text);
+      else if (cfg.small_hole == SmallHolePolicy::Skip)
+        res.warnings.push_back("not reached: " + text);
       unreached += (unreached.empty() ? "" : "; ") + text;
     }
   }

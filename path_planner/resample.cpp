@@ -20,12 +20,14 @@ struct Piece {
   const Ring& ring;
   std::size_t c0, count;
   std::vector<double> cum;  // cum[j]: arc length from c0 to vertex c0 + j, j = 0..count
-  Piece(const Ring& r, std::size_t first, std::size_t segments) : ring(r), c0(first), count(segments), cum(segments + 1, 0) {
+  Piece(const Ring& r, std::size_t first, std::size_t segments)
+      : ring(r), c0(first), count(segments), cum(segments + 1, 0) {
     for (std::size_t j = 0; j < count; ++j) cum[j + 1] = cum[j] + (at(j + 1) - at(j)).norm();
   }
   Vec2 at(std::size_t j) const { return ring[(c0 + j) % ring.size()]; }
   Vec2 point(double s) const {  // the point at arc length s
-    const std::size_t j = std::min<std::size_t>(count - 1, std::size_t(std::upper_bound(cum.begin(), cum.end(), s) - cum.begin()) - 1);
+    const std::size_t j =
+        std::min<std::size_t>(count - 1, std::size_t(std::upper_bound(cum.begin(), cum.end(), s) - cum.begin()) - 1);
     const double len = cum[j + 1] - cum[j];
     return len > 0 ? Vec2(at(j) + (at(j + 1) - at(j)) * std::clamp((s - cum[j]) / len, 0.0, 1.0)) : at(j);
   }
@@ -33,7 +35,8 @@ struct Piece {
   double deviation(double a, double b) const {
     const Vec2 pa = point(a), pb = point(b);
     double worst = 0;
-    for (std::size_t j = std::size_t(std::upper_bound(cum.begin(), cum.end(), a) - cum.begin()); j < count && cum[j] < b; ++j)
+    for (std::size_t j = std::size_t(std::upper_bound(cum.begin(), cum.end(), a) - cum.begin());
+         j < count && cum[j] < b; ++j)
       worst = std::max(worst, segment_distance(at(j), pa, pb));
     return worst;
   }

@@ -57,8 +57,7 @@ Ordering order_loops(const std::vector<GrindLoop>& loops, const Vec2& start) {
   return o;
 }
 
-std::vector<Vec2> lead_in_arc(const Vec2& p0, const Vec2& t, const Vec2& m, double radius, double sweep,
-                              double step) {
+std::vector<Vec2> lead_in_arc(const Vec2& p0, const Vec2& t, const Vec2& m, double radius, double sweep, double step) {
   // Circle centre c = p0 + radius m; P(phi) = c - radius (m cos phi + t sin phi), phi from sweep down to 0:
   // at phi = 0 the point is p0 and the motion is along +t.
   const Vec2 c = p0 + radius * m;
@@ -72,8 +71,7 @@ std::vector<Vec2> lead_in_arc(const Vec2& p0, const Vec2& t, const Vec2& m, doub
   return pts;
 }
 
-std::vector<Vec2> lead_out_arc(const Vec2& p0, const Vec2& t, const Vec2& m, double radius, double sweep,
-                               double step) {
+std::vector<Vec2> lead_out_arc(const Vec2& p0, const Vec2& t, const Vec2& m, double radius, double sweep, double step) {
   // Mirror image of the lead-in: Q(phi) = c - radius (m cos phi - t sin phi), phi from 0 up to sweep.
   const Vec2 c = p0 + radius * m;
   const int segs = std::max(3, int(std::ceil(radius * sweep / std::max(step, 1e-9))));
@@ -86,8 +84,7 @@ std::vector<Vec2> lead_out_arc(const Vec2& p0, const Vec2& t, const Vec2& m, dou
   return pts;
 }
 
-std::vector<PlateWaypoint> sequence(const std::vector<GrindLoop>& loops, const Vec2& start,
-                                    const SequenceOptions& o) {
+std::vector<PlateWaypoint> sequence(const std::vector<GrindLoop>& loops, const Vec2& start, const SequenceOptions& o) {
   std::vector<PlateWaypoint> path;
   const Ordering ord = order_loops(loops, start);
   const bool reversed = travel_reversed(o.direction, o.spindle_clockwise);
@@ -119,7 +116,9 @@ std::vector<PlateWaypoint> sequence(const std::vector<GrindLoop>& loops, const V
     const std::vector<Vec2> lin = lead_in_arc(trav[0], tan[0], away[0], radius, o.lead_angle, o.step);
     const std::vector<Vec2> lout = lead_out_arc(trav[0], tan[0], away[0], radius, o.lead_angle, o.step);
     auto add = [&](const Vec2& p, double h, const Eigen::Quaterniond& q, double speed, std::int8_t kind,
-                   std::int16_t loop) { path.push_back({Vec3(p.x(), p.y(), h), q, speed, kind, loop}); };
+                   std::int16_t loop) {
+      path.push_back({Vec3(p.x(), p.y(), h), q, speed, kind, loop});
+    };
     add(lin.front(), zs, q0, o.travel_speed, e == 0 ? kApproach : kTravel, -1);
     add(lin.front(), z, q0, o.approach_speed, kApproach, idx);
     for (std::size_t k = 1; k < lin.size(); ++k) add(lin[k], z, q0, o.grind_speed, kLeadIn, idx);

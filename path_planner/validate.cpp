@@ -83,7 +83,8 @@ std::string validate(const std::vector<Waypoint>& path, const Limits& L, const V
       return at + fmt("position (%.4f, %.4f, %.4f) m", w.position.x(), w.position.y(), w.position.z()) +
              fmt(" is outside the workspace box (%.4f, %.4f, %.4f)", L.workspace_min.x(), L.workspace_min.y(),
                  L.workspace_min.z()) +
-             fmt(" .. (%.4f, %.4f, %.4f) m (base frame)", L.workspace_max.x(), L.workspace_max.y(), L.workspace_max.z());
+             fmt(" .. (%.4f, %.4f, %.4f) m (base frame)", L.workspace_max.x(), L.workspace_max.y(),
+                 L.workspace_max.z());
     if (!motion::above_table(w.position, L))
       return at + fmt("z = %.4f m is not above the table (z = %.4f m)", w.position.z(), L.table_z);
     if (!(w.speed > 0) || w.speed > L.max_speed)
@@ -103,8 +104,9 @@ std::string validate(const std::vector<Waypoint>& path, const Limits& L, const V
     const std::string at =
         "waypoint " + std::to_string(fault->waypoint) + " (" + (k >= 0 && k < 6 ? kind_names[k] : "unknown") + "): ";
     if (fault->radius == 0) return at + "the path reverses here (corner radius 0): no speed can take it";
-    return at + fmt("the corner (radius %.6f mm) at %.6f m/s needs %.6f m/s^2", fault->radius * 1e3, fault->speed,
-                    fault->lateral) +
+    return at +
+           fmt("the corner (radius %.6f mm) at %.6f m/s needs %.6f m/s^2", fault->radius * 1e3, fault->speed,
+               fault->lateral) +
            fmt(", more than max_accel %.6f m/s^2", L.max_accel);
   }
   // Grind loops: the lead-in's last point (the loop's start) and the grind waypoints that follow.

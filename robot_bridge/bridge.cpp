@@ -51,8 +51,8 @@ void Bridge::recover(double now) {
     save_state();
     return;
   }
-  enter_fault(robot_status_t::FAULT_UNEXPECTED_MODE, "hg-robot-bridge restarted while job " + job + " was running; robot stopped",
-              now);
+  enter_fault(robot_status_t::FAULT_UNEXPECTED_MODE,
+              "hg-robot-bridge restarted while job " + job + " was running; robot stopped", now);
 }
 
 void Bridge::report(const std::string& job_id, std::int8_t state, double progress, const std::string& message,
@@ -86,9 +86,12 @@ void Bridge::save_state() {
 
 void Bridge::update_health() {
   const RobotState& st = driver_->state();
-  if (state_ == State::Fault) out_.health(hullgrind::heartbeat_t::STATE_DEGRADED, "FAULT: " + fault_text_ + " (RESET to clear)");
-  else if (!st.connected) out_.health(hullgrind::heartbeat_t::STATE_DEGRADED, "robot controller not connected");
-  else out_.health(hullgrind::heartbeat_t::STATE_OK, "");
+  if (state_ == State::Fault)
+    out_.health(hullgrind::heartbeat_t::STATE_DEGRADED, "FAULT: " + fault_text_ + " (RESET to clear)");
+  else if (!st.connected)
+    out_.health(hullgrind::heartbeat_t::STATE_DEGRADED, "robot controller not connected");
+  else
+    out_.health(hullgrind::heartbeat_t::STATE_OK, "");
 }
 
 void Bridge::finish(std::int8_t state, const std::string& message, double) {
@@ -105,8 +108,9 @@ void Bridge::enter_fault(std::int32_t code, const std::string& text, double now)
   fault_text_ = text;
   if (state_ == State::Accepted || state_ == State::Running) {
     const int idx = driver_->state().path_index;
-    report(job_id_, job_status_t::STATE_ABORTED, progress_,
-           "FAULT: " + text + (state_ == State::Running && idx >= 0 ? " (at waypoint " + std::to_string(idx) + ")" : ""));
+    report(
+        job_id_, job_status_t::STATE_ABORTED, progress_,
+        "FAULT: " + text + (state_ == State::Running && idx >= 0 ? " (at waypoint " + std::to_string(idx) + ")" : ""));
   }
   logf(Level::Error, "FAULT: %s; nothing runs until a RESET request", text.c_str());
   state_ = State::Fault;
@@ -123,7 +127,8 @@ void Bridge::on_job_request(const job_request_t& req, double now) {
     case job_request_t::ACTION_ABORT: return;  // an abort for a job never seen here is another stage's
     case job_request_t::ACTION_RESET: return reset_fault(req, now);
     default:
-      return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: unknown action " + std::to_string(int(req.action)));
+      return report(req.job_id, job_status_t::STATE_REFUSED, 0,
+                    "refused: unknown action " + std::to_string(int(req.action)));
   }
 }
 
@@ -133,8 +138,10 @@ void Bridge::on_repeat(const job_request_t& req, runtime::JobLedger::Entry seen,
   const bool held = (state_ == State::Accepted || state_ == State::Running) && req.job_id == job_id_;
   if (req.action == job_request_t::ACTION_ABORT && held) {
     driver_->stop(now);
-    return finish(job_status_t::STATE_ABORTED,
-                  state_ == State::Running ? "aborted by request; robot stopped" : "aborted by request before the path arrived", now);
+    return finish(
+        job_status_t::STATE_ABORTED,
+        state_ == State::Running ? "aborted by request; robot stopped" : "aborted by request before the path arrived",
+        now);
   }
   report(req.job_id, seen.state, seen.progress, runtime::repeat_answer(req.action, req.job_id, seen), false);
 }
@@ -145,7 +152,8 @@ void Bridge::start_job(const job_request_t& req, double now) {
   if (state_ == State::Fault)
     return report(req.job_id, job_status_t::STATE_REFUSED, 0,
                   "refused: robot bridge in FAULT (" + fault_text_ + "); check the cell and send RESET");
-  if (state_ != State::Idle) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: busy with job " + job_id_);
+  if (state_ != State::Idle)
+    return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: busy with job " + job_id_);
   if (!st.ready) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: robot not ready: " + st.not_ready);
   state_ = State::Accepted;
   job_id_ = req.job_id;
@@ -158,7 +166,8 @@ void Bridge::start_job(const job_request_t& req, double now) {
 
 void Bridge::reset_fault(const job_request_t& req, double now) {
   if (state_ == State::Accepted || state_ == State::Running)
-    return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: job " + job_id_ + " is running (ABORT it)");
+    return report(req.job_id, job_status_t::STATE_REFUSED, 0,
+                  "reset refused: job " + job_id_ + " is running (ABORT it)");
   if (state_ != State::Fault) return report(req.job_id, job_status_t::STATE_DONE, 1, "reset: nothing to clear");
   const std::string why = driver_->reset(now);
   if (!why.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: " + why);
@@ -255,9 +264,10 @@ void Bridge::on_job_status(const job_status_t& s, double) {
   if (s.state == job_status_t::STATE_PLANNED && (state_ == State::Accepted || state_ == State::Running))
     not_ground_ = not_ground_in(s.message);
   if (state_ != State::Accepted) return;
-  if (s.state == job_status_t::STATE_FAILED || s.state == job_status_t::STATE_ABORTED || s.state == job_status_t::STATE_REFUSED) {
-    logf(Level::Warn, "job %s ended upstream (%s: %s); no longer waiting for its path", s.job_id.c_str(), s.source.c_str(),
-         s.message.c_str());
+  if (s.state == job_status_t::STATE_FAILED || s.state == job_status_t::STATE_ABORTED ||
+      s.state == job_status_t::STATE_REFUSED) {
+    logf(Level::Warn, "job %s ended upstream (%s: %s); no longer waiting for its path", s.job_id.c_str(),
+         s.source.c_str(), s.message.c_str());
     ledger_.set(s.job_id, part_id_, s.state, 0, "ended upstream: " + s.source + ": " + s.message);
     state_ = State::Idle;
     job_id_.clear();
@@ -270,7 +280,8 @@ void Bridge::shutdown(double now) {
   driver_->stop(now);
   const bool running = state_ == State::Running;
   report(job_id_, job_status_t::STATE_ABORTED, progress_,
-         std::string("hg-robot-bridge stopped while the job was ") + (running ? "running; robot stopped" : "waiting for its path"));
+         std::string("hg-robot-bridge stopped while the job was ") +
+             (running ? "running; robot stopped" : "waiting for its path"));
   if (!running) {
     state_ = State::Idle;
     job_id_.clear();
@@ -304,14 +315,15 @@ void Bridge::tick(double now) {
   robot_status_t rs{};
   rs.header.frame_id = cfg_.frame;
   // LCM 1.3 constants have no definition: take them by value (unary +), never as references.
-  rs.mode = std::int8_t(state_ == State::Fault       ? +robot_status_t::MODE_FAULT
-                        : !st.connected              ? +robot_status_t::MODE_DISCONNECTED
-                        : state_ == State::Running   ? +robot_status_t::MODE_RUNNING
-                                                     : +robot_status_t::MODE_IDLE);
+  rs.mode = std::int8_t(state_ == State::Fault     ? +robot_status_t::MODE_FAULT
+                        : !st.connected            ? +robot_status_t::MODE_DISCONNECTED
+                        : state_ == State::Running ? +robot_status_t::MODE_RUNNING
+                                                   : +robot_status_t::MODE_IDLE);
   const Vec3& p = st.tcp.position;
   const Quat& q = st.tcp.orientation;
   rs.tcp_position[0] = p.x(), rs.tcp_position[1] = p.y(), rs.tcp_position[2] = p.z();
-  rs.tcp_orientation[0] = q.w(), rs.tcp_orientation[1] = q.x(), rs.tcp_orientation[2] = q.y(), rs.tcp_orientation[3] = q.z();
+  rs.tcp_orientation[0] = q.w(), rs.tcp_orientation[1] = q.x(), rs.tcp_orientation[2] = q.y(),
+  rs.tcp_orientation[3] = q.z();
   rs.job_id = state_ == State::Running ? job_id_ : "";
   rs.path_index = state_ == State::Running ? st.path_index : -1;
   rs.fault_code = state_ == State::Fault ? fault_code_ : 0;

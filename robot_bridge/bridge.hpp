@@ -29,20 +29,21 @@ struct BridgeConfig {
   Limits limits;
   std::string source = "hg-robot-bridge";  // job_status_t.source
   std::string frame = "robot_base";        // robot_status_t header.frame_id
-  double path_timeout = 60;       // seconds an accepted job waits for its path before it FAILS
-  double progress_period = 0.2;   // RUNNING reports at most this often (seconds)
-  std::string state_file;         // remembers the running job across a crash; "" = off
+  double path_timeout = 60;                // seconds an accepted job waits for its path before it FAILS
+  double progress_period = 0.2;            // RUNNING reports at most this often (seconds)
+  std::string state_file;                  // remembers the running job across a crash; "" = off
   // This run of the pipeline (tools/run.sh sets HG_RUN_ID). With the sim driver, a state file left by another
   // run is an earlier simulated robot's: this one starts clean. "" = every state file counts (as a real robot's).
   std::string run_id;
-  std::string export_file;        // the URScript of every path run is also written here; "" = off
-  ScriptOptions script;           // for export_file
+  std::string export_file;  // the URScript of every path run is also written here; "" = off
+  ScriptOptions script;     // for export_file
 };
 
 struct BridgeOutputs {
   std::function<void(hullgrind::job_status_t&)> job_status = [](hullgrind::job_status_t&) {};
   std::function<void(hullgrind::robot_status_t&)> robot_status = [](hullgrind::robot_status_t&) {};
-  std::function<void(std::int8_t, const std::string&)> health = [](std::int8_t, const std::string&) {};  // heartbeat_t::STATE_*
+  std::function<void(std::int8_t, const std::string&)> health = [](std::int8_t, const std::string&) {
+  };  // heartbeat_t::STATE_*
 };
 
 class Bridge {

@@ -12,16 +12,16 @@
 namespace hg::robot_bridge {
 
 struct RobotState {
-  bool connected = false;     // state is being received (the sim is always connected unless told otherwise)
+  bool connected = false;  // state is being received (the sim is always connected unless told otherwise)
   bool pose_valid = false;
   Pose tcp;
-  bool ready = false;         // a job may start now
-  std::string not_ready;      // why not, when !ready
-  bool running = false;       // a path is being executed
-  int path_index = -1;        // waypoint being approached, -1 when idle
-  double progress = 0;        // 0..1 along the running path (by distance)
-  bool finished = false;      // the last started path ran to its end
-  std::string failure;        // the last started path ended early, not by a safety fault (program stopped)
+  bool ready = false;           // a job may start now
+  std::string not_ready;        // why not, when !ready
+  bool running = false;         // a path is being executed
+  int path_index = -1;          // waypoint being approached, -1 when idle
+  double progress = 0;          // 0..1 along the running path (by distance)
+  bool finished = false;        // the last started path ran to its end
+  std::string failure;          // the last started path ended early, not by a safety fault (program stopped)
   std::int32_t fault_code = 0;  // robot_status_t::FAULT_*, latched until reset()
   std::string fault_text;
 };

@@ -9,15 +9,17 @@
 namespace {
 
 void usage(std::FILE* f, const hg::runtime::Params& params) {
-  std::fprintf(f,
-               "usage: hg-robot-export [options] PATH.json -o JOB.script\n"
-               "Writes the URScript program of a path file (docs/path_file.md) after the robot bridge's checks\n"
-               "(workspace box, table height, speed, corner acceleration; from the first waypoint, as the robot's pose\n"
-               "is unknown offline). Exit status: 0 written, 1 refused by the checks (nothing written), 2 bad command\n"
-               "line, config or path file.\n\noptions (the keys of hg-robot-bridge; only the limits and script options matter here):\n");
+  std::fprintf(
+      f,
+      "usage: hg-robot-export [options] PATH.json -o JOB.script\n"
+      "Writes the URScript program of a path file (docs/path_file.md) after the robot bridge's checks\n"
+      "(workspace box, table height, speed, corner acceleration; from the first waypoint, as the robot's pose\n"
+      "is unknown offline). Exit status: 0 written, 1 refused by the checks (nothing written), 2 bad command\n"
+      "line, config or path file.\n\noptions (the keys of hg-robot-bridge; only the limits and script options matter here):\n");
   params.print_options(f);
-  std::fprintf(f, "  --config FILE                      YAML config file, e.g. config/robot_bridge.yaml\n"
-                  "  --help, --help-markdown, --version this text, the options as a Markdown table, the version\n");
+  std::fprintf(f,
+               "  --config FILE                      YAML config file, e.g. config/robot_bridge.yaml\n"
+               "  --help, --help-markdown, --version this text, the options as a Markdown table, the version\n");
 }
 
 std::vector<hg::runtime::Param> export_params() {
@@ -34,7 +36,8 @@ int main(int argc, char** argv) {
   hg::runtime::Params params(export_params());
   try {
     const auto action = params.parse(argc, argv);
-    if (action != hg::runtime::Params::Action::Run) return hg::runtime::answer(action, "hg-robot-export", params, usage);
+    if (action != hg::runtime::Params::Action::Run)
+      return hg::runtime::answer(action, "hg-robot-export", params, usage);
     if (params.positional().size() != 1 || params.text("output").empty())
       throw hg::runtime::ConfigError("command line: give one PATH.json and -o JOB.script (see --help)");
     return hg::robot_bridge::export_script(params, params.positional()[0], params.text("output"));

@@ -17,7 +17,8 @@ Path from_lcm(const hullgrind::grind_path_t& msg) {
   p.position.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     p.position.emplace_back(msg.position[i][0], msg.position[i][1], msg.position[i][2]);
-    p.orientation.emplace_back(msg.orientation[i][0], msg.orientation[i][1], msg.orientation[i][2], msg.orientation[i][3]);
+    p.orientation.emplace_back(msg.orientation[i][0], msg.orientation[i][1], msg.orientation[i][2],
+                               msg.orientation[i][3]);
     p.speed.push_back(msg.speed[i]);
     p.kind.push_back(msg.kind[i]);
   }
@@ -39,7 +40,7 @@ std::string fmt_vec(const Vec3& v) {
 std::string check_point(const Vec3& p, const Limits& lim, const std::string& what) {
   if (!motion::inside_workspace(p, lim))
     return what + " " + fmt_vec(p) + " is outside the workspace box " + fmt_vec(lim.workspace_min) + " .. " +
-             fmt_vec(lim.workspace_max);
+           fmt_vec(lim.workspace_max);
   if (!motion::above_table(p, lim))
     return what + " " + fmt_vec(p) + " is not above the table (z " + std::to_string(lim.table_z) + ")";
   return "";
@@ -57,12 +58,15 @@ std::string check_path(const Path& path, const Pose& start, const Limits& lim) {
     const std::string wp = "waypoint " + std::to_string(i) + " (" + kind_name(path.kind[i]) + ")";
     const Vec3& p = path.position[i];
     const Quat& q = path.orientation[i];
-    if (!p.allFinite() || !q.coeffs().allFinite() || !std::isfinite(path.speed[i])) return wp + " has a non-finite number";
-    if (std::abs(q.norm() - 1) > 1e-6) return wp + " has a quaternion that is not unit (norm " + std::to_string(q.norm()) + ")";
+    if (!p.allFinite() || !q.coeffs().allFinite() || !std::isfinite(path.speed[i]))
+      return wp + " has a non-finite number";
+    if (std::abs(q.norm() - 1) > 1e-6)
+      return wp + " has a quaternion that is not unit (norm " + std::to_string(q.norm()) + ")";
     if (auto r = check_point(p, lim, wp); !r.empty()) return r;
     if (!(path.speed[i] > 0)) return wp + ": speed " + std::to_string(path.speed[i]) + " m/s is not positive";
     if (path.speed[i] > lim.max_speed)
-      return wp + ": speed " + std::to_string(path.speed[i]) + " m/s exceeds the limit " + std::to_string(lim.max_speed) + " m/s";
+      return wp + ": speed " + std::to_string(path.speed[i]) + " m/s exceeds the limit " +
+             std::to_string(lim.max_speed) + " m/s";
   }
   // Corners: the point before waypoint i is the start pose for i == 0.
   if (const auto f = motion::first_corner_fault(path.position, path.speed, start.position, lim.max_accel))
@@ -88,7 +92,8 @@ Profile::Profile(const Pose& start, const Path& path, double accel) : accel_(acc
   // Speeds at the points: rest at both ends, the lower segment speed between, then what braking allows.
   std::vector<double> vj(m + 1, 0.0);
   for (std::size_t i = 1; i < m; ++i) vj[i] = std::min(path.speed[i - 1], path.speed[i]);
-  for (std::size_t i = 1; i <= m; ++i) vj[i] = std::min(vj[i], std::sqrt(vj[i - 1] * vj[i - 1] + 2 * accel * len_[i - 1]));
+  for (std::size_t i = 1; i <= m; ++i)
+    vj[i] = std::min(vj[i], std::sqrt(vj[i - 1] * vj[i - 1] + 2 * accel * len_[i - 1]));
   for (std::size_t i = m; i-- > 0;) vj[i] = std::min(vj[i], std::sqrt(vj[i + 1] * vj[i + 1] + 2 * accel * len_[i]));
   v_in_.resize(m);
   v_out_.resize(m);

@@ -65,8 +65,8 @@ class Profile {
 
   struct Sample {
     Pose pose;
-    int waypoint = -1;   // index of the waypoint being approached (n when finished)
-    double distance = 0; // along the path from the start pose, metres
+    int waypoint = -1;    // index of the waypoint being approached (n when finished)
+    double distance = 0;  // along the path from the start pose, metres
     double speed = 0;
   };
   Sample at(double t) const;  // t in seconds since the start; clamped to [0, duration]
@@ -77,8 +77,8 @@ class Profile {
  private:
   std::vector<Vec3> p_;
   std::vector<Quat> q_;
-  std::vector<double> len_, s0_, t0_;            // per segment length; cumulative distance and time at pts
-  std::vector<double> v_in_, v_out_, v_peak_;    // per segment
+  std::vector<double> len_, s0_, t0_;          // per segment length; cumulative distance and time at pts
+  std::vector<double> v_in_, v_out_, v_peak_;  // per segment
   double accel_ = 1;
 };
 

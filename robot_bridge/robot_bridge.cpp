@@ -26,9 +26,7 @@ namespace {
 std::atomic<int> g_sim_signal{0};  // SIGUSR1: protective stop, SIGUSR2: connection loss (sim driver only)
 void on_sim_signal(int sig) { g_sim_signal = sig; }
 
-double mono_now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double mono_now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 Vec3 vec3_param(const runtime::Params& params, const std::string& name) {
   auto v = params.numbers(name);
@@ -47,7 +45,8 @@ Limits limits_from(const runtime::Params& params) {
   l.max_speed = params.number("max-speed");
   l.max_accel = params.number("max-accel");
   for (int a = 0; a < 3; ++a)
-    if (!(l.workspace_min[a] < l.workspace_max[a])) throw params.error("workspace-min", "must be below workspace-max on every axis");
+    if (!(l.workspace_min[a] < l.workspace_max[a]))
+      throw params.error("workspace-min", "must be below workspace-max on every axis");
   return l;
 }
 
@@ -61,52 +60,76 @@ ScriptOptions script_from(const runtime::Params& params) {
 }
 
 runtime::ProcessInfo process_info() {
-  return {"hg-robot-bridge",
-          "Accepted jobs' grind paths (HG_GRIND_PATH) -> robot (simulated or Universal Robots) -> HG_ROBOT_STATUS (100 Hz), HG_JOB_STATUS.",
-          "Job protocol: a START job_request_t is ACCEPTED (or REFUSED: busy, FAULT, robot not ready); the grind_path_t\n"
-          "with that job id is checked (workspace box, table height, speed, corner acceleration) and run: RUNNING with\n"
-          "progress, then DONE, or FAILED/ABORTED with the reason. A fault (protective/emergency stop, lost connection,\n"
-          "unexpected robot mode) puts the bridge in FAULT until a RESET request. ABORT stops the job. A job id is\n"
-          "one job: a request with an id seen before (a retrying writer) is answered with that job's state and\n"
-          "changes nothing; only the ABORT of the held job acts. A RESET needs an id of its own.\n"
-          "Stopped (SIGTERM) mid-job: the robot is stopped, the job ABORTED, and the state file kept.\n"
-          "HG_RUN_ID (set by tools/run.sh): with --driver sim, a state file of another run is the last run's\n"
-          "simulated robot: its job is reported ABORTED (interrupted) and the bridge starts clean.\n"
-          "Sim faults on demand: SIGUSR1 = protective stop, SIGUSR2 = connection loss.\n"
-          "The URScript of a path file without the bus: hg-robot-export (the same keys).\n"
-          "Details: docs/robot_bridge.md.",
-          {
-              runtime::text_param("driver", "sim", "robot driver: sim | ur", {"sim", "ur"}),
-              {"export", "", "also write the URScript of every path run to this file"},
-              {"workspace-min", "-1.5,-1.5,-0.5", "workspace box minimum corner x,y,z in the robot base frame, m", false, runtime::ParamType::Numbers},
-              {"workspace-max", "1.5,1.5,1.5", "workspace box maximum corner x,y,z, m", false, runtime::ParamType::Numbers},
-              {"table-z", "-0.5", "table top height in the base frame: every point must be strictly above, m", false, runtime::ParamType::Number},
-              {"max-speed", "0.25", "highest TCP speed a path may ask for, m/s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"max-accel", "2.0", "highest TCP acceleration (corners: v^2/r), m/s^2", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"accel", "0.5", "tool acceleration commanded (UR a=, sim speed ramps), m/s^2; <= max-accel", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"blend-radius", "0.001", "UR blend radius between moves (capped at 40% of the shorter segment), m", false, runtime::ParamType::Number, 0},
-              {"path-timeout", "60", "an accepted job FAILS if its path does not arrive within this, s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"progress-period", "0.2", "RUNNING progress reports at most this often, s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"state-file", "", "file remembering the running job and HG_RUN_ID across a crash (a restart reports it ABORTED and holds FAULT)"},
-              {"frame", "robot_base", "robot base frame name (robot_status_t header.frame_id)"},
-              {"sim-time-scale", "1", "sim: simulated seconds per real second", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"sim-home", "0.5,0,0.3", "sim: TCP position at start-up, m", false, runtime::ParamType::Numbers},
-              {"sim-home-orientation", "0,1,0,0", "sim: TCP orientation at start-up, quaternion w,x,y,z (default: tool down)", false, runtime::ParamType::Numbers},
-              runtime::text_param("sim-fault", "none", "sim: fault to inject during a job: none|protective|estop|connection", {"none", "protective", "estop", "connection"}),
-              {"sim-fault-index", "-1", "sim: inject when the robot starts towards this waypoint (-1: off)", false, runtime::ParamType::Integer, -1},
-              {"sim-fault-time", "-1", "sim: inject this many simulated seconds into the job (-1: off)", false, runtime::ParamType::Number},
-              {"sim-fault-every-job", "", "sim: inject in every job, not only the first", true},
-              {"sim-outage", "2", "sim: a simulated connection loss lasts this long, s", false, runtime::ParamType::Number, 0},
-              {"ur-host", "127.0.0.1", "UR controller IPv4 address"},
-              {"ur-allow-remote", "", "allow a non-loopback ur_host (a real robot)", true},
-              {"ur-script-port", "30002", "UR script port (secondary/primary interface)", false, runtime::ParamType::Integer, 1, 65535},
-              {"ur-rtde-port", "30004", "UR RTDE port", false, runtime::ParamType::Integer, 1, 65535},
-              {"ur-frequency", "125", "RTDE output frequency requested, Hz", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"ur-register", "24", "output integer register the program writes the waypoint index to", false, runtime::ParamType::Integer, 0, 47},
-              {"ur-data-timeout", "0.5", "no RTDE data for this long: connection lost, s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"ur-backoff-initial", "0.2", "first reconnect delay, s (doubles per failure)", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-              {"ur-backoff-max", "5", "longest reconnect delay, s", false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
-          }};
+  return {
+      "hg-robot-bridge",
+      "Accepted jobs' grind paths (HG_GRIND_PATH) -> robot (simulated or Universal Robots) -> HG_ROBOT_STATUS (100 Hz), HG_JOB_STATUS.",
+      "Job protocol: a START job_request_t is ACCEPTED (or REFUSED: busy, FAULT, robot not ready); the grind_path_t\n"
+      "with that job id is checked (workspace box, table height, speed, corner acceleration) and run: RUNNING with\n"
+      "progress, then DONE, or FAILED/ABORTED with the reason. A fault (protective/emergency stop, lost connection,\n"
+      "unexpected robot mode) puts the bridge in FAULT until a RESET request. ABORT stops the job. A job id is\n"
+      "one job: a request with an id seen before (a retrying writer) is answered with that job's state and\n"
+      "changes nothing; only the ABORT of the held job acts. A RESET needs an id of its own.\n"
+      "Stopped (SIGTERM) mid-job: the robot is stopped, the job ABORTED, and the state file kept.\n"
+      "HG_RUN_ID (set by tools/run.sh): with --driver sim, a state file of another run is the last run's\n"
+      "simulated robot: its job is reported ABORTED (interrupted) and the bridge starts clean.\n"
+      "Sim faults on demand: SIGUSR1 = protective stop, SIGUSR2 = connection loss.\n"
+      "The URScript of a path file without the bus: hg-robot-export (the same keys).\n"
+      "Details: docs/robot_bridge.md.",
+      {
+          runtime::text_param("driver", "sim", "robot driver: sim | ur", {"sim", "ur"}),
+          {"export", "", "also write the URScript of every path run to this file"},
+          {"workspace-min", "-1.5,-1.5,-0.5", "workspace box minimum corner x,y,z in the robot base frame, m", false,
+           runtime::ParamType::Numbers},
+          {"workspace-max", "1.5,1.5,1.5", "workspace box maximum corner x,y,z, m", false, runtime::ParamType::Numbers},
+          {"table-z", "-0.5", "table top height in the base frame: every point must be strictly above, m", false,
+           runtime::ParamType::Number},
+          {"max-speed", "0.25", "highest TCP speed a path may ask for, m/s", false, runtime::ParamType::Number, 0,
+           std::numeric_limits<double>::infinity(), true},
+          {"max-accel", "2.0", "highest TCP acceleration (corners: v^2/r), m/s^2", false, runtime::ParamType::Number, 0,
+           std::numeric_limits<double>::infinity(), true},
+          {"accel", "0.5", "tool acceleration commanded (UR a=, sim speed ramps), m/s^2; <= max-accel", false,
+           runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+          {"blend-radius", "0.001", "UR blend radius between moves (capped at 40% of the shorter segment), m", false,
+           runtime::ParamType::Number, 0},
+          {"path-timeout", "60", "an accepted job FAILS if its path does not arrive within this, s", false,
+           runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+          {"progress-period", "0.2", "RUNNING progress reports at most this often, s", false,
+           runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+          {"state-file", "",
+           "file remembering the running job and HG_RUN_ID across a crash (a restart reports it ABORTED and holds FAULT)"},
+          {"frame", "robot_base", "robot base frame name (robot_status_t header.frame_id)"},
+          {"sim-time-scale", "1", "sim: simulated seconds per real second", false, runtime::ParamType::Number, 0,
+           std::numeric_limits<double>::infinity(), true},
+          {"sim-home", "0.5,0,0.3", "sim: TCP position at start-up, m", false, runtime::ParamType::Numbers},
+          {"sim-home-orientation", "0,1,0,0",
+           "sim: TCP orientation at start-up, quaternion w,x,y,z (default: tool down)", false,
+           runtime::ParamType::Numbers},
+          runtime::text_param("sim-fault", "none",
+                              "sim: fault to inject during a job: none|protective|estop|connection",
+                              {"none", "protective", "estop", "connection"}),
+          {"sim-fault-index", "-1", "sim: inject when the robot starts towards this waypoint (-1: off)", false,
+           runtime::ParamType::Integer, -1},
+          {"sim-fault-time", "-1", "sim: inject this many simulated seconds into the job (-1: off)", false,
+           runtime::ParamType::Number},
+          {"sim-fault-every-job", "", "sim: inject in every job, not only the first", true},
+          {"sim-outage", "2", "sim: a simulated connection loss lasts this long, s", false, runtime::ParamType::Number,
+           0},
+          {"ur-host", "127.0.0.1", "UR controller IPv4 address"},
+          {"ur-allow-remote", "", "allow a non-loopback ur_host (a real robot)", true},
+          {"ur-script-port", "30002", "UR script port (secondary/primary interface)", false,
+           runtime::ParamType::Integer, 1, 65535},
+          {"ur-rtde-port", "30004", "UR RTDE port", false, runtime::ParamType::Integer, 1, 65535},
+          {"ur-frequency", "125", "RTDE output frequency requested, Hz", false, runtime::ParamType::Number, 0,
+           std::numeric_limits<double>::infinity(), true},
+          {"ur-register", "24", "output integer register the program writes the waypoint index to", false,
+           runtime::ParamType::Integer, 0, 47},
+          {"ur-data-timeout", "0.5", "no RTDE data for this long: connection lost, s", false,
+           runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+          {"ur-backoff-initial", "0.2", "first reconnect delay, s (doubles per failure)", false,
+           runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+          {"ur-backoff-max", "5", "longest reconnect delay, s", false, runtime::ParamType::Number, 0,
+           std::numeric_limits<double>::infinity(), true},
+      }};
 }
 
 // The simulated robot from the sim-* parameters; SIGUSR1 / SIGUSR2 then inject its faults.
@@ -178,19 +201,21 @@ class Process {
     out.health = [&node](std::int8_t state, const std::string& text) { node.set_state(state, text); };
     bridge_ = std::make_unique<Bridge>(cfg, std::move(d), out, mono_now());
 
-    node.subscribe<hullgrind::job_request_t>(channels::kJobRequest, [this](const hullgrind::job_request_t& m, const runtime::Delivery&) {
-      bridge_->on_job_request(m, mono_now());
-    });
-    node.subscribe<hullgrind::grind_path_t>(channels::kGrindPath, [this](const hullgrind::grind_path_t& m, const runtime::Delivery& d) {
-      bridge_->on_grind_path(m, mono_now());
-      node_.set_latency(double(runtime::now_utime() - d.recv_utime) * 1e-6);
-    });
-    node.subscribe<hullgrind::robot_move_t>(channels::kRobotMove, [this](const hullgrind::robot_move_t& m, const runtime::Delivery&) {
-      bridge_->on_move(m, mono_now());
-    });
-    node.subscribe<hullgrind::job_status_t>(channels::kJobStatus, [this](const hullgrind::job_status_t& m, const runtime::Delivery&) {
-      bridge_->on_job_status(m, mono_now());
-    });
+    node.subscribe<hullgrind::job_request_t>(channels::kJobRequest,
+                                             [this](const hullgrind::job_request_t& m, const runtime::Delivery&) {
+                                               bridge_->on_job_request(m, mono_now());
+                                             });
+    node.subscribe<hullgrind::grind_path_t>(channels::kGrindPath,
+                                            [this](const hullgrind::grind_path_t& m, const runtime::Delivery& d) {
+                                              bridge_->on_grind_path(m, mono_now());
+                                              node_.set_latency(double(runtime::now_utime() - d.recv_utime) * 1e-6);
+                                            });
+    node.subscribe<hullgrind::robot_move_t>(
+        channels::kRobotMove,
+        [this](const hullgrind::robot_move_t& m, const runtime::Delivery&) { bridge_->on_move(m, mono_now()); });
+    node.subscribe<hullgrind::job_status_t>(
+        channels::kJobStatus,
+        [this](const hullgrind::job_status_t& m, const runtime::Delivery&) { bridge_->on_job_status(m, mono_now()); });
     node.every(std::chrono::milliseconds(10), [this] {
       if (int sig = g_sim_signal.exchange(0)) {
         if (auto* sim = dynamic_cast<SimDriver*>(&bridge_->driver()))
@@ -199,7 +224,8 @@ class Process {
       bridge_->tick(mono_now());
     });
     if (!cfg.run_id.empty()) logf(Level::Info, "run %s", cfg.run_id.c_str());
-    logf(Level::Info, "driver %s; workspace (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f), table z %.3f, max %.3f m/s, %.2f m/s^2",
+    logf(Level::Info,
+         "driver %s; workspace (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f), table z %.3f, max %.3f m/s, %.2f m/s^2",
          driver.c_str(), cfg.limits.workspace_min.x(), cfg.limits.workspace_min.y(), cfg.limits.workspace_min.z(),
          cfg.limits.workspace_max.x(), cfg.limits.workspace_max.y(), cfg.limits.workspace_max.z(), cfg.limits.table_z,
          cfg.limits.max_speed, cfg.limits.max_accel);

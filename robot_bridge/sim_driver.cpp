@@ -79,7 +79,8 @@ void SimDriver::update(double now) {
   state_.path_index = std::min<int>(s.waypoint, int(profile_.segments()) - 1);
   state_.progress = profile_.length() > 0 ? s.distance / profile_.length() : 1.0;
   if (o_.fault != SimFault::None && (o_.fault_every_job || !injected_once_) &&
-      ((o_.fault_at_index >= 0 && s.waypoint >= o_.fault_at_index) || (o_.fault_at_time >= 0 && t >= o_.fault_at_time))) {
+      ((o_.fault_at_index >= 0 && s.waypoint >= o_.fault_at_index) ||
+       (o_.fault_at_time >= 0 && t >= o_.fault_at_time))) {
     injected_once_ = true;
     fault(o_.fault, now);
     return;

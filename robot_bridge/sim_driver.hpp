@@ -9,14 +9,14 @@ enum class SimFault { None, ProtectiveStop, EmergencyStop, ConnectionLoss };
 SimFault parse_sim_fault(const std::string& name);  // none|protective|estop|connection; throws on others
 
 struct SimOptions {
-  Pose home;                  // TCP at start-up
-  double accel = 0.5;         // tangential acceleration of the profile, m/s^2
-  double time_scale = 1.0;    // simulated seconds per real second (demos and tests run faster)
-  SimFault fault = SimFault::None;  // injected during a job, when one of the triggers below is met
-  int fault_at_index = -1;    // ... when the robot starts towards this waypoint
-  double fault_at_time = -1;  // ... this many simulated seconds into the job
-  bool fault_every_job = false;  // false: only the first job after start-up is hit
-  double outage = 2.0;        // simulated connection loss lasts this long (seconds of real time)
+  Pose home;                                        // TCP at start-up
+  double accel = 0.5;                               // tangential acceleration of the profile, m/s^2
+  double time_scale = 1.0;                          // simulated seconds per real second (demos and tests run faster)
+  SimFault fault = SimFault::None;                  // injected during a job, when one of the triggers below is met
+  int fault_at_index = -1;                          // ... when the robot starts towards this waypoint
+  double fault_at_time = -1;                        // ... this many simulated seconds into the job
+  bool fault_every_job = false;                     // false: only the first job after start-up is hit
+  double outage = 2.0;                              // simulated connection loss lasts this long (seconds of real time)
   double backoff_initial = 0.2, backoff_max = 5.0;  // reconnect attempts while the connection is down
 };
 

@@ -45,7 +45,9 @@ std::uint64_t be64(const std::uint8_t* p) {
   for (int i = 0; i < 8; ++i) v = (v << 8) | p[i];
   return v;
 }
-std::uint32_t be32(const std::uint8_t* p) { return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3]; }
+std::uint32_t be32(const std::uint8_t* p) {
+  return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3];
+}
 double be_double(const std::uint8_t* p) {
   std::uint64_t u = be64(p);
   double d;
@@ -153,7 +155,8 @@ UrDriver::UrDriver(UrOptions options) : o_(std::move(options)) {
   if (inet_pton(AF_INET, o_.host.c_str(), &a) != 1)
     throw std::invalid_argument("ur host '" + o_.host + "' is not an IPv4 address");
   if (!is_loopback(o_.host) && !o_.allow_remote)
-    throw std::invalid_argument("ur host " + o_.host + " is not loopback: set --ur-allow-remote to drive a real controller");
+    throw std::invalid_argument("ur host " + o_.host +
+                                " is not loopback: set --ur-allow-remote to drive a real controller");
   backoff_ = o_.backoff_initial;
   state_.not_ready = "controller not connected";
 }
@@ -189,7 +192,8 @@ void UrDriver::try_connect(double now) {
     backoff_ = std::min(backoff_ * 2, o_.backoff_max);
     static runtime::RateLimiter limit;
     std::uint64_t suppressed = 0;
-    if (limit.allow(suppressed)) logf(Level::Warn, "ur: RTDE %s:%d: %s; retrying", o_.host.c_str(), o_.rtde_port, error.c_str());
+    if (limit.allow(suppressed))
+      logf(Level::Warn, "ur: RTDE %s:%d: %s; retrying", o_.host.c_str(), o_.rtde_port, error.c_str());
     return;
   }
   rx_.clear();
@@ -209,8 +213,10 @@ void UrDriver::drop(const std::string& why, double now) {
   state_.pose_valid = false;
   next_attempt_ = now + backoff_;
   backoff_ = std::min(backoff_ * 2, o_.backoff_max);
-  if (was_streaming || ever_streamed_) latch(robot_status_t::FAULT_CONNECTION_LOST, "controller connection lost: " + why);
-  else logf(Level::Warn, "ur: RTDE handshake failed: %s", why.c_str());
+  if (was_streaming || ever_streamed_)
+    latch(robot_status_t::FAULT_CONNECTION_LOST, "controller connection lost: " + why);
+  else
+    logf(Level::Warn, "ur: RTDE handshake failed: %s", why.c_str());
   // A running program is left to stop(): the script port may still reach the controller even though RTDE
   // does not, and the program must not run on unobserved.
 }
@@ -280,7 +286,9 @@ void UrDriver::handle(std::uint8_t type, const std::uint8_t* p, std::size_t size
     }
     case kDataPackage: {
       if (link_ != Link::Streaming) return decode_error("data package before the stream started");
-      if (size != kDataSize) return decode_error("data package of " + std::to_string(size) + " bytes, recipe needs " + std::to_string(kDataSize));
+      if (size != kDataSize)
+        return decode_error("data package of " + std::to_string(size) + " bytes, recipe needs " +
+                            std::to_string(kDataSize));
       if (p[0] != recipe_id_) return decode_error("data package for recipe " + std::to_string(p[0]));
       const std::uint8_t* q = p + 1;
       Raw r = raw_;
@@ -306,10 +314,8 @@ void UrDriver::handle(std::uint8_t type, const std::uint8_t* p, std::size_t size
     }
     case kGetUrcontrolVersion:
     case kSetupInputs:
-    case kPause:
-      return;  // replies to requests we do not make: harmless
-    default:
-      return decode_error("unknown package type " + std::to_string(int(type)));
+    case kPause: return;  // replies to requests we do not make: harmless
+    default: return decode_error("unknown package type " + std::to_string(int(type)));
   }
 }
 
@@ -371,12 +377,13 @@ void UrDriver::evaluate(double now) {
   const bool safe = sm == 1 || sm == 2;
   state_.ready = link_ == Link::Streaming && state_.fault_code == 0 && safe && raw_.robot_mode == kRobotModeRunning &&
                  !program_ && raw_.runtime_state != kRuntimePlaying;
-  state_.not_ready = state_.ready ? ""
-                     : state_.fault_code    ? state_.fault_text
-                     : !safe                ? std::string("safety mode ") + ur_safety_mode_name(sm)
-                     : raw_.robot_mode != kRobotModeRunning ? std::string("robot mode ") + ur_robot_mode_name(raw_.robot_mode)
-                     : program_             ? "running a job"
-                                            : "another program is running on the controller";
+  state_.not_ready = state_.ready        ? ""
+                     : state_.fault_code ? state_.fault_text
+                     : !safe             ? std::string("safety mode ") + ur_safety_mode_name(sm)
+                     : raw_.robot_mode != kRobotModeRunning
+                         ? std::string("robot mode ") + ur_robot_mode_name(raw_.robot_mode)
+                     : program_ ? "running a job"
+                                : "another program is running on the controller";
 }
 
 void UrDriver::update(double now) {
@@ -389,8 +396,10 @@ void UrDriver::update(double now) {
   }
   read_socket(now);
   if (fd_ < 0) return;
-  if (link_ != Link::Streaming && now - link_since_ > o_.handshake_timeout) return drop("RTDE handshake timed out", now);
-  if (link_ == Link::Streaming && now - last_data_ > o_.data_timeout) return drop("no RTDE data for " + std::to_string(o_.data_timeout) + " s", now);
+  if (link_ != Link::Streaming && now - link_since_ > o_.handshake_timeout)
+    return drop("RTDE handshake timed out", now);
+  if (link_ == Link::Streaming && now - last_data_ > o_.data_timeout)
+    return drop("no RTDE data for " + std::to_string(o_.data_timeout) + " s", now);
   if (link_ == Link::Streaming && have_data_) evaluate(now);
 }
 
@@ -427,7 +436,8 @@ std::string UrDriver::start(const Path& path, double now) {
   state_.path_index = 0;
   state_.ready = false;
   state_.not_ready = "running a job";
-  logf(Level::Info, "ur: sent job %s (%zu waypoints) to %s:%d", path.job_id.c_str(), path.size(), o_.host.c_str(), o_.script_port);
+  logf(Level::Info, "ur: sent job %s (%zu waypoints) to %s:%d", path.job_id.c_str(), path.size(), o_.host.c_str(),
+       o_.script_port);
   return "";
 }
 
@@ -445,7 +455,8 @@ std::string UrDriver::reset(double now) {
   update(now);
   if (link_ != Link::Streaming || !have_data_) return "controller not connected";
   const int sm = raw_.safety_mode;
-  if (sm != 1 && sm != 2) return std::string("controller still in ") + ur_safety_mode_name(sm) + " (unlock it on the teach pendant)";
+  if (sm != 1 && sm != 2)
+    return std::string("controller still in ") + ur_safety_mode_name(sm) + " (unlock it on the teach pendant)";
   if (raw_.robot_mode != kRobotModeRunning)
     return std::string("robot mode ") + ur_robot_mode_name(raw_.robot_mode) + " (power on and release the brakes)";
   // A program paused by the stop must never resume: replace it with one that only decelerates.

@@ -17,11 +17,11 @@ struct UrOptions {
   bool allow_remote = false;
   int script_port = 30002;
   int rtde_port = 30004;
-  double frequency = 125;          // RTDE output rate requested, Hz
-  ScriptOptions script;            // accel, blend radius, progress register
-  double data_timeout = 0.5;       // no data package for this long: connection lost
+  double frequency = 125;     // RTDE output rate requested, Hz
+  ScriptOptions script;       // accel, blend radius, progress register
+  double data_timeout = 0.5;  // no data package for this long: connection lost
   double handshake_timeout = 2.0;
-  double start_timeout = 5.0;      // the program must be seen playing (or done) this soon after sending
+  double start_timeout = 5.0;  // the program must be seen playing (or done) this soon after sending
   double backoff_initial = 0.2, backoff_max = 5.0;  // reconnect attempts
 };
 
@@ -47,7 +47,7 @@ class UrDriver final : public Driver {
     std::int32_t robot_mode = -1, safety_mode = 0;
     std::uint32_t runtime_state = 0;
     std::int32_t progress_register = 0;
-    std::int64_t packages = 0;   // data packages parsed
+    std::int64_t packages = 0;  // data packages parsed
   };
   const Raw& raw() const { return raw_; }
   int connections() const { return connections_; }  // successful RTDE handshakes so far
@@ -80,8 +80,8 @@ class UrDriver final : public Driver {
   bool program_ = false, seen_playing_ = false;
   double sent_at_ = 0;
   std::int32_t done_tag_ = 0;
-  std::vector<Vec3> pts_;        // start pose + waypoints
-  std::vector<double> cum_;      // distance at each point of pts_
+  std::vector<Vec3> pts_;    // start pose + waypoints
+  std::vector<double> cum_;  // distance at each point of pts_
 };
 
 }  // namespace hg::robot_bridge

@@ -32,8 +32,8 @@ std::string make_script(const Path& path, const ScriptOptions& o) {
                          k == hullgrind::grind_path_t::KIND_LEAD_OUT;
     double r = 0;
     if (i + 1 < n && i > 0) {
-      const double shorter = std::min((path.position[i] - path.position[i - 1]).norm(),
-                                      (path.position[i + 1] - path.position[i]).norm());
+      const double shorter =
+          std::min((path.position[i] - path.position[i - 1]).norm(), (path.position[i + 1] - path.position[i]).norm());
       r = std::min(o.blend_radius, 0.4 * shorter);
     }
     snprintf(line, sizeof line, "  write_output_integer_register(%d, %zu)\n", o.progress_register, i);

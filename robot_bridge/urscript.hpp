@@ -9,10 +9,11 @@
 namespace hg::robot_bridge {
 
 struct ScriptOptions {
-  double accel = 0.5;          // tool acceleration a= for every move, m/s^2
-  double blend_radius = 0.001; // r= between moves, metres; capped at 40 % of the shorter adjacent segment
-  int progress_register = 24;  // output integer register the program writes the waypoint index to (RTDE: output_int_register_N)
-  std::int32_t done_tag = 1;   // written to the register after the last move: "this job's program finished"
+  double accel = 0.5;           // tool acceleration a= for every move, m/s^2
+  double blend_radius = 0.001;  // r= between moves, metres; capped at 40 % of the shorter adjacent segment
+  int progress_register =
+      24;  // output integer register the program writes the waypoint index to (RTDE: output_int_register_N)
+  std::int32_t done_tag = 1;  // written to the register after the last move: "this job's program finished"
   std::string name = "hg_job";
 };
 

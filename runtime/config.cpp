@@ -44,7 +44,8 @@ void collect_keys(const YAML::Node& map, const std::string& prefix, std::vector<
   for (const auto& kv : map) {
     const std::string key = prefix + kv.first.as<std::string>();
     if (kv.second.IsMap()) collect_keys(kv.second, key + ".", out);
-    else out.push_back(key);
+    else
+      out.push_back(key);
   }
 }
 

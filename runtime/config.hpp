@@ -16,8 +16,8 @@ struct ConfigError : std::runtime_error {
 
 class Config {
  public:
-  Config() = default;                          // empty: every lookup falls back to its default
-  static Config load(const std::string& path); // throws ConfigError naming the file (and line)
+  Config() = default;                           // empty: every lookup falls back to its default
+  static Config load(const std::string& path);  // throws ConfigError naming the file (and line)
   static Config from_string(const std::string& yaml, const std::string& name = "<string>");
 
   bool empty() const { return !root_; }

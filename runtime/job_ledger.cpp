@@ -39,8 +39,10 @@ bool job_state_final(std::int8_t state) {
 
 std::string job_action_name(std::int8_t action) {
   using R = hullgrind::job_request_t;
-  return action == R::ACTION_START ? "START" : action == R::ACTION_ABORT ? "ABORT"
-       : action == R::ACTION_RESET ? "RESET" : std::to_string(int(action));
+  return action == R::ACTION_START   ? "START"
+         : action == R::ACTION_ABORT ? "ABORT"
+         : action == R::ACTION_RESET ? "RESET"
+                                     : std::to_string(int(action));
 }
 
 std::string repeat_answer(std::int8_t action, const std::string& job_id, const JobLedger::Entry& entry) {

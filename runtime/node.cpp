@@ -55,12 +55,14 @@ Node::Node(ProcessInfo info, int argc, char** argv) : info_(std::move(info)) {
   lcm_url_ = with_receive_buffer(lcm_url_);
   lcm_ = std::make_unique<lcm::LCM>(lcm_url_);
   if (!lcm_->good()) {
-    logf(Level::Error, "cannot open LCM at '%s' (for udpm: is there a multicast route? "
-                       "`ip route add 224.0.0.0/4 dev lo`)", lcm_url_.c_str());
+    logf(Level::Error,
+         "cannot open LCM at '%s' (for udpm: is there a multicast route? "
+         "`ip route add 224.0.0.0/4 dev lo`)",
+         lcm_url_.c_str());
     std::exit(1);
   }
-  logf(Level::Info, "started, pid %d, LCM %s%s%s", int(getpid()), lcm_url_.c_str(),
-       config().empty() ? "" : ", config ", config().empty() ? "" : config().source().c_str());
+  logf(Level::Info, "started, pid %d, LCM %s%s%s", int(getpid()), lcm_url_.c_str(), config().empty() ? "" : ", config ",
+       config().empty() ? "" : config().source().c_str());
 }
 
 Node::~Node() = default;
@@ -72,13 +74,16 @@ void Node::print_usage(std::FILE* out) const {
   params_.print_options(out);
   std::fprintf(out, "  --config FILE                      YAML config file (keys as the options above, without --)\n");
   std::fprintf(out, "  --help, --help-markdown, --version this text, the options as a Markdown table, the version\n");
-  std::fprintf(out, "\nPublishes hullgrind.heartbeat_t on HG_HEARTBEAT at 1 Hz; exits cleanly on SIGINT/SIGTERM.\n"
-                    "Exit status: 0 clean stop, 1 cannot open LCM, 2 bad command line or config (one line names the key).\n");
+  std::fprintf(
+      out,
+      "\nPublishes hullgrind.heartbeat_t on HG_HEARTBEAT at 1 Hz; exits cleanly on SIGINT/SIGTERM.\n"
+      "Exit status: 0 clean stop, 1 cannot open LCM, 2 bad command line or config (one line names the key).\n");
 }
 
 void Node::parse(int argc, char** argv) {
   std::vector<Param> all = info_.params;
-  all.push_back(text_param("lcm-url", default_lcm_url(), "LCM provider [$LCM_DEFAULT_URL, else " + std::string(kDefaultLcmUrl) + "]"));
+  all.push_back(text_param("lcm-url", default_lcm_url(),
+                           "LCM provider [$LCM_DEFAULT_URL, else " + std::string(kDefaultLcmUrl) + "]"));
   all.push_back(text_param("log-level", "info", "log threshold", {"debug", "info", "warn", "error"}));
   params_ = Params(std::move(all));
   try {
@@ -122,8 +127,8 @@ void Node::count_decode_error(const std::string& channel, const std::string& wha
   ++counters_.decode_errors;
   std::uint64_t suppressed = 0;
   if (decode_log_limit_.allow(suppressed))
-    logf(Level::Warn, "skipped a message on %s that does not decode: %s (%lld so far%s)", channel.c_str(),
-         what.c_str(), (long long)counters_.decode_errors.load(),
+    logf(Level::Warn, "skipped a message on %s that does not decode: %s (%lld so far%s)", channel.c_str(), what.c_str(),
+         (long long)counters_.decode_errors.load(),
          suppressed ? (", " + std::to_string(suppressed) + " not logged").c_str() : "");
 }
 
@@ -140,8 +145,7 @@ void Node::every(std::chrono::milliseconds period, std::function<void()> fn) {
 void Node::set_state(std::int8_t state, const std::string& text) {
   std::lock_guard lock(state_mutex_);
   if (state != state_ || text != state_text_) {
-    if (state == hullgrind::heartbeat_t::STATE_OK)
-      logf(Level::Info, "state OK");
+    if (state == hullgrind::heartbeat_t::STATE_OK) logf(Level::Info, "state OK");
     else if (state == hullgrind::heartbeat_t::STATE_STOPPING)
       logf(Level::Info, "stopping: %s", text.c_str());
     else
@@ -152,9 +156,7 @@ void Node::set_state(std::int8_t state, const std::string& text) {
   state_text_ = text;
 }
 
-double Node::uptime() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-}
+double Node::uptime() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
 
 void Node::publish_heartbeat() {
   hullgrind::heartbeat_t hb{};
@@ -192,8 +194,8 @@ int Node::run() {
     auto now = clock::now();
     auto wake = next_heartbeat;
     for (const Timer& t : timers_) wake = std::min(wake, t.next);
-    int timeout_ms = int(std::max<long long>(
-        0, std::chrono::duration_cast<std::chrono::milliseconds>(wake - now).count() + 1));
+    int timeout_ms =
+        int(std::max<long long>(0, std::chrono::duration_cast<std::chrono::milliseconds>(wake - now).count() + 1));
     int n = poll(fds, 2, timeout_ms);
     if (n < 0 && errno != EINTR) {
       logf(Level::Error, "poll: %s", std::strerror(errno));

@@ -69,7 +69,9 @@ class Node {
   double param_double(const std::string& name) const { return params_.number(name); }
   std::int64_t param_int(const std::string& name) const { return params_.integer(name); }
   bool param_bool(const std::string& name) const { return params_.flag(name); }
-  std::vector<double> param_doubles(const std::string& name) const { return params_.numbers(name); }  // "a,b,c" or a YAML list
+  std::vector<double> param_doubles(const std::string& name) const {
+    return params_.numbers(name);
+  }  // "a,b,c" or a YAML list
   bool param_given(const std::string& name) const { return params_.given(name); }
 
   lcm::LCM& lcm() { return *lcm_; }
@@ -79,7 +81,8 @@ class Node {
   template <class T>
   void subscribe(const std::string& channel, std::function<void(const T&, const Delivery&)> handler);
   // Raw subscription (bytes), counted as received.
-  void subscribe_raw(const std::string& channel, std::function<void(const lcm::ReceiveBuffer&, const Delivery&)> handler);
+  void subscribe_raw(const std::string& channel,
+                     std::function<void(const lcm::ReceiveBuffer&, const Delivery&)> handler);
   // LCM silently drops a message that arrives while a subscription already has this many waiting for
   // the loop (LCM's default: 30). Applies to the subscriptions made after the call; 0 keeps LCM's default,
   // except on the job channels (HG_JOB_REQUEST, HG_JOB_STATUS), which always get kJobQueueCapacity.
@@ -167,7 +170,11 @@ void Node::subscribe(const std::string& channel, std::function<void(const T&, co
 
 template <class T>
 bool Node::publish(const std::string& channel, T& msg) {
-  if constexpr (requires { msg.header.seq; msg.header.utime; }) fill_header(channel, msg.header.seq, msg.header.utime);
+  if constexpr (requires {
+                  msg.header.seq;
+                  msg.header.utime;
+                })
+    fill_header(channel, msg.header.seq, msg.header.utime);
   if (lcm_->publish(channel, &msg) != 0) {
     logf(Level::Error, "publish on %s failed", channel.c_str());
     return false;

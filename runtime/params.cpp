@@ -99,8 +99,10 @@ bool answer_version(int argc, const char* const* argv, const char* name) {
 int answer(Params::Action action, const std::string& program, const Params& params,
            const std::function<void(std::FILE*, const Params&)>& usage) {
   if (action == Params::Action::Help) usage(stdout, params);
-  else if (action == Params::Action::HelpMarkdown) std::fputs(params.markdown().c_str(), stdout);
-  else if (action == Params::Action::Version) std::printf("%s %s\n", program.c_str(), version());
+  else if (action == Params::Action::HelpMarkdown)
+    std::fputs(params.markdown().c_str(), stdout);
+  else if (action == Params::Action::Version)
+    std::printf("%s %s\n", program.c_str(), version());
   return 0;
 }
 
@@ -125,7 +127,8 @@ std::string Params::unknown_key_message(const std::string& key, bool command_lin
     const std::size_t d = edit_distance(kebab, p.name);
     if (d < best) best = d, nearest = &p;
   }
-  return (command_line ? "unknown option --" + key : std::string("unknown key")) + (nearest ? " (nearest known: " + dash + nearest->name + end + ")" : std::string());
+  return (command_line ? "unknown option --" + key : std::string("unknown key")) +
+         (nearest ? " (nearest known: " + dash + nearest->name + end + ")" : std::string());
 }
 
 Params::Action Params::parse(int argc, const char* const* argv) {
@@ -164,7 +167,8 @@ Params::Action Params::parse(int argc, const char* const* argv) {
       value = argv[++i];
     }
     if (p) cli_[p->name] = value;
-    else config_path = value;
+    else
+      config_path = value;
   }
   if (!config_path.empty()) use_config(Config::load(config_path));
   check_values();
@@ -224,8 +228,10 @@ std::string Params::text(const std::string& name) const {
   else if (config_.is_list(name)) {
     const std::vector<double> list = config_.get_doubles(name).value();
     for (double d : list) v += (v.empty() ? "" : ",") + number_text(d);
-  } else if (auto s = config_.get_string(name)) v = *s;
-  else v = p->is_flag && p->default_value.empty() ? "false" : p->default_value;
+  } else if (auto s = config_.get_string(name))
+    v = *s;
+  else
+    v = p->is_flag && p->default_value.empty() ? "false" : p->default_value;
   if (!p->choices.empty() && std::find(p->choices.begin(), p->choices.end(), v) == p->choices.end()) {
     std::string all;
     for (const std::string& c : p->choices) all += (all.empty() ? "" : " | ") + c;
@@ -239,7 +245,8 @@ double Params::number(const std::string& name) const {
   double d = 0;
   if (!parse_double(v, d)) throw error(name, "'" + v + "' is not a number");
   const Param& p = *find(name);
-  if (d < p.min || (p.min_open && d == p.min) || d > p.max) throw error(name, v + " is out of range (" + range_text(p) + ")");
+  if (d < p.min || (p.min_open && d == p.min) || d > p.max)
+    throw error(name, v + " is out of range (" + range_text(p) + ")");
   return d;
 }
 
@@ -283,7 +290,8 @@ void Params::print_options(std::FILE* out) const {
   if (declared_.empty()) std::fprintf(out, "  (none)\n");
   for (const Param& p : declared_) {
     std::string left = "  " + (p.alias.empty() ? "" : p.alias + ", ") + "--" + p.name;
-    if (!p.is_flag) left += p.kind() == ParamType::Numbers ? " A,B,.." : p.kind() == ParamType::Flag ? " true|false" : " VALUE";
+    if (!p.is_flag)
+      left += p.kind() == ParamType::Numbers ? " A,B,.." : p.kind() == ParamType::Flag ? " true|false" : " VALUE";
     std::string extra;
     if (!p.choices.empty()) {
       for (const std::string& c : p.choices) extra += (extra.empty() ? " {" : "|") + c;
@@ -307,8 +315,8 @@ std::string Params::markdown() const {
       return out;
     };
     const std::string help = cell(p.help);
-    md << "| `" << p.name << "` | " << cell(type_name(p.kind())) << " | " << (p.default_value.empty() ? "" : "`" + p.default_value + "`")
-       << " | " << range << " | " << help << " |\n";
+    md << "| `" << p.name << "` | " << cell(type_name(p.kind())) << " | "
+       << (p.default_value.empty() ? "" : "`" + p.default_value + "`") << " | " << range << " | " << help << " |\n";
   }
   return md.str();
 }

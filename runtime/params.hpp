@@ -22,13 +22,13 @@ struct Param {
   std::string name;           // kebab-case: --name on the command line, key name in the config file
   std::string default_value;  // as text (lists as "a,b,c"); empty: no default
   std::string help;
-  bool is_flag = false;       // a flag takes no value on the command line ("true" when given)
+  bool is_flag = false;              // a flag takes no value on the command line ("true" when given)
   ParamType type = ParamType::Text;  // a flag is always ParamType::Flag
   double min = -std::numeric_limits<double>::infinity();  // Number / Integer / every element of Numbers
   double max = std::numeric_limits<double>::infinity();
-  bool min_open = false;             // true: the value must be > min, not >= min
+  bool min_open = false;               // true: the value must be > min, not >= min
   std::vector<std::string> choices{};  // Text: the only values accepted (empty: any)
-  std::string alias{};               // a short command-line spelling, e.g. "-o"
+  std::string alias{};                 // a short command-line spelling, e.g. "-o"
 
   ParamType kind() const { return is_flag ? ParamType::Flag : type; }
 };
@@ -36,11 +36,11 @@ struct Param {
 // Declaration helpers: number_param("tool-radius", "0.01", "effective tool radius, m", 0, inf, /*open*/ true).
 Param text_param(std::string name, std::string def, std::string help, std::vector<std::string> choices = {});
 Param number_param(std::string name, std::string def, std::string help,
-             double min = -std::numeric_limits<double>::infinity(),
-             double max = std::numeric_limits<double>::infinity(), bool min_open = false);
+                   double min = -std::numeric_limits<double>::infinity(),
+                   double max = std::numeric_limits<double>::infinity(), bool min_open = false);
 Param integer_param(std::string name, std::string def, std::string help,
-              double min = -std::numeric_limits<double>::infinity(),
-              double max = std::numeric_limits<double>::infinity());
+                    double min = -std::numeric_limits<double>::infinity(),
+                    double max = std::numeric_limits<double>::infinity());
 Param numbers_param(std::string name, std::string def, std::string help);
 Param flag_param(std::string name, std::string help);
 

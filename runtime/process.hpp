@@ -1,5 +1,6 @@
 // The one way a hullgrind process starts. Every main.cpp is one line:
-//   int main(int argc, char** argv) { return hg::runtime::run_process(hg::x::process_info(), argc, argv, hg::x::attach); }
+//   int main(int argc, char** argv) { return hg::runtime::run_process(hg::x::process_info(), argc, argv,
+//   hg::x::attach); }
 // 1. builds the node from argv: --help / --version answer and exit 0; a bad command line or config file is
 //    one line naming it and the key, exit 2;
 // 2. attach(node) wires the process onto the node and returns what must live while the loop runs (or

@@ -50,7 +50,8 @@ bool has_feature(ArvCamera* cam, const char* name) {
 }
 
 bool is_3d_camera(ArvCamera* cam, const char* format) {
-  return offers_format(cam, format) && has_feature(cam, "Scan3dCoordinateScale") && has_feature(cam, "Scan3dFocalLength");
+  return offers_format(cam, format) && has_feature(cam, "Scan3dCoordinateScale") &&
+         has_feature(cam, "Scan3dFocalLength");
 }
 
 }  // namespace
@@ -196,13 +197,16 @@ void GenicamSource::configure() {
     const char* unit = arv_camera_get_string(cam, "Scan3dDistanceUnit", e.out());
     e.check("reading Scan3dDistanceUnit");
     if (!unit || std::strcmp(unit, "Millimeter") != 0)
-      throw SourceError(std::string("Scan3dDistanceUnit is '") + (unit ? unit : "") + "', only Millimeter is supported");
+      throw SourceError(std::string("Scan3dDistanceUnit is '") + (unit ? unit : "") +
+                        "', only Millimeter is supported");
   }
   const double scale = get_float(cam, "Scan3dCoordinateScale");
   const double offset = has_feature(cam, "Scan3dCoordinateOffset") ? get_float(cam, "Scan3dCoordinateOffset") : 0.0;
   const double focal = get_float(cam, "Scan3dFocalLength");
-  if (!(scale > 0) || !std::isfinite(scale)) throw SourceError("Scan3dCoordinateScale must be positive, is " + std::to_string(scale));
-  if (!(focal > 0) || !std::isfinite(focal)) throw SourceError("Scan3dFocalLength must be positive, is " + std::to_string(focal));
+  if (!(scale > 0) || !std::isfinite(scale))
+    throw SourceError("Scan3dCoordinateScale must be positive, is " + std::to_string(scale));
+  if (!(focal > 0) || !std::isfinite(focal))
+    throw SourceError("Scan3dFocalLength must be positive, is " + std::to_string(focal));
   if (!std::isfinite(offset)) throw SourceError("Scan3dCoordinateOffset is not finite");
   Intrinsics& in = m.intrinsics;
   ErrorGuard e;
@@ -248,7 +252,8 @@ void GenicamSource::start_stream() {
   // A socket buffer of a whole frame: a range image is MBs, the default UDP buffer drops packets.
   if (ARV_IS_GV_STREAM(m.stream)) g_object_set(m.stream, "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_AUTO, nullptr);
   for (int i = 0; i < kBuffers; ++i) arv_stream_push_buffer(m.stream, arv_buffer_new(m.payload, nullptr));
-  m.lost_handler = g_signal_connect(arv_camera_get_device(m.camera), "control-lost", G_CALLBACK(Impl::on_control_lost), &m);
+  m.lost_handler =
+      g_signal_connect(arv_camera_get_device(m.camera), "control-lost", G_CALLBACK(Impl::on_control_lost), &m);
   arv_camera_start_acquisition(m.camera, e.out());
   e.check("AcquisitionStart");
 }
@@ -260,7 +265,9 @@ void GenicamSource::close() {
 std::optional<DepthFrame> GenicamSource::grab(std::chrono::milliseconds timeout) {
   Impl& m = *impl_;
   if (!m.camera) throw SourceError("genicam source is not open");
-  const auto lost = [&] { return SourceError("GenICam camera '" + m.device + "' lost (no answer on its control channel)"); };
+  const auto lost = [&] {
+    return SourceError("GenICam camera '" + m.device + "' lost (no answer on its control channel)");
+  };
   if (m.lost) throw lost();
   if (options_.software_trigger) {
     ErrorGuard e;
@@ -293,8 +300,9 @@ std::optional<DepthFrame> GenicamSource::convert(void* arv_buffer) {
       options_.format == GenicamFormat::c16 ? ARV_PIXEL_FORMAT_COORD3D_C_16 : ARV_PIXEL_FORMAT_COORD3D_ABC_32F;
   size_t size = 0;
   const auto* raw = static_cast<const std::uint8_t*>(arv_buffer_get_data(buf, &size));
-  if (arv_buffer_get_payload_type(buf) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE || arv_buffer_get_image_pixel_format(buf) != want ||
-      arv_buffer_get_image_width(buf) != in.width || arv_buffer_get_image_height(buf) != in.height || !raw ||
+  if (arv_buffer_get_payload_type(buf) != ARV_BUFFER_PAYLOAD_TYPE_IMAGE ||
+      arv_buffer_get_image_pixel_format(buf) != want || arv_buffer_get_image_width(buf) != in.width ||
+      arv_buffer_get_image_height(buf) != in.height || !raw ||
       size < size_t(in.width) * size_t(in.height) * bytes_per_pixel()) {
     ++counters_.unusable;
     return std::nullopt;

@@ -30,10 +30,10 @@ struct GenicamOptions {
 
 // Counters of what was received and skipped since construction.
 struct GenicamCounters {
-  std::atomic<std::int64_t> frames{0};      // good frames delivered
-  std::atomic<std::int64_t> timeouts{0};    // grab() calls that got no buffer in time
-  std::atomic<std::int64_t> incomplete{0};  // buffers with a status other than success, skipped
-  std::atomic<std::int64_t> unusable{0};    // complete buffers of a wrong format or size, skipped
+  std::atomic<std::int64_t> frames{0};        // good frames delivered
+  std::atomic<std::int64_t> timeouts{0};      // grab() calls that got no buffer in time
+  std::atomic<std::int64_t> incomplete{0};    // buffers with a status other than success, skipped
+  std::atomic<std::int64_t> unusable{0};      // complete buffers of a wrong format or size, skipped
   std::atomic<std::int64_t> out_of_range{0};  // pixels whose distance does not fit 16-bit counts (set to 0)
 };
 
@@ -54,8 +54,8 @@ class GenicamSource : public DepthSource {
   std::string opened_device() const;     // the id of the device open now ("" when closed)
 
  private:
-  void configure();     // pixel format, Scan3d -> intrinsics, trigger
-  void start_stream();  // buffers, lost-camera signal, AcquisitionStart
+  void configure();                                     // pixel format, Scan3d -> intrinsics, trigger
+  void start_stream();                                  // buffers, lost-camera signal, AcquisitionStart
   std::optional<DepthFrame> convert(void* arv_buffer);  // nullopt (and counted) for a buffer to skip
   std::size_t bytes_per_pixel() const;
   struct Impl;

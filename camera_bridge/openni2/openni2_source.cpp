@@ -18,8 +18,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 std::int64_t wall_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
 
@@ -61,8 +60,7 @@ std::string mode_text(const openni::VideoMode& m) {
 
 }  // namespace
 
-struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener,
-                             openni::OpenNI::DeviceStateChangedListener {
+struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni::OpenNI::DeviceStateChangedListener {
   OpenNI2Options options;
   bool recording = false;
   bool open = false;
@@ -169,11 +167,13 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener,
     in.width = mode.getResolutionX();
     in.height = mode.getResolutionY();
     in.depth_unit = unit_of(mode.getPixelFormat());
-    if (in.depth_unit == 0) fail("pixel format " + std::to_string(mode.getPixelFormat()) + " is not a depth in mm or 0.1 mm");
+    if (in.depth_unit == 0)
+      fail("pixel format " + std::to_string(mode.getPixelFormat()) + " is not a depth in mm or 0.1 mm");
     // OpenNI2's pinhole model (VideoStream::convertDepthToWorld): tan(fov/2) = (resolution/2) / focal.
     const double hfov = stream.getHorizontalFieldOfView(), vfov = stream.getVerticalFieldOfView();
     if (!(hfov > 0 && hfov < M_PI && vfov > 0 && vfov < M_PI))
-      fail("the stream reports no usable field of view (h " + std::to_string(hfov) + ", v " + std::to_string(vfov) + " rad)");
+      fail("the stream reports no usable field of view (h " + std::to_string(hfov) + ", v " + std::to_string(vfov) +
+           " rad)");
     in.fx = in.width / (2.0 * std::tan(hfov / 2.0));
     in.fy = in.height / (2.0 * std::tan(vfov / 2.0));
     // The principal point: exact from our virtual device, else OpenNI2's assumption, the image centre.
@@ -203,7 +203,9 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener,
     open = false;
   }
 
-  bool at_end() const { return recording && !options.loop && frames_in_recording > 0 && last_index >= frames_in_recording; }
+  bool at_end() const {
+    return recording && !options.loop && frames_in_recording > 0 && last_index >= frames_in_recording;
+  }
 };
 
 OpenNI2Source::OpenNI2Source(OpenNI2Options options) : impl_(std::make_unique<Impl>()) {
@@ -220,8 +222,7 @@ std::string OpenNI2Source::describe() const {
   if (impl_->recording) {
     std::ostringstream s;
     s << " (speed " << (impl_->options.playback_speed > 0 ? impl_->options.playback_speed : 0)
-      << (impl_->options.playback_speed > 0 ? "" : " = frame by frame") << (impl_->options.loop ? ", loop" : "")
-      << ")";
+      << (impl_->options.playback_speed > 0 ? "" : " = frame by frame") << (impl_->options.loop ? ", loop" : "") << ")";
     d += s.str();
   }
   return d;

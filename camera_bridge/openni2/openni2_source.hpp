@@ -35,8 +35,8 @@ class OpenNI2Source : public DepthSource {
   std::optional<DepthFrame> grab(std::chrono::milliseconds timeout) override;
   void close() override;
 
-  bool is_recording() const;          // opened an .oni file
-  bool end_of_recording() const;      // .oni without loop: the last frame has been delivered
+  bool is_recording() const;             // opened an .oni file
+  bool end_of_recording() const;         // .oni without loop: the last frame has been delivered
   std::int64_t recorded_frames() const;  // .oni: frames in the recording; else 0
   std::int64_t skipped_frames() const;   // frames dropped because their size did not match their header
 

@@ -103,8 +103,8 @@ std::vector<int> unconfirmed(const SmoothContext& c, const Pieces& p, Corners& c
     // And the outline must come close to where they meet: at a sharp corner the pixels reach the tip up
     // to the alpha shape's chamfer (about half the gap) and a pitch of staircase, while a fillet of radius
     // R stays R (1/sin(interior/2) - 1) away from it (0.41 R at 90 deg) -- a fillet is an arc, not a corner.
-    const double closest = met ? closest_vertex(c, corners[k].vertex, gap + 2 * c.unit, x)
-                               : std::numeric_limits<double>::max();
+    const double closest =
+        met ? closest_vertex(c, corners[k].vertex, gap + 2 * c.unit, x) : std::numeric_limits<double>::max();
     const bool fillet = met && fillet_at_corner(c, p, pa_seq, drop);
     if (!met || (x - near).norm() > gap + 2 * c.unit / std::sin(interior / 2) || angle < 0.6 * c.corner_angle ||
         closest > 0.5 * gap + c.unit || fillet)

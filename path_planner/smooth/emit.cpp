@@ -38,8 +38,9 @@ Joint joint_of(const SmoothContext& c, const Piece& a, const Piece& b) {
   const Vec2 ea = project(c, pa, u.at(pa.last)), sb = project(c, pb, u.at(pb.first));
   const Vec2 near = 0.5 * (ea + sb);
   // A tangent pair meets at the tangent point wherever the noise put the split between their vertices.
-  const double reach = 3 * c.unit + (ea - sb).norm() +
-                       (a.tangent_next ? 0.5 * std::min(u.S(pa.last) - u.S(pa.first), u.S(pb.last) - u.S(pb.first)) : 0);
+  const double reach =
+      3 * c.unit + (ea - sb).norm() +
+      (a.tangent_next ? 0.5 * std::min(u.S(pa.last) - u.S(pa.first), u.S(pb.last) - u.S(pb.first)) : 0);
   Vec2 x;
   bool ok = intersect(pa, pb, c.pitch, c.bias_scale, near, x) && (x - near).norm() <= reach;
   if (!ok && pa.circle != pb.circle) {
@@ -134,12 +135,15 @@ SmoothedRing emit_ring(const SmoothContext& c, const Pieces& p, const Corners& c
     const bool wraps = np >= 2 && joint[np - 1].exists;
     if (wraps) e.point(joint[np - 1].out, false);
     for (std::size_t i = 0; i < np; ++i) {
-      const Vec2* from = i == 0 ? (wraps ? &joint[np - 1].out : nullptr) : joint[i - 1].exists ? &joint[i - 1].out : nullptr;
+      const Vec2* from = i == 0                ? (wraps ? &joint[np - 1].out : nullptr)
+                         : joint[i - 1].exists ? &joint[i - 1].out
+                                               : nullptr;
       const Vec2* to = joint[i].exists ? &joint[i].in : nullptr;
       e.piece(p[i].prim, from, to);
       if (to) {
         if (i + 1 < np) e.joint(p[i], joint[i], true);
-        else if (p[i].fillet) e.joint(p[i], joint[i], false);  // the wrap-around joint: its end was emitted first
+        else if (p[i].fillet)
+          e.joint(p[i], joint[i], false);  // the wrap-around joint: its end was emitted first
       }
     }
     return e.out;

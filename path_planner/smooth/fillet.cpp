@@ -16,7 +16,8 @@ namespace hg::path_planner::smooth {
 namespace {
 
 // Signed distance (left of travel positive) of q from straight a, fillet, straight b, whichever is nearest.
-double fillet_residual(const Line& a, const Line& b, const Primitive& arc, const Vec2& t1, const Vec2& t2, const Vec2& q) {
+double fillet_residual(const Line& a, const Line& b, const Primitive& arc, const Vec2& t1, const Vec2& t2,
+                       const Vec2& q) {
   const double s1 = (q - t1).dot(a.dir), s2 = (q - t2).dot(b.dir);
   double best = s1 <= 0 ? cross(a.dir, q - t1) : std::numeric_limits<double>::max();
   auto take = [&](double d) {
@@ -25,7 +26,8 @@ double fillet_residual(const Line& a, const Line& b, const Primitive& arc, const
   if (s2 >= 0) take(cross(b.dir, q - t2));
   const Vec2 r1 = t1 - arc.centre, r2 = t2 - arc.centre, rq = q - arc.centre;
   const double sense = cross(r1, r2);
-  if (cross(r1, rq) * sense >= 0 && cross(rq, r2) * sense >= 0) take(arc.ccw ? arc.radius - rq.norm() : rq.norm() - arc.radius);
+  if (cross(r1, rq) * sense >= 0 && cross(rq, r2) * sense >= 0)
+    take(arc.ccw ? arc.radius - rq.norm() : rq.norm() - arc.radius);
   if (best == std::numeric_limits<double>::max()) {  // between the pieces' ranges (a sharp bend): the nearer end
     const double d1 = (q - t1).norm(), d2 = (q - t2).norm();
     best = d1 < d2 ? (cross(a.dir, q - t1) >= 0 ? d1 : -d1) : (cross(b.dir, q - t2) >= 0 ? d2 : -d2);
@@ -44,7 +46,9 @@ bool bend_of(const Line& a, const Line& b, double& phi, Vec2& x) {
 }
 
 // Towards the fillet's centre from straight a.
-Vec2 centre_side(const Line& a, double phi) { return phi > 0 ? Vec2(-a.dir.y(), a.dir.x()) : Vec2(a.dir.y(), -a.dir.x()); }
+Vec2 centre_side(const Line& a, double phi) {
+  return phi > 0 ? Vec2(-a.dir.y(), a.dir.x()) : Vec2(a.dir.y(), -a.dir.x());
+}
 
 // Radius in (0, r_max] minimising the squared distances of the vertices `near` from straight a, fillet,
 // straight b (the bend at x): coarse scan, then golden section.
@@ -71,7 +75,8 @@ double fillet_radius(const Unrolled& u, const Line& la, const Line& lb, double p
   double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo), c1 = cost(m1), c2 = cost(m2);
   for (int it = 0; it < 20; ++it) {
     if (c1 < c2) hi = m2, m2 = m1, c2 = c1, m1 = hi - g * (hi - lo), c1 = cost(m1);
-    else lo = m1, m1 = m2, c1 = c2, m2 = lo + g * (hi - lo), c2 = cost(m2);
+    else
+      lo = m1, m1 = m2, c1 = c2, m2 = lo + g * (hi - lo), c2 = cost(m2);
   }
   return 0.5 * (lo + hi);
 }

@@ -46,8 +46,8 @@ Line fit_line(const Unrolled& u, long j0, long j1) {
   const double root = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
   const double major = 0.5 * tr + root, minor = 0.5 * tr - root;
   // eigenvector of `major`: (cxy, major - cxx) or (major - cyy, cxy), whichever is better conditioned
-  Vec2 dir = (major - cxx) * (major - cxx) > (major - cyy) * (major - cyy) ? Vec2(cxy, major - cxx)
-                                                                          : Vec2(major - cyy, cxy);
+  Vec2 dir =
+      (major - cxx) * (major - cxx) > (major - cyy) * (major - cyy) ? Vec2(cxy, major - cxx) : Vec2(major - cyy, cxy);
   const double len = dir.norm();
   dir = len > 0 ? Vec2(dir / len) : Vec2(u.at(j1) - u.at(j0)).normalized();
   if (dir.dot(u.at(j1) - u.at(j0)) < 0) dir = -dir;

@@ -20,9 +20,9 @@ inline Vec2 right_of(const Vec2& t) { return Vec2(t.y(), -t.x()); }
 struct Unrolled {
   int n = 0;
   Vec2 origin;
-  std::vector<Vec2> q;                          // q[j + n]: vertex j relative to origin
-  std::vector<double> s;                        // s[j + n]: arc length at vertex j
-  std::vector<double> mx, my, mxx, mxy, myy;    // prefix sums over q[0 .. k-1]
+  std::vector<Vec2> q;                        // q[j + n]: vertex j relative to origin
+  std::vector<double> s;                      // s[j + n]: arc length at vertex j
+  std::vector<double> mx, my, mxx, mxy, myy;  // prefix sums over q[0 .. k-1]
 
   explicit Unrolled(const Ring& ring);
   const Vec2& at(long j) const { return q[j + n]; }

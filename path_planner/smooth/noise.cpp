@@ -29,8 +29,8 @@ double estimate_pitch(const std::vector<Loop>& loops) {
   std::nth_element(lengths.begin(), mid, lengths.end());
   const double median = *mid;
   // Lattice steps are all one pitch long; noisy edges that happen to lie near an axis are not.
-  const std::size_t exact = std::size_t(std::count_if(lengths.begin(), lengths.end(),
-                                                      [&](double l) { return std::abs(l - median) <= 0.02 * median; }));
+  const std::size_t exact = std::size_t(
+      std::count_if(lengths.begin(), lengths.end(), [&](double l) { return std::abs(l - median) <= 0.02 * median; }));
   if (exact * 2 < lengths.size()) return 0;
   return median <= longest_loop / 200 ? median : 0;
 }

@@ -60,7 +60,8 @@ Pieces greedy_pieces(const SmoothContext& c, long j0, long j1, int run) {
     while (bad - good > 1) {
       const long mid = (good + bad) / 2;
       if (best_fit(c, a, mid, p) <= tolerance) good = mid, pg = p;
-      else bad = mid;
+      else
+        bad = mid;
     }
     pieces.push_back({pg, run, false, std::nullopt});
     a = good + 1;
@@ -118,9 +119,16 @@ void merge_lines(const SmoothContext& c, Pieces& p) {
   for (std::size_t i = 0; i + 1 < p.size();) {
     Primitive& pa = p[i].prim;
     const Primitive& pb = p[i + 1].prim;
-    if (pa.circle || pb.circle) { ++i; continue; }
-    const Line a = fit_line(u, pa.first, pa.last), b = fit_line(u, pb.first, pb.last), ab = fit_line(u, pa.first, pb.last);
-    if (!(ab.rms <= 1.25 * std::max(a.rms, b.rms))) { ++i; continue; }
+    if (pa.circle || pb.circle) {
+      ++i;
+      continue;
+    }
+    const Line a = fit_line(u, pa.first, pa.last), b = fit_line(u, pb.first, pb.last),
+               ab = fit_line(u, pa.first, pb.last);
+    if (!(ab.rms <= 1.25 * std::max(a.rms, b.rms))) {
+      ++i;
+      continue;
+    }
     pa.centre = ab.centre, pa.dir = ab.dir, pa.last = pb.last;
     p.erase(p.begin() + long(i) + 1);
   }
@@ -136,6 +144,8 @@ Pieces segment_run(const SmoothContext& c, long j0, long j1, int run, bool wrap)
 }
 
 // The pieces a noisy fillet is split into are shorter than four minimum pieces.
-bool long_line(const SmoothContext& c, const Primitive& p) { return !p.circle && p.last - p.first + 1 >= 4 * c.min_piece; }
+bool long_line(const SmoothContext& c, const Primitive& p) {
+  return !p.circle && p.last - p.first + 1 >= 4 * c.min_piece;
+}
 
 }  // namespace hg::path_planner::smooth

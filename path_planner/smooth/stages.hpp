@@ -13,18 +13,18 @@ namespace hg::path_planner::smooth {
 // Everything the stages share about one ring: its moments and the scales derived from pitch and noise.
 struct SmoothContext {
   Unrolled u;
-  int n = 0;                  // vertices
-  double pitch = 0;           // the pixel pitch given (0: unknown)
-  double spacing = 0;         // median vertex spacing
-  double total = 0;           // ring length
-  double unit = 0;            // length unit of the scales: max(pitch, spacing)
-  int win = 5;                // vertices in a residual window
-  double sigma = 0;           // noise of a window mean
-  double scale = 0;           // length of the corner detector's one-sided lines
-  double tolerance = 0;       // largest window mean residual that is noise or staircase, not misfit
-  long min_piece = 10;        // fewest vertices of a piece (two windows)
-  double bias_scale = 0;      // 1: edge compensation on, 0: off
-  double corner_angle = 0;    // smallest turn of a corner
+  int n = 0;                // vertices
+  double pitch = 0;         // the pixel pitch given (0: unknown)
+  double spacing = 0;       // median vertex spacing
+  double total = 0;         // ring length
+  double unit = 0;          // length unit of the scales: max(pitch, spacing)
+  int win = 5;              // vertices in a residual window
+  double sigma = 0;         // noise of a window mean
+  double scale = 0;         // length of the corner detector's one-sided lines
+  double tolerance = 0;     // largest window mean residual that is noise or staircase, not misfit
+  long min_piece = 10;      // fewest vertices of a piece (two windows)
+  double bias_scale = 0;    // 1: edge compensation on, 0: off
+  double corner_angle = 0;  // smallest turn of a corner
   explicit SmoothContext(const Ring& ring) : u(ring), n(int(ring.size())) {}
 };
 // The context of a ring, or nothing when the ring is left as it is (too few vertices, or a sparse polygon
@@ -40,10 +40,10 @@ double sigma_of(std::vector<double>& dev);
 
 // A fillet between two straights: an arc tangent to both (smooth/fillet.cpp).
 struct Fillet {
-  Line a, b;           // the straights, refitted without the fillet's vertices
-  long a_last = 0;     // last vertex of a, first of b (unwrapped)
+  Line a, b;        // the straights, refitted without the fillet's vertices
+  long a_last = 0;  // last vertex of a, first of b (unwrapped)
   long b_first = 0;
-  Primitive arc;       // the fillet: a circle tangent to both
+  Primitive arc;                              // the fillet: a circle tangent to both
   Vec2 t1 = Vec2::Zero(), t2 = Vec2::Zero();  // its tangent points on a and b
 };
 

@@ -64,9 +64,7 @@ std::uint32_t FakeGenicamCamera::read_register(std::uint32_t address) const {
   return v;
 }
 
-void FakeGenicamCamera::set_packet_loss(double ratio) {
-  g_object_set(gv(gv_), "gvsp-lost-ratio", ratio, nullptr);
-}
+void FakeGenicamCamera::set_packet_loss(double ratio) { g_object_set(gv(gv_), "gvsp-lost-ratio", ratio, nullptr); }
 
 void FakeGenicamCamera::write_double(std::uint32_t address, double value) {
   std::uint64_t bits;

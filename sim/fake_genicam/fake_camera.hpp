@@ -18,12 +18,12 @@ namespace hg::camera_bridge {
 struct FakeGenicamOptions {
   std::string interface = "127.0.0.1";  // address or interface name Aravis binds the fake device to
   std::string serial = "HG3D-0001";
-  std::string xml_path;                 // empty: the hg-fake-3d-camera.xml of the source tree
+  std::string xml_path;  // empty: the hg-fake-3d-camera.xml of the source tree
   SceneSpec scene;
-  CameraProfile profile;                // image size, focal length (fx is served), principal point
-  double scale_mm = 0.05;               // Scan3dCoordinateScale: millimetres per raw step
-  double offset_mm = 0.0;               // Scan3dCoordinateOffset
-  double frame_rate = 10;               // free-running frames per second
+  CameraProfile profile;   // image size, focal length (fx is served), principal point
+  double scale_mm = 0.05;  // Scan3dCoordinateScale: millimetres per raw step
+  double offset_mm = 0.0;  // Scan3dCoordinateOffset
+  double frame_rate = 10;  // free-running frames per second
   // >= 0: every frame is the scene rendered at this index (its noise included); < 0: frame n of the device
   // is the rendering at index n, the sequence the `synthetic` source delivers.
   std::int64_t fixed_frame_index = -1;

@@ -64,19 +64,30 @@ int main(int argc, char** argv) {
     if (!has) return usage(false);
     const std::string v = argv[++i];
     if (a == "--scene") scene = v;
-    else if (a == "--profile") profile = v;
-    else if (a == "--seed") seed = v;
-    else if (a == "--noise-scale") noise = std::atof(v.c_str());
-    else if (a == "--serial") o.serial = v;
-    else if (a == "--scale-mm") o.scale_mm = std::atof(v.c_str());
-    else if (a == "--offset-mm") o.offset_mm = std::atof(v.c_str());
-    else if (a == "--rate") o.frame_rate = std::atof(v.c_str());
-    else if (a == "--xml") o.xml_path = v;
-    else return usage(false);
+    else if (a == "--profile")
+      profile = v;
+    else if (a == "--seed")
+      seed = v;
+    else if (a == "--noise-scale")
+      noise = std::atof(v.c_str());
+    else if (a == "--serial")
+      o.serial = v;
+    else if (a == "--scale-mm")
+      o.scale_mm = std::atof(v.c_str());
+    else if (a == "--offset-mm")
+      o.offset_mm = std::atof(v.c_str());
+    else if (a == "--rate")
+      o.frame_rate = std::atof(v.c_str());
+    else if (a == "--xml")
+      o.xml_path = v;
+    else
+      return usage(false);
   }
   if (const auto others = non_loopback_interfaces(); !others.empty()) {
-    std::fprintf(stderr, "hg-fake-genicam: refusing to run: this network namespace has %s besides lo "
-                         "(run it under tests/netns.sh)\n", others.begin()->c_str());
+    std::fprintf(stderr,
+                 "hg-fake-genicam: refusing to run: this network namespace has %s besides lo "
+                 "(run it under tests/netns.sh)\n",
+                 others.begin()->c_str());
     return 3;
   }
   try {

@@ -138,7 +138,8 @@ namespace {
 void place_camera(const SceneSpec& spec, const CameraProfile& prof, RenderedFrame& out) {
   const Eigen::Matrix3d flip = Eigen::Vector3d(1, -1, -1).asDiagonal();
   const Eigen::Matrix3d tilt = (Eigen::AngleAxisd(spec.table_tilt_x, Eigen::Vector3d::UnitX()) *
-                                Eigen::AngleAxisd(spec.table_tilt_y, Eigen::Vector3d::UnitY())).toRotationMatrix();
+                                Eigen::AngleAxisd(spec.table_tilt_y, Eigen::Vector3d::UnitY()))
+                                   .toRotationMatrix();
   out.camera_from_table.linear() = flip * tilt;
   out.camera_from_table.translation() = Eigen::Vector3d(0, 0, prof.mount_height);
   const Eigen::Isometry3d& T = out.camera_from_table;
@@ -191,8 +192,8 @@ struct Rays {
 // inside a footprint but miss the top face: they enter through a side wall (outer edge or a hole's). The
 // entry is where the ray's table-frame point first falls inside the outline, found by bisection along the
 // ray between the top-face and table heights.
-void render_row(int r, const std::vector<partgen::Span>& spans, const Rays& ray, const RenderedFrame& out,
-                double* zr, std::uint8_t* lr) {
+void render_row(int r, const std::vector<partgen::Span>& spans, const Rays& ray, const RenderedFrame& out, double* zr,
+                std::uint8_t* lr) {
   const int W = static_cast<int>(ray.a.size());
   const int nparts = static_cast<int>(out.part_polygons.size());
   const Eigen::Vector3d& n = out.table_normal;
@@ -259,7 +260,8 @@ cv::Mat true_depth(const CameraProfile& prof, const std::vector<partgen::Polygon
 
 // Sensor effects, from one random stream per (seed, frame): mixed depths at edges, noise, dropout; then
 // quantised to depth counts.
-cv::Mat sensor_depth(const cv::Mat& z_true, const SceneSpec& spec, const CameraProfile& prof, std::uint64_t frame_index) {
+cv::Mat sensor_depth(const cv::Mat& z_true, const SceneSpec& spec, const CameraProfile& prof,
+                     std::uint64_t frame_index) {
   const int W = z_true.cols, H = z_true.rows;
   partgen::Rng rng(partgen::stream_seed(spec.seed, frame_index));
   const double edge_jump = 0.003;  // a depth step larger than this between neighbours is an edge
@@ -329,11 +331,18 @@ void write_truth(const SceneSpec& spec, const CameraProfile& prof, const Rendere
   j["units"] = "metres";
   j["frames"] = {{"table", "x right, y up, z up towards the camera; table surface z = 0"},
                  {"camera", "x right, y down, z along the optical axis"}};
-  j["camera"] = {{"profile", prof.name},   {"width", prof.width},   {"height", prof.height},
-                 {"fx", prof.fx},          {"fy", prof.fy},         {"cx", prof.cx},
-                 {"cy", prof.cy},          {"depth_unit", prof.depth_unit},
+  j["camera"] = {{"profile", prof.name},
+                 {"width", prof.width},
+                 {"height", prof.height},
+                 {"fx", prof.fx},
+                 {"fy", prof.fy},
+                 {"cx", prof.cx},
+                 {"cy", prof.cy},
+                 {"depth_unit", prof.depth_unit},
                  {"mount_height", prof.mount_height},
-                 {"noise_a", prof.noise_a}, {"noise_b", prof.noise_b}, {"dropout", prof.dropout},
+                 {"noise_a", prof.noise_a},
+                 {"noise_b", prof.noise_b},
+                 {"dropout", prof.dropout},
                  {"flying_pixel_prob", prof.flying_pixel_prob}};
   nlohmann::json m = nlohmann::json::array();
   for (int r = 0; r < 4; ++r) m.push_back(nlohmann::json::array());

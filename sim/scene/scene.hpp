@@ -43,18 +43,18 @@ CameraProfile camera_profile(const std::string& name);
 std::vector<std::string> camera_profile_names();
 
 struct ScenePart {
-  std::string shape;                // partgen catalogue name; empty: use `polygon`
-  double scale = 1.0;               // of the catalogue shape
+  std::string shape;                  // partgen catalogue name; empty: use `polygon`
+  double scale = 1.0;                 // of the catalogue shape
   partgen::PolygonWithHoles polygon;  // in the part's own frame, used when shape is empty
-  double x = 0, y = 0, theta = 0;   // pose on the table: bounding-box centre at (x, y), rotated by theta (rad)
-  double thickness = 0.012;         // metres, 0.006 .. 0.030
+  double x = 0, y = 0, theta = 0;     // pose on the table: bounding-box centre at (x, y), rotated by theta (rad)
+  double thickness = 0.012;           // metres, 0.006 .. 0.030
 };
 
 struct SceneSpec {
   std::string name;
-  std::vector<ScenePart> parts;     // must not overlap on the table
+  std::vector<ScenePart> parts;               // must not overlap on the table
   double table_tilt_x = 0, table_tilt_y = 0;  // radians
-  std::uint64_t seed = 1;           // noise, dropout and flying pixels are a function of (seed, frame index)
+  std::uint64_t seed = 1;                     // noise, dropout and flying pixels are a function of (seed, frame index)
 };
 
 // "empty" (table only), "plate-hole-slot", "l-bracket", "knee-scallop", "collar-notch", "ring-flange",
@@ -64,7 +64,7 @@ SceneSpec scene_preset(const std::string& name);
 std::vector<std::string> scene_preset_names();
 
 struct RenderedFrame {
-  cv::Mat depth;         // CV_16UC1, counts of intrinsics.depth_unit, 0 = no data
+  cv::Mat depth;  // CV_16UC1, counts of intrinsics.depth_unit, 0 = no data
   Intrinsics intrinsics;
   // CV_8UC1 ground truth per pixel: 0 = table, k + 1 = the pixel's centre ray first hits part k (its top
   // face or a side wall), before noise, dropout and flying pixels.
@@ -74,7 +74,7 @@ struct RenderedFrame {
   std::vector<partgen::PolygonWithHoles> part_polygons;  // top-face outlines in the table frame
   std::vector<double> part_thickness;
   Eigen::Isometry3d camera_from_table = Eigen::Isometry3d::Identity();  // p_cam = T * p_table
-  Eigen::Vector3d table_normal = Eigen::Vector3d::UnitZ();  // camera frame, pointing to the camera
+  Eigen::Vector3d table_normal = Eigen::Vector3d::UnitZ();              // camera frame, pointing to the camera
   double table_offset = 0;  // table plane in the camera frame: normal . p = offset (negative: camera above)
 };
 

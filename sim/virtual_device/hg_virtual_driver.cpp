@@ -60,7 +60,7 @@ struct DeviceEntry {
   std::string uri;
   VirtualDeviceConfig config;
   OniDeviceInfo info{};
-  bool connected = false;                      // guarded by the driver's mutex
+  bool connected = false;                         // guarded by the driver's mutex
   std::optional<Clock::time_point> reconnect_at;  // when a lost device comes back
 };
 
@@ -70,7 +70,10 @@ class DepthStream : public oni::driver::StreamBase {
  public:
   DepthStream(VirtualDevice& device, std::shared_ptr<const FrameRenderer> renderer, OniVideoMode mode,
               const std::vector<OniVideoMode>& modes, bool cropping_property)
-      : device_(device), renderer_(std::move(renderer)), mode_(mode), modes_(modes),
+      : device_(device),
+        renderer_(std::move(renderer)),
+        mode_(mode),
+        modes_(modes),
         cropping_property_(cropping_property) {}
   ~DepthStream() override { stop(); }
 
@@ -102,33 +105,25 @@ class DepthStream : public oni::driver::StreamBase {
       case ONI_STREAM_PROPERTY_MIN_VALUE:
       case ONI_STREAM_PROPERTY_MIRRORING:
       case ONI_STREAM_PROPERTY_STRIDE:
-      case kStreamPropertyPrincipalPoint:
-        return TRUE;
-      case ONI_STREAM_PROPERTY_CROPPING:
-        return cropping_property_ ? TRUE : FALSE;
-      default:
-        return FALSE;
+      case kStreamPropertyPrincipalPoint: return TRUE;
+      case ONI_STREAM_PROPERTY_CROPPING: return cropping_property_ ? TRUE : FALSE;
+      default: return FALSE;
     }
   }
 
   OniStatus getProperty(int id, void* data, int* size) override {
     const Intrinsics& in = renderer_->intrinsics();
     switch (id) {
-      case ONI_STREAM_PROPERTY_VIDEO_MODE:
-        return put(data, size, mode_);
+      case ONI_STREAM_PROPERTY_VIDEO_MODE: return put(data, size, mode_);
       // OpenNI's pinhole model: tan(fov/2) = (resolution/2) / focal length.
       case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
         return put(data, size, static_cast<float>(2.0 * std::atan(in.width / (2.0 * in.fx))));
       case ONI_STREAM_PROPERTY_VERTICAL_FOV:
         return put(data, size, static_cast<float>(2.0 * std::atan(in.height / (2.0 * in.fy))));
-      case ONI_STREAM_PROPERTY_MAX_VALUE:
-        return put(data, size, kMaxDepthCount);
-      case ONI_STREAM_PROPERTY_MIN_VALUE:
-        return put(data, size, 0);
-      case ONI_STREAM_PROPERTY_MIRRORING:
-        return put(data, size, OniBool(FALSE));
-      case ONI_STREAM_PROPERTY_STRIDE:
-        return put(data, size, mode_.resolutionX * 2);
+      case ONI_STREAM_PROPERTY_MAX_VALUE: return put(data, size, kMaxDepthCount);
+      case ONI_STREAM_PROPERTY_MIN_VALUE: return put(data, size, 0);
+      case ONI_STREAM_PROPERTY_MIRRORING: return put(data, size, OniBool(FALSE));
+      case ONI_STREAM_PROPERTY_STRIDE: return put(data, size, mode_.resolutionX * 2);
       case ONI_STREAM_PROPERTY_CROPPING:
         if (!cropping_property_) return ONI_STATUS_NOT_SUPPORTED;
         return put(data, size, OniCropping{FALSE, 0, 0, mode_.resolutionX, mode_.resolutionY});
@@ -138,8 +133,7 @@ class DepthStream : public oni::driver::StreamBase {
         std::memcpy(data, pp, sizeof pp);
         return ONI_STATUS_OK;
       }
-      default:
-        return ONI_STATUS_NOT_SUPPORTED;
+      default: return ONI_STATUS_NOT_SUPPORTED;
     }
   }
 
@@ -168,8 +162,7 @@ class DepthStream : public oni::driver::StreamBase {
         if (size != static_cast<int>(sizeof(OniCropping))) return ONI_STATUS_BAD_PARAMETER;
         return static_cast<const OniCropping*>(data)->enabled ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
       }
-      default:
-        return ONI_STATUS_NOT_SUPPORTED;
+      default: return ONI_STATUS_NOT_SUPPORTED;
     }
   }
 
@@ -411,15 +404,13 @@ class VirtualDriver : public oni::driver::DriverBase {
         const Event e = pending_.front();
         pending_.erase(pending_.begin());
         lock.unlock();
-        if (e.connected)
-          deviceConnected(&e.entry->info);
+        if (e.connected) deviceConnected(&e.entry->info);
         else
           deviceDisconnected(&e.entry->info);
         lock.lock();
       }
       if (stopping_) break;
-      if (next)
-        wake_.wait_until(lock, *next);
+      if (next) wake_.wait_until(lock, *next);
       else
         wake_.wait(lock);
     }

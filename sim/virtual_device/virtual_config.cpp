@@ -76,8 +76,8 @@ VirtualDeviceConfig parse_virtual_uri(const std::string& uri) {
       if (value != "0" && value != "1") fail(uri, value_at, "cropping must be 0 or 1");
       c.cropping_property = value == "1";
     } else {
-      fail(uri, pos, "unknown option '" + key +
-                         "' (known: profile, fps, seed, disconnect_after, reconnect_after, cropping)");
+      fail(uri, pos,
+           "unknown option '" + key + "' (known: profile, fps, seed, disconnect_after, reconnect_after, cropping)");
     }
     pos = amp + 1;
   }
@@ -142,8 +142,7 @@ cv::Mat FrameRenderer::render(std::uint64_t frame_index) const {
 struct FrameRenderer::Impl {};
 
 FrameRenderer::FrameRenderer(const VirtualDeviceConfig& config) {
-  if (config.profile == "pm806")
-    intrinsics_ = {1280, 960, 1120.0, 1120.0, 640.0, 480.0, 0.001};
+  if (config.profile == "pm806") intrinsics_ = {1280, 960, 1120.0, 1120.0, 640.0, 480.0, 0.001};
   else if (config.profile == "lsr-l")
     intrinsics_ = {2048, 1536, 1750.0, 1750.0, 1024.0, 768.0, 0.0001};
   else

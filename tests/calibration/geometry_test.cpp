@@ -74,7 +74,8 @@ TEST(RigidFit, RecoversTheGeneratedTransformOverManySeeds) {
       // Coplanar like the plate's holes on odd seeds, spread in 3-D on even ones.
       const Eigen::Vector3d p(0.2 * u(rng), 0.15 * u(rng), seed % 2 ? 0.0 : 0.1 * u(rng));
       from.push_back(p);
-      to.push_back(truth * p + (sigma > 0 ? Eigen::Vector3d(noise(rng), noise(rng), noise(rng)) : Eigen::Vector3d::Zero()));
+      to.push_back(truth * p +
+                   (sigma > 0 ? Eigen::Vector3d(noise(rng), noise(rng), noise(rng)) : Eigen::Vector3d::Zero()));
     }
     const double spread = spread_off_line(from);
     if (spread < 0.01) continue;  // refused; covered below

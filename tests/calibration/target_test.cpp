@@ -73,7 +73,8 @@ TEST(CalibrationProcedure, EyeInHandMeetsItsTargetOnSimulatedSessions) {
       SCOPED_TRACE(profile + " seed " + std::to_string(seed));
       const sim::EyeInHandSession s = sim::eye_in_hand(profile, 8, 0.00002, seed);
       std::vector<Eigen::Isometry3d> seen;
-      for (const auto& v : s.views) seen.push_back(detect_plate(v.frame.depth, v.frame.intrinsics, drawing).plate_to_camera);
+      for (const auto& v : s.views)
+        seen.push_back(detect_plate(v.frame.depth, v.frame.intrinsics, drawing).plate_to_camera);
       const HandEyeResult r = solve_eye_in_hand(s.flange_to_base, seen);
       for (const auto& m : r.methods) {
         SCOPED_TRACE(m.name);

@@ -29,7 +29,8 @@ fs::path scratch(const std::string& name) {
 
 // Runs a command line; returns its exit status, stderr in *err.
 int run(const std::string& cmd, std::string* err = nullptr) {
-  const std::string log = (fs::temp_directory_path() / ("hg_calibrate_tool_err_" + std::to_string(::getpid()))).string();
+  const std::string log =
+      (fs::temp_directory_path() / ("hg_calibrate_tool_err_" + std::to_string(::getpid()))).string();
   const int status = std::system((cmd + " 2>" + log + " >/dev/null").c_str());
   if (err) {
     std::ifstream f(log);
@@ -51,9 +52,12 @@ TEST(HgCalibrate, EyeToHandWritesTheCellFileAndKeepsABackup) {
   const fs::path d = scratch("e2h");
   const std::string cell = (d / "cell.yaml").string();
   fs::copy_file(std::string(HG_SOURCE_DIR) + "/config/cell.yaml", cell);
-  ASSERT_EQ(run(kBin + "/hg-calibrate simulate --mode eye-to-hand --profile pm806 --seed 5 --session " + (d / "s").string()), 0);
+  ASSERT_EQ(
+      run(kBin + "/hg-calibrate simulate --mode eye-to-hand --profile pm806 --seed 5 --session " + (d / "s").string()),
+      0);
   std::string err;
-  ASSERT_EQ(run(kBin + "/hg-calibrate eye-to-hand --session " + (d / "s").string() + " --cell " + cell, &err), 0) << err;
+  ASSERT_EQ(run(kBin + "/hg-calibrate eye-to-hand --session " + (d / "s").string() + " --cell " + cell, &err), 0)
+      << err;
   const hg::cell::Cell c = hg::cell::read_cell(cell);
   json truth = json::parse(std::ifstream(d / "s" / "truth.json"));
   const Eigen::Isometry3d t = row_major(truth["camera_to_base"]);
@@ -68,7 +72,9 @@ TEST(HgCalibrate, EyeToHandWritesTheCellFileAndKeepsABackup) {
 
 TEST(HgCalibrate, TooFewTouchedHolesAreRefusedWithTheReason) {
   const fs::path d = scratch("few");
-  ASSERT_EQ(run(kBin + "/hg-calibrate simulate --mode eye-to-hand --profile pm806 --views 1 --session " + (d / "s").string()), 0);
+  ASSERT_EQ(
+      run(kBin + "/hg-calibrate simulate --mode eye-to-hand --profile pm806 --views 1 --session " + (d / "s").string()),
+      0);
   json s = json::parse(std::ifstream(d / "s" / "session.json"));
   json kept = {{"H1", s["views"][0]["tcp_at_hole"]["H1"]}, {"H2", s["views"][0]["tcp_at_hole"]["H2"]}};
   s["views"][0]["tcp_at_hole"] = kept;
@@ -84,11 +90,13 @@ TEST(HgCalibrate, TooFewTouchedHolesAreRefusedWithTheReason) {
 
 TEST(HgCalibrate, TouchRecordsTheRobotsTcp) {
   const fs::path d = scratch("touch");
-  ASSERT_EQ(run(kBin + "/hg-calibrate simulate --mode eye-to-hand --profile pm806 --views 1 --session " + (d / "s").string()), 0);
+  ASSERT_EQ(
+      run(kBin + "/hg-calibrate simulate --mode eye-to-hand --profile pm806 --views 1 --session " + (d / "s").string()),
+      0);
   // The sim robot at rest where the test put it.
   hg::test::ChildProcess robot({kBin + "/hg-robot-bridge", "--driver", "sim", "--sim-home", "0.41,-0.07,0.23",
                                 "--state-file", (d / "robot.state").string()},
-                             hg::test::ChildOptions().stderr_to((d / "robot.log").string()));
+                               hg::test::ChildOptions().stderr_to((d / "robot.log").string()));
   std::string err;
   ASSERT_EQ(run(kBin + "/hg-calibrate touch --view 0 --hole H3 --session " + (d / "s").string(), &err), 0) << err;
   const json s = json::parse(std::ifstream(d / "s" / "session.json"));

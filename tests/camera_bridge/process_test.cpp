@@ -55,8 +55,12 @@ struct Bus {
     lcm.subscribe("HG_DEPTH", &Bus::on_depth, this);
     lcm.subscribe("HG_HEARTBEAT", &Bus::on_beat, this);
   }
-  void on_cloud(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::plate_cloud_t* m) { clouds.push_back(*m); }
-  void on_depth(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::depth_frame_t* m) { depths.push_back(*m); }
+  void on_cloud(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::plate_cloud_t* m) {
+    clouds.push_back(*m);
+  }
+  void on_depth(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::depth_frame_t* m) {
+    depths.push_back(*m);
+  }
   void on_beat(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* m) {
     if (m->process == process) beats.push_back(*m);
   }
@@ -148,7 +152,8 @@ TEST(CameraBridgeProcess, SyntheticCloudsInScanOrder) {
   // The monitoring image: PNG decodes to the decimated size, intrinsics scaled to it.
   const auto& d = bus.depths.front();
   ASSERT_EQ(d.encoding, +hullgrind::depth_frame_t::ENCODING_PNG16);
-  const cv::Mat img = cv::imdecode(cv::Mat(1, d.data_size, CV_8UC1, const_cast<std::uint8_t*>(d.data.data())), cv::IMREAD_UNCHANGED);
+  const cv::Mat img =
+      cv::imdecode(cv::Mat(1, d.data_size, CV_8UC1, const_cast<std::uint8_t*>(d.data.data())), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(img.type(), CV_16UC1);
   EXPECT_EQ(img.cols, 320);
   EXPECT_EQ(img.rows, 240);
@@ -225,8 +230,10 @@ TEST(CameraBridgeProcess, MissingInputIsAnErrorStateNotACrash) {
   Bus bus;
   Process proc({"--source", "files", "--files", "/nonexistent/hg-depth", "--retry-min", "0.2", "--retry-max", "0.4",
                 "--log-level", "error"});
-  ASSERT_TRUE(bus.until([&] { return !bus.beats.empty() && bus.beats.back().state == hullgrind::heartbeat_t::STATE_ERROR; }));
-  EXPECT_NE(bus.beats.back().state_text.find("/nonexistent/hg-depth"), std::string::npos) << bus.beats.back().state_text;
+  ASSERT_TRUE(
+      bus.until([&] { return !bus.beats.empty() && bus.beats.back().state == hullgrind::heartbeat_t::STATE_ERROR; }));
+  EXPECT_NE(bus.beats.back().state_text.find("/nonexistent/hg-depth"), std::string::npos)
+      << bus.beats.back().state_text;
   EXPECT_EQ(proc.stop(), 0);  // still alive, stops cleanly
 }
 
@@ -259,7 +266,8 @@ class UnpluggableSource : public DepthSource {
 };
 
 TEST(CameraBridgeProcess, DeviceLossAndRecovery) {
-  std::vector<std::string> args{"hg-camera-bridge-test", "--retry-min", "0.2", "--retry-max", "0.8", "--log-level", "error"};
+  std::vector<std::string> args{"hg-camera-bridge-test", "--retry-min", "0.2", "--retry-max", "0.8",
+                                "--log-level",           "error"};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   hg::runtime::ProcessInfo info = process_info();
@@ -289,7 +297,8 @@ TEST(CameraBridgeProcess, DeviceLossAndRecovery) {
   EXPECT_EQ(bus.clouds.size(), clouds_while_away);
 
   dev->present = true;
-  ASSERT_TRUE(bus.until([&] { return state_is(hullgrind::heartbeat_t::STATE_OK) && bus.clouds.size() >= clouds_while_away + 2; }));
+  ASSERT_TRUE(bus.until(
+      [&] { return state_is(hullgrind::heartbeat_t::STATE_OK) && bus.clouds.size() >= clouds_while_away + 2; }));
   EXPECT_EQ(bus.clouds.back().status, +hullgrind::plate_cloud_t::STATUS_OK);
 
   node.stop();

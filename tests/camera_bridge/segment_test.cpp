@@ -63,7 +63,8 @@ TEST_P(CameraBridgeAccuracy, MaskPlaneAndNoTablePoints) {
   // Thickness of the largest part (the origin lies on it).
   int largest = 0;
   for (std::size_t k = 1; k < f.part_polygons.size(); ++k)
-    if (cv::countNonZero(f.truth_labels == int(k + 1)) > cv::countNonZero(f.truth_labels == largest + 1)) largest = int(k);
+    if (cv::countNonZero(f.truth_labels == int(k + 1)) > cv::countNonZero(f.truth_labels == largest + 1))
+      largest = int(k);
   EXPECT_NEAR(s.thickness, f.part_thickness[largest], 0.0015);
 
   // No table points: every point's pixel is in the true part mask or touches it (8-neighbourhood). The
@@ -75,7 +76,8 @@ TEST_P(CameraBridgeAccuracy, MaskPlaneAndNoTablePoints) {
   for (std::size_t i = 0; i < s.size(); ++i) {
     const int px = s.pixel[i];
     if (!near_truth.data[px]) ++outside;
-    else if (!truth.data[px]) ++on_edge;
+    else if (!truth.data[px])
+      ++on_edge;
   }
   EXPECT_EQ(outside, 0u);
   std::printf("  points on the one-pixel rim outside the true mask: %zu\n", on_edge);
@@ -313,8 +315,7 @@ TEST(CameraBridgeRender, FlatTableDepthAndPartArea) {
     const double z_top = prof.mount_height - t;
     std::size_t top = 0;
     for (int r = 0; r < f.depth.rows; ++r)
-      for (int c = 0; c < f.depth.cols; ++c)
-        top += std::abs(f.depth.at<std::uint16_t>(r, c) * unit - z_top) <= unit;
+      for (int c = 0; c < f.depth.cols; ++c) top += std::abs(f.depth.at<std::uint16_t>(r, c) * unit - z_top) <= unit;
     const double area = top * (z_top / prof.fx) * (z_top / prof.fy);
     const double exact = hg::partgen::polygon_area(f.part_polygons[0]);
     EXPECT_NEAR(area, exact, 0.01 * exact) << name;

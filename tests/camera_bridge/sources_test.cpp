@@ -18,8 +18,9 @@ namespace {
 
 struct TempDir {
   fs::path path;
-  TempDir() : path(fs::temp_directory_path() / ("hg_cam_src_" + std::to_string(getpid()) + "_" +
-                                                 ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
+  TempDir()
+      : path(fs::temp_directory_path() / ("hg_cam_src_" + std::to_string(getpid()) + "_" +
+                                          ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
     fs::create_directories(path);
   }
   ~TempDir() { fs::remove_all(path); }

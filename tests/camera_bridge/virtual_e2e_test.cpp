@@ -33,8 +33,17 @@ struct Bridge : hg::test::ChildProcess {
   explicit Bridge(const std::string& uri, const std::vector<std::string>& extra = {})
       : ChildProcess(
             [&] {
-              std::vector<std::string> args{std::string(HG_BIN_DIR) + "/hg-camera-bridge", "--source", "openni2", "--uri",
-                                            uri, "--parts", "all", "--rate", "0", "--log-level", "warn"};
+              std::vector<std::string> args{std::string(HG_BIN_DIR) + "/hg-camera-bridge",
+                                            "--source",
+                                            "openni2",
+                                            "--uri",
+                                            uri,
+                                            "--parts",
+                                            "all",
+                                            "--rate",
+                                            "0",
+                                            "--log-level",
+                                            "warn"};
               args.insert(args.end(), extra.begin(), extra.end());
               return args;
             }(),
@@ -42,9 +51,11 @@ struct Bridge : hg::test::ChildProcess {
             hg::test::ChildOptions().set_env("LD_LIBRARY_PATH", HG_OPENNI2_PRIVATE_DIR)) {}
 };
 
-void expect_matches_recomputed(const hullgrind::plate_cloud_t& m, const std::string& scene, const std::string& profile) {
+void expect_matches_recomputed(const hullgrind::plate_cloud_t& m, const std::string& scene,
+                               const std::string& profile) {
   ASSERT_EQ(m.status, +hullgrind::plate_cloud_t::STATUS_OK) << m.status_text;
-  const RenderedFrame f = render(scene_preset(scene), camera_profile(profile), static_cast<std::uint64_t>(m.source_frame_seq));
+  const RenderedFrame f =
+      render(scene_preset(scene), camera_profile(profile), static_cast<std::uint64_t>(m.source_frame_seq));
   SegmentParams p;
   p.all_parts = true;
   const Segmentation s = segment(f.depth, f.intrinsics, p);

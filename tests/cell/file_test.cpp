@@ -116,8 +116,7 @@ TEST(Cell, WritingKeepsThePreviousFileAsADatedBackup) {
   const std::string first_text((std::istreambuf_iterator<char>(first)), {});
   const std::string backup = hg::cell::write_cell(p.string(), random_cell(rng));
   ASSERT_FALSE(backup.empty());
-  EXPECT_TRUE(std::regex_match(fs::path(backup).filename().string(),
-                               std::regex(R"(backup\.yaml\.\d{8}T\d{6}Z\.bak)")));
+  EXPECT_TRUE(std::regex_match(fs::path(backup).filename().string(), std::regex(R"(backup\.yaml\.\d{8}T\d{6}Z\.bak)")));
   std::ifstream kept(backup);
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(kept)), {}), first_text);
 }

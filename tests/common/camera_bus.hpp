@@ -22,7 +22,9 @@ struct CameraBus {
     lcm.subscribe("HG_PLATE_CLOUD", &CameraBus::on_cloud, this);
     lcm.subscribe("HG_HEARTBEAT", &CameraBus::on_beat, this);
   }
-  void on_cloud(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::plate_cloud_t* m) { clouds.push_back(*m); }
+  void on_cloud(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::plate_cloud_t* m) {
+    clouds.push_back(*m);
+  }
   void on_beat(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* m) {
     if (m->process == "hg-camera-bridge") beats.push_back(*m);
   }

@@ -67,7 +67,8 @@ class ChildProcess {
     for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
     if (o.search_path) execvp(args[0], args.data());
-    else execv(args[0], args.data());
+    else
+      execv(args[0], args.data());
     _exit(127);
   }
   ChildProcess(ChildProcess&& other) noexcept : pid_(std::exchange(other.pid_, -1)) {}

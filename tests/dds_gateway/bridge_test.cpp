@@ -32,9 +32,12 @@ class DdsGatewayBridge : public testing::Test {
     Qos state = collect_qos(true), stream = collect_qos(false);
     outline = std::make_unique<Reader<hgdds_Outline>>(pp, &hgdds_Outline_desc, kPrefix + "outline", state.get());
     part_pose = std::make_unique<Reader<hgdds_PartPose>>(pp, &hgdds_PartPose_desc, kPrefix + "part_pose", stream.get());
-    grind_path = std::make_unique<Reader<hgdds_GrindPath>>(pp, &hgdds_GrindPath_desc, kPrefix + "grind_path", state.get());
-    job_status = std::make_unique<Reader<hgdds_JobStatus>>(pp, &hgdds_JobStatus_desc, kPrefix + "job_status", state.get());
-    robot_status = std::make_unique<Reader<hgdds_RobotStatus>>(pp, &hgdds_RobotStatus_desc, kPrefix + "robot_status", stream.get());
+    grind_path =
+        std::make_unique<Reader<hgdds_GrindPath>>(pp, &hgdds_GrindPath_desc, kPrefix + "grind_path", state.get());
+    job_status =
+        std::make_unique<Reader<hgdds_JobStatus>>(pp, &hgdds_JobStatus_desc, kPrefix + "job_status", state.get());
+    robot_status = std::make_unique<Reader<hgdds_RobotStatus>>(pp, &hgdds_RobotStatus_desc, kPrefix + "robot_status",
+                                                               stream.get());
     health = std::make_unique<Reader<hgdds_Health>>(pp, &hgdds_Health_desc, kPrefix + "health", state.get());
     // Up and matched: the gateway's own heartbeat came back as health, and every reader sees its writer.
     ASSERT_TRUE(wait_until([&] { return gateway_health() != nullptr && all_matched(); }, [&] { pump(); }, 20s))
@@ -127,11 +130,16 @@ Expected read_log(const std::string& path) {
   while (const lcm::LogEvent* ev = log.readNextEvent()) {
     ++e.events;
     if (ev->channel == "HG_OUTLINE") decode_into(ev, e.outline);
-    else if (ev->channel == "HG_PART_POSE") decode_into(ev, e.part_pose);
-    else if (ev->channel == "HG_GRIND_PATH") decode_into(ev, e.grind_path);
-    else if (ev->channel == "HG_JOB_STATUS") decode_into(ev, e.job_status);
-    else if (ev->channel == "HG_ROBOT_STATUS") decode_into(ev, e.robot_status);
-    else if (ev->channel == "HG_HEARTBEAT") decode_into(ev, e.heartbeat);
+    else if (ev->channel == "HG_PART_POSE")
+      decode_into(ev, e.part_pose);
+    else if (ev->channel == "HG_GRIND_PATH")
+      decode_into(ev, e.grind_path);
+    else if (ev->channel == "HG_JOB_STATUS")
+      decode_into(ev, e.job_status);
+    else if (ev->channel == "HG_ROBOT_STATUS")
+      decode_into(ev, e.robot_status);
+    else if (ev->channel == "HG_HEARTBEAT")
+      decode_into(ev, e.heartbeat);
   }
   return e;
 }
@@ -218,19 +226,20 @@ hullgrind::job_status_t make_status(int64_t seq, const std::string& job, int8_t 
 
 TEST_F(DdsGatewayBridge, LateJoinerGetsLastOutlineAndJobStatusPerJob) {
   std::vector<hullgrind::outline_t> outlines = {make_outline(0, 100), make_outline(1, 101), make_outline(2, 102)};
-  std::vector<hullgrind::job_status_t> statuses = {
-      make_status(0, "job-A", hullgrind::job_status_t::STATE_ACCEPTED),
-      make_status(1, "job-B", hullgrind::job_status_t::STATE_ACCEPTED),
-      make_status(2, "job-A", hullgrind::job_status_t::STATE_PLANNING),
-      make_status(3, "job-A", hullgrind::job_status_t::STATE_PLANNED),
-      make_status(4, "job-B", hullgrind::job_status_t::STATE_RUNNING)};
+  std::vector<hullgrind::job_status_t> statuses = {make_status(0, "job-A", hullgrind::job_status_t::STATE_ACCEPTED),
+                                                   make_status(1, "job-B", hullgrind::job_status_t::STATE_ACCEPTED),
+                                                   make_status(2, "job-A", hullgrind::job_status_t::STATE_PLANNING),
+                                                   make_status(3, "job-A", hullgrind::job_status_t::STATE_PLANNED),
+                                                   make_status(4, "job-B", hullgrind::job_status_t::STATE_RUNNING)};
   for (auto& o : outlines) {
     lcm.publish("HG_OUTLINE", &o);
-    ASSERT_TRUE(wait_until([&] { return outline->samples.size() >= std::size_t(o.header.seq + 1); }, [&] { pump(); }, 10s));
+    ASSERT_TRUE(
+        wait_until([&] { return outline->samples.size() >= std::size_t(o.header.seq + 1); }, [&] { pump(); }, 10s));
   }
   for (auto& s : statuses) {
     lcm.publish("HG_JOB_STATUS", &s);
-    ASSERT_TRUE(wait_until([&] { return job_status->samples.size() >= std::size_t(s.header.seq + 1); }, [&] { pump(); }, 10s));
+    ASSERT_TRUE(
+        wait_until([&] { return job_status->samples.size() >= std::size_t(s.header.seq + 1); }, [&] { pump(); }, 10s));
   }
 
   // A plant system joining now, with a keep-all reader: it must get exactly the current state.
@@ -243,8 +252,10 @@ TEST_F(DdsGatewayBridge, LateJoinerGetsLastOutlineAndJobStatusPerJob) {
     late_outline.take();
     late_status.take();
   };
-  ASSERT_TRUE(wait_until([&] { return late_outline.samples.size() >= 1 && late_status.samples.size() >= 2; }, late_pump, 10s))
-      << "late joiner got " << late_outline.samples.size() << " outlines, " << late_status.samples.size() << " statuses";
+  ASSERT_TRUE(
+      wait_until([&] { return late_outline.samples.size() >= 1 && late_status.samples.size() >= 2; }, late_pump, 10s))
+      << "late joiner got " << late_outline.samples.size() << " outlines, " << late_status.samples.size()
+      << " statuses";
   // Historical data comes in one go; give stray extra samples a chance to show before counting.
   wait_until([] { return false; }, late_pump, 500ms);
   ASSERT_EQ(late_outline.samples.size(), 1u);
@@ -326,17 +337,42 @@ TEST_F(DdsGatewayBridge, InvalidJobRequestsAreRefusedAndNeverReachLcm) {
   cases.push_back({request(""), "", "job_id is empty"});
   cases.push_back({request("bad id!"), "bad id!", "job_id has a character"});
   cases.push_back({request(long_id.c_str()), std::string(64, 'a'), "more than 64"});
-  { Case c{request("speed-1"), "speed-1", "grind_speed"}; c.r.grind_speed = 5.0; cases.push_back(c); }
-  { Case c{request("nan-1"), "nan-1", "step is not a finite number"}; c.r.step = std::numeric_limits<double>::quiet_NaN(); cases.push_back(c); }
-  { Case c{request("act-1"), "act-1", "action 7"}; c.r.action = 7; cases.push_back(c); }
-  { Case c{request("dir-1"), "dir-1", "direction 3"}; c.r.direction = 3; cases.push_back(c); }
-  { Case c{request("neg-1"), "neg-1", "tool_radius"}; c.r.tool_radius = -0.01; cases.push_back(c); }
-  { Case c{request("part-1"), "part-1", "part_id has a control character"}; c.r.part_id = const_cast<char*>("a\nb"); cases.push_back(c); }
+  {
+    Case c{request("speed-1"), "speed-1", "grind_speed"};
+    c.r.grind_speed = 5.0;
+    cases.push_back(c);
+  }
+  {
+    Case c{request("nan-1"), "nan-1", "step is not a finite number"};
+    c.r.step = std::numeric_limits<double>::quiet_NaN();
+    cases.push_back(c);
+  }
+  {
+    Case c{request("act-1"), "act-1", "action 7"};
+    c.r.action = 7;
+    cases.push_back(c);
+  }
+  {
+    Case c{request("dir-1"), "dir-1", "direction 3"};
+    c.r.direction = 3;
+    cases.push_back(c);
+  }
+  {
+    Case c{request("neg-1"), "neg-1", "tool_radius"};
+    c.r.tool_radius = -0.01;
+    cases.push_back(c);
+  }
+  {
+    Case c{request("part-1"), "part-1", "part_id has a control character"};
+    c.r.part_id = const_cast<char*>("a\nb");
+    cases.push_back(c);
+  }
   for (auto& c : cases) ASSERT_EQ(dds_write(w, &c.r), DDS_RETCODE_OK);
   // A valid request last: once it is on LCM, every earlier one has been handled (one writer, in order).
   hgdds_JobRequest ok = request("marker-ok");
   ASSERT_EQ(dds_write(w, &ok), DDS_RETCODE_OK);
-  ASSERT_TRUE(wait_until([&] { return !requests.msgs.empty() && statuses.msgs.size() >= cases.size(); }, [&] { pump(); }, 10s));
+  ASSERT_TRUE(
+      wait_until([&] { return !requests.msgs.empty() && statuses.msgs.size() >= cases.size(); }, [&] { pump(); }, 10s));
   ASSERT_EQ(requests.msgs.size(), 1u) << "an invalid request reached HG_JOB_REQUEST";
   EXPECT_EQ(requests.msgs[0].job_id, "marker-ok");
 
@@ -381,8 +417,9 @@ TEST_F(DdsGatewayRateLimit, RobotStatusIsThinnedAndTheLastAlwaysCrosses) {
     lcm.publish("HG_ROBOT_STATUS", &r);
     std::this_thread::sleep_for(1ms);
   }
-  ASSERT_TRUE(wait_until([&] { return !robot_status->samples.empty() && robot_status->samples.back()->s.header.seq == kCount - 1; },
-                         [&] { pump(); }, 10s))
+  ASSERT_TRUE(wait_until(
+      [&] { return !robot_status->samples.empty() && robot_status->samples.back()->s.header.seq == kCount - 1; },
+      [&] { pump(); }, 10s))
       << "the newest robot status did not cross";
   // 200 statuses in >= 0.2 s at 5 Hz: a handful cross, never all; they stay in order.
   EXPECT_LT(robot_status->samples.size(), std::size_t(kCount / 2));
@@ -407,12 +444,13 @@ TEST_F(DdsGatewayRateLimit, ThinnedStatusesAreCountedApartFromDropped) {
     lcm.publish("HG_ROBOT_STATUS", &r);
     std::this_thread::sleep_for(1ms);
   }
-  ASSERT_TRUE(wait_until([&] { return !robot_status->samples.empty() && robot_status->samples.back()->s.header.seq == kCount - 1; },
-                         [&] { pump(); }, 10s));
+  ASSERT_TRUE(wait_until(
+      [&] { return !robot_status->samples.empty() && robot_status->samples.back()->s.header.seq == kCount - 1; },
+      [&] { pump(); }, 10s));
   const long long crossed = static_cast<long long>(robot_status->samples.size());
   // The gateway's next heartbeat (1 Hz) carries the counters of all of them.
-  ASSERT_TRUE(wait_until([&] { return gateway_health()->thinned - thinned0 + crossed == kCount; },
-                         [&] { pump(); }, 10s))
+  ASSERT_TRUE(
+      wait_until([&] { return gateway_health()->thinned - thinned0 + crossed == kCount; }, [&] { pump(); }, 10s))
       << "thinned " << gateway_health()->thinned - thinned0 << ", crossed " << crossed;
   EXPECT_GT(gateway_health()->thinned - thinned0, 0);
   EXPECT_EQ(gateway_health()->dropped, 0) << "thinning counted as loss";

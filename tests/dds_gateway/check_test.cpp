@@ -60,8 +60,8 @@ TEST(DdsGatewayCheck, ParameterRangesAreInclusiveAndZeroMeansDefault) {
       r.*p.field = ok;
       EXPECT_EQ(check_job_request(r, lim), "") << ok;
     }
-    for (double bad : {above(p.hi), -1e-9, std::numeric_limits<double>::infinity(),
-                       std::numeric_limits<double>::quiet_NaN()}) {
+    for (double bad :
+         {above(p.hi), -1e-9, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
       r.*p.field = bad;
       std::string why = check_job_request(r, lim);
       EXPECT_EQ(why.rfind(p.name, 0), 0u) << bad << ": " << why;

@@ -26,8 +26,8 @@ int main(int argc, char** argv) {
   SecurityFiles sec;
   if (argc == 8) {
     std::string dir = argv[6], id = argv[7];
-    sec = {dir + "/identity_ca.pem", dir + "/" + id + ".pem", dir + "/" + id + ".key", dir + "/permissions_ca.pem",
-           dir + "/governance.p7s", dir + "/" + id + "_permissions.p7s"};
+    sec = {dir + "/identity_ca.pem",    dir + "/" + id + ".pem", dir + "/" + id + ".key",
+           dir + "/permissions_ca.pem", dir + "/governance.p7s", dir + "/" + id + "_permissions.p7s"};
   }
   dds_entity_t pp = 0;
   try {

@@ -1,5 +1,5 @@
-// Shared pieces of the DdsGateway suites: the gateway as a child process (tests/common/child_process.hpp), LCM collectors, DDS readers that
-// keep what they take, and waiting with a pump. Everything runs inside tests/netns.sh.
+// Shared pieces of the DdsGateway suites: the gateway as a child process (tests/common/child_process.hpp), LCM
+// collectors, DDS readers that keep what they take, and waiting with a pump. Everything runs inside tests/netns.sh.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -37,8 +37,13 @@ class GatewayProcess : public hg::test::ChildProcess {
 
  private:
   static std::vector<std::string> arguments(int domain, std::vector<std::string> extra) {
-    std::vector<std::string> args = {std::string(HG_BIN_DIR) + "/hg-dds-gateway", "--log-level", "warn",
-                                     "--dds-domain", std::to_string(domain), "--dds-config", cyclone_config()};
+    std::vector<std::string> args = {std::string(HG_BIN_DIR) + "/hg-dds-gateway",
+                                     "--log-level",
+                                     "warn",
+                                     "--dds-domain",
+                                     std::to_string(domain),
+                                     "--dds-config",
+                                     cyclone_config()};
     args.insert(args.end(), extra.begin(), extra.end());
     return args;
   }
@@ -71,9 +76,11 @@ struct Owned {
 template <class T>
 class Reader {
  public:
-  Reader(dds_entity_t participant, const dds_topic_descriptor_t* desc, const std::string& topic_name, const dds_qos_t* qos)
+  Reader(dds_entity_t participant, const dds_topic_descriptor_t* desc, const std::string& topic_name,
+         const dds_qos_t* qos)
       : desc_(desc) {
-    reader_ = hg::dds_gateway::make_reader(participant, hg::dds_gateway::make_topic(participant, desc, topic_name), qos);
+    reader_ =
+        hg::dds_gateway::make_reader(participant, hg::dds_gateway::make_topic(participant, desc, topic_name), qos);
   }
   ~Reader() { dds_delete(reader_); }
   // Takes what has arrived; returns how many new samples.

@@ -65,8 +65,12 @@ struct Peer {
 Peer start_peer(const std::string& job_id, double seconds, const std::string& sec_dir, const std::string& identity) {
   int p[2];
   if (pipe(p) != 0) return {};
-  std::vector<std::string> args = {std::string(HG_BIN_DIR) + "/dds_peer", std::to_string(kDomain), cyclone_config(),
-                                   "hg_", job_id, std::to_string(seconds)};
+  std::vector<std::string> args = {std::string(HG_BIN_DIR) + "/dds_peer",
+                                   std::to_string(kDomain),
+                                   cyclone_config(),
+                                   "hg_",
+                                   job_id,
+                                   std::to_string(seconds)};
   if (!sec_dir.empty()) {
     args.push_back(sec_dir);
     args.push_back(identity);
@@ -142,12 +146,11 @@ TEST(DdsGatewaySecurity, OnlyPermittedParticipantsReadOutlinesOrInjectJobs) {
   Sniffer sniffer;
   ASSERT_TRUE(sniffer.good()) << "no packet socket on lo (needs CAP_NET_RAW in the test's namespace)";
 
-  GatewayProcess gateway(kDomain, {"--dds-security-identity-ca", dir + "/identity_ca.pem",
-                                   "--dds-security-identity-cert", dir + "/gateway.pem",
-                                   "--dds-security-private-key", dir + "/gateway.key",
-                                   "--dds-security-permissions-ca", dir + "/permissions_ca.pem",
-                                   "--dds-security-governance", dir + "/governance.p7s",
-                                   "--dds-security-permissions", dir + "/gateway_permissions.p7s"});
+  GatewayProcess gateway(kDomain,
+                         {"--dds-security-identity-ca", dir + "/identity_ca.pem", "--dds-security-identity-cert",
+                          dir + "/gateway.pem", "--dds-security-private-key", dir + "/gateway.key",
+                          "--dds-security-permissions-ca", dir + "/permissions_ca.pem", "--dds-security-governance",
+                          dir + "/governance.p7s", "--dds-security-permissions", dir + "/gateway_permissions.p7s"});
   auto pump = [&] {
     lcm.handleTimeout(5);
     sniffer.drain();

@@ -43,7 +43,9 @@ long long udp_receive_buffer_errors() {
   std::string names, values, line;
   while (std::getline(in, line)) {
     if (line.rfind("Udp: ", 0) != 0) continue;
-    if (names.empty()) names = line; else values = line;
+    if (names.empty()) names = line;
+    else
+      values = line;
   }
   std::istringstream n(names), v(values);
   std::string name, value;
@@ -133,9 +135,10 @@ TEST(DdsGatewayThroughput, ThousandPerSecondForThirtySecondsNoLossNoDuplicate) {
   wait_until([&] { return last_beat() != nullptr; }, [&] { lcm.handleTimeout(20); }, 5s);
   // (Its counters cover every channel: the part poses, the warm-up ones and its own heartbeats, one a second.)
   if (const hullgrind::heartbeat_t* b = last_beat())
-    std::printf("[ FIGURES  ] gateway counters, all channels: received %lld, published %lld, dropped %lld,"
-                " decode errors %lld\n",
-                (long long)b->received, (long long)b->published, (long long)b->dropped, (long long)b->decode_errors);
+    std::printf(
+        "[ FIGURES  ] gateway counters, all channels: received %lld, published %lld, dropped %lld,"
+        " decode errors %lld\n",
+        (long long)b->received, (long long)b->published, (long long)b->dropped, (long long)b->decode_errors);
   std::printf("[ FIGURES  ] kernel UDP receive-buffer drops in this namespace: %lld\n", udp_receive_buffer_errors());
   int missing = 0, duplicated = 0;
   std::string first_missing;
@@ -144,9 +147,10 @@ TEST(DdsGatewayThroughput, ThousandPerSecondForThirtySecondsNoLossNoDuplicate) {
     duplicated += seen[i] > 1;
   }
   if (missing) std::printf("[ FIGURES  ] first missing seqs:%s\n", first_missing.c_str());
-  std::printf("[ FIGURES  ] %d part poses published in %.2f s (%.0f/s); %d received on DDS, %d missing, %d duplicated,"
-              " %d out of order; all in after %.2f s\n",
-              kTotal, send_s, kTotal / send_s, received.load(), missing, duplicated, out_of_order.load(), total_s);
+  std::printf(
+      "[ FIGURES  ] %d part poses published in %.2f s (%.0f/s); %d received on DDS, %d missing, %d duplicated,"
+      " %d out of order; all in after %.2f s\n",
+      kTotal, send_s, kTotal / send_s, received.load(), missing, duplicated, out_of_order.load(), total_s);
   EXPECT_EQ(missing, 0);
   EXPECT_EQ(duplicated, 0);
   EXPECT_EQ(out_of_range.load(), 0);
@@ -170,8 +174,8 @@ TEST(DdsGatewayThroughput, BurstWhileTheGatewayIsStoppedCrossesWhole) {
   ASSERT_TRUE(warm_up(lcm, reader));
 
   gateway.signal(SIGSTOP);
-  ASSERT_TRUE(wait_until([&] { return process_state(gateway.pid()) == 'T'; },
-                         [] { std::this_thread::sleep_for(5ms); }, 5s));
+  ASSERT_TRUE(
+      wait_until([&] { return process_state(gateway.pid()) == 'T'; }, [] { std::this_thread::sleep_for(5ms); }, 5s));
   hullgrind::part_pose_t m{};
   m.header.frame_id = "camera";
   m.num_parts = 1;
@@ -195,13 +199,15 @@ TEST(DdsGatewayThroughput, BurstWhileTheGatewayIsStoppedCrossesWhole) {
   for (const auto& o : reader.samples) {
     if (str(o->s.header.frame_id) == "warm-up") continue;
     if (o->s.header.seq < 0 || o->s.header.seq >= kBurst) ++out_of_range;
-    else ++seen[o->s.header.seq];
+    else
+      ++seen[o->s.header.seq];
   }
   int missing = 0, duplicated = 0;
   for (int n : seen) missing += n == 0, duplicated += n > 1;
-  std::printf("[ FIGURES  ] burst of %d while stopped: %zu received on DDS, %d missing, %d duplicated;"
-              " kernel UDP receive-buffer drops %lld\n",
-              kBurst, reader.samples.size(), missing, duplicated, socket_drops);
+  std::printf(
+      "[ FIGURES  ] burst of %d while stopped: %zu received on DDS, %d missing, %d duplicated;"
+      " kernel UDP receive-buffer drops %lld\n",
+      kBurst, reader.samples.size(), missing, duplicated, socket_drops);
   EXPECT_EQ(socket_drops, 0) << "the burst did not fit the socket: the test cannot tell LCM's loss";
   EXPECT_EQ(missing, 0);
   EXPECT_EQ(duplicated, 0);

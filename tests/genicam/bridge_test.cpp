@@ -75,7 +75,8 @@ TEST(GenicamBridgeProcess, JobTriggeredCloudEqualsTheRenderingsSegmentation) {
 TEST(GenicamBridgeProcess, IncompleteFramesAreDroppedInTheHeartbeatAndSkipped) {
   FakeGenicamCamera cam(fake_options(23));
   Bus bus;
-  hg::test::ChildProcess proc({kExe, "--source", "genicam", "--rate", "0", "--depth-rate", "0", "--log-level", "error"});
+  hg::test::ChildProcess proc(
+      {kExe, "--source", "genicam", "--rate", "0", "--depth-rate", "0", "--log-level", "error"});
   ASSERT_TRUE(bus.until([&] { return !bus.clouds.empty(); })) << "no clouds from the free-running camera";
   cam.set_packet_loss(0.5);  // every frame loses packets (the fake device never resends)
   ASSERT_TRUE(bus.until([&] { return !bus.beats.empty() && bus.beats.back().dropped >= 2; }))
@@ -91,8 +92,8 @@ TEST(GenicamBridgeProcess, LostCameraSetsErrorAndIsReopened) {
   auto cam = std::make_unique<FakeGenicamCamera>(fake_options(22));
   const std::string id = cam->device_id();
   Bus bus;
-  hg::test::ChildProcess proc({kExe, "--source", "genicam", "--rate", "2", "--retry-min", "0.25", "--retry-max",
-                               "1", "--depth-rate", "0", "--log-level", "warn"});
+  hg::test::ChildProcess proc({kExe, "--source", "genicam", "--rate", "2", "--retry-min", "0.25", "--retry-max", "1",
+                               "--depth-rate", "0", "--log-level", "warn"});
   ASSERT_TRUE(bus.until([&] { return bus.clouds.size() >= 2; })) << "no clouds from the free-running camera";
   cam.reset();
   ASSERT_TRUE(bus.until([&] { return bus.last_state_is(hullgrind::heartbeat_t::STATE_ERROR); }))

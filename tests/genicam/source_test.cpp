@@ -256,7 +256,7 @@ TEST(GenicamSource, CountConversionsFollowTheScan3dRule) {
   EXPECT_EQ(abc32f_to_count(100.0f, 2.0, 300.0, 0.0, oor), 5000);
   EXPECT_EQ(abc32f_to_count(std::numeric_limits<float>::quiet_NaN(), 1.0, 0.0, 0.0, oor), 0);
   EXPECT_FALSE(oor);
-  EXPECT_EQ(abc32f_to_count(0.0f, 1.0, 0.0, 0.0, oor), 0);  // the invalid value
+  EXPECT_EQ(abc32f_to_count(0.0f, 1.0, 0.0, 0.0, oor), 0);     // the invalid value
   EXPECT_EQ(abc32f_to_count(7000.0f, 1.0, 0.0, 0.0, oor), 0);  // 7 m: past 16 bits of 0.1 mm
   EXPECT_TRUE(oor);
 }

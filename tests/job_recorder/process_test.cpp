@@ -46,7 +46,8 @@ struct Fixture {
   }
   ~Fixture() { fs::remove_all(dir); }
   hg::test::ChildProcess start() {
-    hg::test::ChildProcess p({std::string(HG_BIN_DIR) + "/hg-job-recorder", "--dir", dir.string(), "--log-level", "warn"});
+    hg::test::ChildProcess p(
+        {std::string(HG_BIN_DIR) + "/hg-job-recorder", "--dir", dir.string(), "--log-level", "warn"});
     beats = 0;
     wait([&] { return beats > 0; }, 10s);  // subscribed once it beats
     return p;
@@ -136,7 +137,8 @@ TEST(JobRecorderProcess, RecordsJobsAndTheirEndsAcrossAKill) {
   const std::string evil = "../../evil/\x01id";
   f.request(evil, "hull-Y");
   f.status(evil, job_status_t::STATE_REFUSED, "hg-robot-bridge", "refused: busy with job job-1");
-  ASSERT_TRUE(f.wait([&] { return f.record_has("job-1", "state", "DONE") && f.record_has(evil, "state", "REFUSED"); }, 10s));
+  ASSERT_TRUE(
+      f.wait([&] { return f.record_has("job-1", "state", "DONE") && f.record_has(evil, "state", "REFUSED"); }, 10s));
   EXPECT_TRUE(fs::exists(f.dir / "job-1" / "path.json"));
   EXPECT_TRUE(fs::exists(f.dir / "job-1" / "outline.json"));
   EXPECT_FALSE(fs::exists(f.dir.parent_path().parent_path() / "evil"));

@@ -64,7 +64,8 @@ std::vector<json> events(const fs::path& dir) {
   return v;
 }
 
-job_request_t request(const std::string& id, std::int8_t action = job_request_t::ACTION_START, const std::string& part = "plate-X") {
+job_request_t request(const std::string& id, std::int8_t action = job_request_t::ACTION_START,
+                      const std::string& part = "plate-X") {
   job_request_t r{};
   r.job_id = id;
   r.part_id = part;
@@ -159,7 +160,8 @@ TEST(JobDirName, HostileIdsStayInsideTheRootAndDistinctIdsGetDistinctNames) {
 TEST(JobRecorder, HostileJobIdIsRecordedInsideTheRoot) {
   TempDir tmp("hostile");
   Recorder rec(tmp.path, T0);
-  for (const std::string& id : std::vector<std::string>{"../escape", "/abs/path", "..", ".", "a/../../b", std::string("ctl\x01\x7f", 5)}) {
+  for (const std::string& id :
+       std::vector<std::string>{"../escape", "/abs/path", "..", ".", "a/../../b", std::string("ctl\x01\x7f", 5)}) {
     rec.on_request(request(id), T0);
     const fs::path dir = rec.dir_of(id);
     EXPECT_EQ(fs::canonical(dir).parent_path(), fs::canonical(tmp.path)) << id;
@@ -212,7 +214,8 @@ TEST(JobRecorder, ARecordPerJobWithItsFinalStateReasonOutlineAndPath) {
   // Every request and status is an event, in order.
   const auto ev = events(tmp.path / "A");
   int requests = 0, statuses = 0, paths = 0;
-  for (const auto& e : ev) requests += e["event"] == "request", statuses += e["event"] == "status", paths += e["event"] == "path";
+  for (const auto& e : ev)
+    requests += e["event"] == "request", statuses += e["event"] == "status", paths += e["event"] == "path";
   EXPECT_EQ(requests, 3);
   EXPECT_EQ(statuses, 6);
   EXPECT_EQ(paths, 2);

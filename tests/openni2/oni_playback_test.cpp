@@ -84,10 +84,11 @@ TEST(OpenNI2Oni, RecordedFromVirtualDevicePlaysBackEveryFrame) {
       std::vector<cv::Point> where;
       cv::findNonZero(diff, where);
       for (const auto& p : where)
-        ADD_FAILURE() << "at " << p << " got " << f->depth.at<std::uint16_t>(p) << " want " << want.at<std::uint16_t>(p);
+        ADD_FAILURE() << "at " << p << " got " << f->depth.at<std::uint16_t>(p) << " want "
+                      << want.at<std::uint16_t>(p);
     }
     EXPECT_EQ(f->utime - first_utime, (f->seq - 1) * 100000);  // recorded timestamps, 10 fps
-    EXPECT_NEAR(f->intrinsics.fx / profile.fx, 1.0, 1e-6);       // field of view is recorded
+    EXPECT_NEAR(f->intrinsics.fx / profile.fx, 1.0, 1e-6);     // field of view is recorded
     EXPECT_NEAR(f->intrinsics.fy / profile.fy, 1.0, 1e-6);
     EXPECT_EQ(f->intrinsics.cx, profile.width / 2.0);  // the private principal point is not
     EXPECT_EQ(f->intrinsics.depth_unit, profile.depth_unit);

@@ -122,7 +122,7 @@ TEST(OpenNI2Source, LostDeviceThrowsAndStaysLostWithoutReconnect) {
   source->open();
   const int frames = frames_until_loss(*source);
   EXPECT_GE(frames, 1);
-  EXPECT_LE(frames, 3);  // the device serves exactly 3; a slow reader may see fewer
+  EXPECT_LE(frames, 3);                            // the device serves exactly 3; a slow reader may see fewer
   EXPECT_THROW(source->grab(100ms), SourceError);  // keeps saying so, no crash
   source->close();
   EXPECT_THROW(source->open(), SourceError);  // never comes back: reconnect_after not given

@@ -92,8 +92,8 @@ TEST(OpenNI2VirtualDevice, StreamsTheRenderersFrames) {
   EXPECT_EQ(mode.getResolutionX(), profile.width);
   EXPECT_EQ(mode.getResolutionY(), profile.height);
   EXPECT_EQ(mode.getFps(), 20);
-  EXPECT_EQ(mode.getPixelFormat(), profile.depth_unit == 0.001 ? openni::PIXEL_FORMAT_DEPTH_1_MM
-                                                               : openni::PIXEL_FORMAT_DEPTH_100_UM);
+  EXPECT_EQ(mode.getPixelFormat(),
+            profile.depth_unit == 0.001 ? openni::PIXEL_FORMAT_DEPTH_1_MM : openni::PIXEL_FORMAT_DEPTH_100_UM);
   ASSERT_EQ(stream.start(), openni::STATUS_OK);
   int checked = 0, last_index = 0;
   for (int attempt = 0; attempt < 50 && checked < 3; ++attempt) {

@@ -41,7 +41,8 @@ std::vector<Vec2> square(int x0, int y0, int size) {
 }
 
 // Circular plate holes, uniform in-plane noise of +-amp spacings, dropout (docs/outline-auto-radius.md).
-std::vector<Vec2> noisy_plate(int W, int H, const std::vector<double>& diam, double amp, double drop, std::uint64_t seed) {
+std::vector<Vec2> noisy_plate(int W, int H, const std::vector<double>& diam, double amp, double drop,
+                              std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1), v(0, 1);
   std::vector<Vec2> p;
@@ -174,7 +175,8 @@ TEST(OutlineAlpha, HoleTouchingTheOuterBoundaryIsSplitIntoSimpleLoops) {
   EXPECT_EQ(r.loops[1].area, 72.0);  // the diamond (10,0) (16,6) (10,12) (4,6)
   for (const Loop& L : r.loops) {
     EXPECT_EQ(std::set<std::uint32_t>(L.point_index.begin(), L.point_index.end()).size(), L.point_index.size());
-    EXPECT_NE(std::find_if(L.points.begin(), L.points.end(), [](const Vec2& q) { return q.x == 10 && q.y == 0; }), L.points.end());
+    EXPECT_NE(std::find_if(L.points.begin(), L.points.end(), [](const Vec2& q) { return q.x == 10 && q.y == 0; }),
+              L.points.end());
   }
   EXPECT_EQ(r.loops[0].area, 400.0);
 }
@@ -238,7 +240,8 @@ TEST(OutlineAlpha, LoopsAreExactlyTheFreeEdgesOfAnExactClassification) {
           EXPECT_EQ(std::set<std::uint32_t>(L.point_index.begin(), L.point_index.end()).size(), L.point_index.size());
           EXPECT_EQ(L.hole, signed_area(L) < 0);
           if (L.hole) holes_started = true;
-          else EXPECT_FALSE(holes_started) << "outer loops come first";
+          else
+            EXPECT_FALSE(holes_started) << "outer loops come first";
           loop_area += L.hole ? -L.area : L.area;
           for (std::size_t i = 0; i < L.point_index.size(); ++i) {
             got.insert({L.point_index[i], L.point_index[(i + 1) % L.point_index.size()]});
@@ -334,7 +337,8 @@ TEST(OutlineAlpha, ConsumingOverloadGivesTheSameOutlineAndReleasesThePoints) {
   auto plate = grid_cloud(60, 40, 1, {1000, -500}, 0.2, 8);
   std::vector<Vec2> pts;
   for (Vec2 p : plate)
-    if (std::hypot(p.x - 1030, p.y + 480) > 6) pts.push_back({std::round(p.x * 0x1p20) * 0x1p-20, std::round(p.y * 0x1p20) * 0x1p-20});
+    if (std::hypot(p.x - 1030, p.y + 480) > 6)
+      pts.push_back({std::round(p.x * 0x1p20) * 0x1p-20, std::round(p.y * 0x1p20) * 0x1p-20});
   {
     std::vector<Vec2> copy = pts;
     const Triangulation T = triangulate_releasing(copy, Mode::DSHI, Order::Brio);

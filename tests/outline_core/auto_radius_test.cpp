@@ -60,7 +60,8 @@ double segment_distance(const partgen::Vec2& p, const partgen::Vec2& a, const pa
 
 double ring_distance(const partgen::Vec2& p, const std::vector<partgen::Vec2>& ring) {
   double d = 1e300;
-  for (std::size_t i = 0; i < ring.size(); ++i) d = std::min(d, segment_distance(p, ring[i], ring[(i + 1) % ring.size()]));
+  for (std::size_t i = 0; i < ring.size(); ++i)
+    d = std::min(d, segment_distance(p, ring[i], ring[(i + 1) % ring.size()]));
   return d;
 }
 

@@ -19,7 +19,8 @@ inline std::vector<Vec2> random_cloud(std::size_t n, std::uint64_t seed, double 
 }
 
 // Scan order (rows of increasing y), spacing `step`, optional jitter (fraction of step).
-inline std::vector<Vec2> grid_cloud(int w, int h, double step = 1, Vec2 offset = {}, double jitter = 0, std::uint64_t seed = 1) {
+inline std::vector<Vec2> grid_cloud(int w, int h, double step = 1, Vec2 offset = {}, double jitter = 0,
+                                    std::uint64_t seed = 1) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-jitter, jitter);
   std::vector<Vec2> p;
@@ -36,10 +37,10 @@ inline std::vector<Vec2> collinear_heavy(std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::vector<Vec2> p;
   for (int i = 0; i <= 200; ++i) {
-    p.push_back({static_cast<double>(i), 0});          // bottom hull edge
-    p.push_back({static_cast<double>(i), 2.0 * i});    // diagonal
-    p.push_back({100.0, static_cast<double>(i)});      // vertical line through the middle
-    p.push_back({i * 0.1, i * 0.3 + 7});               // rounded: only nearly collinear
+    p.push_back({static_cast<double>(i), 0});        // bottom hull edge
+    p.push_back({static_cast<double>(i), 2.0 * i});  // diagonal
+    p.push_back({100.0, static_cast<double>(i)});    // vertical line through the middle
+    p.push_back({i * 0.1, i * 0.3 + 7});             // rounded: only nearly collinear
   }
   p.push_back({50, 300});
   p.push_back({-20, 150});

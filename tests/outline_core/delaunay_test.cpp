@@ -79,7 +79,8 @@ TEST(OutlineDelaunay, Float32CameraGridsInMetres) {
     std::vector<Vec2> pts;
     for (int row = 0; row < 60; ++row)
       for (int col = 0; col < 70; ++col) {
-        const double x = -0.004 + col * pitch + (noise > 0 ? g(rng) : 0), y = 0.003 - row * pitch + (noise > 0 ? g(rng) : 0);
+        const double x = -0.004 + col * pitch + (noise > 0 ? g(rng) : 0),
+                     y = 0.003 - row * pitch + (noise > 0 ? g(rng) : 0);
         pts.push_back({f32(x), f32(y)});
       }
     SCOPED_TRACE(noise);
@@ -105,11 +106,11 @@ TEST(OutlineDelaunay, DuplicateHeavy) {
 
 TEST(OutlineDelaunay, HugeAndTinyCoordinates) {
   check_all_modes(grid_cloud(30, 30, 1e9));
-  check_all_modes(grid_cloud(30, 30, 1, {1e9, -3e9}, 0.3));       // far from the origin, unit spacing
+  check_all_modes(grid_cloud(30, 30, 1, {1e9, -3e9}, 0.3));  // far from the origin, unit spacing
   check_all_modes(random_cloud(800, 21, 1e3, {1e9, 1e9}));
   check_all_modes(grid_cloud(30, 30, 1e-9, {}, 0.2));
-  check_all_modes(random_cloud(800, 22, 1e-9, {1.0, 2.0}));        // tiny spread far away: translation rounds
-  check_all_modes(grid_cloud(25, 25, 1e-9, {1.0, 1.0}));          // and rows/columns collapse or not
+  check_all_modes(random_cloud(800, 22, 1e-9, {1.0, 2.0}));  // tiny spread far away: translation rounds
+  check_all_modes(grid_cloud(25, 25, 1e-9, {1.0, 1.0}));     // and rows/columns collapse or not
 }
 
 TEST(OutlineDelaunay, NonFinitePointsAreSkippedAndCounted) {
@@ -271,7 +272,10 @@ TEST(OutlineDelaunay, CheckerRejectsAFlippedEdge) {
     if (sgn(orient_q(qc, qa, qd)) <= 0 || sgn(orient_q(qd, qb, qc)) <= 0) continue;  // quad not convex
     const std::uint32_t ei1 = T.twin[Triangulation::next(h)], ei2 = T.twin[Triangulation::prev(h)];
     const std::uint32_t eo1 = T.twin[Triangulation::next(o)], eo2 = T.twin[Triangulation::prev(o)];
-    auto link = [&](std::uint32_t x, std::uint32_t y) { T.twin[x] = y; T.twin[y] = x; };
+    auto link = [&](std::uint32_t x, std::uint32_t y) {
+      T.twin[x] = y;
+      T.twin[y] = x;
+    };
     T.tri[3 * t] = c, T.tri[3 * t + 1] = a, T.tri[3 * t + 2] = d;
     T.tri[3 * t2] = d, T.tri[3 * t2 + 1] = b, T.tri[3 * t2 + 2] = c;
     link(3 * t, ei2);

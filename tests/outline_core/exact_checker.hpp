@@ -76,7 +76,8 @@ inline std::string check_delaunay(std::span<const Vec2> input, const Triangulati
   std::size_t n = 0;
   for (std::size_t i = 0; i < input.size(); ++i)
     n += finite_input[i] = std::isfinite(input[i].x) && std::isfinite(input[i].y);
-  if (T.xy.size() != n || T.ids.size() != n || T.vrep.size() != n) return "array sizes (not one vertex per finite input point)";
+  if (T.xy.size() != n || T.ids.size() != n || T.vrep.size() != n)
+    return "array sizes (not one vertex per finite input point)";
   if (T.ghost != n) return "ghost id is not n";
   // Same coordinates: xy[v] + origin is input[ids[v]] exactly, ids one-to-one onto the finite points.
   const Q2 origin = exact(T.origin);
@@ -84,17 +85,21 @@ inline std::string check_delaunay(std::span<const Vec2> input, const Triangulati
   std::vector<Q2> q(n);
   for (std::size_t v = 0; v < n; ++v) {
     const std::uint32_t i = T.ids[v];
-    if (i >= input.size() || !finite_input[i] || vertex_of[i] != 0xffffffffu) return "ids is not a one-to-one map onto the finite input points";
+    if (i >= input.size() || !finite_input[i] || vertex_of[i] != 0xffffffffu)
+      return "ids is not a one-to-one map onto the finite input points";
     vertex_of[i] = static_cast<std::uint32_t>(v);
     q[v] = exact(input[i]);
     const Q2 t = exact(T.xy[v]);
-    if (t.x + origin.x != q[v].x || t.y + origin.y != q[v].y) return "xy + origin is not exactly input point " + std::to_string(i);
+    if (t.x + origin.x != q[v].x || t.y + origin.y != q[v].y)
+      return "xy + origin is not exactly input point " + std::to_string(i);
   }
   // Distinct points (equal as numbers: -0.0 == 0.0) and the expected first occurrence of each.
   std::map<std::pair<double, double>, std::uint32_t> first;
   for (std::size_t i = 0; i < input.size(); ++i)
-    if (finite_input[i]) first.emplace(std::make_pair(input[i].x + 0.0, input[i].y + 0.0), static_cast<std::uint32_t>(i));
-  if (T.inserted != first.size()) return "inserted " + std::to_string(T.inserted) + " != distinct " + std::to_string(first.size());
+    if (finite_input[i])
+      first.emplace(std::make_pair(input[i].x + 0.0, input[i].y + 0.0), static_cast<std::uint32_t>(i));
+  if (T.inserted != first.size())
+    return "inserted " + std::to_string(T.inserted) + " != distinct " + std::to_string(first.size());
   if (T.duplicates != n - first.size()) return "duplicate count";
   for (std::size_t v = 0; v < n; ++v) {
     const Vec2 p = input[T.ids[v]];
@@ -116,8 +121,10 @@ inline std::string check_delaunay(std::span<const Vec2> input, const Triangulati
     for (int i = 0; i < 3; ++i) {
       if (v[i] > n) return "vertex id out of range";
       if (v[i] == n) ++g;
-      else if (T.vrep[v[i]] != v[i]) return "merged duplicate used in a triangle";
-      if (!directed.insert({v[i], v[(i + 1) % 3]}).second) return "a directed edge occurs twice (edge shared by >2 triangles or flipped)";
+      else if (T.vrep[v[i]] != v[i])
+        return "merged duplicate used in a triangle";
+      if (!directed.insert({v[i], v[(i + 1) % 3]}).second)
+        return "a directed edge occurs twice (edge shared by >2 triangles or flipped)";
     }
     if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) return "repeated vertex in a triangle";
     for (int i = 0; i < 3; ++i) {
@@ -126,7 +133,10 @@ inline std::string check_delaunay(std::span<const Vec2> input, const Triangulati
       if (T.tri[o] != v[(i + 1) % 3] || T.tri[Triangulation::next(o)] != v[i]) return "twin is not the reversed edge";
     }
     if (g > 1) return "triangle with two ghost vertices";
-    if (g == 1) { ++ghosts; continue; }
+    if (g == 1) {
+      ++ghosts;
+      continue;
+    }
     ++finite;
     const mpq_class o = orient_q(q[v[0]], q[v[1]], q[v[2]]);
     if (sgn(o) <= 0) return "triangle " + std::to_string(t) + " not strictly counter-clockwise";
@@ -135,10 +145,14 @@ inline std::string check_delaunay(std::span<const Vec2> input, const Triangulati
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t o2 = T.twin[3 * t + i];
       const std::uint32_t t2 = o2 / 3;
-      if (T.is_ghost(t2)) { edges2 += 2; continue; }  // hull edge counted once, by its finite side
+      if (T.is_ghost(t2)) {
+        edges2 += 2;
+        continue;
+      }  // hull edge counted once, by its finite side
       edges2 += 1;
       const std::uint32_t d = T.tri[Triangulation::prev(o2)];  // the neighbour's vertex opposite the edge
-      if (sgn(incircle_q(q[v[0]], q[v[1]], q[v[2]], q[d])) > 0) return "edge not locally Delaunay in triangle " + std::to_string(t);
+      if (sgn(incircle_q(q[v[0]], q[v[1]], q[v[2]], q[d])) > 0)
+        return "edge not locally Delaunay in triangle " + std::to_string(t);
     }
   }
   for (std::size_t v = 0; v < n; ++v)
@@ -181,7 +195,8 @@ inline std::string check_delaunay(std::span<const Vec2> input, const Triangulati
   std::vector<Q2> distinct;
   for (std::size_t v = 0; v < n; ++v)
     if (T.vrep[v] == v) distinct.push_back(q[v]);
-  if (area2 != hull_area2_q(distinct)) return "triangles do not cover the convex hull exactly once (area sum != hull area)";
+  if (area2 != hull_area2_q(distinct))
+    return "triangles do not cover the convex hull exactly once (area sum != hull area)";
   return "";
 }
 

@@ -64,7 +64,7 @@ double full_precision(std::mt19937_64& rng, double scale) {
   std::uniform_int_distribution<std::uint64_t> mant(0, (std::uint64_t{1} << 52) - 1);
   std::uniform_int_distribution<int> expo(-41, -1), sign(0, 1);
   const double m = 1.0 + std::ldexp(static_cast<double>(mant(rng)), -52);  // exact: 53 bits
-  return (sign(rng) ? -1.0 : 1.0) * std::ldexp(m, expo(rng)) * scale;     // scale: a power of ten, rounds
+  return (sign(rng) ? -1.0 : 1.0) * std::ldexp(m, expo(rng)) * scale;      // scale: a power of ten, rounds
 }
 
 std::vector<Vec2> full_precision_cloud(std::size_t n, std::uint64_t seed, double scale) {
@@ -93,7 +93,7 @@ std::vector<Vec2> ulp_neighbours(std::size_t n, std::uint64_t seed) {
     if (i % 7 == 0) p.push_back(b);  // an exact repeat: one point
   }
   p.push_back({0.0, 0.5});
-  p.push_back({-0.0, 0.5});  // equal to the previous as numbers: one point
+  p.push_back({-0.0, 0.5});   // equal to the previous as numbers: one point
   p.push_back({1e-20, 0.5});  // tiny, far below the others' ulps: a different point
   std::shuffle(p.begin(), p.end(), rng);
   return p;
@@ -137,16 +137,20 @@ std::vector<Vec2> scaled(std::vector<Vec2> p, double s) {
 TEST(OutlineExactInput, FullMantissaCloudsFarFromTheOrigin) {
   for (std::uint64_t seed = 1; seed <= 5; ++seed)
     for (double offset : {1e6, 1e7}) {
-      expect_exact(full_mantissa_cloud(300, seed, {offset, 0.7 * offset}, 1e3), "1e3 span at " + std::to_string(offset));
-      expect_exact(full_mantissa_cloud(300, seed + 100, {offset, -offset}, 1e-3), "1e-3 span at " + std::to_string(offset));
+      expect_exact(full_mantissa_cloud(300, seed, {offset, 0.7 * offset}, 1e3),
+                   "1e3 span at " + std::to_string(offset));
+      expect_exact(full_mantissa_cloud(300, seed + 100, {offset, -offset}, 1e-3),
+                   "1e-3 span at " + std::to_string(offset));
       // Across the axes: the smallest coordinates have bits far below the largest ones' ulps.
-      expect_exact(full_precision_cloud(300, seed + 200, offset), "full precision across 0, scale " + std::to_string(offset));
+      expect_exact(full_precision_cloud(300, seed + 200, offset),
+                   "full precision across 0, scale " + std::to_string(offset));
     }
 }
 
 TEST(OutlineExactInput, UlpNeighboursAreDistinctPoints) {
   for (std::uint64_t seed = 1; seed <= 5; ++seed)
-    for (double s : {1.0, 1e-9, 1e-2, 1e2, 1e9}) expect_exact(scaled(ulp_neighbours(150, seed), s), "ulp pairs x" + std::to_string(s));
+    for (double s : {1.0, 1e-9, 1e-2, 1e2, 1e9})
+      expect_exact(scaled(ulp_neighbours(150, seed), s), "ulp pairs x" + std::to_string(s));
 }
 
 TEST(OutlineExactInput, CirclesAndRotatedLatticesRoundedToDoubles) {
@@ -187,8 +191,14 @@ TEST(OutlineExactInput, LargeClusteredSetInMapCoordinates) {
 }
 
 TEST(OutlineExactInput, SignedZerosAreOnePointUlpsApartAreTwo) {
-  const std::vector<Vec2> p{{0.0, 0.0}, {-0.0, 0.0}, {0.0, -0.0}, {-0.0, -0.0}, {1, 0}, {0, 1},
-                            {std::nextafter(1.0, 2.0), 0}, {0, std::nextafter(1.0, 0.0)}};
+  const std::vector<Vec2> p{{0.0, 0.0},
+                            {-0.0, 0.0},
+                            {0.0, -0.0},
+                            {-0.0, -0.0},
+                            {1, 0},
+                            {0, 1},
+                            {std::nextafter(1.0, 2.0), 0},
+                            {0, std::nextafter(1.0, 0.0)}};
   for (Mode m : {Mode::Ordinary, Mode::DS, Mode::DSHI})
     for (Order o : {Order::AsIs, Order::Hilbert, Order::Brio}) {
       const Triangulation T = triangulate(p, m, o);

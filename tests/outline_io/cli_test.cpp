@@ -42,7 +42,8 @@ class OutlineIoCli : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir); }
 
   CliRun run(const std::string& args) {
-    std::string cmd = "timeout 120 '" + kBin + "' " + args + " > '" + (dir / "stdout").string() + "' 2> '" + (dir / "stderr").string() + "'";
+    std::string cmd = "timeout 120 '" + kBin + "' " + args + " > '" + (dir / "stdout").string() + "' 2> '" +
+                      (dir / "stderr").string() + "'";
     int st = std::system(cmd.c_str());
     CliRun r;
     r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
@@ -65,9 +66,11 @@ void expect_square_with_hole(const nlohmann::json& j, int points_read = kGridPoi
   EXPECT_NEAR(outer["area"].get<double>(), 400.0, 0.5 * 80);
   EXPECT_NEAR(hole["area"].get<double>(), 64.0, 0.5 * 32);
   EXPECT_NEAR(outer["perimeter"].get<double>(), 80.0, 8);
-  for (const char* key : {"points_used", "duplicates_merged", "alpha_radius", "mode", "order", "triangles", "search_cost"})
+  for (const char* key :
+       {"points_used", "duplicates_merged", "alpha_radius", "mode", "order", "triangles", "search_cost"})
     EXPECT_TRUE(j.contains(key)) << key;
-  for (const char* key : {"read", "triangulate", "alpha", "loops", "total"}) EXPECT_TRUE(j["time_ms"].contains(key)) << key;
+  for (const char* key : {"read", "triangulate", "alpha", "loops", "total"})
+    EXPECT_TRUE(j["time_ms"].contains(key)) << key;
 }
 
 }  // namespace
@@ -124,7 +127,8 @@ TEST_F(OutlineIoCli, TiltedCloudIsProjectedOntoItsPlane) {
     const auto& p3 = loop["points_3d"];
     ASSERT_EQ(p2.size(), p3.size());
     for (std::size_t i = 0; i + 1 < p2.size(); ++i) {
-      double d2 = std::hypot(p2[i + 1][0].get<double>() - p2[i][0].get<double>(), p2[i + 1][1].get<double>() - p2[i][1].get<double>());
+      double d2 = std::hypot(p2[i + 1][0].get<double>() - p2[i][0].get<double>(),
+                             p2[i + 1][1].get<double>() - p2[i][1].get<double>());
       double d3 = std::sqrt(std::pow(p3[i + 1][0].get<double>() - p3[i][0].get<double>(), 2) +
                             std::pow(p3[i + 1][1].get<double>() - p3[i][1].get<double>(), 2) +
                             std::pow(p3[i + 1][2].get<double>() - p3[i][2].get<double>(), 2));
@@ -136,8 +140,8 @@ TEST_F(OutlineIoCli, TiltedCloudIsProjectedOntoItsPlane) {
 }
 
 TEST_F(OutlineIoCli, PicturesAndTriangles) {
-  CliRun r = run("'" + data("grid_hole_binary.pcd") + "' --alpha-radius 1.5 -o '" + out("o.json") + "' --svg '" + out("o.svg") +
-              "' --png '" + out("o.png") + "' --triangles '" + out("o.tri") + "' --draw-triangles");
+  CliRun r = run("'" + data("grid_hole_binary.pcd") + "' --alpha-radius 1.5 -o '" + out("o.json") + "' --svg '" +
+                 out("o.svg") + "' --png '" + out("o.png") + "' --triangles '" + out("o.tri") + "' --draw-triangles");
   ASSERT_EQ(r.code, 0) << r.err;
   auto j = nlohmann::json::parse(read_all(out("o.json")));
   const std::string svg = read_all(out("o.svg"));
@@ -166,8 +170,8 @@ TEST_F(OutlineIoCli, PicturesAndTriangles) {
 
 TEST_F(OutlineIoCli, CorruptFileFailsNamesTheFileAndWritesNothing) {
   const std::string bad = data("grid_hole_truncated.pcd");
-  CliRun r = run("'" + bad + "' -o '" + out("o.json") + "' --svg '" + out("o.svg") + "' --png '" + out("o.png") + "' --triangles '" +
-              out("o.tri") + "'");
+  CliRun r = run("'" + bad + "' -o '" + out("o.json") + "' --svg '" + out("o.svg") + "' --png '" + out("o.png") +
+                 "' --triangles '" + out("o.tri") + "'");
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find(bad + ": byte "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("truncated data"), std::string::npos) << r.err;
@@ -191,9 +195,9 @@ TEST_F(OutlineIoCli, CorruptFileFailsNamesTheFileAndWritesNothing) {
 
 TEST_F(OutlineIoCli, BadOptionsExitTwoAndHelpTellsTheOptions) {
   const std::string in = "'" + data("grid_hole.xyz") + "'";
-  for (const std::string& args : {in + " --mode fast", in + " --order random", in + " --alpha-radius -1", in + " --alpha-radius x",
-                                  in + " --bogus", std::string(""), in + " " + in, in + " --alpha-radius 1 --auto-factor 2",
-                                  in + " -o"}) {
+  for (const std::string& args :
+       {in + " --mode fast", in + " --order random", in + " --alpha-radius -1", in + " --alpha-radius x",
+        in + " --bogus", std::string(""), in + " " + in, in + " --alpha-radius 1 --auto-factor 2", in + " -o"}) {
     CliRun r = run(args);
     EXPECT_EQ(r.code, 2) << args;
     EXPECT_NE(r.err.find("hg-outline: "), std::string::npos) << args;
@@ -201,9 +205,10 @@ TEST_F(OutlineIoCli, BadOptionsExitTwoAndHelpTellsTheOptions) {
   }
   CliRun h = run("--help");
   EXPECT_EQ(h.code, 0);
-  for (const char* opt : {"--alpha-radius", "--auto-factor", "--mode", "ordinary", "ds", "dshi", "--order", "as-is", "hilbert",
-                          "--outer-only", "-o FILE", "--svg", "--png", "--triangles", "--draw-triangles", ".pcd", ".ply", ".csv",
-                          "points_skipped", "NaN"})
+  for (const char* opt : {"--alpha-radius", "--auto-factor", "--mode", "ordinary",       "ds",
+                          "dshi",           "--order",       "as-is",  "hilbert",        "--outer-only",
+                          "-o FILE",        "--svg",         "--png",  "--triangles",    "--draw-triangles",
+                          ".pcd",           ".ply",          ".csv",   "points_skipped", "NaN"})
     EXPECT_NE(h.out.find(opt), std::string::npos) << opt;
 }
 
@@ -216,7 +221,8 @@ TEST_F(OutlineIoCli, AlphaModeAndHoleRuleOptions) {
     EXPECT_NE(r.err.find("hg-outline: "), std::string::npos) << args;
   }
   CliRun h = run("--help");
-  for (const char* opt : {"--alpha-mode", "global", "local", "--min-hole-spacings"}) EXPECT_NE(h.out.find(opt), std::string::npos) << opt;
+  for (const char* opt : {"--alpha-mode", "global", "local", "--min-hole-spacings"})
+    EXPECT_NE(h.out.find(opt), std::string::npos) << opt;
   for (const char* mode : {"global", "local"}) {
     CliRun r = run(in + " --alpha-mode " + mode + " --min-hole-spacings 0");
     ASSERT_EQ(r.code, 0) << r.err;
@@ -240,7 +246,8 @@ namespace {
 // An organized binary PCD (WIDTH 21 x HEIGHT 21, fields x y z) of the 20 x 20 square whose hole pixels
 // (strictly inside [6, 14]^2) gave no return: NaN x y z there, as depth cameras write them.
 std::string organized_square_with_nan_hole() {
-  std::string s = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 21\nHEIGHT 21\nPOINTS 441\nDATA binary\n";
+  std::string s =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 21\nHEIGHT 21\nPOINTS 441\nDATA binary\n";
   const float nan = std::nanf("");
   for (int j = 0; j <= 20; ++j)
     for (int i = 0; i <= 20; ++i) {
@@ -270,7 +277,8 @@ TEST_F(OutlineIoCli, NoReturnPixelsAreSkippedAndCountedInJsonAndSummary) {
   r = run("'" + (dir / "org.pcd").string() + "' --alpha-radius 1.5 -o '" + out("o.json") + "'");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find(": 441 points (49 skipped, " + std::to_string(kGridPoints) + " used), 1 outer loops, 1 holes"),
-            std::string::npos) << r.out;
+            std::string::npos)
+      << r.out;
   // Text with NaN/Inf values: skipped the same way.
   std::ofstream(dir / "nan.xyz") << "0 0\nnan 1\n4 0\n2 inf\n0 4\n";
   r = run("'" + (dir / "nan.xyz").string() + "' --alpha-radius 100");
@@ -296,5 +304,7 @@ TEST_F(OutlineIoCli, CollinearInSpaceAndTooFewFinitePointsAreErrors) {
   std::ofstream(dir / "few.xyz") << "0 0 1\nnan 0 1\n1 1 1\n0 inf 1\n";
   const CliRun f = run("'" + (dir / "few.xyz").string() + "'");
   EXPECT_EQ(f.code, 1);
-  EXPECT_NE(f.err.find("few.xyz: need at least 3 distinct points, got 2 finite points (2 non-finite skipped)"), std::string::npos) << f.err;
+  EXPECT_NE(f.err.find("few.xyz: need at least 3 distinct points, got 2 finite points (2 non-finite skipped)"),
+            std::string::npos)
+      << f.err;
 }

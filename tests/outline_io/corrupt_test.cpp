@@ -41,11 +41,18 @@ void expect_error(const std::string& msg, const std::string& name, const std::st
   EXPECT_NE(msg.find(what), std::string::npos) << msg << "\n  (expected: " << what << ")";
 }
 
-std::string text(std::string_view s) { return error_of([&] { parse_text_cloud(s, "bad.xyz"); }); }
-std::string pcd(std::string_view s) { return error_of([&] { parse_pcd(s, "bad.pcd"); }); }
-std::string ply(std::string_view s) { return error_of([&] { parse_ply(s, "bad.ply"); }); }
+std::string text(std::string_view s) {
+  return error_of([&] { parse_text_cloud(s, "bad.xyz"); });
+}
+std::string pcd(std::string_view s) {
+  return error_of([&] { parse_pcd(s, "bad.pcd"); });
+}
+std::string ply(std::string_view s) {
+  return error_of([&] { parse_ply(s, "bad.ply"); });
+}
 
-const std::string kPcdHead = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\n";
+const std::string kPcdHead =
+    "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\n";
 
 // NaN/Inf values are no error: the point is kept (indices stay file positions) and counted once.
 void expect_kept(const Cloud& c, std::size_t points, std::size_t point, int axis, double value) {
@@ -53,7 +60,8 @@ void expect_kept(const Cloud& c, std::size_t points, std::size_t point, int axis
   EXPECT_EQ(c.nonfinite, 1u);
   const double v = c.xyz[3 * point + axis];
   if (std::isnan(value)) EXPECT_TRUE(std::isnan(v)) << v;
-  else EXPECT_EQ(v, value);
+  else
+    EXPECT_EQ(v, value);
 }
 
 std::string f32s(std::initializer_list<float> v) {
@@ -83,19 +91,23 @@ TEST(OutlineIoCorrupt, TextNanInfAndCounts) {
 }
 
 TEST(OutlineIoCorrupt, FileLevelErrors) {
-  EXPECT_EQ(error_of([] { read_cloud_file("/nonexistent/dir/a.xyz"); }), "/nonexistent/dir/a.xyz: cannot open file: no such file");
-  EXPECT_EQ(error_of([] { read_cloud_file(HG_TEST_DATA); }).find("unsupported format"), std::string(HG_TEST_DATA).size() + 2);
+  EXPECT_EQ(error_of([] { read_cloud_file("/nonexistent/dir/a.xyz"); }),
+            "/nonexistent/dir/a.xyz: cannot open file: no such file");
+  EXPECT_EQ(error_of([] { read_cloud_file(HG_TEST_DATA); }).find("unsupported format"),
+            std::string(HG_TEST_DATA).size() + 2);
   const std::string dir = std::string(HG_TEST_DATA) + "/outline_io.xyz";  // not a file name that exists
   EXPECT_NE(error_of([&] { read_cloud_file(dir); }).find("no such file"), std::string::npos);
 }
 
 TEST(OutlineIoCorrupt, PcdHeaderErrorsNameTheLine) {
   expect_error(pcd("FIELDS x y\nSIZE 4\n"), "bad.pcd", "line 2", "SIZE has 1 values for 2 fields");
-  expect_error(pcd("FIELDS x y\nSIZE 4 2\nTYPE F F\nWIDTH 1\nDATA ascii\n1 2\n"), "bad.pcd", "line", "TYPE F with SIZE 2");
+  expect_error(pcd("FIELDS x y\nSIZE 4 2\nTYPE F F\nWIDTH 1\nDATA ascii\n1 2\n"), "bad.pcd", "line",
+               "TYPE F with SIZE 2");
   expect_error(pcd("FIELDS a b\nSIZE 4 4\nTYPE F F\nWIDTH 1\nDATA ascii\n1 2\n"), "bad.pcd", "line 5", "no x and y");
   expect_error(pcd("FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 3\nHEIGHT 2\nPOINTS 5\nDATA ascii\n"), "bad.pcd", "line 6",
                "wrong counts: POINTS 5 but WIDTH x HEIGHT = 3 x 2 = 6");
-  expect_error(pcd("FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 1\nDATA binary_lz4\n"), "bad.pcd", "line 5", "unsupported format: DATA 'binary_lz4'");
+  expect_error(pcd("FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 1\nDATA binary_lz4\n"), "bad.pcd", "line 5",
+               "unsupported format: DATA 'binary_lz4'");
   expect_error(pcd("FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 1\n"), "bad.pcd", "line 4", "file ends before the DATA line");
   expect_error(pcd("FIELDS x y\nFOO 1\n"), "bad.pcd", "line 2", "unknown keyword 'FOO'");
   expect_error(pcd("\x89PNG\r\n\x1a\n\0\0\0"), "bad.pcd", "line", "");
@@ -115,9 +127,11 @@ TEST(OutlineIoCorrupt, PcdBinaryErrorsNameTheByte) {
   const std::string body = f32s({1, 2, 3, 4, 5, 6});
   // Truncated: the error is where the file ends.
   std::string cut = head + body.substr(0, 20);
-  expect_error(pcd(cut), "bad.pcd", "byte " + std::to_string(cut.size()), "truncated data: 2 points of 12 bytes need 24 bytes");
+  expect_error(pcd(cut), "bad.pcd", "byte " + std::to_string(cut.size()),
+               "truncated data: 2 points of 12 bytes need 24 bytes");
   // Extra bytes after the declared points.
-  expect_error(pcd(head + body + "XYZ"), "bad.pcd", "byte " + std::to_string(head.size() + 24), "3 bytes of unexpected data");
+  expect_error(pcd(head + body + "XYZ"), "bad.pcd", "byte " + std::to_string(head.size() + 24),
+               "3 bytes of unexpected data");
   // NaN y of point 1 (a no-return pixel): kept and counted.
   const float nan = std::numeric_limits<float>::quiet_NaN();
   expect_kept(parse_pcd(head + f32s({1, 2, 3, 4, nan, 6}), "t.pcd"), 2, 1, 1, std::nan(""));
@@ -146,14 +160,19 @@ TEST(OutlineIoCorrupt, PcdCompressedErrors) {
   EXPECT_EQ(ok.xyz[3], 4.0);
   EXPECT_EQ(ok.xyz[5], 6.0);
   const std::size_t block_at = head.size() + 8;
-  expect_error(pcd(block(25, 23, literal)), "bad.pcd", "byte " + std::to_string(head.size() + 4), "wrong counts: uncompressed size 23");
-  expect_error(pcd(block(40, 24, literal)), "bad.pcd", "byte " + std::to_string(block_at + 25), "truncated data: compressed block of 40 bytes");
-  expect_error(pcd(block(10, 24, literal.substr(0, 10))), "bad.pcd", "byte " + std::to_string(block_at), "LZF literal run of 24 bytes runs past");
+  expect_error(pcd(block(25, 23, literal)), "bad.pcd", "byte " + std::to_string(head.size() + 4),
+               "wrong counts: uncompressed size 23");
+  expect_error(pcd(block(40, 24, literal)), "bad.pcd", "byte " + std::to_string(block_at + 25),
+               "truncated data: compressed block of 40 bytes");
+  expect_error(pcd(block(10, 24, literal.substr(0, 10))), "bad.pcd", "byte " + std::to_string(block_at),
+               "LZF literal run of 24 bytes runs past");
   // Back reference before the start of the output: ctrl 0x20 (length 3), distance 1 with nothing decoded yet.
-  expect_error(pcd(block(2, 24, std::string("\x20\x00", 2))), "bad.pcd", "byte " + std::to_string(block_at), "before the start of the output");
+  expect_error(pcd(block(2, 24, std::string("\x20\x00", 2))), "bad.pcd", "byte " + std::to_string(block_at),
+               "before the start of the output");
   // A block that decodes to fewer bytes than declared.
   std::string short_lit = std::string(1, 3) + raw.substr(0, 4);
-  expect_error(pcd(block(5, 24, short_lit)), "bad.pcd", "byte " + std::to_string(block_at + 5), "decodes to 4 bytes, header declares 24");
+  expect_error(pcd(block(5, 24, short_lit)), "bad.pcd", "byte " + std::to_string(block_at + 5),
+               "decodes to 4 bytes, header declares 24");
   // Impossible ratio: 1 compressed byte cannot make 24 MB.
   std::string big = "FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 3000000\nDATA binary_compressed\n";
   std::uint32_t sizes[2] = {1, 24000000};
@@ -164,31 +183,37 @@ TEST(OutlineIoCorrupt, PcdCompressedErrors) {
 
 TEST(OutlineIoCorrupt, PlyErrors) {
   expect_error(ply("pcd\n"), "bad.ply", "line 1", "does not start with 'ply'");
-  expect_error(ply("ply\nformat binary_big_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n"),
-               "bad.ply", "line 2", "unsupported format 'binary_big_endian'");
+  expect_error(
+      ply("ply\nformat binary_big_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n"),
+      "bad.ply", "line 2", "unsupported format 'binary_big_endian'");
   expect_error(ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty flaot y\nend_header\n1 2\n"),
                "bad.ply", "line 5", "unknown type 'flaot'");
   expect_error(ply("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float q\nend_header\n1 2\n"),
                "bad.ply", "line 3", "no x and y");
-  const std::string ahead = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n";  // data from line 9
+  const std::string ahead =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";  // data from line 9
   expect_error(ply(ahead + "1 2\n3\n"), "bad.ply", "line 10", "line ends before property 'y'");
   expect_error(ply(ahead + "1 2\n3 4 5\n"), "bad.ply", "line 10", "wrong number of values: 3");
   expect_error(ply(ahead + "1 2\n3 y\n"), "bad.ply", "line 10", "bad number 'y' for y");
   expect_kept(parse_ply(ahead + "1 2\n-inf 4\n3 0 1 1\n", "t.ply"), 2, 1, 0, -INFINITY);
-  expect_error(ply(ahead + "1 2\n3 4\n4 0 1 2\n"), "bad.ply", "line 11", "list 'vertex_indices' declares 4 items, line has 3");
+  expect_error(ply(ahead + "1 2\n3 4\n4 0 1 2\n"), "bad.ply", "line 11",
+               "list 'vertex_indices' declares 4 items, line has 3");
   expect_error(ply(ahead + "1 2\n3 4\n"), "bad.ply", "line 10", "truncated data: file ends at element 'face' 0 of 1");
   expect_error(ply(ahead + "1 2\n3 4\n3 0 1 1\n9 9\n"), "bad.ply", "line 12", "data after the last element");
-  expect_error(ply("ply\nformat ascii 1.0\nelement vertex 99999999999\nproperty float x\nproperty float y\nend_header\n1 2\n"),
-               "bad.ply", "line 3", "cannot fit");
+  expect_error(
+      ply("ply\nformat ascii 1.0\nelement vertex 99999999999\nproperty float x\nproperty float y\nend_header\n1 2\n"),
+      "bad.ply", "line 3", "cannot fit");
 }
 
 TEST(OutlineIoCorrupt, PlyBinaryErrorsNameTheByte) {
-  const std::string head = "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-                           "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string head =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
   const std::string verts = f32s({1, 2, 3, 4});
   std::string cut = head + verts.substr(0, 12);
-  expect_error(ply(cut), "bad.ply", "byte " + std::to_string(cut.size()), "truncated data: element 'vertex' needs 2 x 8 bytes");
+  expect_error(ply(cut), "bad.ply", "byte " + std::to_string(cut.size()),
+               "truncated data: element 'vertex' needs 2 x 8 bytes");
   // Face list of 200 ints where 2 are present.
   std::string face = head + verts + std::string(1, static_cast<char>(200)) + f32s({0, 0});
   expect_error(ply(face), "bad.ply", "byte " + std::to_string(head.size() + 17), "list of 200 items runs past the end");
@@ -198,14 +223,16 @@ TEST(OutlineIoCorrupt, PlyBinaryErrorsNameTheByte) {
   expect_kept(parse_ply(head + f32s({1, 2, 3, inf}) + std::string(1, 0), "t.ply"), 2, 1, 1, INFINITY);
   expect_error(ply(head + verts + std::string(1, 0) + "JUNK"), "bad.ply", "byte " + std::to_string(head.size() + 17),
                "4 bytes of unexpected data");
-  std::string neg = "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                    "property list char int l\nend_header\n";
+  std::string neg =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property list char int l\nend_header\n";
   expect_error(ply(neg + f32s({1, 2}) + "\xff"), "bad.ply", "byte " + std::to_string(neg.size() + 8), "negative");
 }
 
 TEST(OutlineIoCorrupt, TruncatedFixturesAtEveryLength) {
   // Every prefix of every fixture either reads (a shorter but complete text file) or throws ReadError.
-  for (const char* name : {"known_binary.pcd", "known_compressed.pcd", "known_binary.ply", "known_ascii.ply", "known_ascii.pcd", "known.csv"}) {
+  for (const char* name : {"known_binary.pcd", "known_compressed.pcd", "known_binary.ply", "known_ascii.ply",
+                           "known_ascii.pcd", "known.csv"}) {
     const std::string full = slurp(name);
     ASSERT_FALSE(full.empty()) << name;
     const std::string n = name;
@@ -213,7 +240,9 @@ TEST(OutlineIoCorrupt, TruncatedFixturesAtEveryLength) {
     for (std::size_t len = 0; len < full.size(); ++len) {
       std::string_view part(full.data(), len);
       try {
-        Cloud c = n.ends_with(".pcd") ? parse_pcd(part, n) : n.ends_with(".ply") ? parse_ply(part, n) : parse_text_cloud(part, n);
+        Cloud c = n.ends_with(".pcd")   ? parse_pcd(part, n)
+                  : n.ends_with(".ply") ? parse_ply(part, n)
+                                        : parse_text_cloud(part, n);
         // A cut binary file is always an error; a cut text file may end at a line boundary.
         EXPECT_FALSE(binary) << n << " read with " << len << " of " << full.size() << " bytes";
         EXPECT_GT(c.size(), 0u);
@@ -227,14 +256,16 @@ TEST(OutlineIoCorrupt, TruncatedFixturesAtEveryLength) {
 TEST(OutlineIoCorrupt, RandomGarbageAndBitFlipsOnlyGiveReadErrors) {
   std::mt19937 rng(3);
   const std::string seeds[] = {slurp("known_binary.pcd"), slurp("known_compressed.pcd"), slurp("known_binary.ply"),
-                               slurp("known_ascii.ply"), slurp("known_ascii.pcd"), slurp("known.xyz")};
+                               slurp("known_ascii.ply"),  slurp("known_ascii.pcd"),      slurp("known.xyz")};
   int errors = 0, reads = 0;
   for (int trial = 0; trial < 3000; ++trial) {
     const std::string& seed = seeds[trial % 6];
     std::string s = seed;
     for (int k = 0, nk = 1 + static_cast<int>(rng() % 4); k < nk; ++k) s[rng() % s.size()] = static_cast<char>(rng());
     try {
-      Cloud c = trial % 6 < 2 || trial % 6 == 4 ? parse_pcd(s, "f.pcd") : trial % 6 < 4 ? parse_ply(s, "f.ply") : parse_text_cloud(s, "f.xyz");
+      Cloud c = trial % 6 < 2 || trial % 6 == 4 ? parse_pcd(s, "f.pcd")
+                : trial % 6 < 4                 ? parse_ply(s, "f.ply")
+                                                : parse_text_cloud(s, "f.xyz");
       EXPECT_GT(c.size(), 0u);
       for (double v : c.xyz) EXPECT_TRUE(std::isfinite(v));
       ++reads;

@@ -25,7 +25,8 @@ std::string lzf_compress(std::string_view in) {
     std::size_t best_len = 0, best_dist = 0;
     if (i + 3 <= n) {
       unsigned h = (static_cast<unsigned char>(in[i]) * 2654435761u ^ static_cast<unsigned char>(in[i + 1]) * 40503u ^
-                    static_cast<unsigned char>(in[i + 2])) & 0xffff;
+                    static_cast<unsigned char>(in[i + 2])) &
+                   0xffff;
       long cand = last[h];
       last[h] = static_cast<long>(i);
       if (cand >= 0 && i - cand <= 8192) {

@@ -31,18 +31,21 @@ struct Organized {
         const bool none = (i + 2 * j) % 5 == 0 || j == 2;
         nan_count += none;
         const float x = static_cast<float>(i), y = static_cast<float>(j);
-        px.push_back(none ? std::array<float, 4>{kNaN, kNaN, kNaN, 7.0f} : std::array<float, 4>{x, y, 0.25f * x + 0.5f * y + 3, 7.0f});
+        px.push_back(none ? std::array<float, 4>{kNaN, kNaN, kNaN, 7.0f}
+                          : std::array<float, 4>{x, y, 0.25f * x + 0.5f * y + 3, 7.0f});
       }
   }
   std::string header(const std::string& kind) const {
     return "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z rgb\nSIZE 4 4 4 4\nTYPE F F F F\n"
-           "COUNT 1 1 1 1\nWIDTH " + std::to_string(w) + "\nHEIGHT " + std::to_string(h) +
-           "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(w * h) + "\nDATA " + kind + "\n";
+           "COUNT 1 1 1 1\nWIDTH " +
+           std::to_string(w) + "\nHEIGHT " + std::to_string(h) + "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " +
+           std::to_string(w * h) + "\nDATA " + kind + "\n";
   }
   std::string ascii() const {
     std::string s = header("ascii");
     for (auto& p : px) {
-      for (int k = 0; k < 4; ++k) s += (std::isnan(p[k]) ? std::string("nan") : std::to_string(p[k])) + (k < 3 ? " " : "\n");
+      for (int k = 0; k < 4; ++k)
+        s += (std::isnan(p[k]) ? std::string("nan") : std::to_string(p[k])) + (k < 3 ? " " : "\n");
     }
     return s;
   }
@@ -68,7 +71,8 @@ struct Organized {
     for (std::size_t i = 0; i < px.size(); ++i)
       for (int k = 0; k < 3; ++k) {
         if (std::isnan(px[i][k])) EXPECT_TRUE(std::isnan(c.xyz[3 * i + k])) << i;
-        else EXPECT_EQ(c.xyz[3 * i + k], px[i][k]) << i;
+        else
+          EXPECT_EQ(c.xyz[3 * i + k], px[i][k]) << i;
       }
   }
 };
@@ -91,10 +95,12 @@ TEST(OutlineIoNonFinite, TextAndPlyCountNanAndInfPoints) {
   const Cloud t2 = parse_text_cloud("1 2\n3 nan\n-infinity 4\n5 6\n", "mem.txt");
   EXPECT_EQ(t2.nonfinite, 2u);
   EXPECT_FALSE(t2.has_z);
-  const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
   const Cloud pa = parse_ply(head + "0 0 0\nnan 1 1\n2 2 inf\n3 3 3\n", "mem.ply");
   EXPECT_EQ(pa.nonfinite, 2u);
-  std::string pb = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nend_header\n";
+  std::string pb =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nend_header\n";
   const float v[6] = {0, 0, kNaN, 1, 2, std::numeric_limits<float>::infinity()};
   pb.append(reinterpret_cast<const char*>(v), sizeof v);
   const Cloud pbc = parse_ply(pb, "mem.ply");
@@ -148,8 +154,7 @@ TEST(OutlineIoNonFinite, CloudCollinearInSpaceIsTheCollinearError) {
   // coordinates are small integers and halves), 9 distinct points.
   Cloud c;
   c.has_z = true;
-  for (int t : {0, 1, 2, 3, 4, 5, 6, 7, 8, 3, 0})
-    c.xyz.insert(c.xyz.end(), {5.0 + t, -1.0 + 2 * t, 0.5 + 3 * t});
+  for (int t : {0, 1, 2, 3, 4, 5, 6, 7, 8, 3, 0}) c.xyz.insert(c.xyz.end(), {5.0 + t, -1.0 + 2 * t, 0.5 + 3 * t});
   c.xyz.insert(c.xyz.end(), {std::nan(""), 1, 1});
   try {
     to_plane(c, "line.xyz");

@@ -159,7 +159,7 @@ TEST(OutlineIoPlane, NoisyNearlyHorizontalPlateKeepsItsAxes) {
   EXPECT_GT(pp.plane.v[1], 0.999);
   EXPECT_GT(pp.plane.normal[2], 0.999);
   EXPECT_NEAR(pp.rms_distance, 0.5 / std::sqrt(3.0), 0.02);  // RMS of uniform noise in [-0.5, 0.5]
-  EXPECT_LE(pp.max_distance, 0.5 + 0.02);  // noise bound + the fitted plane's own small error
+  EXPECT_LE(pp.max_distance, 0.5 + 0.02);                    // noise bound + the fitted plane's own small error
 }
 
 TEST(OutlineIoJson, HasTheKeysAndValues) {
@@ -167,8 +167,8 @@ TEST(OutlineIoJson, HasTheKeysAndValues) {
   PlanarPoints planar;
   RunInfo info{"in.xyz", "xyz", false, 5.5, 0.5};
   auto j = outline_json(r, planar, info);
-  for (const char* key : {"points_read", "points_used", "duplicates_merged", "alpha_radius", "mode", "order", "triangles",
-                          "search_cost", "time_ms", "loops"})
+  for (const char* key : {"points_read", "points_used", "duplicates_merged", "alpha_radius", "mode", "order",
+                          "triangles", "search_cost", "time_ms", "loops"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["points_read"], 10);
   EXPECT_EQ(j["points_used"], 9);

@@ -97,7 +97,15 @@ TEST(OutlineIoFormat, ExtensionChoosesTheReaderCaseInsensitively) {
 
 TEST(OutlineIoLzf, HandAssembledLiteralAndOverlappingBackReference) {
   // "abc" as a literal run, then 9 bytes from 3 back (overlapping copy): length 9 -> 7 + ext 0, distance 3 -> 2.
-  const std::string block = std::string("\x02" "abc", 4) + std::string("\xE0\x00\x02", 3) + std::string("\x00" "!", 2);
+  const std::string block = std::string(
+                                "\x02"
+                                "abc",
+                                4) +
+                            std::string("\xE0\x00\x02", 3) +
+                            std::string(
+                                "\x00"
+                                "!",
+                                2);
   std::string out(13, '\0');
   lzf_decompress(block, out.data(), out.size(), "mem", 0);
   EXPECT_EQ(out, "abcabcabcabc!");
@@ -132,7 +140,7 @@ TEST(OutlineIoLzf, RoundTripThroughTheTestCompressor) {
 namespace {
 
 struct TestType {
-  char pcd;        // I U F
+  char pcd;  // I U F
   int size;
   const char* ply;
 };
@@ -144,11 +152,21 @@ void put(std::string& s, const TestType& t, double v) {
   char b[8];
   switch (t.pcd) {
     case 'F':
-      if (t.size == 4) { float f = static_cast<float>(v); std::memcpy(b, &f, 4); }
-      else std::memcpy(b, &v, 8);
+      if (t.size == 4) {
+        float f = static_cast<float>(v);
+        std::memcpy(b, &f, 4);
+      } else
+        std::memcpy(b, &v, 8);
       break;
-    case 'I': { long long i = static_cast<long long>(v); std::memcpy(b, &i, t.size); break; }  // little endian: low bytes first
-    default: { unsigned long long u = static_cast<unsigned long long>(v); std::memcpy(b, &u, t.size); }
+    case 'I': {
+      long long i = static_cast<long long>(v);
+      std::memcpy(b, &i, t.size);
+      break;
+    }  // little endian: low bytes first
+    default: {
+      unsigned long long u = static_cast<unsigned long long>(v);
+      std::memcpy(b, &u, t.size);
+    }
   }
   s.append(b, t.size);
 }
@@ -207,8 +225,8 @@ TEST(OutlineIoPcd, RandomLayoutsInAllThreeEncodings) {
     for (auto& c : cols) head += std::string(" ") + c.type.pcd;
     head += "\nCOUNT";
     for (auto& c : cols) head += " " + std::to_string(c.count);
-    head += "\nWIDTH " + std::to_string(width) + "\nHEIGHT " + std::to_string(height) + "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " +
-            std::to_string(n) + "\n";
+    head += "\nWIDTH " + std::to_string(width) + "\nHEIGHT " + std::to_string(height) +
+            "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(n) + "\n";
 
     std::string ascii = head + "DATA ascii\n";
     std::string binary = head + "DATA binary\n";
@@ -250,7 +268,8 @@ TEST(OutlineIoPly, RandomLayoutsAsciiAndBinary) {
     std::vector<Prop> props;
     for (int a = 0; a < (has_z ? 3 : 2); ++a) props.push_back({std::string(1, "xyz"[a]), kTypes[rng() % 8], false});
     for (int e = 0, ne = static_cast<int>(rng() % 4); e < ne; ++e)
-      props.insert(props.begin() + rng() % (props.size() + 1), Prop{"p" + std::to_string(e), kTypes[rng() % 8], rng() % 3 == 0});
+      props.insert(props.begin() + rng() % (props.size() + 1),
+                   Prop{"p" + std::to_string(e), kTypes[rng() % 8], rng() % 3 == 0});
     const std::size_t n = 1 + rng() % 200, faces = rng() % 50;
     const bool before = rng() % 2;
     std::string head = "ply\nformat FORMAT 1.0\ncomment random layout\n";
@@ -259,7 +278,8 @@ TEST(OutlineIoPly, RandomLayoutsAsciiAndBinary) {
     for (auto& p : props)
       head += p.list ? "property list uchar " + std::string(p.type.ply) + " " + p.name + "\n"
                      : "property " + std::string(p.type.ply) + " " + p.name + "\n";
-    head += "element face " + std::to_string(faces) + "\nproperty list uchar int vertex_indices\nelement empty 5\nend_header\n";
+    head += "element face " + std::to_string(faces) +
+            "\nproperty list uchar int vertex_indices\nelement empty 5\nend_header\n";
     std::string ascii, binary;
     const TestType u8 = kTypes[1], u16 = kTypes[3], f32 = kTypes[6], i32 = kTypes[4];
     if (before)

@@ -98,7 +98,7 @@ TEST(OutlineServiceCompute, GapsOfMissingPixelsAreNotHoles) {
       EXPECT_NEAR(l.area, 7 * p * p, 1e-9);
     }
   auto filtered = os::compute(cloud, opt);  // the process default, the core's 4.5 spacings
-  EXPECT_EQ(holes(filtered), 1);  // the cut-out only: 0.1 m wide, far above (4.5 p)^2
+  EXPECT_EQ(holes(filtered), 1);            // the cut-out only: 0.1 m wide, far above (4.5 p)^2
   EXPECT_EQ(filtered.holes_dropped, 1);
   for (const auto& l : filtered.outline.loops)
     if (l.hole) {
@@ -201,7 +201,8 @@ TEST(OutlineServiceCompute, TooFewCollinearOrInvalidPointsAreErrorsNotLoops) {
   // that of the same cloud without it.
   auto nan = hg::test::plate_with_hole(0.1, 0.1, 1, 1, 1, 1, 0.01);
   auto without = nan;
-  without.u.erase(without.u.begin() + 7), without.v.erase(without.v.begin() + 7), without.part.erase(without.part.begin() + 7);
+  without.u.erase(without.u.begin() + 7), without.v.erase(without.v.begin() + 7),
+      without.part.erase(without.part.begin() + 7);
   without.n -= 1;
   nan.u[7] = std::numeric_limits<float>::quiet_NaN();
   auto d = os::compute(nan, {});

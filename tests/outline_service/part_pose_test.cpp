@@ -49,8 +49,7 @@ TEST(OutlineServicePose, RotatedRectangleWithHole) {
 }
 
 TEST(OutlineServicePose, TwoPartsLargestFirstHoleAssignedToItsPart) {
-  std::vector<Loop> loops = {polygon(rect(0, 0, 0.1, 0.1, false), false),
-                             polygon(rect(1, 0, 1.3, 0.2, false), false),
+  std::vector<Loop> loops = {polygon(rect(0, 0, 0.1, 0.1, false), false), polygon(rect(1, 0, 1.3, 0.2, false), false),
                              polygon(rect(1.1, 0.05, 1.2, 0.15, true), true)};
   loops[0].area = 0.01;
   loops[1].area = 0.06;

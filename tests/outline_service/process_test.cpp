@@ -22,7 +22,9 @@ struct Inbox {
   std::vector<hullgrind::outline_t> outlines;
   std::vector<hullgrind::part_pose_t> poses;
   std::vector<hullgrind::heartbeat_t> beats;
-  void on_outline(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::outline_t* m) { outlines.push_back(*m); }
+  void on_outline(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::outline_t* m) {
+    outlines.push_back(*m);
+  }
   void on_pose(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::part_pose_t* m) { poses.push_back(*m); }
   void on_beat(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* m) {
     if (m->process == "hg-outline-service") beats.push_back(*m);
@@ -87,10 +89,13 @@ TEST_F(OutlineServiceProcess, NewestCloudWinsAndOlderAreCountedAsDropped) {
   }
   ASSERT_TRUE(until([&] { return !inbox.outlines.empty() && inbox.outlines.back().cloud_seq == 100 + sent - 1; }, 60s))
       << "the newest cloud was never answered";
-  ASSERT_TRUE(until([&] {
-    return !inbox.beats.empty() && inbox.beats.back().received == sent &&
-           inbox.beats.back().dropped + int64_t(inbox.outlines.size()) == sent;
-  }, 5s)) << "received != sent or computed + dropped != received";
+  ASSERT_TRUE(until(
+      [&] {
+        return !inbox.beats.empty() && inbox.beats.back().received == sent &&
+               inbox.beats.back().dropped + int64_t(inbox.outlines.size()) == sent;
+      },
+      5s))
+      << "received != sent or computed + dropped != received";
   EXPECT_GT(inbox.beats.back().dropped, 0);
   for (std::size_t i = 1; i < inbox.outlines.size(); ++i)
     EXPECT_GT(inbox.outlines[i].cloud_seq, inbox.outlines[i - 1].cloud_seq) << "answered out of order";

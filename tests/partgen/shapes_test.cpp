@@ -33,10 +33,10 @@ const Expect kExpect[] = {
     // 350x300 minus 40x40 snipe triangle minus a 70-wide notch 100 deep to the centre of its R35 end
     {"collar-notch", 0.35 * 0.3 - 0.04 * 0.04 / 2 - (0.07 * 0.1 + pi * 0.035 * 0.035 / 2),
      2 * (0.35 + 0.3) - 0.08 + 0.04 * std::sqrt(2.0) - 0.07 + 0.2 + pi * 0.035, 0.035},
-    {"ring-flange", pi * (0.25 * 0.25 - 0.15 * 0.15), 2 * pi * (0.25 + 0.15), 0.15},
+    {"ring-flange", pi*(0.25 * 0.25 - 0.15 * 0.15), 2 * pi*(0.25 + 0.15), 0.15},
     // trapezoid 500/300 x 250, slanted sides sqrt(0.1^2 + 0.25^2), five D30 holes
-    {"trapezoid-holes", 0.8 / 2 * 0.25 - 5 * pi * 0.015 * 0.015,
-     0.8 + 2 * std::hypot(0.1, 0.25) + 5 * pi * 0.03, 0.015},
+    {"trapezoid-holes", 0.8 / 2 * 0.25 - 5 * pi * 0.015 * 0.015, 0.8 + 2 * std::hypot(0.1, 0.25) + 5 * pi * 0.03,
+     0.015},
 };
 
 // Analytic membership of the ideal parts (true arcs), scale 1, plate frame.

@@ -92,10 +92,10 @@ TEST(PartgenSynth, PointsAreExactlyThePixelCentresInsideTheParts) {
 TEST(PartgenSynth, PresetCountsMatchThePaperWithinThreePercent) {
   // The paper's Tables 1, 4 and 6, typed from the paper.
   const std::map<std::string, double> paper = {
-      {"low-1", 3716},     {"low-2", 3161},     {"low-3", 2179},     {"low-4", 8258},      {"low-5", 8828},
-      {"low-6", 8696},     {"high-1", 763685},  {"high-2", 513513},  {"high-3", 406434},   {"high-4", 1591649},
-      {"high-5", 1015985}, {"high-6", 997571},  {"down-1", 17604},   {"down-2", 16295},    {"down-3", 12263},
-      {"down-4", 17130},   {"down-5", 15531},   {"down-6", 14809}};
+      {"low-1", 3716},     {"low-2", 3161},    {"low-3", 2179},    {"low-4", 8258},    {"low-5", 8828},
+      {"low-6", 8696},     {"high-1", 763685}, {"high-2", 513513}, {"high-3", 406434}, {"high-4", 1591649},
+      {"high-5", 1015985}, {"high-6", 997571}, {"down-1", 17604},  {"down-2", 16295},  {"down-3", 12263},
+      {"down-4", 17130},   {"down-5", 15531},  {"down-6", 14809}};
   ASSERT_EQ(presets().size(), paper.size());
   for (const auto& [name, n] : paper) {
     const Preset& p = find_preset(name);
@@ -243,7 +243,7 @@ TEST(PartgenSynth, NormalGeneratorMomentsAndRange) {
   EXPECT_NEAR(s / n, 0, 4 / std::sqrt(double(n)));
   EXPECT_NEAR(ss / n, 1, 4 * std::sqrt(2.0 / n));
   EXPECT_NEAR(s4 / n, 3, 4 * std::sqrt(96.0 / n));  // E v^4 = 3, Var v^4 = 105 - 9
-  const double p1 = std::erf(1 / std::sqrt(2.0));    // P(|v| < 1) = 0.6827
+  const double p1 = std::erf(1 / std::sqrt(2.0));   // P(|v| < 1) = 0.6827
   EXPECT_NEAR(double(within1) / n, p1, 4 * std::sqrt(p1 * (1 - p1) / n));
 }
 
@@ -281,7 +281,8 @@ TEST(PartgenSynth, PixelStaircaseStepsThroughNeighbouringPixelCentresAlongTheRin
   for (const Vec2& q : {Vec2(-0.1, -0.05), Vec2(0.1, -0.05), Vec2(0.1, 0.05), Vec2(-0.1, 0.05)})
     rect.push_back(Eigen::Rotation2Dd(0.3) * q + Vec2(0.0123, 0.0456));
   Ring circle;
-  for (int k = 0; k < 720; ++k) circle.push_back(Vec2(0.3, 0.2) + 0.04 * Vec2(std::cos(k * deg / 2), std::sin(k * deg / 2)));
+  for (int k = 0; k < 720; ++k)
+    circle.push_back(Vec2(0.3, 0.2) + 0.04 * Vec2(std::cos(k * deg / 2), std::sin(k * deg / 2)));
   for (const Ring* ring : {&rect, &circle}) {
     const Ring s = pixel_staircase(*ring, p);
     ASSERT_GT(s.size(), 100u);

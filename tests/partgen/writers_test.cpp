@@ -128,9 +128,9 @@ TEST(PartgenWriters, XyzAndPcdReadBackToTheSamePoints) {
   ASSERT_EQ(bin.size(), c.xyz.size());
   ASSERT_EQ(asc.size(), c.xyz.size());
   for (size_t i = 0; i < c.xyz.size(); ++i) {
-    ASSERT_NEAR(xyz[i], c.xyz[i], 0.5e-7 + 1e-15);          // 7 decimals
-    ASSERT_EQ(bin[i], double(float(c.xyz[i])));             // float32 exactly
-    ASSERT_EQ(float(asc[i]), float(c.xyz[i]));              // ascii float text round-trips
+    ASSERT_NEAR(xyz[i], c.xyz[i], 0.5e-7 + 1e-15);  // 7 decimals
+    ASSERT_EQ(bin[i], double(float(c.xyz[i])));     // float32 exactly
+    ASSERT_EQ(float(asc[i]), float(c.xyz[i]));      // ascii float text round-trips
   }
   // No temporary files left behind.
   int files = 0;

@@ -164,9 +164,10 @@ void check_shape(const std::string& shape, bool noisy, double smooth_limit, doub
   }
   for (std::size_t k = 0; k < found.size(); ++k)
     EXPECT_TRUE(found[k]) << shape << ": corner at " << c.truth.straight_corners[k].first.transpose() << " not found";
-  std::printf("  %-16s %-10s smoothed max %.3f mm (%d pts)  offset max %.3f mm (%d pts)  corners %d  (worst at %.4f %.4f / %.4f %.4f)\n",
-              shape.c_str(), noisy ? ("noisy/" + std::to_string(seed)).c_str() : "noise-free", smooth.max * 1e3, smooth.n, offset.max * 1e3, offset.n,
-              corners_checked, smooth.at.x(), smooth.at.y(), offset.at.x(), offset.at.y());
+  std::printf(
+      "  %-16s %-10s smoothed max %.3f mm (%d pts)  offset max %.3f mm (%d pts)  corners %d  (worst at %.4f %.4f / %.4f %.4f)\n",
+      shape.c_str(), noisy ? ("noisy/" + std::to_string(seed)).c_str() : "noise-free", smooth.max * 1e3, smooth.n,
+      offset.max * 1e3, offset.n, corners_checked, smooth.at.x(), smooth.at.y(), offset.at.x(), offset.at.y());
   EXPECT_GT(smooth.n, 100);
   EXPECT_LE(smooth.max, smooth_limit) << shape << " seed " << seed;
   EXPECT_LE(offset.max, offset_limit) << shape << " seed " << seed;
@@ -239,9 +240,10 @@ void check_shape(const std::string& shape, bool noisy, double smooth_limit, doub
     const Vec3 start = v.robot ? *v.robot : cfg.home;
     EXPECT_EQ(hg::robot_bridge::check_path(bp, {start, Eigen::Quaterniond::Identity()}, bl), "")
         << shape << (noisy ? " noisy" : "") << " tool " << v.tool << (v.flipped ? " flipped" : "");
-    std::printf("    tool %2.0f mm %-12s %-7s %.2f m/s: %5zu waypoints, %3d speeds lowered, slowest grind %.4f m/s, grind time %.1f s (%.1f s at constant speed)\n",
-                v.tool * 1e3, v.dir == Direction::Climb ? "climb" : "conventional", v.flipped ? "flipped" : "",
-                pr.params.grind_speed, pr.path.size(), pr.slowed, slowest, grind_time, grind_time_nominal);
+    std::printf(
+        "    tool %2.0f mm %-12s %-7s %.2f m/s: %5zu waypoints, %3d speeds lowered, slowest grind %.4f m/s, grind time %.1f s (%.1f s at constant speed)\n",
+        v.tool * 1e3, v.dir == Direction::Climb ? "climb" : "conventional", v.flipped ? "flipped" : "",
+        pr.params.grind_speed, pr.path.size(), pr.slowed, slowest, grind_time, grind_time_nominal);
   }
 }
 

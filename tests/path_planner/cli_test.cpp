@@ -54,8 +54,8 @@ TEST(PathPlannerCli, WritesThePathSchema) {
     EXPECT_NEAR(n, 1, 1e-9);
     EXPECT_GT(w["speed"].get<double>(), 0);
     const std::string kind = w["kind"];
-    EXPECT_TRUE(kind == "approach" || kind == "lead_in" || kind == "grind" || kind == "lead_out" ||
-                kind == "retract" || kind == "travel")
+    EXPECT_TRUE(kind == "approach" || kind == "lead_in" || kind == "grind" || kind == "lead_out" || kind == "retract" ||
+                kind == "travel")
         << kind;
     if (kind == "grind") ++grind_loops[w["loop"].get<int>()];
   }
@@ -89,7 +89,8 @@ TEST(PathPlannerCli, ConfigFileErrorsNameTheFileAndKey) {
   write(tmp("outline.json"), kOutline);
   const std::string shipped = std::string(HG_SOURCE_DIR) + "/config/path_planner.yaml";
   // (its coverage policy fails this outline's tight hole corners: skip, so that the run must succeed)
-  ASSERT_EQ(run("--config " + shipped + " --small-hole skip " + tmp("outline.json") + " -o " + tmp("p.json"), &out), 0) << out;
+  ASSERT_EQ(run("--config " + shipped + " --small-hole skip " + tmp("outline.json") + " -o " + tmp("p.json"), &out), 0)
+      << out;
   struct Case {
     std::string yaml, expected;
   } cases[] = {
@@ -113,7 +114,9 @@ TEST(PathPlannerCli, ConfigFileErrorsNameTheFileAndKey) {
   // Precedence: the file's value over the default, the command line's over the file's.
   write(tmp("r.yaml"), "tool-radius: 0.007\n");
   ASSERT_EQ(run("--config " + tmp("r.yaml") + " " + tmp("outline.json") + " -o " + tmp("f.json"), &out), 0) << out;
-  ASSERT_EQ(run("--config " + tmp("r.yaml") + " --tool-radius 0.005 " + tmp("outline.json") + " -o " + tmp("c.json"), &out), 0);
+  ASSERT_EQ(
+      run("--config " + tmp("r.yaml") + " --tool-radius 0.005 " + tmp("outline.json") + " -o " + tmp("c.json"), &out),
+      0);
   ASSERT_EQ(run(tmp("outline.json") + " --small-hole skip -o " + tmp("d.json"), &out), 0) << out;  // 10 mm: skip
   auto radius = [](const std::string& path) {
     std::stringstream ss;
@@ -146,7 +149,8 @@ double segment_distance(double px, double py, const nlohmann::json& a, const nlo
 }
 double ring_distance(double px, double py, const nlohmann::json& ring) {
   double d = INFINITY;
-  for (std::size_t i = 0; i < ring.size(); ++i) d = std::min(d, segment_distance(px, py, ring[i], ring[(i + 1) % ring.size()]));
+  for (std::size_t i = 0; i < ring.size(); ++i)
+    d = std::min(d, segment_distance(px, py, ring[i], ring[(i + 1) % ring.size()]));
   return d;
 }
 
@@ -165,10 +169,14 @@ TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
   const double tolerance = pitch + 4 * noise, corner_tolerance = 2 * pitch;
   for (int seed : {1, 2, 3}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    const std::string cloud = tmp("cloud.xyz"), outline = tmp("o.json"), path = tmp("p.json"), script = tmp("job.script");
+    const std::string cloud = tmp("cloud.xyz"), outline = tmp("o.json"), path = tmp("p.json"),
+                      script = tmp("job.script");
     std::string out;
     ASSERT_EQ(run_tool("hg-gen --shape plate-hole-slot --pitch 0.002 --noise 0.0002 --depth-noise 0.0005 --seed " +
-                           std::to_string(seed) + " -o " + cloud, &out), 0) << out;
+                           std::to_string(seed) + " -o " + cloud,
+                       &out),
+              0)
+        << out;
     ASSERT_EQ(run_tool("hg-outline " + cloud + " -o " + outline, &out), 0) << out;
     const nlohmann::json o = nlohmann::json::parse(slurp(outline));
     EXPECT_EQ(o["frame"], "cloud");
@@ -176,14 +184,22 @@ TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
 
     EXPECT_EQ(run_tool("hg-plan " + outline + " -o " + path, &out), 1) << out;
     EXPECT_NE(out.find("camera-to-base applied: [1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.2; 0 0 0 1]"), std::string::npos) << out;
-    EXPECT_NE(out.find("outside the workspace box (-1.0000, -1.0000, 0.0000) .. (1.5000, 1.0000, 1.0000)"), std::string::npos) << out;
+    EXPECT_NE(out.find("outside the workspace box (-1.0000, -1.0000, 0.0000) .. (1.5000, 1.0000, 1.0000)"),
+              std::string::npos)
+        << out;
     EXPECT_NE(out.find("--outline-frame robot_base"), std::string::npos) << out;
 
     ASSERT_EQ(run_tool("hg-plan " + outline + " --outline-frame robot_base --pixel-pitch 0.002 --tool-radius " +
-                           std::to_string(radius) + " -o " + path, &out), 0) << out;
+                           std::to_string(radius) + " -o " + path,
+                       &out),
+              0)
+        << out;
     EXPECT_NE(out.find("camera-to-base applied: none (identity)"), std::string::npos) << out;
     ASSERT_EQ(run_tool("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml -o " +
-                           script + " " + path, &out), 0) << out;
+                           script + " " + path,
+                       &out),
+              0)
+        << out;
 
     const nlohmann::json p = nlohmann::json::parse(slurp(path));
     const nlohmann::json truth = nlohmann::json::parse(slurp(cloud + ".truth.json"))["parts"][0];
@@ -200,7 +216,8 @@ TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
       for (const auto& h : truth["holes"]) d = std::min(d, ring_distance(x, y, h));
       ASSERT_NEAR(d, radius, corner_tolerance) << "grind waypoint at (" << x << ", " << y << ")";
       errors.push_back(std::abs(d - radius));
-      ASSERT_NEAR(z, top, 4 * 0.0005 / std::sqrt(1000.0) + 1e-4) << "on the plate's top surface (plane fit of ~20k points)";
+      ASSERT_NEAR(z, top, 4 * 0.0005 / std::sqrt(1000.0) + 1e-4)
+          << "on the plate's top surface (plane fit of ~20k points)";
     }
     ASSERT_GT(errors.size(), 300u);
     std::nth_element(errors.begin(), errors.begin() + long(errors.size() * 9 / 10), errors.end());

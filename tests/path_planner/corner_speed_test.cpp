@@ -1,4 +1,5 @@
-// Unit tests of corner speeds (limit_corner_speeds) against the robot bridge's check, against independent (analytic) expectations.
+// Unit tests of corner speeds (limit_corner_speeds) against the robot bridge's check, against independent (analytic)
+// expectations.
 #include <gtest/gtest.h>
 
 #include "tests/path_planner/step_shapes.hpp"
@@ -142,5 +143,6 @@ TEST(PathPlannerCornerSpeed, RandomZigzagsPassTheBridgeCheckAndValidateAgreesWit
   // Both verdicts occur: the agreement is tested both ways, and the limiter has work to do.
   EXPECT_GT(refused_before, 150);
   EXPECT_GT(accepted_before, 20);
-  std::printf("  %d of 300 random paths refused by the bridge before, none after; %d speeds lowered\n", refused_before, slowed);
+  std::printf("  %d of 300 random paths refused by the bridge before, none after; %d speeds lowered\n", refused_before,
+              slowed);
 }

@@ -25,7 +25,7 @@ using hg::path_planner::test::segment_distance;
 
 namespace {
 
-constexpr double kTol = 2e-4;       // the default coverage tolerance
+constexpr double kTol = 2e-4;          // the default coverage tolerance
 constexpr double kSpacing = kTol / 2;  // edge_coverage's sample spacing (pipeline.hpp)
 // A sample counts as reached within this much more than the tool radius (pipeline.hpp).
 constexpr double kSampleSlack = kTol - kSpacing / 2;
@@ -113,8 +113,8 @@ TEST(PathPlannerCoverage, EdgeAtTheToolRadiusIsReachedAndFartherIsNot) {
   // below and above the corners) reach: a side point y from the corner is R + y from them, reached while
   // y <= slack.
   const double far = 0.1 + R + 3e-4;
-  const std::vector<Segment2> moved = {{{0, -R}, {0.1, -R}}, {{far, 0}, {far, 0.1}}, {{0.1, 0.1 + R}, {0, 0.1 + R}},
-                                       {{-R, 0.1}, {-R, 0}}};
+  const std::vector<Segment2> moved = {
+      {{0, -R}, {0.1, -R}}, {{far, 0}, {far, 0.1}}, {{0.1, 0.1 + R}, {0, 0.1 + R}}, {{-R, 0.1}, {-R, 0}}};
   const LoopCoverage off = edge_coverage(square, moved, R, kTol);
   ASSERT_EQ(off.unreached.size(), 1u);
   const UnreachedStretch& s = off.unreached[0];
@@ -135,8 +135,8 @@ TEST(PathPlannerCoverage, ConcaveCornerLeavesWhatTheRoundToolCannotEnter) {
   // of reach for x < R - sqrt((R + slack)^2 - R^2): twice that in one stretch at the corner.
   const double R = 0.01;
   const Ring L = {{0, 0}, {0.1, 0}, {0.1, 0.05}, {0.05, 0.05}, {0.05, 0.1}, {0, 0.1}};
-  const Ring path = {{-R, -R}, {0.1 + R, -R}, {0.1 + R, 0.05 + R}, {0.05 + R, 0.05 + R},
-                     {0.05 + R, 0.1 + R}, {-R, 0.1 + R}};
+  const Ring path = {{-R, -R},     {0.1 + R, -R}, {0.1 + R, 0.05 + R}, {0.05 + R, 0.05 + R}, {0.05 + R, 0.1 + R},
+                     {-R, 0.1 + R}};
   const LoopCoverage c = edge_coverage(L, closed(path), R, kTol);
   ASSERT_EQ(c.unreached.size(), 1u);
   const double leg = R - std::sqrt(std::pow(R + kSampleSlack, 2) - R * R);
@@ -185,7 +185,8 @@ TEST(PathPlannerCoverage, ReportedStretchesAgreeWithBruteForceOnRandomPaths) {
     if (c.unreached.empty()) {
       EXPECT_LE(farthest(edge, segs), R + kTol) << "trial " << trial;
     }
-    EXPECT_NEAR(c.unreached_length, unreached_points * (c.length / std::ceil(c.length / kSpacing)), 0.02 * c.length + 1e-9);
+    EXPECT_NEAR(c.unreached_length, unreached_points * (c.length / std::ceil(c.length / kSpacing)),
+                0.02 * c.length + 1e-9);
   }
 }
 
@@ -195,8 +196,10 @@ TEST(PathPlannerCoverage, ResampledTightArcStaysWithinTheChordError) {
   // The offset of a 20 mm slot end for a 19 mm tool: an arc of 1 mm radius. At the 2 mm step it would be cut
   // across (a chord of a half circle of radius 1 mm misses it by 0.5 mm or more).
   Ring stadium;  // 80 mm straights, 1 mm end radius
-  for (int i = 0; i <= 100; ++i) stadium.push_back(Vec2(0.04 + 0.001 * std::sin(M_PI * i / 100), -0.001 * std::cos(M_PI * i / 100)));
-  for (int i = 0; i <= 100; ++i) stadium.push_back(Vec2(-0.04 - 0.001 * std::sin(M_PI * i / 100), 0.001 * std::cos(M_PI * i / 100)));
+  for (int i = 0; i <= 100; ++i)
+    stadium.push_back(Vec2(0.04 + 0.001 * std::sin(M_PI * i / 100), -0.001 * std::cos(M_PI * i / 100)));
+  for (int i = 0; i <= 100; ++i)
+    stadium.push_back(Vec2(-0.04 - 0.001 * std::sin(M_PI * i / 100), 0.001 * std::cos(M_PI * i / 100)));
   const SampledRing coarse = resample_ring(stadium, 0.002, 10 * M_PI / 180);
   const SampledRing fine = resample_ring(stadium, 0.002, 10 * M_PI / 180, 5e-5);
   double coarse_worst = 0, fine_worst = 0;

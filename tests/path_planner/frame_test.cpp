@@ -1,4 +1,5 @@
-// Unit tests of frames: plate to robot base, turning the normal up, the flip mirror, against independent (analytic) expectations.
+// Unit tests of frames: plate to robot base, turning the normal up, the flip mirror, against independent (analytic)
+// expectations.
 #include <gtest/gtest.h>
 
 #include "tests/path_planner/step_shapes.hpp"
@@ -12,7 +13,8 @@ TEST(PathPlannerFrame, KnownPointsIntoTheBaseFrame) {
   // plate (0.1, 0.2, 0) -> camera (0.1, -0.2, 1) -> base (0.6, 0.2, 0.2)
   EXPECT_LT((T * Vec3(0.1, 0.2, 0) - Vec3(0.6, 0.2, 0.2)).norm(), 1e-12);
   EXPECT_LT((T * Vec3(0, 0, 0.05) - Vec3(0.5, 0, 0.25)).norm(), 1e-12);  // plate up = base up
-  const std::vector<PlateWaypoint> p = {{Vec3(0.1, 0.2, 0), tool_orientation(Vec2(1, 0), Vec2(0, -1), 0), 0.1, kGrind, 0}};
+  const std::vector<PlateWaypoint> p = {
+      {Vec3(0.1, 0.2, 0), tool_orientation(Vec2(1, 0), Vec2(0, -1), 0), 0.1, kGrind, 0}};
   const auto b = to_base(p, T);
   EXPECT_LT((b[0].orientation.toRotationMatrix().col(2) - Vec3(0, 0, -1)).norm(), 1e-12);  // tool points down
   EXPECT_LT((b[0].orientation.toRotationMatrix().col(0) - Vec3(1, 0, 0)).norm(), 1e-12);
@@ -51,7 +53,8 @@ TEST(PathPlannerFrame, MatrixAndXyzRpyConfigAgree) {
   const PlannerConfig a = config_from(lookup({{"camera-to-base", m}}));
   const PlannerConfig b = config_from(lookup({{"camera-xyz", "0.3,-0.2,1.1"}, {"camera-rpy", "3.0,0.1,-0.4"}}));
   EXPECT_LT((a.camera_to_base.matrix() - b.camera_to_base.matrix()).norm(), 1e-12);
-  EXPECT_THROW(config_from(lookup({{"camera-to-base", "1,0,0,0, 0,2,0,0, 0,0,1,0, 0,0,0,1"}})), hg::runtime::ConfigError);
+  EXPECT_THROW(config_from(lookup({{"camera-to-base", "1,0,0,0, 0,2,0,0, 0,0,1,0, 0,0,0,1"}})),
+               hg::runtime::ConfigError);
   EXPECT_THROW(config_from(lookup({{"tool-radius", "-1"}})), hg::runtime::ConfigError);
 }
 

@@ -19,7 +19,8 @@ TEST(PathPlannerIo, OutlineJsonErrorsNameThePlace) {
   }
   const OutlineInput in = read_outline_json(
       R"({"plane": {"origin": [1,2,3], "normal": [0,0,1], "u": [1,0,0], "v": [0,1,0]},
-          "loops": [{"hole": true, "area": 1, "perimeter": 4, "points": [[0,0],[0,1],[1,1],[1,0]]}]})", pl);
+          "loops": [{"hole": true, "area": 1, "perimeter": 4, "points": [[0,0],[0,1],[1,1],[1,0]]}]})",
+      pl);
   ASSERT_EQ(in.loops.size(), 1u);
   EXPECT_TRUE(in.loops[0].hole);
   EXPECT_EQ(in.plane.origin, Vec3(1, 2, 3));

@@ -18,7 +18,7 @@ TEST(PathPlannerOrient, ToolAxisTiltEqualsTheChamferAngle) {
       if (tilt > 0) {
         EXPECT_LT(z.head<2>().dot(m), 0);  // axis points toward the material, tool leans out
       }
-      EXPECT_NEAR(z.head<2>().dot(t), 0, 1e-12);      // tilt is in the plane of the edge normal
+      EXPECT_NEAR(z.head<2>().dot(t), 0, 1e-12);  // tilt is in the plane of the edge normal
       EXPECT_NEAR((x - Vec3(t.x(), t.y(), 0)).norm(), 0, 1e-9);
       EXPECT_NEAR(R.determinant(), 1, 1e-12);
     }

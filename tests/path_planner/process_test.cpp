@@ -31,7 +31,9 @@ struct Bus {
   }
   void on_beat(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* m) { beats.push_back(*m); }
   void on_path(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::grind_path_t* m) { paths.push_back(*m); }
-  void on_status(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_status_t* m) { statuses.push_back(*m); }
+  void on_status(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_status_t* m) {
+    statuses.push_back(*m);
+  }
   std::vector<hullgrind::heartbeat_t> beats;
   std::vector<hullgrind::grind_path_t> paths;
   std::vector<hullgrind::job_status_t> statuses;
@@ -52,11 +54,16 @@ hullgrind::outline_t plate_outline(std::int64_t seq) {
   o.header.seq = seq;
   o.header.frame_id = "camera";
   const double origin[3] = {0, 0, 1.19}, n[3] = {0, 0, -1}, u[3] = {1, 0, 0}, v[3] = {0, -1, 0};
-  for (int k = 0; k < 3; ++k) o.plane_origin[k] = origin[k], o.plane_normal[k] = n[k], o.plane_u_axis[k] = u[k], o.plane_v_axis[k] = v[k];
+  for (int k = 0; k < 3; ++k)
+    o.plane_origin[k] = origin[k], o.plane_normal[k] = n[k], o.plane_u_axis[k] = u[k], o.plane_v_axis[k] = v[k];
   o.status = hullgrind::outline_t::STATUS_OK;
   o.loops.push_back(loop(false, {{0, 0}, {0.3, 0}, {0.3, 0.2}, {0, 0.2}}));
   // 60 x 40 mm cut-out with R8 corner fillets (every 22.5 deg): a round tool cannot reach into sharp ones.
-  o.loops.push_back(loop(true, {{0.16, 0.088}, {0.159391, 0.0849385}, {0.1576569, 0.0823431}, {0.1550615, 0.080609}, {0.152, 0.08}, {0.108, 0.08}, {0.1049385, 0.080609}, {0.1023431, 0.0823431}, {0.100609, 0.0849385}, {0.1, 0.088}, {0.1, 0.112}, {0.100609, 0.1150615}, {0.1023431, 0.1176569}, {0.1049385, 0.119391}, {0.108, 0.12}, {0.152, 0.12}, {0.1550615, 0.119391}, {0.1576569, 0.1176569}, {0.159391, 0.1150615}, {0.16, 0.112}}));
+  o.loops.push_back(
+      loop(true, {{0.16, 0.088}, {0.159391, 0.0849385}, {0.1576569, 0.0823431}, {0.1550615, 0.080609}, {0.152, 0.08},
+                  {0.108, 0.08}, {0.1049385, 0.080609}, {0.1023431, 0.0823431}, {0.100609, 0.0849385}, {0.1, 0.088},
+                  {0.1, 0.112},  {0.100609, 0.1150615}, {0.1023431, 0.1176569}, {0.1049385, 0.119391}, {0.108, 0.12},
+                  {0.152, 0.12}, {0.1550615, 0.119391}, {0.1576569, 0.1176569}, {0.159391, 0.1150615}, {0.16, 0.112}}));
   o.num_loops = 2;
   return o;
 }
@@ -96,14 +103,16 @@ class PathPlannerProcess : public testing::Test {
   }
   std::optional<hullgrind::job_status_t> final_status(const std::string& id) {
     std::optional<hullgrind::job_status_t> s;
-    wait_for([&] {
-      for (const auto& m : bus.statuses)
-        if (m.job_id == id && m.state != hullgrind::job_status_t::STATE_PLANNING) {
-          s = m;
-          return true;
-        }
-      return false;
-    }, 5s);
+    wait_for(
+        [&] {
+          for (const auto& m : bus.statuses)
+            if (m.job_id == id && m.state != hullgrind::job_status_t::STATE_PLANNING) {
+              s = m;
+              return true;
+            }
+          return false;
+        },
+        5s);
     return s;
   }
   lcm::LCM lcm{hg::runtime::default_lcm_url()};

@@ -1,9 +1,10 @@
 // `make run`'s scene (plate-hole-slot through the pm806 profile, the largest part) rendered, segmented and
-// outlined by the camera bridge's and the outline service's own code, then planned; and the committed camera log (tests/data/camera_bridge_three_parts.lcmlog: pm806 profile, 1.35 mm pixels at
-// 1.5 m, three parts) through the outline service's computation and the planner, configured as `make run`
-// configures them (config/path_planner.yaml, camera 1.5 m above the base origin's plate spot). Independent
-// expectation: the robot bridge's own path check (robot_bridge/path.cpp, linked), with the limits of
-// config/robot_bridge.yaml, on the grind_path_t the bridge would decode.
+// outlined by the camera bridge's and the outline service's own code, then planned; and the committed camera log
+// (tests/data/camera_bridge_three_parts.lcmlog: pm806 profile, 1.35 mm pixels at 1.5 m, three parts) through the
+// outline service's computation and the planner, configured as `make run` configures them (config/path_planner.yaml,
+// camera 1.5 m above the base origin's plate spot). Independent expectation: the robot bridge's own path check
+// (robot_bridge/path.cpp, linked), with the limits of config/robot_bridge.yaml, on the grind_path_t the bridge would
+// decode.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -45,8 +46,10 @@ PlannerConfig planner_config(const std::map<std::string, std::string>& overrides
                 [&](const std::string& k) -> std::vector<double> {
                   std::string text;
                   if (auto it = overrides.find(k); it != overrides.end()) text = it->second;
-                  else if (file.has(k)) return file.get_doubles(k).value_or(std::vector<double>{});
-                  else text = fallback(k);
+                  else if (file.has(k))
+                    return file.get_doubles(k).value_or(std::vector<double>{});
+                  else
+                    text = fallback(k);
                   std::vector<double> out;
                   std::stringstream ss(text);
                   std::string item;
@@ -87,7 +90,8 @@ std::vector<hullgrind::plate_cloud_t> clouds() {
   std::vector<hullgrind::plate_cloud_t> out;
   while (const lcm::LogEvent* ev = log.readNextEvent()) {
     hullgrind::plate_cloud_t m;
-    if (ev->channel == "HG_PLATE_CLOUD" && m.decode(ev->data, 0, ev->datalen) == ev->datalen) out.push_back(std::move(m));
+    if (ev->channel == "HG_PLATE_CLOUD" && m.decode(ev->data, 0, ev->datalen) == ev->datalen)
+      out.push_back(std::move(m));
   }
   return out;
 }
@@ -98,10 +102,12 @@ TEST(PathPlannerReplay, EveryPlannedPathPassesTheRobotBridgesCheck) {
   const std::vector<hullgrind::plate_cloud_t> cs = clouds();
   ASSERT_EQ(cs.size(), 2u);
   const rb::Limits limits = bridge_limits();
-  const PlannerConfig cfg = planner_config({{"camera-xyz", "0.5,0,1.5"}, {"small-hole", "skip"}});  // the scene has tiny holes
+  const PlannerConfig cfg =
+      planner_config({{"camera-xyz", "0.5,0,1.5"}, {"small-hole", "skip"}});  // the scene has tiny holes
   ASSERT_EQ(cfg.limits.max_accel, limits.max_accel) << "config/path_planner.yaml max_accel must equal "
                                                        "config/robot_bridge.yaml max-accel";
-  EXPECT_LE(cfg.limits.max_speed, limits.max_speed) << "config/path_planner.yaml max_speed above the bridge's max-speed";
+  EXPECT_LE(cfg.limits.max_speed, limits.max_speed)
+      << "config/path_planner.yaml max_speed above the bridge's max-speed";
   // Without the corner step (max_accel out of reach) for comparison: the failure `make run` showed.
   PlannerConfig unlimited = cfg;
   unlimited.limits.max_accel = 1e12;
@@ -118,7 +124,8 @@ TEST(PathPlannerReplay, EveryPlannedPathPassesTheRobotBridgesCheck) {
         const rb::Pose start{robot ? *robot : cfg.home, Eigen::Quaterniond::Identity()};
         const PlanResult before = plan(in, jp, unlimited, robot);
         ASSERT_TRUE(before.ok) << before.reason;
-        const std::string why = rb::check_path(rb::from_lcm(to_lcm(before, "replay", 0, "robot_base", 0)), start, limits);
+        const std::string why =
+            rb::check_path(rb::from_lcm(to_lcm(before, "replay", 0, "robot_base", 0)), start, limits);
         refused_unlimited += !why.empty();
 
         const PlanResult r = plan(in, jp, cfg, robot);
@@ -134,10 +141,11 @@ TEST(PathPlannerReplay, EveryPlannedPathPassesTheRobotBridgesCheck) {
             t += len / r.path[i].speed;
             t_nominal += len / r.params.grind_speed;
           }
-        std::printf("  cloud %lld, tool %2.0f mm, robot %s: %zu waypoints, %d speeds lowered, slowest %.4f m/s, "
-                    "grind %.1f s (%.1f s at constant speed); without the step: %s\n",
-                    (long long)cloud.header.seq, tool * 1e3, robot ? "away" : "home", r.path.size(), r.slowed, slowest,
-                    t, t_nominal, why.empty() ? "accepted" : why.c_str());
+        std::printf(
+            "  cloud %lld, tool %2.0f mm, robot %s: %zu waypoints, %d speeds lowered, slowest %.4f m/s, "
+            "grind %.1f s (%.1f s at constant speed); without the step: %s\n",
+            (long long)cloud.header.seq, tool * 1e3, robot ? "away" : "home", r.path.size(), r.slowed, slowest, t,
+            t_nominal, why.empty() ? "accepted" : why.c_str());
       }
   }
   EXPECT_EQ(planned, 8);
@@ -182,10 +190,13 @@ TEST(PathPlannerReplay, MakeRunSceneFramesPassTheRobotBridgesCheck) {
     lowered += r.slowed;
     for (const Waypoint& w : r.path) slowest = std::min(slowest, w.speed);
     std::printf("  frame %2llu, grind %.2f m/s: %zu waypoints, %3d speeds lowered; without the step: %s\n",
-                (unsigned long long)k, r.params.grind_speed, r.path.size(), r.slowed, why.empty() ? "accepted" : why.c_str());
+                (unsigned long long)k, r.params.grind_speed, r.path.size(), r.slowed,
+                why.empty() ? "accepted" : why.c_str());
   }
-  std::printf("  without the corner step the bridge refused %d of %d frames' paths; with it none, %d speeds lowered, "
-              "slowest %.4f m/s\n", refused_unlimited, frames, lowered, slowest);
+  std::printf(
+      "  without the corner step the bridge refused %d of %d frames' paths; with it none, %d speeds lowered, "
+      "slowest %.4f m/s\n",
+      refused_unlimited, frames, lowered, slowest);
   // Some fast frames have corners the step must slow, so the check has teeth. (How many varies with the
   // noise kinks the smoothing leaves; 8 of the 10 before line/arc junctions were joined, 4 after.)
   EXPECT_GE(refused_unlimited, 1);
@@ -245,13 +256,15 @@ std::vector<double> ground_truth_errors(const std::string& scene, const std::str
       worst[ring] = std::max(worst[ring], std::abs(d - tool));
       ++checked[ring];
     }
-    std::printf("  %s@%s frame %2d: worst offset error outer %.2f mm", scene.c_str(), camera.c_str(), k, 1e3 * worst[0]);
+    std::printf("  %s@%s frame %2d: worst offset error outer %.2f mm", scene.c_str(), camera.c_str(), k,
+                1e3 * worst[0]);
     for (std::size_t j = 1; j < rings.size(); ++j) std::printf(", hole %zu %.2f mm", j, 1e3 * worst[j]);
     std::printf("\n");
     worst_all.resize(rings.size(), 0);
     for (std::size_t j = 0; j < rings.size(); ++j) {
       // A 30 mm hole ground with the 10 mm tool leaves a short loop; every ring still gets waypoints.
-      EXPECT_GE(checked[j], 10) << scene << "@" << camera << " frame " << k << " ring " << j << " has (almost) no grind waypoints";
+      EXPECT_GE(checked[j], 10) << scene << "@" << camera << " frame " << k << " ring " << j
+                                << " has (almost) no grind waypoints";
       worst_all[j] = std::max(worst_all[j], worst[j]);
     }
   }
@@ -280,7 +293,8 @@ TEST(PathPlannerReplay, CatalogueScenesMatchTheGroundTruthAtBothCameras) {
     for (const std::string camera : {"pm806", "lsr-l"}) {
       const std::vector<double> worst = ground_truth_errors(scene, camera, 3);
       ASSERT_FALSE(worst.empty()) << scene << "@" << camera;
-      for (std::size_t j = 0; j < worst.size(); ++j) EXPECT_LE(worst[j], 0.001) << scene << "@" << camera << " ring " << j;
+      for (std::size_t j = 0; j < worst.size(); ++j)
+        EXPECT_LE(worst[j], 0.001) << scene << "@" << camera << " ring " << j;
     }
   }
 }

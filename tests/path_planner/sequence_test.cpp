@@ -29,7 +29,8 @@ TEST(PathPlannerSequence, LeadInArcIsTangentAndOnTheAirSide) {
 
 TEST(PathPlannerSequence, GreedyOrderFromTheRobotAndNearestStart) {
   std::vector<GrindLoop> loops;
-  for (int k = 0; k < 3; ++k) loops.push_back({resample_ring(rect(k * 0.3, 0, k * 0.3 + 0.1, 0.1), 0.01, deg(10)), false, k});
+  for (int k = 0; k < 3; ++k)
+    loops.push_back({resample_ring(rect(k * 0.3, 0, k * 0.3 + 0.1, 0.1), 0.01, deg(10)), false, k});
   Ordering a = order_loops(loops, Vec2(-0.5, 0.05));
   EXPECT_EQ(a.order, (std::vector<int>{0, 1, 2}));
   Ordering b = order_loops(loops, Vec2(1.5, 0.05));

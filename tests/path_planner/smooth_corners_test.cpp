@@ -64,7 +64,8 @@ TEST(PathPlannerSmoothCorners, NoisyPolygonKeepsItsCorners) {
 
 TEST(PathPlannerSmoothCorners, CircleHasNone) {
   Ring ring;
-  for (int k = 0; k < 1000; ++k) ring.push_back(0.15 * Vec2(std::cos(2 * kPi * k / 1000), std::sin(2 * kPi * k / 1000)));
+  for (int k = 0; k < 1000; ++k)
+    ring.push_back(0.15 * Vec2(std::cos(2 * kPi * k / 1000), std::sin(2 * kPi * k / 1000)));
   for (unsigned seed = 0; seed <= 4; ++seed) {
     const auto c = make_context(seed == 0 ? ring : with_noise(ring, 0.0002, seed), kSpacing, exact_options());
     ASSERT_TRUE(c);
@@ -82,7 +83,8 @@ TEST(PathPlannerSmoothCorners, RoundedCornersAreNotConfirmed) {
     const Eigen::Rotation2Dd rot(q * kPi / 2);
     for (int i = 0; i < 150; ++i) ring.push_back(rot * Vec2(half, -(half - R) + 2 * (half - R) * i / 150));
     for (int i = 0; i < 39; ++i)
-      ring.push_back(rot * (Vec2(half - R, half - R) + R * Vec2(std::cos(kPi / 2 * i / 39), std::sin(kPi / 2 * i / 39))));
+      ring.push_back(rot *
+                     (Vec2(half - R, half - R) + R * Vec2(std::cos(kPi / 2 * i / 39), std::sin(kPi / 2 * i / 39))));
   }
   for (unsigned seed = 0; seed <= 4; ++seed) {
     const auto c = make_context(seed == 0 ? ring : with_noise(ring, 0.0002, seed), kSpacing, exact_options());

@@ -37,7 +37,8 @@ TEST(PathPlannerSmoothEmit, LinesBetweenCornersAreTheCornersAlone) {
   Pieces p;
   Corners corners;
   for (int k = 0; k < 4; ++k) {
-    p.push_back({line_piece(c->u, s.corner[k] + 3, (k == 3 ? long(s.ring.size()) : s.corner[k + 1]) - 3), k, false, std::nullopt});
+    p.push_back({line_piece(c->u, s.corner[k] + 3, (k == 3 ? long(s.ring.size()) : s.corner[k + 1]) - 3), k, false,
+                 std::nullopt});
     corners.push_back({s.corner[k], kPi / 2, square[k] - c->u.origin});
   }
   const SmoothedRing out = emit_ring(*c, p, corners);
@@ -92,7 +93,8 @@ TEST(PathPlannerSmoothEmit, StadiumIsFollowedAlongItsLength) {
     return std::abs(hg::path_planner::test::segment_distance(q, Vec2(0, R), Vec2(L, R)) - R);
   };
   double worst = 0;
-  for (const Vec2& q : hg::path_planner::test::densify(out.points, 0.0005)) worst = std::max(worst, stadium_distance(q));
+  for (const Vec2& q : hg::path_planner::test::densify(out.points, 0.0005))
+    worst = std::max(worst, stadium_distance(q));
   EXPECT_LT(worst, kChord * (1 + 1e-6));
   double length = 0;
   for (std::size_t i = 0; i < out.points.size(); ++i)

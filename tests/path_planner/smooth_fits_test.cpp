@@ -14,7 +14,8 @@ namespace {
 // A ring: an arc of radius R about `centre` from angle a0 over `sweep`, then the chord back (sampled).
 Ring arc_and_chord(const Vec2& centre, double R, double a0, double sweep, int n) {
   Ring r;
-  for (int k = 0; k <= n; ++k) r.push_back(centre + R * Vec2(std::cos(a0 + sweep * k / n), std::sin(a0 + sweep * k / n)));
+  for (int k = 0; k <= n; ++k)
+    r.push_back(centre + R * Vec2(std::cos(a0 + sweep * k / n), std::sin(a0 + sweep * k / n)));
   const Vec2 a = r.back(), b = r.front();
   for (int k = 1; k < n; ++k) r.push_back(a + (b - a) * (double(k) / n));
   return r;

@@ -80,8 +80,9 @@ TEST(PathPlannerSmoothTangency, ArcsBecomeTangentToTheirStraights) {
     ++tested;
     for (std::size_t k = 1; k < 4; k += 2)
       for (std::size_t l : {k - 1, (k + 1) % 4})
-        free_worst = std::max(free_worst, std::abs(std::abs(cross(before[l].prim.dir, before[k].prim.centre -
-                                                                   before[l].prim.centre)) - before[k].prim.radius));
+        free_worst = std::max(
+            free_worst, std::abs(std::abs(cross(before[l].prim.dir, before[k].prim.centre - before[l].prim.centre)) -
+                                 before[k].prim.radius));
     const Pieces after = make_tangent(*c, before, true);
     ASSERT_EQ(after.size(), 4u);
     for (std::size_t k = 1; k < 4; k += 2) {

@@ -64,7 +64,8 @@ TEST(PathPlannerSmooth, CircleHasNoCornersAndKeepsItsRadius) {
     int corners = 0;
     for (auto c : s.corner) corners += c;
     EXPECT_EQ(corners, 0) << "R " << R;
-    for (const Vec2& q : densify(s.points, p / 2)) EXPECT_NEAR((q - Vec2(0.10031, 0.10072)).norm(), R, 0.0005) << "R " << R;
+    for (const Vec2& q : densify(s.points, p / 2))
+      EXPECT_NEAR((q - Vec2(0.10031, 0.10072)).norm(), R, 0.0005) << "R " << R;
   }
 }
 

@@ -54,7 +54,6 @@ inline Ring circle(const Vec2& c, double R, int n, bool cw = false) {
 // tests of it turn edge compensation off).
 inline Ring staircase(const Ring& poly, double pitch) { return hg::partgen::pixel_staircase(poly, pitch); }
 
-
 // Turn at each detected corner of a smoothed ring, measured from the corner to the ring points `reach`
 // away on both sides (the fitted straight runs).
 inline std::vector<std::pair<Vec2, double>> corner_turns(const SmoothedRing& s, double reach) {

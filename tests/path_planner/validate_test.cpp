@@ -10,7 +10,8 @@ std::vector<Waypoint> square_path(double z) {
   p.push_back({Vec3(0, 0, z + 0.05), q, 0.1, kApproach, -1});
   p.push_back({Vec3(0, 0, z), q, 0.05, kApproach, 0});
   p.push_back({Vec3(0.01, 0, z), q, 0.02, kLeadIn, 0});
-  for (Vec2 c : {Vec2(0.1, 0), Vec2(0.1, 0.1), Vec2(0.01, 0.1), Vec2(0.01, 0)}) p.push_back({Vec3(c.x(), c.y(), z), q, 0.02, kGrind, 0});
+  for (Vec2 c : {Vec2(0.1, 0), Vec2(0.1, 0.1), Vec2(0.01, 0.1), Vec2(0.01, 0)})
+    p.push_back({Vec3(c.x(), c.y(), z), q, 0.02, kGrind, 0});
   p.push_back({Vec3(0.01, 0, z + 0.05), q, 0.05, kRetract, 0});
   return p;
 }
@@ -27,7 +28,8 @@ TEST(PathPlannerValidate, AcceptsAGoodPathAndRejectsEachFault) {
   EXPECT_EQ(validate(square_path(0.01), L, up, start), "");
   auto p = square_path(0.01);
   p[4].position.x() = 0.6;
-  EXPECT_NE(validate(p, L, up, start).find("waypoint 4: position (0.6000, 0.1000, 0.0100) m is outside the workspace"), std::string::npos);
+  EXPECT_NE(validate(p, L, up, start).find("waypoint 4: position (0.6000, 0.1000, 0.0100) m is outside the workspace"),
+            std::string::npos);
   EXPECT_NE(validate(square_path(0.004), L, up, start).find("not above the table"), std::string::npos);
   p = square_path(0.01);
   p[3].speed = 0.3;
@@ -40,9 +42,10 @@ TEST(PathPlannerValidate, AcceptsAGoodPathAndRejectsEachFault) {
   L.max_accel = 0.001;
   const double r = std::hypot(0.05, 0.01) / 2, need = 0.02 * 0.02 / r;
   char want[160];
-  std::snprintf(want, sizeof want, "waypoint 1 (approach): the corner (radius %.6f mm) at 0.020000 m/s needs %.6f m/s^2",
-                r * 1e3, need);
-  EXPECT_NE(validate(square_path(0.01), L, up, start).find(want), std::string::npos) << validate(square_path(0.01), L, up, start);
+  std::snprintf(want, sizeof want,
+                "waypoint 1 (approach): the corner (radius %.6f mm) at 0.020000 m/s needs %.6f m/s^2", r * 1e3, need);
+  EXPECT_NE(validate(square_path(0.01), L, up, start).find(want), std::string::npos)
+      << validate(square_path(0.01), L, up, start);
   L.max_accel = need * 1.001;  // just enough for that corner (and the square's wider ones)
   EXPECT_EQ(validate(square_path(0.01), L, up, start), "");
 }

@@ -34,7 +34,8 @@ int listen_on(int port) {
   a.sin_port = htons(std::uint16_t(port));
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   if (bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 || listen(fd, 8) != 0)
-    throw std::runtime_error("fake UR: cannot listen on 127.0.0.1:" + std::to_string(port) + ": " + std::strerror(errno));
+    throw std::runtime_error("fake UR: cannot listen on 127.0.0.1:" + std::to_string(port) + ": " +
+                             std::strerror(errno));
   return fd;
 }
 
@@ -202,10 +203,14 @@ void FakeUr::serve_rtde_input() {
       for (std::string item; std::getline(ss, item, ',');) {
         std::string t = "NOT_FOUND";
         if (item == "timestamp") t = "DOUBLE";
-        else if (item == "actual_TCP_pose") t = "VECTOR6D";
-        else if (item == "robot_mode" || item == "safety_mode") t = "INT32";
-        else if (item == "runtime_state") t = "UINT32";
-        else if (item.rfind("output_int_register_", 0) == 0) t = "INT32";
+        else if (item == "actual_TCP_pose")
+          t = "VECTOR6D";
+        else if (item == "robot_mode" || item == "safety_mode")
+          t = "INT32";
+        else if (item == "runtime_state")
+          t = "UINT32";
+        else if (item.rfind("output_int_register_", 0) == 0)
+          t = "INT32";
         recipe_.push_back(item);
         types += (types.empty() ? "" : ",") + t;
       }
@@ -229,9 +234,12 @@ void FakeUr::send_data() {
     if (f == "timestamp") put_double(p, steady_seconds());
     else if (f == "actual_TCP_pose")
       for (double v : tcp_) put_double(p, v);
-    else if (f == "robot_mode") put_be(p, std::uint32_t(robot_mode_), 4);
-    else if (f == "safety_mode") put_be(p, std::uint32_t(safety_mode_), 4);
-    else if (f == "runtime_state") put_be(p, runtime_state_, 4);
+    else if (f == "robot_mode")
+      put_be(p, std::uint32_t(robot_mode_), 4);
+    else if (f == "safety_mode")
+      put_be(p, std::uint32_t(safety_mode_), 4);
+    else if (f == "runtime_state")
+      put_be(p, runtime_state_, 4);
     else if (f.rfind("output_int_register_", 0) == 0)
       put_be(p, std::uint32_t(registers_[std::atoi(f.c_str() + 20)]), 4);
   }

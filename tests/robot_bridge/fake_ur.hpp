@@ -30,7 +30,7 @@ struct ParsedScript {
   std::string name;
   std::vector<Move> moves;
   std::vector<Op> ops;
-  bool ok = false;       // def ... end with only statements we understand
+  bool ok = false;  // def ... end with only statements we understand
   std::string error;
 };
 ParsedScript parse_script(const std::string& text);

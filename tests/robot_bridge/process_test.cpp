@@ -80,7 +80,8 @@ TEST(RobotBridgeProcess, SimJobFaultResetAndCleanExit) {
   ASSERT_TRUE(bus.wait([&] { return bus.has("e2", job_status_t::STATE_REFUSED); }));
   auto path = rbtest::three_segment_path("e1");
   bus.lcm.publish("HG_GRIND_PATH", &path);
-  ASSERT_TRUE(bus.wait([&] { return bus.has("e1", job_status_t::STATE_DONE) || bus.has("e1", job_status_t::STATE_REFUSED); }));
+  ASSERT_TRUE(
+      bus.wait([&] { return bus.has("e1", job_status_t::STATE_DONE) || bus.has("e1", job_status_t::STATE_REFUSED); }));
   ASSERT_TRUE(bus.has("e1", job_status_t::STATE_DONE));
   {
     std::lock_guard l(bus.m);

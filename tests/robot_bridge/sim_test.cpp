@@ -144,7 +144,8 @@ TEST(RobotBridgeChecks, RefusesOutsideLimits) {
   EXPECT_NE(out.find("acceleration"), std::string::npos) << out;
   EXPECT_EQ(check_path(from_lcm(corner(0.05)), home, lim), "");
   // A reversal cannot be taken at any speed.
-  out = check_path(from_lcm(make_path("g", {{0.5, 0, 0.1, 0.05, 0}, {0.6, 0, 0.1, 0.01, 2}, {0.55, 0, 0.1, 0.01, 2}})), home, lim);
+  out = check_path(from_lcm(make_path("g", {{0.5, 0, 0.1, 0.05, 0}, {0.6, 0, 0.1, 0.01, 2}, {0.55, 0, 0.1, 0.01, 2}})),
+                   home, lim);
   EXPECT_NE(out.find("acceleration"), std::string::npos) << out;
   auto bad_q = make_path("h", {{0.5, 0, 0.1, 0.05, 0}});
   bad_q.orientation[0] = {0.5, 0.5, 0, 0};
@@ -337,10 +338,12 @@ TEST(RobotBridgeSim, DoneCarriesTheEdgeThePlannerSaidIsNotGround) {
   h.send("c", job_request_t::ACTION_START);
   h.path(rbtest::three_segment_path("c"));
   ASSERT_EQ(h.last().state, +job_status_t::STATE_RUNNING) << h.last().message;
-  const std::string unreached = "not reached: hole 1: 33.0 mm of its 160.0 mm edge (79.4 % reached) is farther than "
-                                "10.0 + 0.2 mm from the tool path, in 4 stretches";
-  const std::string skipped = "skipped: hole 3 is too small for a tool of radius 10.000000 mm: hole 3: 6.5 mm of its "
-                              "6.5 mm edge (0.0 % reached)";
+  const std::string unreached =
+      "not reached: hole 1: 33.0 mm of its 160.0 mm edge (79.4 % reached) is farther than "
+      "10.0 + 0.2 mm from the tool path, in 4 stretches";
+  const std::string skipped =
+      "skipped: hole 3 is too small for a tool of radius 10.000000 mm: hole 3: 6.5 mm of its "
+      "6.5 mm edge (0.0 % reached)";
   job_status_t planned{};
   planned.job_id = "c";
   planned.source = "hg-path-planner";
@@ -387,8 +390,8 @@ namespace {
 int count(const std::vector<job_status_t>& v, const std::string& job, std::int8_t state, bool answers) {
   int n = 0;
   for (const auto& s : v)
-    n += s.job_id == job && s.state == state && (s.message.find("repeated") != std::string::npos ||
-                                                  s.message.find("ignored") != std::string::npos) == answers;
+    n += s.job_id == job && s.state == state &&
+         (s.message.find("repeated") != std::string::npos || s.message.find("ignored") != std::string::npos) == answers;
   return n;
 }
 

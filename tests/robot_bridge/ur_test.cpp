@@ -20,7 +20,6 @@ using hullgrind::job_request_t;
 using hullgrind::job_status_t;
 using hullgrind::robot_status_t;
 
-
 namespace {
 
 constexpr int kScriptPort = 30002, kRtdePort = 30004;  // the controller's defaults: this namespace is ours
@@ -62,7 +61,9 @@ struct Harness {
       if (s.job_id == job && s.state == state) return true;
     return false;
   }
-  void send(const std::string& job, std::int8_t action) { bridge->on_job_request(rbtest::request(job, action), rbtest::steady_seconds()); }
+  void send(const std::string& job, std::int8_t action) {
+    bridge->on_job_request(rbtest::request(job, action), rbtest::steady_seconds());
+  }
   bool idle() { return !robot.empty() && robot.back().mode == robot_status_t::MODE_IDLE && ur->state().ready; }
 };
 
@@ -110,8 +111,10 @@ TEST(RobotBridgeUr, JobRunsScriptMatchesPathAndCompletes) {
   ASSERT_EQ(h.statuses.back().state, +job_status_t::STATE_ACCEPTED);
   h.bridge->on_grind_path(path, rbtest::steady_seconds());
   ASSERT_EQ(h.statuses.back().state, +job_status_t::STATE_RUNNING) << h.statuses.back().message;
-  ASSERT_TRUE(h.run_until([&] { return h.has("u1", job_status_t::STATE_DONE) || h.has("u1", job_status_t::STATE_ABORTED) ||
-                                       h.has("u1", job_status_t::STATE_FAILED); }));
+  ASSERT_TRUE(h.run_until([&] {
+    return h.has("u1", job_status_t::STATE_DONE) || h.has("u1", job_status_t::STATE_ABORTED) ||
+           h.has("u1", job_status_t::STATE_FAILED);
+  }));
   ASSERT_TRUE(h.has("u1", job_status_t::STATE_DONE)) << h.statuses.back().message;
   const auto scripts = h.fake.scripts();
   ASSERT_EQ(scripts.size(), 1u);
@@ -142,7 +145,8 @@ TEST(RobotBridgeUr, ProtectiveStopFaultsUntilResetAfterUnlock) {
   h.fake.protective_stop_at(3);
   h.send("p1", job_request_t::ACTION_START);
   h.bridge->on_grind_path(rbtest::square_path("p1"), rbtest::steady_seconds());
-  ASSERT_TRUE(h.run_until([&] { return h.has("p1", job_status_t::STATE_ABORTED) || h.has("p1", job_status_t::STATE_DONE); }));
+  ASSERT_TRUE(
+      h.run_until([&] { return h.has("p1", job_status_t::STATE_ABORTED) || h.has("p1", job_status_t::STATE_DONE); }));
   ASSERT_TRUE(h.has("p1", job_status_t::STATE_ABORTED));
   EXPECT_NE(h.statuses.back().message.find("PROTECTIVE_STOP"), std::string::npos) << h.statuses.back().message;
   EXPECT_EQ(h.bridge->state(), Bridge::State::Fault);

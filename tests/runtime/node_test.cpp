@@ -13,10 +13,13 @@ namespace hr = hg::runtime;
 namespace {
 
 hr::ProcessInfo info() {
-  return {"hg-test", "a test process", "", {{"speed", "0.05", "grind speed, m/s"},
-                                           {"mode", "dshi", "point location"},
-                                           {"limits", "1,2,3", "a list"},
-                                           {"dry-run", "", "do nothing", true}}};
+  return {"hg-test",
+          "a test process",
+          "",
+          {{"speed", "0.05", "grind speed, m/s"},
+           {"mode", "dshi", "point location"},
+           {"limits", "1,2,3", "a list"},
+           {"dry-run", "", "do nothing", true}}};
 }
 
 struct Argv {
@@ -53,7 +56,8 @@ TEST(RuntimeConfig, NestedKeysAndTypes) {
 }
 
 TEST(RuntimeConfig, CommentsAreNotPartOfValues) {
-  auto c = hr::Config::from_string("# a config\nspeed: 0.25   # m/s\nname: \"a # b\"  # quoted hash stays\nlist: [1, 2] # two\n");
+  auto c = hr::Config::from_string(
+      "# a config\nspeed: 0.25   # m/s\nname: \"a # b\"  # quoted hash stays\nlist: [1, 2] # two\n");
   EXPECT_EQ(c.get_double("speed").value(), 0.25);
   EXPECT_EQ(c.get_string("name").value(), "a # b");
   EXPECT_EQ(c.get_doubles("list").value(), (std::vector<double>{1, 2}));
@@ -75,8 +79,8 @@ TEST(RuntimeNode, CommandLineBeatsConfigBeatsDefault) {
   std::string cfg = temp_file("speed: 0.5\nmode: ds\n");
   Argv a({"--lcm-url", "memq://", "--config", cfg, "--mode", "ordinary", "--dry-run"});
   hr::Node node(info(), a.argc(), a.argv());
-  EXPECT_EQ(node.param("mode"), "ordinary");     // command line
-  EXPECT_EQ(node.param_double("speed"), 0.5);    // config
+  EXPECT_EQ(node.param("mode"), "ordinary");                                // command line
+  EXPECT_EQ(node.param_double("speed"), 0.5);                               // config
   EXPECT_EQ(node.param_doubles("limits"), (std::vector<double>{1, 2, 3}));  // default
   EXPECT_TRUE(node.param_bool("dry-run"));
   EXPECT_TRUE(node.param_given("speed"));
@@ -117,22 +121,23 @@ TEST(RuntimeNode, GarbageIsCountedAndSkipped) {
   Argv a({"--lcm-url", "memq://"});
   hr::Node node(info(), a.argc(), a.argv());
   int delivered = 0;
-  node.subscribe<hullgrind::job_request_t>("HG_JOB_REQUEST", [&](const hullgrind::job_request_t& m, const hr::Delivery&) {
-    ++delivered;
-    EXPECT_EQ(m.job_id, "j7");
-  });
+  node.subscribe<hullgrind::job_request_t>("HG_JOB_REQUEST",
+                                           [&](const hullgrind::job_request_t& m, const hr::Delivery&) {
+                                             ++delivered;
+                                             EXPECT_EQ(m.job_id, "j7");
+                                           });
   hullgrind::job_request_t good{};
   good.job_id = "j7";
   std::vector<uint8_t> bytes(good.getEncodedSize());
   good.encode(bytes.data(), 0, int(bytes.size()));
 
   const uint8_t junk[] = {0xde, 0xad, 0xbe, 0xef, 1, 2, 3};
-  node.lcm().publish("HG_JOB_REQUEST", junk, sizeof junk);                          // foreign fingerprint
+  node.lcm().publish("HG_JOB_REQUEST", junk, sizeof junk);                         // foreign fingerprint
   node.lcm().publish("HG_JOB_REQUEST", bytes.data(), unsigned(bytes.size() - 3));  // truncated
   std::vector<uint8_t> longer = bytes;
   longer.push_back(0);
-  node.lcm().publish("HG_JOB_REQUEST", longer.data(), unsigned(longer.size()));    // trailing byte
-  node.lcm().publish("HG_JOB_REQUEST", bytes.data(), unsigned(bytes.size()));      // good
+  node.lcm().publish("HG_JOB_REQUEST", longer.data(), unsigned(longer.size()));  // trailing byte
+  node.lcm().publish("HG_JOB_REQUEST", bytes.data(), unsigned(bytes.size()));    // good
   for (int i = 0; i < 4; ++i) node.lcm().handleTimeout(100);
   EXPECT_EQ(delivered, 1);
   EXPECT_EQ(node.counters().decode_errors.load(), 3);

@@ -59,13 +59,14 @@ hr::Params parsed(std::vector<std::string> args) {
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 TEST(RuntimeParams, CommandLineBeatsConfigBeatsDefault) {
-  const std::string cfg = temp_yaml("tool-radius: 0.02\nsmall-hole: skip\nworkspace-min: [-2, -3, 0.5]\ndry-run: true\n");
+  const std::string cfg =
+      temp_yaml("tool-radius: 0.02\nsmall-hole: skip\nworkspace-min: [-2, -3, 0.5]\ndry-run: true\n");
   const hr::Params p = parsed({"--config", cfg, "--tool-radius", "0.03", "--workspace-min=4,5,6"});
-  EXPECT_EQ(p.number("tool-radius"), 0.03);                                   // command line over config
-  EXPECT_EQ(p.numbers("workspace-min"), (std::vector<double>{4, 5, 6}));      // command line over config list
-  EXPECT_EQ(p.text("small-hole"), "skip");                                    // config over default
-  EXPECT_TRUE(p.flag("dry-run"));                                             // config (a YAML boolean)
-  EXPECT_EQ(p.integer("ransac-iterations"), 150);                             // default
+  EXPECT_EQ(p.number("tool-radius"), 0.03);                               // command line over config
+  EXPECT_EQ(p.numbers("workspace-min"), (std::vector<double>{4, 5, 6}));  // command line over config list
+  EXPECT_EQ(p.text("small-hole"), "skip");                                // config over default
+  EXPECT_TRUE(p.flag("dry-run"));                                         // config (a YAML boolean)
+  EXPECT_EQ(p.integer("ransac-iterations"), 150);                         // default
   EXPECT_EQ(p.text("frame"), "robot_base");
   EXPECT_EQ(p.origin("tool-radius"), "command line");
   EXPECT_EQ(p.origin("small-hole"), "config '" + cfg + "' line 2");

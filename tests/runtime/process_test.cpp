@@ -69,7 +69,8 @@ class RuntimeProcess : public testing::Test {
 };
 
 TEST_F(RuntimeProcess, HeartbeatAtOneHertzWithIdentity) {
-  auto first = wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s);
+  auto first = wait_beat(
+      lcm, listener, pid, [](auto&) { return true; }, 5s);
   ASSERT_TRUE(first) << "no heartbeat within 5 s";
   pump(lcm, 4200ms);
   std::vector<Beat> mine;
@@ -90,7 +91,8 @@ TEST_F(RuntimeProcess, HeartbeatAtOneHertzWithIdentity) {
 }
 
 TEST_F(RuntimeProcess, GarbageIsCountedAndSurvived) {
-  ASSERT_TRUE(wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s));
+  ASSERT_TRUE(wait_beat(
+      lcm, listener, pid, [](auto&) { return true; }, 5s));
   // Garbage of every kind on channels the process decodes.
   const uint8_t junk[] = {1, 2, 3};
   lcm.publish("HG_JOB_REQUEST", junk, sizeof junk);
@@ -108,9 +110,10 @@ TEST_F(RuntimeProcess, GarbageIsCountedAndSurvived) {
   path.encode(bytes.data(), 0, int(bytes.size()));
   lcm.publish("HG_GRIND_PATH", bytes.data(), unsigned(bytes.size() / 2));  // truncated
   hullgrind::heartbeat_t wrong_type{};
-  lcm.publish("HG_JOB_REQUEST", &wrong_type);                               // another type's fingerprint
+  lcm.publish("HG_JOB_REQUEST", &wrong_type);  // another type's fingerprint
 
-  auto after = wait_beat(lcm, listener, pid, [](auto& m) { return m.decode_errors >= 4; }, 4s);
+  auto after = wait_beat(
+      lcm, listener, pid, [](auto& m) { return m.decode_errors >= 4; }, 4s);
   ASSERT_TRUE(after) << "decode errors not reported in the heartbeat";
   EXPECT_EQ(after->decode_errors, 4);
   EXPECT_FALSE(process.wait().has_value()) << "the process died on garbage";
@@ -118,13 +121,15 @@ TEST_F(RuntimeProcess, GarbageIsCountedAndSurvived) {
   hullgrind::job_request_t good{};
   good.job_id = "after-garbage";
   lcm.publish("HG_JOB_REQUEST", &good);
-  auto later = wait_beat(lcm, listener, pid, [&](auto& m) { return m.received >= after->received + 1; }, 4s);
+  auto later = wait_beat(
+      lcm, listener, pid, [&](auto& m) { return m.received >= after->received + 1; }, 4s);
   ASSERT_TRUE(later) << "a valid message after garbage was not received";
   EXPECT_EQ(later->decode_errors, 4);
 }
 
 TEST_F(RuntimeProcess, SigtermStopsCleanlyWithinOneSecond) {
-  ASSERT_TRUE(wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s));
+  ASSERT_TRUE(wait_beat(
+      lcm, listener, pid, [](auto&) { return true; }, 5s));
   auto t0 = Clock::now();
   process.signal(SIGTERM);
   const std::optional<int> code = process.wait(3s);
@@ -132,14 +137,17 @@ TEST_F(RuntimeProcess, SigtermStopsCleanlyWithinOneSecond) {
   ASSERT_TRUE(code.has_value()) << "still running 3 s after SIGTERM";
   EXPECT_LT(took, 1.0);
   EXPECT_EQ(*code, 0);
-  auto last = wait_beat(lcm, listener, pid, [](auto& m) { return m.state == hullgrind::heartbeat_t::STATE_STOPPING; }, 500ms);
+  auto last = wait_beat(
+      lcm, listener, pid, [](auto& m) { return m.state == hullgrind::heartbeat_t::STATE_STOPPING; }, 500ms);
   bool stopping_seen = last.has_value();
-  for (auto& b : listener.beats) stopping_seen |= b.msg.pid == pid && b.msg.state == hullgrind::heartbeat_t::STATE_STOPPING;
+  for (auto& b : listener.beats)
+    stopping_seen |= b.msg.pid == pid && b.msg.state == hullgrind::heartbeat_t::STATE_STOPPING;
   EXPECT_TRUE(stopping_seen) << "no STOPPING heartbeat before exit";
 }
 
 TEST_F(RuntimeProcess, SigintStopsCleanlyToo) {
-  ASSERT_TRUE(wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s));
+  ASSERT_TRUE(wait_beat(
+      lcm, listener, pid, [](auto&) { return true; }, 5s));
   process.signal(SIGINT);
   const std::optional<int> code = process.wait(3s);
   ASSERT_TRUE(code.has_value()) << "still running 3 s after SIGINT";
@@ -152,10 +160,12 @@ TEST_F(RuntimeProcess, SigintStopsCleanlyToo) {
 // received whole when it runs again: LCM would keep only 30 of them queued, the runtime keeps many more on
 // the job channels.
 TEST_F(RuntimeProcess, BurstOfJobRequestsWhileTheLoopIsHeldIsReceivedWhole) {
-  auto before = wait_beat(lcm, listener, pid, [](auto&) { return true; }, 5s);
+  auto before = wait_beat(
+      lcm, listener, pid, [](auto&) { return true; }, 5s);
   ASSERT_TRUE(before) << "no heartbeat within 5 s";
   pump(lcm, 1500ms);  // a heartbeat after the one above, so `before` counts everything so far
-  auto settled = wait_beat(lcm, listener, pid, [](auto&) { return true; }, 3s);
+  auto settled = wait_beat(
+      lcm, listener, pid, [](auto&) { return true; }, 3s);
   ASSERT_TRUE(settled);
   ASSERT_EQ(::kill(pid, SIGSTOP), 0);
   constexpr int kBurst = 300;
@@ -167,7 +177,8 @@ TEST_F(RuntimeProcess, BurstOfJobRequestsWhileTheLoopIsHeldIsReceivedWhole) {
   }
   pump(lcm, 200ms);
   ASSERT_EQ(::kill(pid, SIGCONT), 0);
-  auto after = wait_beat(lcm, listener, pid, [&](auto& m) { return m.received >= settled->received + kBurst; }, 5s);
+  auto after = wait_beat(
+      lcm, listener, pid, [&](auto& m) { return m.received >= settled->received + kBurst; }, 5s);
   ASSERT_TRUE(after) << "job requests sent while the loop was held were lost";
   EXPECT_EQ(after->decode_errors, 0);
 }

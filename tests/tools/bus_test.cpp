@@ -200,8 +200,8 @@ TEST(ToolsBus, GarbageIsReportedAndTheDumpKeepsDecoding) {
       EXPECT_FALSE(l.contains("msg"));
       std::string why = l["error"];
       reasons.insert(why.find("unknown fingerprint") != std::string::npos ? "fingerprint"
-                     : why.find("trailing") != std::string::npos         ? "trailing"
-                     : why.find("truncated") != std::string::npos        ? "truncated"
+                     : why.find("trailing") != std::string::npos          ? "trailing"
+                     : why.find("truncated") != std::string::npos         ? "truncated"
                                                                           : "length");
       ++errors;
     } else {
@@ -218,9 +218,9 @@ TEST(ToolsBus, GarbageIsReportedAndTheDumpKeepsDecoding) {
 TEST(ToolsBus, TypeFilterJobCommandAndExitCodes) {
   TempDir dir("filter");
   Proc dump = start_dump({"--type", "job_request_t", "--count", "1", "--timeout", "60"}, dir.path, "dump");
-  EXPECT_EQ(run({kBin + "/hg-lcm-send", "sample", "--type", "heartbeat_t,robot_status_t", "--count", "3"}, dir.path,
-                "noise"),
-            0);
+  EXPECT_EQ(
+      run({kBin + "/hg-lcm-send", "sample", "--type", "heartbeat_t,robot_status_t", "--count", "3"}, dir.path, "noise"),
+      0);
   EXPECT_EQ(run({kBin + "/hg-lcm-send", "job", "--job-id", "J-42", "--part-id", "plate 7", "--action", "abort",
                  "--tool-radius", "0.012", "--direction", "conventional", "--flipped", "--seq", "9"},
                 dir.path, "job"),
@@ -260,8 +260,8 @@ TEST(ToolsBus, RecordedSamplesReplayAndDecode) {
   const int rounds = 15;
   const int types = static_cast<int>(message_types(schema()).size());
   fs::path log = dir.path / "run.lcmlog";
-  Proc rec = start({kSource + "/tools/record", "--lcm-url", kUrl, "--channels", "HG_.*|MARK", log.string()}, dir.path,
-                   "rec");
+  Proc rec =
+      start({kSource + "/tools/record", "--lcm-url", kUrl, "--channels", "HG_.*|MARK", log.string()}, dir.path, "rec");
   ASSERT_TRUE(wait_for_text(rec.out, "run.lcmlog"));
   EXPECT_EQ(slurp(rec.out), log.string() + "\n");
   EXPECT_EQ(run({kBin + "/hg-lcm-send", "sample", "--type", "all", "--count", std::to_string(rounds), "--rate", "100"},
@@ -306,7 +306,8 @@ TEST(ToolsBus, CommittedLogReplaysAndDecodes) {
   for (const auto& [channel, n] : in_log) total += n;
   ASSERT_EQ(in_log.size(), message_types(schema()).size());
 
-  Proc dump = start_dump({"--full", "--count", std::to_string(total), "--timeout", "60", "--summary"}, dir.path, "dump");
+  Proc dump =
+      start_dump({"--full", "--count", std::to_string(total), "--timeout", "60", "--summary"}, dir.path, "dump");
   EXPECT_EQ(run({"lcm-logplayer", "--lcm-url", kUrl, "--speed", "4", log.string()}, dir.path, "play"), 0);
   EXPECT_EQ(wait_exit(dump), 0) << slurp(dump.err);
   std::map<std::string, int> replayed;
@@ -314,7 +315,8 @@ TEST(ToolsBus, CommittedLogReplaysAndDecodes) {
     ASSERT_FALSE(l.contains("error")) << l.dump();
     ++replayed[l["channel"].get<std::string>()];
     const Struct* t = schema().find(l["type"].get<std::string>());
-    EXPECT_EQ(l["msg"], sample_message(schema(), *t, message_seq(l["msg"]), l["msg"]["header"]["utime"].get<int64_t>()));
+    EXPECT_EQ(l["msg"],
+              sample_message(schema(), *t, message_seq(l["msg"]), l["msg"]["header"]["utime"].get<int64_t>()));
   }
   EXPECT_EQ(replayed, in_log);
 }
@@ -324,9 +326,9 @@ TEST(ToolsBus, JsonCommandPublishesWhatDumpPrints) {
   const Struct* t = schema().find("grind_path_t");
   Json msg = sample_message(schema(), *t, 11, 123456);
   Proc dump = start_dump({"--full", "--count", "1", "--timeout", "60", "--channels", "HG_X"}, dir.path, "dump");
-  EXPECT_EQ(run({kBin + "/hg-lcm-send", "json", "--type", "grind_path_t", "--channel", "HG_X", msg.dump()}, dir.path,
-                "send"),
-            0);
+  EXPECT_EQ(
+      run({kBin + "/hg-lcm-send", "json", "--type", "grind_path_t", "--channel", "HG_X", msg.dump()}, dir.path, "send"),
+      0);
   EXPECT_EQ(wait_exit(dump), 0) << slurp(dump.err);
   std::vector<Json> lines = json_lines(dump.out);
   ASSERT_EQ(lines.size(), 1u);
@@ -334,8 +336,8 @@ TEST(ToolsBus, JsonCommandPublishesWhatDumpPrints) {
   EXPECT_EQ(lines[0]["msg"], msg);
   // A field of the wrong kind is refused with its name, nothing is published.
   msg["n"] = "three";
-  EXPECT_EQ(run({kBin + "/hg-lcm-send", "json", "--type", "grind_path_t", "--channel", "HG_X", msg.dump()}, dir.path,
-                "bad"),
-            2);
+  EXPECT_EQ(
+      run({kBin + "/hg-lcm-send", "json", "--type", "grind_path_t", "--channel", "HG_X", msg.dump()}, dir.path, "bad"),
+      2);
   EXPECT_NE(slurp(dir.path / "bad.err").find("field 'n'"), std::string::npos) << slurp(dir.path / "bad.err");
 }

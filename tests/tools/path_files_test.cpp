@@ -22,7 +22,8 @@ namespace {
 namespace pp = hg::path_planner;
 
 std::string tmp(const std::string& name) {
-  return testing::TempDir() + "/pathfiles_" + testing::UnitTest::GetInstance()->current_test_info()->name() + "_" + name;
+  return testing::TempDir() + "/pathfiles_" + testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+         name;
 }
 std::string slurp(const std::string& path) {
   std::stringstream ss;
@@ -109,7 +110,8 @@ hullgrind::grind_path_t write_job_log(const std::string& file) {
   hullgrind::plate_cloud_t cloud{};
   cloud.header.seq = 3;
   for (double u = -0.15; u <= 0.15; u += 0.01)
-    for (double v = -0.1; v <= 0.1; v += 0.01) cloud.u.push_back(float(u)), cloud.v.push_back(float(v)), cloud.part.push_back(0);
+    for (double v = -0.1; v <= 0.1; v += 0.01)
+      cloud.u.push_back(float(u)), cloud.v.push_back(float(v)), cloud.part.push_back(0);
   cloud.n = std::int32_t(cloud.u.size());
   cloud.num_parts = 1;
   log_event(log, 2000, "HG_PLATE_CLOUD", cloud);
@@ -153,8 +155,11 @@ void every_reader_reads(const std::string& file, const hullgrind::grind_path_t& 
   }
   std::string out;
   const std::string script = tmp("job.script");
-  ASSERT_EQ(run("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml -o " +
-                    script + " " + file, &out), 0) << out;
+  ASSERT_EQ(run("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml -o " + script +
+                    " " + file,
+                &out),
+            0)
+      << out;
   const std::string s = slurp(script);
   int moves = 0;
   for (std::size_t at = s.find("  move"); at != std::string::npos; at = s.find("  move", at + 1)) ++moves;
@@ -185,13 +190,19 @@ TEST(PathFiles, EveryWriterIsReadByEveryReader) {
   // 2. hg-overview (make run's out/path.json)
   std::string out;
   ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov") + " --planner-config " + kPlannerConfig +
-                    " --camera-xyz 0.5,0,1.5", &out), 0) << out;
+                    " --camera-xyz 0.5,0,1.5",
+                &out),
+            0)
+      << out;
   every_reader_reads(tmp("ov") + "/path.json", logged);
 
   // 3. hg-plan, on the outline hg-overview wrote ("frame": "camera"), with the run's camera pose
   EXPECT_EQ(nlohmann::json::parse(slurp(tmp("ov") + "/outline.json"))["frame"], "camera");
   ASSERT_EQ(run("hg-plan " + tmp("ov") + "/outline.json --config " + kPlannerConfig +
-                    " --camera-xyz 0.5,0,1.5 --small-hole skip --job-id J1 -o " + tmp("plan.json"), &out), 0) << out;
+                    " --camera-xyz 0.5,0,1.5 --small-hole skip --job-id J1 -o " + tmp("plan.json"),
+                &out),
+            0)
+      << out;
   hullgrind::grind_path_t planned = logged;
   planned.outline_seq = -1;  // an outline file has no bus sequence number
   // The outline file carries the loops and plane through JSON: the same doubles, so the same plan.
@@ -242,13 +253,17 @@ TEST(Overview, DrawsThePathOnThePlateWithTheRunsCalibration) {
 
   // hg-overview with the planner's command line from the pipeline file: that calibration, no warning.
   std::string out;
-  ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov") + " --planner-args --config " +
-                    kPlannerConfig + " --camera-xyz 0.5,0,1.5 --pixel-pitch 0.001342 --small-hole skip --lcm-url memq://",
-                &out), 0) << out;
+  ASSERT_EQ(
+      run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov") + " --planner-args --config " + kPlannerConfig +
+              " --camera-xyz 0.5,0,1.5 --pixel-pitch 0.001342 --small-hole skip --lcm-url memq://",
+          &out),
+      0)
+      << out;
   EXPECT_NE(out.find("[1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.5; 0 0 0 1]"), std::string::npos) << out;
   EXPECT_EQ(out.find("warning"), std::string::npos) << out;
   // Without it: the config file's 1.2 m, and a warning that the path is off the plate.
-  ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov2") + " --planner-config " + kPlannerConfig, &out), 0)
+  ASSERT_EQ(
+      run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov2") + " --planner-config " + kPlannerConfig, &out), 0)
       << out;
   EXPECT_NE(out.find("warning: the grind path lies 300.0 mm off the outline's plane"), std::string::npos) << out;
 }

@@ -24,13 +24,13 @@ const Schema& schema() {
 // Encodes with the generated class of the named type from a buffer decoded by that class: lcm-gen's own
 // bytes for the same message.
 std::vector<uint8_t> regenerate(const std::string& name, const std::vector<uint8_t>& bytes, int* used) {
-#define HG_TRY_TYPE(T)                                                                  \
-  if (name == "hullgrind." #T) {                                                        \
-    hullgrind::T m{};                                                                   \
-    *used = m.decode(bytes.data(), 0, static_cast<int>(bytes.size()));                 \
-    std::vector<uint8_t> out(static_cast<std::size_t>(m.getEncodedSize()));            \
-    m.encode(out.data(), 0, static_cast<int>(out.size()));                              \
-    return out;                                                                         \
+#define HG_TRY_TYPE(T)                                                      \
+  if (name == "hullgrind." #T) {                                            \
+    hullgrind::T m{};                                                       \
+    *used = m.decode(bytes.data(), 0, static_cast<int>(bytes.size()));      \
+    std::vector<uint8_t> out(static_cast<std::size_t>(m.getEncodedSize())); \
+    m.encode(out.data(), 0, static_cast<int>(out.size()));                  \
+    return out;                                                             \
   }
   HG_LCM_FOR_EACH_TYPE(HG_TRY_TYPE)
 #undef HG_TRY_TYPE

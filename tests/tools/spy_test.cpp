@@ -25,7 +25,7 @@ std::string slurp(const std::string& path) {
   return ss.str();
 }
 bool exists(const std::string& path) {
-  struct stat st{};
+  struct stat st {};
   return ::stat(path.c_str(), &st) == 0;
 }
 template <class F>
@@ -60,10 +60,12 @@ TEST(ToolsSpy, DecodesAOneMegabyteCloudHeadless) {
   int display = 90;
   while (exists("/tmp/.X" + std::to_string(display) + "-lock")) ++display;
   const std::string d = ":" + std::to_string(display);
-  hg::test::ChildProcess xvfb({"Xvfb", d, "-screen", "0", "1024x768x24", "-nolisten", "tcp"},
-                              hg::test::ChildOptions().search_in_path().stdout_to(dir + "/xvfb.log").stderr_to(dir + "/xvfb.log"));
+  hg::test::ChildProcess xvfb(
+      {"Xvfb", d, "-screen", "0", "1024x768x24", "-nolisten", "tcp"},
+      hg::test::ChildOptions().search_in_path().stdout_to(dir + "/xvfb.log").stderr_to(dir + "/xvfb.log"));
   ASSERT_TRUE(xvfb.started());
-  ASSERT_TRUE(eventually([&] { return exists("/tmp/.X11-unix/X" + std::to_string(display)); }, 30s)) << slurp(dir + "/xvfb.log");
+  ASSERT_TRUE(eventually([&] { return exists("/tmp/.X11-unix/X" + std::to_string(display)); }, 30s))
+      << slurp(dir + "/xvfb.log");
 
   const std::string out = dir + "/spy.out";
   hg::test::ChildProcess spy({std::string(HG_SOURCE_DIR) + "/tools/spy", "--lcm-url", kUrl, "--build",

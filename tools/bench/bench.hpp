@@ -28,10 +28,10 @@ struct OurStats {
 };
 
 struct Method {
-  std::string key;    // e.g. "dshi", "dshi hilbert (shuffled)"
+  std::string key;  // e.g. "dshi", "dshi hilbert (shuffled)"
   Timing time;
-  OurStats stats;     // ours only
-  PeerOutline peer;   // peers only
+  OurStats stats;    // ours only
+  PeerOutline peer;  // peers only
   bool is_peer = false;
 };
 
@@ -72,12 +72,12 @@ void write_plot(const Report& report, const std::string& path);
 namespace key {
 inline const std::string ordinary = "ordinary";
 inline const std::string ds = "ds";
-inline const std::string dshi = "dshi";                            // scan order, as given
-inline const std::string dshi_hilbert_scan = "dshi hilbert";        // Hilbert order of the scan-order cloud
+inline const std::string dshi = "dshi";                       // scan order, as given
+inline const std::string dshi_hilbert_scan = "dshi hilbert";  // Hilbert order of the scan-order cloud
 inline const std::string dshi_asis_shuf = "dshi as-is (shuffled)";
 inline const std::string dshi_hilbert_shuf = "dshi hilbert (shuffled)";
 inline const std::string dshi_brio_shuf = "dshi brio (shuffled)";
-inline const std::string dshi_band = "dshi banded";                  // experiment: bands of rows, column order
+inline const std::string dshi_band = "dshi banded";  // experiment: bands of rows, column order
 inline const std::string cgal_dt = "CGAL DT + loops";
 inline const std::string cgal_alpha = "CGAL Alpha_shape_2";
 inline const std::string pcl = "PCL ConcaveHull";

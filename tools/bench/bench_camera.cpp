@@ -26,11 +26,14 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--frames" && i + 1 < argc) frames = std::atoi(argv[++i]);
-    else if (a == "--scene" && i + 1 < argc) scene = argv[++i];
-    else if (a == "--all-parts") all_parts = true;
+    else if (a == "--scene" && i + 1 < argc)
+      scene = argv[++i];
+    else if (a == "--all-parts")
+      all_parts = true;
     else {
-      std::printf("usage: hg-bench-camera [--frames N] [--scene NAME] [--all-parts]\n"
-                  "Times depth frame -> encoded plate_cloud_t per camera profile (one thread, median of N).\n");
+      std::printf(
+          "usage: hg-bench-camera [--frames N] [--scene NAME] [--all-parts]\n"
+          "Times depth frame -> encoded plate_cloud_t per camera profile (one thread, median of N).\n");
       return a == "--help" ? 0 : 2;
     }
   }
@@ -71,10 +74,11 @@ int main(int argc, char** argv) {
     std::sort(ms.begin(), ms.end());
     std::sort(cpu_ms.begin(), cpu_ms.end());
     // Wall time suffers when other processes share the cores; thread CPU time shows the work itself.
-    std::printf("%-6s %4dx%-4d  wall median %7.2f ms (min %7.2f, max %7.2f)  thread CPU median %7.2f ms"
-                "  (%zu points, %zu bytes)\n",
-                name.c_str(), prof.width, prof.height, ms[ms.size() / 2], ms.front(), ms.back(),
-                cpu_ms[cpu_ms.size() / 2], points, buf.size());
+    std::printf(
+        "%-6s %4dx%-4d  wall median %7.2f ms (min %7.2f, max %7.2f)  thread CPU median %7.2f ms"
+        "  (%zu points, %zu bytes)\n",
+        name.c_str(), prof.width, prof.height, ms[ms.size() / 2], ms.front(), ms.back(), cpu_ms[cpu_ms.size() / 2],
+        points, buf.size());
   }
   return 0;
 }

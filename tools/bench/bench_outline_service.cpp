@@ -25,11 +25,13 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--scene" && i + 1 < argc) scene = argv[++i];
+    else if (a == "--scene" && i + 1 < argc)
+      scene = argv[++i];
     else {
-      std::printf("usage: hg-bench-outline-service [--runs N] [--scene NAME]\n"
-                  "Times plate cloud -> outline_t + part_pose_t (the outline service's work) per camera profile\n"
-                  "and insertion order: one thread, median of N, clouds from the renderer + segmentation.\n");
+      std::printf(
+          "usage: hg-bench-outline-service [--runs N] [--scene NAME]\n"
+          "Times plate cloud -> outline_t + part_pose_t (the outline service's work) per camera profile\n"
+          "and insertion order: one thread, median of N, clouds from the renderer + segmentation.\n");
       return a == "--help" ? 0 : 2;
     }
   }

@@ -28,7 +28,8 @@ std::vector<Loop> plate(double pitch) {
     const double t = -2 * M_PI * k / 400;
     hole.push_back(Vec2(0.1, 0.02) + 0.05 * Vec2(std::cos(t), std::sin(t)));
   }
-  std::vector<Loop> loops{{false, hg::partgen::pixel_staircase(outer, pitch)}, {true, hg::partgen::pixel_staircase(hole, pitch)}};
+  std::vector<Loop> loops{{false, hg::partgen::pixel_staircase(outer, pitch)},
+                          {true, hg::partgen::pixel_staircase(hole, pitch)}};
   return loops;
 }
 
@@ -58,8 +59,9 @@ void run(const char* label, const std::vector<Loop>& loops, const PlannerConfig&
 
 int main(int argc, char** argv) {
   if (hg::runtime::answer_version(argc, argv, "hg-plan-bench")) return 0;
-  const char* usage = "usage: hg-plan-bench [vertices >= 100] [runs >= 1]\n"
-                      "Times the planner on a generated plate outline of about this many vertices (docs/BENCHMARKS-planner.md).\n";
+  const char* usage =
+      "usage: hg-plan-bench [vertices >= 100] [runs >= 1]\n"
+      "Times the planner on a generated plate outline of about this many vertices (docs/BENCHMARKS-planner.md).\n";
   if (argc > 1 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"))) return std::fputs(usage, stdout), 0;
   const long want = argc > 1 ? std::atol(argv[1]) : 10000;
   const int runs = argc > 2 ? std::atoi(argv[2]) : 21;

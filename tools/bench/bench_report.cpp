@@ -32,19 +32,18 @@ namespace {
 struct PaperCost {
   double ordinary, ds, dshi;
 };
-const PaperCost kTable2[6] = {{11410445, 255881, 29881}, {9215350, 345249, 25599}, {4096232, 212507, 12761},
+const PaperCost kTable2[6] = {{11410445, 255881, 29881}, {9215350, 345249, 25599},  {4096232, 212507, 12761},
                               {62778422, 722185, 72733}, {72878539, 816222, 79815}, {69991500, 1112193, 77474}};
-const PaperCost kTable7[6] = {{301184708, 4067904, 106970}, {259483564, 2737748, 104982},
-                              {146277609, 2410395, 74661},  {285813272, 1504871, 94157},
-                              {232072475, 2795457, 82272},  {211203409, 2815502, 83908}};
+const PaperCost kTable7[6] = {{301184708, 4067904, 106970}, {259483564, 2737748, 104982}, {146277609, 2410395, 74661},
+                              {285813272, 1504871, 94157},  {232072475, 2795457, 82272},  {211203409, 2815502, 83908}};
 struct PaperTime {
   double dshi, pcl, ordinary;
 };
-const PaperTime kTable3[6] = {{24.03, 34.8, 96.12},  {44.05, 32.81, 216.3}, {40.05, 18.77, 156.2},
+const PaperTime kTable3[6] = {{24.03, 34.8, 96.12},   {44.05, 32.81, 216.3}, {40.05, 18.77, 156.2},
                               {48.06, 96.52, 374.67}, {44.05, 86.5, 336.54}, {36.05, 106.9, 196.26}};
 const PaperTime kTable5[6] = {{2854.14, 10267.7, NAN}, {3173.56, 7072.56, NAN}, {1818.06, 5323.69, NAN},
                               {9970.89, 27544.8, NAN}, {6987.71, 13908.4, NAN}, {3189.75, 13399.7, NAN}};
-const PaperTime kTable8[6] = {{104.28, 220.35, 925.43}, {78.53, 165.68, 1325.7}, {47.33, 143.52, 492.26},
+const PaperTime kTable8[6] = {{104.28, 220.35, 925.43}, {78.53, 165.68, 1325.7},  {47.33, 143.52, 492.26},
                               {94.16, 207.7, 926.27},   {90.14, 164.04, 1106.24}, {63.55, 163.06, 455.05}};
 
 std::string fmt(const char* f, double v) {
@@ -99,7 +98,8 @@ void search_cost_table(std::ostream& o, const Report& r, const std::string& set,
     o << "| " << c.piece << " | " << big(c.points) << " (" << big(c.paper_points) << ") | " << big(o_) << " | "
       << big(d_) << " | " << fmt("%.2f %%", 100 * d_ / o_) << " | " << big(h) << " | " << fmt("%.2f %%", 100 * h / d_)
       << " | " << fmt("%.3f ‰", 1000 * h / o_) << " | " << fmt("%.2f ‰", 1000 * p.dshi / p.ordinary) << " | "
-      << fmt("%.3f ‰", 1000 * dshi->locate / o_) << " | " << fmt("%.1f", d_ / n) << " / " << fmt("%.2f", h / n) << " |\n";
+      << fmt("%.3f ‰", 1000 * dshi->locate / o_) << " | " << fmt("%.1f", d_ / n) << " / " << fmt("%.2f", h / n)
+      << " |\n";
   }
 }
 
@@ -128,12 +128,14 @@ void header_section(std::ostream& o, const Report& r) {
        "run).\n\n"
     << "- Command: `" << r.command << "`\n"
     << "- Date: " << r.date << "\n"
-    << "- Machine: " << r.machine << " — shared with other engineers' builds: load average (1, 5, 15 min, "
-       "running/total, last pid) at start `" << r.load_start << "`, at end `" << r.load_end << "`\n"
+    << "- Machine: " << r.machine
+    << " — shared with other engineers' builds: load average (1, 5, 15 min, "
+       "running/total, last pid) at start `"
+    << r.load_start << "`, at end `" << r.load_end << "`\n"
     << "- Compiler: " << r.compiler << "\n"
     << "- Clouds: " << r.cloud_options << "\n"
-    << "- Runs: " << r.runs << " per method (ordinary: " << r.ordinary_runs << "; CGAL Alpha_shape_2 and PCL: "
-    << r.slow_runs << " on low/down, " << r.slow_runs_high << " on high)\n"
+    << "- Runs: " << r.runs << " per method (ordinary: " << r.ordinary_runs
+    << "; CGAL Alpha_shape_2 and PCL: " << r.slow_runs << " on low/down, " << r.slow_runs_high << " on high)\n"
     << "- R: the product's automatic radius (k × the point spacing h = sqrt(2 × median Delaunay triangle area), k = 1.7 on regular clouds rising toward the largest empty circle of a random set on irregular ones; docs/outline-auto-radius.md), then the "
        "same R for every method and peer (CGAL Alpha_shape_2: alpha = R², REGULARIZED; PCL: setAlpha(R), "
        "which PCL compares with the circumradius)\n"
@@ -142,7 +144,9 @@ void header_section(std::ostream& o, const Report& r) {
   o << "Method names: `dshi` = directive search + heritable initial, points inserted in scan order as the camera "
        "gives them (the paper's method); `dshi hilbert (shuffled)` = the cloud shuffled at random, then "
        "`--order hilbert`; `dshi brio (shuffled)` = the same with BRIO rounds; `dshi banded` = an experiment: "
-       "bands of " << r.band_rows << " rows swept column by column (order computed inside the timed region from the pixel rows/columns); "
+       "bands of "
+    << r.band_rows
+    << " rows swept column by column (order computed inside the timed region from the pixel rows/columns); "
        "`CGAL DT + loops` = `Delaunay_triangulation_2` (Epick, range insertion with CGAL's spatial sort) + a "
        "squared-circumradius pass + chaining the free edges into loops.\n\n";
 }
@@ -196,8 +200,8 @@ void work_table(std::ostream& o, const Report& r) {
       const double n = static_cast<double>(s->points_used);
       o << "| " << c.preset << " | " << big(c.points) << " | " << k << " | " << fmt("%.2f", s->locate / n) << " | "
         << fmt("%.2f", s->cavity_visits / n) << " | " << fmt("%.2f", s->incircle / n) << " | "
-        << fmt("%.2f", s->cavity_triangles / n) << " | " << fmt("%.2f", s->search_cost / n) << " | "
-        << ms(med(c, k)) << " |\n";
+        << fmt("%.2f", s->cavity_triangles / n) << " | " << fmt("%.2f", s->search_cost / n) << " | " << ms(med(c, k))
+        << " |\n";
     }
   }
 }
@@ -217,11 +221,14 @@ void same_outline_table(std::ostream& o, const Report& r) {
     o << "| " << c.preset << " | " << fmt("%.3f", c.alpha_radius * 1000) << " | " << s->boundary_edges << ", "
       << s->outer_loops << "+" << s->holes << ", " << fmt("%.6f", s->area) << " | ";
     if (const Method* m = c.find(key::cgal_dt); m && !m->time.empty())
-      o << m->peer.boundary_edges << ", " << m->peer.outer_loops << "+" << m->peer.holes << ", " << fmt("%.6f", m->peer.area);
+      o << m->peer.boundary_edges << ", " << m->peer.outer_loops << "+" << m->peer.holes << ", "
+        << fmt("%.6f", m->peer.area);
     else
       o << "–";
     o << " | ";
-    if (const Method* m = c.find(key::cgal_alpha); m && !m->time.empty()) o << m->peer.boundary_edges; else o << "–";
+    if (const Method* m = c.find(key::cgal_alpha); m && !m->time.empty()) o << m->peer.boundary_edges;
+    else
+      o << "–";
     o << " | ";
     if (const Method* m = c.find(key::pcl); m && !m->time.empty())
       o << m->peer.boundary_edges << ", " << m->peer.outer_loops;
@@ -235,7 +242,8 @@ void same_outline_table(std::ostream& o, const Report& r) {
 void memory_table(std::ostream& o, const Report& r) {
   if (r.memory.empty()) return;
   o << "\n## Peak memory (max RSS of the whole process, getrusage via wait4)\n\n"
-    << "Cloud: " << r.memory_cloud << ". The hg-bench children load CGAL, PCL (with VTK) and OpenCV, so "
+    << "Cloud: " << r.memory_cloud
+    << ". The hg-bench children load CGAL, PCL (with VTK) and OpenCV, so "
        "their baseline is higher than hg-outline's; the last column subtracts the reader-only child.\n\n"
        "| process | max RSS MB | wall ms | above reader-only MB | note |\n|---|---|---|---|---|\n";
   long reader_kb = -1;
@@ -245,7 +253,8 @@ void memory_table(std::ostream& o, const Report& r) {
     const bool child = m.what.rfind("hg-outline", 0) != 0;
     o << "| " << m.what << " | " << (m.max_rss_kb < 0 ? std::string("failed") : fmt("%.0f", m.max_rss_kb / 1024.0))
       << " | " << ms(m.wall_ms) << " | "
-      << (child && reader_kb > 0 && m.max_rss_kb > 0 ? fmt("%.0f", (m.max_rss_kb - reader_kb) / 1024.0) : std::string("–"))
+      << (child && reader_kb > 0 && m.max_rss_kb > 0 ? fmt("%.0f", (m.max_rss_kb - reader_kb) / 1024.0)
+                                                     : std::string("–"))
       << " | " << m.note << " |\n";
   }
 }
@@ -263,8 +272,8 @@ void targets_table(std::ostream& o, const Report& r) {
       o << "| DSHI ≤ PCL ConcaveHull / 30 | " << c.preset << " | " << ms(d) << " ms | " << ms(pc / 30) << " ms | "
         << verdict(d, pc / 30) << " |\n";
       const double hs = med(c, key::dshi_hilbert_shuf);
-      o << "| hilbert on shuffled ≤ 1.3 × scan order | " << c.preset << " | " << ms(hs) << " ms = "
-        << fmt("%.2f", hs / d) << " × | " << ms(1.3 * d) << " ms | " << verdict(hs, 1.3 * d) << " |\n";
+      o << "| hilbert on shuffled ≤ 1.3 × scan order | " << c.preset << " | " << ms(hs)
+        << " ms = " << fmt("%.2f", hs / d) << " × | " << ms(1.3 * d) << " ms | " << verdict(hs, 1.3 * d) << " |\n";
     } else {
       o << "| DSHI ≤ 0.6 × CGAL DT + loops | " << c.preset << " | " << ms(d) << " ms = " << fmt("%.2f", d / cg)
         << " × | " << ms(0.6 * cg) << " ms | " << verdict(d, 0.6 * cg) << " |\n";
@@ -312,15 +321,16 @@ struct Axis {
 
 void panel(cv::Mat& img, cv::Rect box, const std::string& title, const std::string& ylabel,
            const std::vector<std::pair<std::string, std::vector<cv::Point2d>>>& series) {
-  const std::vector<cv::Scalar> colours = {{200, 60, 20},  {30, 140, 30}, {20, 120, 230}, {150, 40, 160},
-                                           {0, 0, 200},    {120, 120, 0}, {90, 90, 90},   {0, 180, 220},
-                                           {180, 0, 90},   {60, 60, 160}};
+  const std::vector<cv::Scalar> colours = {{200, 60, 20}, {30, 140, 30}, {20, 120, 230}, {150, 40, 160}, {0, 0, 200},
+                                           {120, 120, 0}, {90, 90, 90},  {0, 180, 220},  {180, 0, 90},   {60, 60, 160}};
   double xmin = 1e300, xmax = 0, ymin = 1e300, ymax = 0;
   for (const auto& s : series)
     for (const auto& p : s.second)
       if (p.x > 0 && p.y > 0) {
-        xmin = std::min(xmin, p.x); xmax = std::max(xmax, p.x);
-        ymin = std::min(ymin, p.y); ymax = std::max(ymax, p.y);
+        xmin = std::min(xmin, p.x);
+        xmax = std::max(xmax, p.x);
+        ymin = std::min(ymin, p.y);
+        ymax = std::max(ymax, p.y);
       }
   if (xmax <= 0) return;
   const int left = box.x + 80, right = box.x + box.width - 20, top = box.y + 40, bottom = box.y + box.height - 60;
@@ -334,12 +344,14 @@ void panel(cv::Mat& img, cv::Rect box, const std::string& title, const std::stri
   for (double e = ax.lo; e <= ax.hi + 1e-9; e += 1) {
     const int x = static_cast<int>(ax.map(std::pow(10, e)));
     cv::line(img, {x, top}, {x, bottom}, {225, 225, 225}, 1);
-    cv::putText(img, "1e" + std::to_string(static_cast<int>(e)), {x - 15, bottom + 20}, font, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
+    cv::putText(img, "1e" + std::to_string(static_cast<int>(e)), {x - 15, bottom + 20}, font, 0.45, {0, 0, 0}, 1,
+                cv::LINE_AA);
   }
   for (double e = ay.lo; e <= ay.hi + 1e-9; e += 1) {
     const int y = static_cast<int>(ay.map(std::pow(10, e)));
     cv::line(img, {left, y}, {right, y}, {225, 225, 225}, 1);
-    cv::putText(img, "1e" + std::to_string(static_cast<int>(e)), {left - 45, y + 5}, font, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
+    cv::putText(img, "1e" + std::to_string(static_cast<int>(e)), {left - 45, y + 5}, font, 0.45, {0, 0, 0}, 1,
+                cv::LINE_AA);
   }
   cv::putText(img, "points", {(left + right) / 2 - 20, bottom + 45}, font, 0.5, {0, 0, 0}, 1, cv::LINE_AA);
   cv::putText(img, ylabel, {left + 5, top + 18}, font, 0.5, {0, 0, 0}, 1, cv::LINE_AA);
@@ -372,14 +384,16 @@ void write_plot(const Report& r, const std::string& path) {
                                key::ordinary, key::cgal_dt, key::cgal_alpha, key::pcl}) {
     std::vector<cv::Point2d> t;
     for (const auto& c : r.clouds)
-      if (const Method* m = c.find(k); m && !m->time.empty()) t.emplace_back(static_cast<double>(c.points), m->time.median());
+      if (const Method* m = c.find(k); m && !m->time.empty())
+        t.emplace_back(static_cast<double>(c.points), m->time.median());
     if (!t.empty()) times.emplace_back(k, t);
   }
-  for (const std::string& k : {key::dshi, key::dshi_hilbert_shuf, key::dshi_brio_shuf, key::dshi_band, key::ds,
-                               key::ordinary}) {
+  for (const std::string& k :
+       {key::dshi, key::dshi_hilbert_shuf, key::dshi_brio_shuf, key::dshi_band, key::ds, key::ordinary}) {
     std::vector<cv::Point2d> v;
     for (const auto& c : r.clouds)
-      if (const OurStats* s = stats(c, k)) v.emplace_back(static_cast<double>(c.points), static_cast<double>(s->search_cost) / s->points_used);
+      if (const OurStats* s = stats(c, k))
+        v.emplace_back(static_cast<double>(c.points), static_cast<double>(s->search_cost) / s->points_used);
     if (!v.empty()) visits.emplace_back(k, v);
   }
   panel(img, {0, 0, 800, 720}, "Outline time (median ms, one thread) vs points", "ms", times);

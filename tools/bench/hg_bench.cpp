@@ -124,25 +124,44 @@ Args parse_args(int argc, char** argv) {
         }
         a.sets.insert(s);
       }
-    } else if (opt == "--only") a.only = split(value());
-    else if (opt == "--runs") a.runs = static_cast<int>(number(1, 1000));
-    else if (opt == "--slow-runs") a.slow_runs = static_cast<int>(number(0, 1000));
-    else if (opt == "--slow-runs-high") a.slow_runs_high = static_cast<int>(number(0, 1000));
-    else if (opt == "--ordinary-runs") a.ordinary_runs = static_cast<int>(number(0, 1000));
-    else if (opt == "--noise") a.noise = number(0, 10);
-    else if (opt == "--no-jagged") a.jagged = false;
-    else if (opt == "--dropout") a.dropout = number(0, 0.9);
-    else if (opt == "--seed") a.seed = static_cast<std::uint64_t>(number(0, 1e15));
-    else if (opt == "--band-rows") a.band_rows = static_cast<int>(number(1, 4096));
-    else if (opt == "--no-cgal") a.cgal = false;
-    else if (opt == "--no-alpha-shape") a.alpha_shape = false;
-    else if (opt == "--no-pcl") a.pcl = false;
-    else if (opt == "--no-memory") a.memory = false;
-    else if (opt == "--memory-preset") a.memory_preset = value();
-    else if (opt == "--md") a.md = value();
-    else if (opt == "--png") a.png = value();
-    else if (opt == "--include") a.include = value();
-    else if (opt == "--tmp") a.tmp = value();
+    } else if (opt == "--only")
+      a.only = split(value());
+    else if (opt == "--runs")
+      a.runs = static_cast<int>(number(1, 1000));
+    else if (opt == "--slow-runs")
+      a.slow_runs = static_cast<int>(number(0, 1000));
+    else if (opt == "--slow-runs-high")
+      a.slow_runs_high = static_cast<int>(number(0, 1000));
+    else if (opt == "--ordinary-runs")
+      a.ordinary_runs = static_cast<int>(number(0, 1000));
+    else if (opt == "--noise")
+      a.noise = number(0, 10);
+    else if (opt == "--no-jagged")
+      a.jagged = false;
+    else if (opt == "--dropout")
+      a.dropout = number(0, 0.9);
+    else if (opt == "--seed")
+      a.seed = static_cast<std::uint64_t>(number(0, 1e15));
+    else if (opt == "--band-rows")
+      a.band_rows = static_cast<int>(number(1, 4096));
+    else if (opt == "--no-cgal")
+      a.cgal = false;
+    else if (opt == "--no-alpha-shape")
+      a.alpha_shape = false;
+    else if (opt == "--no-pcl")
+      a.pcl = false;
+    else if (opt == "--no-memory")
+      a.memory = false;
+    else if (opt == "--memory-preset")
+      a.memory_preset = value();
+    else if (opt == "--md")
+      a.md = value();
+    else if (opt == "--png")
+      a.png = value();
+    else if (opt == "--include")
+      a.include = value();
+    else if (opt == "--tmp")
+      a.tmp = value();
     else {
       std::fprintf(stderr, "hg-bench: unknown option '%s'\n", opt.c_str());
       usage(2);
@@ -236,7 +255,8 @@ std::vector<std::uint32_t> banded_order(const BenchCloud& c, int B) {
     ++count[key[i] + 1];
   }
   for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
-  for (std::size_t i = 0; i < n; ++i) order[count[key[i]]++] = static_cast<std::uint32_t>(i);  // stable: rows stay in order
+  for (std::size_t i = 0; i < n; ++i)
+    order[count[key[i]]++] = static_cast<std::uint32_t>(i);  // stable: rows stay in order
   return order;
 }
 
@@ -287,7 +307,9 @@ struct Job {
   std::function<void(Method&)> run;  // one timed run: appends to m.time, fills stats
 };
 
-double now_ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double now_ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 // The methods timed on cloud c, all with the same radius R: our orders and modes (DS, as-is on the
 // shuffled cloud and ordinary only on the small clouds) and the peers that are built and asked for.
@@ -425,7 +447,9 @@ MemoryResult run_child(const std::string& what, const std::vector<std::string>& 
     return m;
   }
   m.wall_ms = wall;
-  if (code == 0) m.max_rss_kb = kb; else m.note = "exit status " + std::to_string(code);
+  if (code == 0) m.max_rss_kb = kb;
+  else
+    m.note = "exit status " + std::to_string(code);
 #else
   (void)dir;
   m.note = "hg-bench-rss not built";
@@ -472,8 +496,8 @@ std::vector<MemoryResult> measure_memory(const Args& a, Report& report) {
   double R = 0;
 #ifdef HG_OUTLINE_EXE
   const std::string json = dir + "/outline.json";
-  MemoryResult ours = run_child("hg-outline (whole process: read, plane, outline, write JSON)",
-                                {HG_OUTLINE_EXE, pcd, "-o", json}, dir);
+  MemoryResult ours =
+      run_child("hg-outline (whole process: read, plane, outline, write JSON)", {HG_OUTLINE_EXE, pcd, "-o", json}, dir);
   try {
     std::ifstream f(json);
     const auto j = nlohmann::json::parse(f);
@@ -486,23 +510,25 @@ std::vector<MemoryResult> measure_memory(const Args& a, Report& report) {
     ours.note += std::string(" (JSON not readable: ") + e.what() + ")";
   }
   out.push_back(ours);
-  MemoryResult hilbert = run_child("hg-outline --order hilbert", {HG_OUTLINE_EXE, pcd, "--order", "hilbert", "-o", json}, dir);
+  MemoryResult hilbert =
+      run_child("hg-outline --order hilbert", {HG_OUTLINE_EXE, pcd, "--order", "hilbert", "-o", json}, dir);
   out.push_back(hilbert);
 #endif
   if (R <= 0) R = 1.7 * p.pitch;
   char rbuf[64];
   std::snprintf(rbuf, sizeof rbuf, "%.17g", R);
   const std::string me = self_exe();
-  out.push_back(run_child("reading the file only (hg_outline_io reader + plane, in hg-bench)", {me, "--child-read", pcd, rbuf}, dir));
-  if (a.cgal) out.push_back(run_child("CGAL DT + circumradius + loops (after the same reader)", {me, "--child-cgal-dt", pcd, rbuf}, dir));
+  out.push_back(run_child("reading the file only (hg_outline_io reader + plane, in hg-bench)",
+                          {me, "--child-read", pcd, rbuf}, dir));
+  if (a.cgal)
+    out.push_back(
+        run_child("CGAL DT + circumradius + loops (after the same reader)", {me, "--child-cgal-dt", pcd, rbuf}, dir));
   if (a.pcl) out.push_back(run_child("PCL ConcaveHull (after the same reader)", {me, "--child-pcl", pcd, rbuf}, dir));
   std::filesystem::remove_all(dir);
   return out;
 }
 
-std::string load_average() {
-  return read_first_line("/proc/loadavg");
-}
+std::string load_average() { return read_first_line("/proc/loadavg"); }
 
 }  // namespace
 }  // namespace hg::bench
@@ -535,8 +561,10 @@ Report report_header(int argc, char** argv, const Args& a) {
   report.band_rows = a.band_rows;
   {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "hg_partgen presets, scan-line order, in-plane noise sigma = %.3g x pitch, %s, dropout %.3g, seed %llu",
-                  a.noise, a.jagged ? "jagged edges" : "pixel-centre edges", a.dropout, static_cast<unsigned long long>(a.seed));
+    std::snprintf(
+        buf, sizeof buf,
+        "hg_partgen presets, scan-line order, in-plane noise sigma = %.3g x pitch, %s, dropout %.3g, seed %llu",
+        a.noise, a.jagged ? "jagged edges" : "pixel-centre edges", a.dropout, static_cast<unsigned long long>(a.seed));
     report.cloud_options = buf;
   }
   report.cgal_version = a.cgal ? "built in" : (kHaveCgal ? "disabled" : "not installed at configure time");

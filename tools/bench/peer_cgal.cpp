@@ -76,7 +76,9 @@ PeerOutline cgal_dt_loops(std::span<const outline::Vec2> points, double R) {
       while (h != UINT32_MAX && used[h]) h = next_out[h];
       e = h;
     }
-    if (twice_area > 0) ++out.outer_loops; else ++out.holes;
+    if (twice_area > 0) ++out.outer_loops;
+    else
+      ++out.holes;
     out.area += twice_area / 2;
   }
   return out;

@@ -14,7 +14,7 @@ struct PeerOutline {
   std::size_t triangles = 0;       // finite Delaunay triangles (0 when the peer does not say)
   std::size_t boundary_edges = 0;  // edges of the outline
   std::size_t outer_loops = 0, holes = 0;
-  double area = 0;                 // enclosed area (outer minus holes), 0 when the peer does not give it
+  double area = 0;  // enclosed area (outer minus holes), 0 when the peer does not give it
 };
 
 // CGAL Delaunay_triangulation_2 (Epick, range insertion with CGAL's spatial sort) + a circumradius pass

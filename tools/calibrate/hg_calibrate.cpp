@@ -75,15 +75,16 @@ std::vector<calibration::PlateView> detect_all(const calibrate::Session& s, cons
     try {
       out.push_back(calibration::detect_plate(s.views[i].depth, s.views[i].intrinsics, d));
     } catch (const calibration::CalibrationError& e) {
-      throw calibration::CalibrationError("view " + std::to_string(i) + " (" + s.views[i].depth_file + "): " + e.what());
+      throw calibration::CalibrationError("view " + std::to_string(i) + " (" + s.views[i].depth_file +
+                                          "): " + e.what());
     }
     std::fprintf(stderr, "hg-calibrate: view %zu: %s\n", i, out.back().text.c_str());
   }
   return out;
 }
 
-void store(const Args& a, const std::string& method, const Eigen::Isometry3d* to_base, const Eigen::Isometry3d* to_flange,
-           double rms, double worst, int features) {
+void store(const Args& a, const std::string& method, const Eigen::Isometry3d* to_base,
+           const Eigen::Isometry3d* to_flange, double rms, double worst, int features) {
   if (a.dry_run) return;
   cell::Cell c = cell::read_cell(a.cell);
   if (to_base) c.calibration.camera_to_base = *to_base;
@@ -121,13 +122,19 @@ int eye_to_hand(const Args& a) {
     double ss = 0, worst = 0;
     int n = 0;
     for (std::size_t i = 0; i < features.size(); ++i)
-      if (features[i]["view"] == v) ss += fit.residuals[i] * fit.residuals[i], worst = std::max(worst, fit.residuals[i]), ++n;
-    per_view.push_back({{"view", v}, {"features", n}, {"rms_mm", n ? std::sqrt(ss / n) * 1e3 : 0}, {"worst_mm", worst * 1e3}});
+      if (features[i]["view"] == v)
+        ss += fit.residuals[i] * fit.residuals[i], worst = std::max(worst, fit.residuals[i]), ++n;
+    per_view.push_back(
+        {{"view", v}, {"features", n}, {"rms_mm", n ? std::sqrt(ss / n) * 1e3 : 0}, {"worst_mm", worst * 1e3}});
   }
   std::printf("eye-to-hand: %zu features, rms %.3f mm, worst %.3f mm (%s)\n", cam.size(), fit.rms * 1e3,
               fit.worst * 1e3, features[fit.worst_index]["hole"].get<std::string>().c_str());
-  write_json(a.report, {{"mode", "eye-to-hand"}, {"method", "umeyama"}, {"camera_to_base", transform_json(fit.transform)},
-                        {"rms_mm", fit.rms * 1e3}, {"worst_mm", fit.worst * 1e3}, {"per_feature", features},
+  write_json(a.report, {{"mode", "eye-to-hand"},
+                        {"method", "umeyama"},
+                        {"camera_to_base", transform_json(fit.transform)},
+                        {"rms_mm", fit.rms * 1e3},
+                        {"worst_mm", fit.worst * 1e3},
+                        {"per_feature", features},
                         {"per_view", per_view}});
   store(a, "eye-to-hand umeyama", &fit.transform, nullptr, fit.rms, fit.worst, static_cast<int>(cam.size()));
   return 0;
@@ -147,18 +154,26 @@ int eye_in_hand(const Args& a) {
   for (const auto& m : r.methods) {
     json views = json::array();
     for (std::size_t v = 0; v < m.view_translation.size(); ++v)
-      views.push_back({{"view", v}, {"translation_mm", m.view_translation[v] * 1e3},
+      views.push_back({{"view", v},
+                       {"translation_mm", m.view_translation[v] * 1e3},
                        {"rotation_deg", m.view_rotation[v] * 180 / M_PI},
-                       {"pattern_rms_mm", seen[v].pattern_fit.rms * 1e3}, {"pattern_worst_mm", seen[v].pattern_fit.worst * 1e3}});
-    methods.push_back({{"name", m.name}, {"camera_to_flange", transform_json(m.camera_to_flange)},
-                       {"rms_mm", m.rms_translation * 1e3}, {"worst_mm", m.worst_translation * 1e3},
-                       {"worst_deg", m.worst_rotation * 180 / M_PI}, {"per_view", views}});
+                       {"pattern_rms_mm", seen[v].pattern_fit.rms * 1e3},
+                       {"pattern_worst_mm", seen[v].pattern_fit.worst * 1e3}});
+    methods.push_back({{"name", m.name},
+                       {"camera_to_flange", transform_json(m.camera_to_flange)},
+                       {"rms_mm", m.rms_translation * 1e3},
+                       {"worst_mm", m.worst_translation * 1e3},
+                       {"worst_deg", m.worst_rotation * 180 / M_PI},
+                       {"per_view", views}});
     std::printf("eye-in-hand %s: %zu views, rms %.3f mm, worst %.3f mm / %.4f deg\n", m.name.c_str(), flange.size(),
                 m.rms_translation * 1e3, m.worst_translation * 1e3, m.worst_rotation * 180 / M_PI);
   }
-  std::printf("tsai vs park: %.3f mm, %.4f deg\n", r.disagreement_translation * 1e3, r.disagreement_rotation * 180 / M_PI);
+  std::printf("tsai vs park: %.3f mm, %.4f deg\n", r.disagreement_translation * 1e3,
+              r.disagreement_rotation * 180 / M_PI);
   const auto& best = r.methods[1];  // Park: the cell file takes one; the report keeps both
-  write_json(a.report, {{"mode", "eye-in-hand"}, {"methods", methods}, {"camera_to_flange", transform_json(best.camera_to_flange)},
+  write_json(a.report, {{"mode", "eye-in-hand"},
+                        {"methods", methods},
+                        {"camera_to_flange", transform_json(best.camera_to_flange)},
                         {"disagreement_mm", r.disagreement_translation * 1e3},
                         {"disagreement_deg", r.disagreement_rotation * 180 / M_PI}});
   store(a, "eye-in-hand park (tsai within " + std::to_string(r.disagreement_translation * 1e3) + " mm)", nullptr,
@@ -181,9 +196,9 @@ int verify(const Args& a) {
   json holes = json::array();
   double worst = 0, ss = 0;
   for (std::size_t v = 0; v < seen.size(); ++v) {
-    const Eigen::Isometry3d cam_to_base = s.mode == "eye-in-hand"
-                                              ? Eigen::Isometry3d(*s.views[v].flange_to_base * *c.calibration.camera_to_flange)
-                                              : c.calibration.camera_to_base;
+    const Eigen::Isometry3d cam_to_base =
+        s.mode == "eye-in-hand" ? Eigen::Isometry3d(*s.views[v].flange_to_base * *c.calibration.camera_to_flange)
+                                : c.calibration.camera_to_base;
     for (const auto& h : seen[v].holes) {
       const Eigen::Vector3d predicted = cam_to_base * h.centre_camera;
       const Eigen::Vector3d target = predicted + a.above * Eigen::Vector3d::UnitZ();
@@ -191,14 +206,16 @@ int verify(const Args& a) {
       json row{{"view", v}, {"hole", id}, {"tcp_target", {target.x(), target.y(), target.z()}}};
       Eigen::Vector3d pointed = predicted;  // where the TCP points at the plate: the reached pose, down by `above`
       if (robot) {
-        const calibrate::MoveResult r = robot->move_to("verify-" + cell::utc_now_iso() + "-" + std::to_string(v) + "-" + id,
-                                                       target, Eigen::Quaterniond(0, 1, 0, 0), a.speed, 120);
+        const calibrate::MoveResult r =
+            robot->move_to("verify-" + cell::utc_now_iso() + "-" + std::to_string(v) + "-" + id, target,
+                           Eigen::Quaterniond(0, 1, 0, 0), a.speed, 120);
         if (!r.done) throw std::runtime_error("move over " + id + " of view " + std::to_string(v) + ": " + r.message);
         row["tcp_reached"] = {r.tcp.x(), r.tcp.y(), r.tcp.z()};
         pointed = r.tcp - a.above * Eigen::Vector3d::UnitZ();
       }
       if (!truth.is_null()) {
-        const auto plate = calibrate::from_row_major(truth.at("plate_to_base").at(v).get<std::vector<double>>(), "truth.json");
+        const auto plate =
+            calibrate::from_row_major(truth.at("plate_to_base").at(v).get<std::vector<double>>(), "truth.json");
         const double dist = (pointed - plate * d.holes[h.drawing_index].centre).norm();
         row["distance_mm"] = dist * 1e3;
         worst = std::max(worst, dist);
@@ -211,7 +228,8 @@ int verify(const Args& a) {
     std::printf("verify: %zu holes%s, distance to the true centres rms %.3f mm, worst %.3f mm\n", holes.size(),
                 robot ? " (TCP moved over each)" : "", std::sqrt(ss / holes.size()) * 1e3, worst * 1e3);
   else
-    std::printf("verify: %zu TCP targets %.0f mm above the predicted centres (measure each distance)\n", holes.size(), a.above * 1e3);
+    std::printf("verify: %zu TCP targets %.0f mm above the predicted centres (measure each distance)\n", holes.size(),
+                a.above * 1e3);
   json report{{"mode", "verify"}, {"moved", a.move}, {"holes", holes}};
   if (!truth.is_null()) report["rms_mm"] = std::sqrt(ss / holes.size()) * 1e3, report["worst_mm"] = worst * 1e3;
   write_json(a.report, report);
@@ -232,7 +250,9 @@ int simulate(const Args& a) {
   calibrate::Session s;
   s.mode = a.sim_mode;
   json truth{{"source", "scene renderer ground truth (camera_from_table and the plate's placement)"},
-             {"profile", a.profile}, {"seed", a.seed}, {"plate_to_base", json::array()}};
+             {"profile", a.profile},
+             {"seed", a.seed},
+             {"plate_to_base", json::array()}};
   const calibration::Drawing d = calibration::calibration_plate_drawing();
   if (a.sim_mode == "eye-to-hand") {
     const auto sim = calibration::sim::eye_to_hand(a.profile, a.views > 0 ? a.views : 3, a.tcp_noise, a.seed);
@@ -270,13 +290,15 @@ int touch(const Args& a) {
   for (const auto& h : d.holes) known |= h.id == a.hole;
   if (!known) throw std::runtime_error("--hole: '" + a.hole + "' is not a hole of the drawing (H1..H6)");
   if (a.view < 0 || a.view >= static_cast<int>(s.views.size()))
-    throw std::runtime_error("--view: " + std::to_string(a.view) + " not in the session (" + std::to_string(s.views.size()) + " views)");
+    throw std::runtime_error("--view: " + std::to_string(a.view) + " not in the session (" +
+                             std::to_string(s.views.size()) + " views)");
   calibrate::RobotMoves robot(a.lcm_url);
   const auto tcp = robot.current_tcp(5.0);
   if (!tcp) throw std::runtime_error("no HG_ROBOT_STATUS within 5 s on " + a.lcm_url);
   s.views[a.view].tcp_at_hole[a.hole] = *tcp;
   calibrate::write_session(a.session, s);
-  std::printf("touch: view %d hole %s at TCP (%.5f, %.5f, %.5f)\n", a.view, a.hole.c_str(), tcp->x(), tcp->y(), tcp->z());
+  std::printf("touch: view %d hole %s at TCP (%.5f, %.5f, %.5f)\n", a.view, a.hole.c_str(), tcp->x(), tcp->y(),
+              tcp->z());
   return 0;
 }
 
@@ -290,21 +312,36 @@ bool parse(int argc, char** argv, Args& a) {
       return argv[++i];
     };
     if (o == "--session") a.session = value();
-    else if (o == "--cell") a.cell = value();
-    else if (o == "--report") a.report = value();
-    else if (o == "--dry-run") a.dry_run = true;
-    else if (o == "--move") a.move = true;
-    else if (o == "--view") a.view = std::stoi(value());
-    else if (o == "--hole") a.hole = value();
-    else if (o == "--lcm-url") a.lcm_url = value();
-    else if (o == "--speed") a.speed = std::stod(value());
-    else if (o == "--above") a.above = std::stod(value());
-    else if (o == "--mode") a.sim_mode = value();
-    else if (o == "--profile") a.profile = value();
-    else if (o == "--views") a.views = std::stoi(value());
-    else if (o == "--seed") a.seed = std::stoull(value());
-    else if (o == "--tcp-noise") a.tcp_noise = std::stod(value());
-    else throw std::runtime_error("unknown option " + o);
+    else if (o == "--cell")
+      a.cell = value();
+    else if (o == "--report")
+      a.report = value();
+    else if (o == "--dry-run")
+      a.dry_run = true;
+    else if (o == "--move")
+      a.move = true;
+    else if (o == "--view")
+      a.view = std::stoi(value());
+    else if (o == "--hole")
+      a.hole = value();
+    else if (o == "--lcm-url")
+      a.lcm_url = value();
+    else if (o == "--speed")
+      a.speed = std::stod(value());
+    else if (o == "--above")
+      a.above = std::stod(value());
+    else if (o == "--mode")
+      a.sim_mode = value();
+    else if (o == "--profile")
+      a.profile = value();
+    else if (o == "--views")
+      a.views = std::stoi(value());
+    else if (o == "--seed")
+      a.seed = std::stoull(value());
+    else if (o == "--tcp-noise")
+      a.tcp_noise = std::stod(value());
+    else
+      throw std::runtime_error("unknown option " + o);
   }
   return !a.session.empty();
 }

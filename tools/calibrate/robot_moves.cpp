@@ -70,8 +70,6 @@ MoveResult RobotMoves::move_to(const std::string& id, const Eigen::Vector3d& p, 
   return r;
 }
 
-
-
 std::optional<Eigen::Vector3d> RobotMoves::current_tcp(double timeout_s) {
   const long seen = impl_->statuses;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);

@@ -12,8 +12,8 @@ namespace hg::calibrate {
 
 struct MoveResult {
   bool done = false;
-  std::string message;                              // the bridge's last word on the move
-  Eigen::Vector3d tcp = Eigen::Vector3d::Zero();    // HG_ROBOT_STATUS after the move
+  std::string message;                            // the bridge's last word on the move
+  Eigen::Vector3d tcp = Eigen::Vector3d::Zero();  // HG_ROBOT_STATUS after the move
 };
 
 class RobotMoves {

@@ -54,8 +54,8 @@ Session read_session(const std::string& dir) {
       if (sv.depth.empty() || sv.depth.type() != CV_16UC1) throw std::runtime_error("not a 16-bit depth PNG");
       key = at + "intrinsics";
       const json& in = v.at("intrinsics");
-      sv.intrinsics = {in.at("width").get<int>(), in.at("height").get<int>(), in.at("fx").get<double>(),
-                       in.at("fy").get<double>(),  in.at("cx").get<double>(),  in.at("cy").get<double>(),
+      sv.intrinsics = {in.at("width").get<int>(),        in.at("height").get<int>(), in.at("fx").get<double>(),
+                       in.at("fy").get<double>(),        in.at("cx").get<double>(),  in.at("cy").get<double>(),
                        in.at("depth_unit").get<double>()};
       if (v.contains("flange_to_base")) {
         key = at + "flange_to_base";
@@ -81,11 +81,18 @@ void write_session(const std::string& dir, const Session& s) {
   std::filesystem::create_directories(dir);
   json j{{"mode", s.mode}, {"views", json::array()}};
   for (const SessionView& v : s.views) {
-    if (!cv::imwrite(dir + "/" + v.depth_file, v.depth)) throw std::runtime_error(dir + "/" + v.depth_file + ": cannot write");
+    if (!cv::imwrite(dir + "/" + v.depth_file, v.depth))
+      throw std::runtime_error(dir + "/" + v.depth_file + ": cannot write");
     const auto& in = v.intrinsics;
     json jv{{"depth", v.depth_file},
-            {"intrinsics", {{"width", in.width}, {"height", in.height}, {"fx", in.fx}, {"fy", in.fy}, {"cx", in.cx},
-                            {"cy", in.cy}, {"depth_unit", in.depth_unit}}}};
+            {"intrinsics",
+             {{"width", in.width},
+              {"height", in.height},
+              {"fx", in.fx},
+              {"fy", in.fy},
+              {"cx", in.cx},
+              {"cy", in.cy},
+              {"depth_unit", in.depth_unit}}}};
     if (v.flange_to_base) jv["flange_to_base"] = to_row_major(*v.flange_to_base);
     for (const auto& [id, p] : v.tcp_at_hole) jv["tcp_at_hole"][id] = {p.x(), p.y(), p.z()};
     j["views"].push_back(jv);

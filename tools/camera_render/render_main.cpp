@@ -20,9 +20,12 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--scene" && i + 1 < argc) scene = argv[++i];
-    else if (a == "--profile" && i + 1 < argc) profile = argv[++i];
-    else if (a == "--frames" && i + 1 < argc) frames = std::atoi(argv[++i]);
-    else if (a == "--out" && i + 1 < argc) out = argv[++i];
+    else if (a == "--profile" && i + 1 < argc)
+      profile = argv[++i];
+    else if (a == "--frames" && i + 1 < argc)
+      frames = std::atoi(argv[++i]);
+    else if (a == "--out" && i + 1 < argc)
+      out = argv[++i];
     else {
       std::fprintf(a == "--help" ? stdout : stderr,
                    "usage: hg-camera-render --out DIR [--scene NAME] [--profile pm806|lsr-l] [--frames N]\n"

@@ -78,23 +78,24 @@ std::vector<hg::runtime::Param> gen_params() {
   constexpr double inf = std::numeric_limits<double>::infinity();
   Param out = text_param("output", "", "output cloud file");
   out.alias = "-o";
-  return {text_param("shape", "", "one part of the catalogue (see --list)"),
-          text_param("preset", "", "a paper-sized cloud: low-1..6, high-1..6, down-1..6"),
-          text_param("scene", "", "four different parts on one table", {"demo"}),
-          number_param("scale", "", "multiply every length of the shape", 0, inf, true),
-          number_param("pitch", "", "pixel spacing on the table, m", 0, inf, true),
-          number_param("rotate", "", "rotation of the part against the pixel grid, deg"),
-          number_param("thickness", "", "plate thickness, m", 0.006, 0.030),
-          number_param("noise", "0", "Gaussian in-plane noise sigma, m", 0),
-          number_param("depth-noise", "0", "Gaussian depth noise sigma, m", 0),
-          number_param("dropout", "0", "fraction of pixels lost at random", 0, 1),
-          flag_param("jagged", "edge pixels kept with probability equal to the pixel's covered fraction"),
-          integer_param("seed", "1", "random seed", 0),
-          text_param("format", "", "xyz | pcd | pcd-ascii (default: from OUT's extension)", {"xyz", "pcd", "pcd-ascii"}),
-          out,
-          text_param("all", "", "write every preset into this directory"),
-          flag_param("list", "list shapes and presets"),
-          flag_param("fit-presets", "fit every preset's pitch to the paper's point count")};
+  return {
+      text_param("shape", "", "one part of the catalogue (see --list)"),
+      text_param("preset", "", "a paper-sized cloud: low-1..6, high-1..6, down-1..6"),
+      text_param("scene", "", "four different parts on one table", {"demo"}),
+      number_param("scale", "", "multiply every length of the shape", 0, inf, true),
+      number_param("pitch", "", "pixel spacing on the table, m", 0, inf, true),
+      number_param("rotate", "", "rotation of the part against the pixel grid, deg"),
+      number_param("thickness", "", "plate thickness, m", 0.006, 0.030),
+      number_param("noise", "0", "Gaussian in-plane noise sigma, m", 0),
+      number_param("depth-noise", "0", "Gaussian depth noise sigma, m", 0),
+      number_param("dropout", "0", "fraction of pixels lost at random", 0, 1),
+      flag_param("jagged", "edge pixels kept with probability equal to the pixel's covered fraction"),
+      integer_param("seed", "1", "random seed", 0),
+      text_param("format", "", "xyz | pcd | pcd-ascii (default: from OUT's extension)", {"xyz", "pcd", "pcd-ascii"}),
+      out,
+      text_param("all", "", "write every preset into this directory"),
+      flag_param("list", "list shapes and presets"),
+      flag_param("fit-presets", "fit every preset's pitch to the paper's point count")};
 }
 
 Args parse(int argc, char** argv) {
@@ -154,21 +155,25 @@ void generate(const Scene& scene, const CloudOptions& o, const std::string& out,
   const Cloud cloud = synthesize(scene, o);
   const auto t1 = std::chrono::steady_clock::now();
   if (format == "xyz") write_xyz(cloud, out);
-  else write_pcd(cloud, out, format == "pcd");
+  else
+    write_pcd(cloud, out, format == "pcd");
   nlohmann::json truth = truth_json(scene, o, cloud);
   truth["cloud_file"] = std::filesystem::path(out).filename().string();
   truth["cloud_format"] = format;
   if (preset) {
-    truth["preset"] = {{"name", preset->name}, {"table", preset->table}, {"piece", preset->piece},
+    truth["preset"] = {{"name", preset->name},
+                       {"table", preset->table},
+                       {"piece", preset->piece},
                        {"paper_points", preset->paper_points}};
   }
   write_json(truth, out + ".truth.json");
   const auto t2 = std::chrono::steady_clock::now();
   const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
-  std::printf("%s: %zu points (pitch %.6g m, %d x %d grid), area %.6g m2, perimeter %.6g m; "
-              "synthesize %.1f ms, write %.1f ms\n",
-              out.c_str(), cloud.size(), o.pitch, cloud.grid.cols, cloud.grid.rows, scene.total_area(),
-              scene.total_perimeter(), ms(t1 - t0), ms(t2 - t1));
+  std::printf(
+      "%s: %zu points (pitch %.6g m, %d x %d grid), area %.6g m2, perimeter %.6g m; "
+      "synthesize %.1f ms, write %.1f ms\n",
+      out.c_str(), cloud.size(), o.pitch, cloud.grid.cols, cloud.grid.rows, scene.total_area(), scene.total_perimeter(),
+      ms(t1 - t0), ms(t2 - t1));
 }
 
 void list() {
@@ -185,8 +190,8 @@ void list() {
   std::printf("scenes:\n  demo             plate-hole-slot, l-bracket, knee-scallop, ring-flange on one table\n");
   std::printf("presets (name, paper table, piece, shape, rotation deg, pitch m, paper points):\n");
   for (const Preset& p : presets())
-    std::printf("  %-8s %-8s %d %-16s %5.1f %.8f %zu\n", p.name.c_str(), p.table.c_str(), p.piece,
-                p.shape.c_str(), p.rotation_deg, p.pitch, p.paper_points);
+    std::printf("  %-8s %-8s %d %-16s %5.1f %.8f %zu\n", p.name.c_str(), p.table.c_str(), p.piece, p.shape.c_str(),
+                p.rotation_deg, p.pitch, p.paper_points);
 }
 
 void fit_presets() {

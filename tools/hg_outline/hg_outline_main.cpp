@@ -82,7 +82,8 @@ std::vector<hg::runtime::Param> outline_params() {
   constexpr double inf = std::numeric_limits<double>::infinity();
   Param output = text_param("output", "", "write the outline JSON to FILE (default: print it on stdout)");
   output.alias = "-o";
-  return {number_param("alpha-radius", "", "triangles with circumradius > R are outside (input units); default: automatic", 0, inf, true),
+  return {number_param("alpha-radius", "",
+                       "triangles with circumradius > R are outside (input units); default: automatic", 0, inf, true),
           number_param("auto-factor", "", "the K of the automatic radius K x point spacing", 0, inf, true),
           text_param("alpha-mode", "global", "one automatic radius, or one per triangle", {"global", "local"}),
           number_param("min-hole-spacings", "", "drop holes smaller in area than (M x spacing)^2", 0),
@@ -99,7 +100,9 @@ std::vector<hg::runtime::Param> outline_params() {
 Args args_from(const hg::runtime::Params& p) {
   Args a;
   if (p.positional().size() != 1)
-    throw UsageError(p.positional().empty() ? "no input file" : "more than one input file ('" + p.positional()[0] + "', '" + p.positional()[1] + "')");
+    throw UsageError(p.positional().empty()
+                         ? "no input file"
+                         : "more than one input file ('" + p.positional()[0] + "', '" + p.positional()[1] + "')");
   a.input = p.positional()[0];
   const bool have_alpha = p.given("alpha-radius"), have_factor = p.given("auto-factor");
   if (have_alpha) a.opt.alpha_radius = p.number("alpha-radius");
@@ -137,13 +140,14 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 void print_summary(const Args& args, const hg::outline::Result& result, double ms) {
   std::size_t holes = 0;
   for (auto& l : result.loops) holes += l.hole;
-  std::printf("hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s\n",
-              args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes, holes,
-              result.holes_dropped, result.alpha_radius,
-              result.alpha_mode == hg::outline::AlphaMode::Local ? " (local, per triangle)"
-              : result.alpha_automatic                           ? " (automatic)"
-                                                                 : "",
-              ms, args.json_out.c_str());
+  std::printf(
+      "hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s\n",
+      args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes,
+      holes, result.holes_dropped, result.alpha_radius,
+      result.alpha_mode == hg::outline::AlphaMode::Local ? " (local, per triangle)"
+      : result.alpha_automatic                           ? " (automatic)"
+                                                         : "",
+      ms, args.json_out.c_str());
 }
 
 }  // namespace
@@ -175,7 +179,8 @@ int main(int argc, char** argv) {
     cloud = io::Cloud{};  // the 3-D copy is no longer needed: give its memory back before triangulating
     info.project_ms = ms_since(t1);
 
-    args.opt.keep_triangles = !args.tri_out.empty() || (args.draw_triangles && (!args.svg_out.empty() || !args.png_out.empty()));
+    args.opt.keep_triangles =
+        !args.tri_out.empty() || (args.draw_triangles && (!args.svg_out.empty() || !args.png_out.empty()));
     hg::outline::Result result;
     try {
       // Without pictures the points are not needed afterwards: the core takes them over and frees them
@@ -190,7 +195,8 @@ int main(int argc, char** argv) {
 
     // Everything is produced before anything is renamed into place.
     io::StagedFiles files;
-    const std::string json = io::outline_json(result, planar, info).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+    const std::string json =
+        io::outline_json(result, planar, info).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
     if (!args.json_out.empty()) files.stage(args.json_out, json);
     if (!args.tri_out.empty()) files.stage(args.tri_out, io::triangles_text(result));
     if (!args.svg_out.empty()) files.stage(args.svg_out, io::render_svg(planar.points, result, args.draw_triangles));
@@ -201,7 +207,8 @@ int main(int argc, char** argv) {
     files.commit();
 
     if (args.json_out.empty()) std::fwrite(json.data(), 1, json.size(), stdout);
-    else print_summary(args, result, info.project_ms + result.time.total_ms);
+    else
+      print_summary(args, result, info.project_ms + result.time.total_ms);
     if (std::fflush(stdout) != 0) {
       std::fprintf(stderr, "hg-outline: error: writing to stdout failed\n");
       return 1;

@@ -111,14 +111,22 @@ int parse_args(int argc, char** argv, DumpArgs& a) {
       if (o == "--help" || o == "-h") {
         std::fputs(kUsage, stdout);
         return 0;
-      } else if (o == "--lcm-url") a.url = args.value();
-      else if (o == "--channels") a.channels = args.value();
-      else if (o == "--type") a.type_name = args.value();
-      else if (o == "--count") a.count = args.integer(0, 1LL << 62);
-      else if (o == "--timeout") a.timeout = args.number(0, 1e9);
-      else if (o == "--full") a.opt.full = args.flag();
-      else if (o == "--summary") a.summary = args.flag();
-      else throw UsageError("unknown option '" + o + "' (see --help)");
+      } else if (o == "--lcm-url")
+        a.url = args.value();
+      else if (o == "--channels")
+        a.channels = args.value();
+      else if (o == "--type")
+        a.type_name = args.value();
+      else if (o == "--count")
+        a.count = args.integer(0, 1LL << 62);
+      else if (o == "--timeout")
+        a.timeout = args.number(0, 1e9);
+      else if (o == "--full")
+        a.opt.full = args.flag();
+      else if (o == "--summary")
+        a.summary = args.flag();
+      else
+        throw UsageError("unknown option '" + o + "' (see --help)");
     }
   } catch (const UsageError& e) {
     std::fprintf(stderr, "hg-lcm-dump: %s\n", e.what());
@@ -131,7 +139,8 @@ int parse_args(int argc, char** argv, DumpArgs& a) {
 // timeout came before the count, else 0.
 int receive(lcm::LCM& lcm, const Dump& dump, long long count, double timeout) {
   using clock = std::chrono::steady_clock;
-  const auto deadline = clock::now() + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(timeout));
+  const auto deadline =
+      clock::now() + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(timeout));
   while (!g_stop && !dump.output_closed && !(count >= 0 && dump.printed >= count)) {
     int wait_ms = 100;  // short, so a signal is noticed quickly
     if (timeout >= 0) {
@@ -152,8 +161,8 @@ void print_summary(const Dump& dump) {
   for (const auto& [channel, st] : dump.stats) {
     std::string types;
     for (const auto& [t, n] : st.types) types += " " + t + "=" + std::to_string(n);
-    std::fprintf(stderr, "hg-lcm-dump: summary %s decoded %lld errors %lld%s\n", channel.c_str(), st.decoded,
-                 st.errors, types.c_str());
+    std::fprintf(stderr, "hg-lcm-dump: summary %s decoded %lld errors %lld%s\n", channel.c_str(), st.decoded, st.errors,
+                 types.c_str());
     decoded += st.decoded;
     errors += st.errors;
   }

@@ -60,8 +60,8 @@ struct Pacer {
     auto due = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                            std::chrono::duration<double>(static_cast<double>(n++) / rate));
     while (!g_stop && std::chrono::steady_clock::now() < due)
-      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(
-          due - std::chrono::steady_clock::now(), std::chrono::milliseconds(100)));
+      std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(due - std::chrono::steady_clock::now(),
+                                                                                std::chrono::milliseconds(100)));
   }
 };
 
@@ -89,28 +89,44 @@ int cmd_job(lcm::LCM& lcm, Args& args) {
   while (!args.done()) {
     std::string a = args.next();
     if (a == "--job-id") m.job_id = args.value(), have_id = true;
-    else if (a == "--part-id") m.part_id = args.value();
+    else if (a == "--part-id")
+      m.part_id = args.value();
     else if (a == "--action") {
       std::string v = args.value();
       if (v == "start") m.action = hullgrind::job_request_t::ACTION_START;
-      else if (v == "abort") m.action = hullgrind::job_request_t::ACTION_ABORT;
-      else if (v == "reset") m.action = hullgrind::job_request_t::ACTION_RESET;
-      else throw UsageError("--action: '" + v + "' is not start, abort or reset");
-    } else if (a == "--tool-radius") m.tool_radius = args.number(0, 1);
-    else if (a == "--chamfer-angle") m.chamfer_angle = args.number(-1.6, 1.6);
-    else if (a == "--grind-speed") m.grind_speed = args.number(0, 10);
-    else if (a == "--travel-speed") m.travel_speed = args.number(0, 10);
-    else if (a == "--step") m.step = args.number(0, 1);
-    else if (a == "--safe-height") m.safe_height = args.number(0, 2);
+      else if (v == "abort")
+        m.action = hullgrind::job_request_t::ACTION_ABORT;
+      else if (v == "reset")
+        m.action = hullgrind::job_request_t::ACTION_RESET;
+      else
+        throw UsageError("--action: '" + v + "' is not start, abort or reset");
+    } else if (a == "--tool-radius")
+      m.tool_radius = args.number(0, 1);
+    else if (a == "--chamfer-angle")
+      m.chamfer_angle = args.number(-1.6, 1.6);
+    else if (a == "--grind-speed")
+      m.grind_speed = args.number(0, 10);
+    else if (a == "--travel-speed")
+      m.travel_speed = args.number(0, 10);
+    else if (a == "--step")
+      m.step = args.number(0, 1);
+    else if (a == "--safe-height")
+      m.safe_height = args.number(0, 2);
     else if (a == "--direction") {
       std::string v = args.value();
       if (v == "climb") m.direction = hullgrind::job_request_t::DIRECTION_CLIMB;
-      else if (v == "conventional") m.direction = hullgrind::job_request_t::DIRECTION_CONVENTIONAL;
-      else throw UsageError("--direction: '" + v + "' is not climb or conventional");
-    } else if (a == "--flipped") m.flipped = args.flag();
-    else if (a == "--seq") m.header.seq = args.integer(0, INT64_MAX);
-    else if (a == "--channel") channel = args.value();
-    else throw UsageError("job: unknown option '" + a + "'");
+      else if (v == "conventional")
+        m.direction = hullgrind::job_request_t::DIRECTION_CONVENTIONAL;
+      else
+        throw UsageError("--direction: '" + v + "' is not climb or conventional");
+    } else if (a == "--flipped")
+      m.flipped = args.flag();
+    else if (a == "--seq")
+      m.header.seq = args.integer(0, INT64_MAX);
+    else if (a == "--channel")
+      channel = args.value();
+    else
+      throw UsageError("job: unknown option '" + a + "'");
   }
   if (!have_id || m.job_id.empty()) throw UsageError("job: --job-id is required");
   m.header.utime = now_utime();
@@ -132,10 +148,14 @@ int cmd_heartbeat(lcm::LCM& lcm, Args& args) {
   while (!args.done()) {
     std::string a = args.next();
     if (a == "--process") m.process = args.value();
-    else if (a == "--pid") m.pid = static_cast<int32_t>(args.integer(0, INT32_MAX));
-    else if (a == "--rate") rate = args.number(0.01, 1000);
-    else if (a == "--state-text") m.state_text = args.value();
-    else throw UsageError("heartbeat: unknown option '" + a + "'");
+    else if (a == "--pid")
+      m.pid = static_cast<int32_t>(args.integer(0, INT32_MAX));
+    else if (a == "--rate")
+      rate = args.number(0.01, 1000);
+    else if (a == "--state-text")
+      m.state_text = args.value();
+    else
+      throw UsageError("heartbeat: unknown option '" + a + "'");
   }
   if (m.process.empty()) throw UsageError("heartbeat: --process is required");
   if (m.pid == 0) m.pid = static_cast<int32_t>(getppid());
@@ -176,11 +196,16 @@ int cmd_sample(lcm::LCM& lcm, const Schema& schema, Args& args) {
   while (!args.done()) {
     std::string a = args.next();
     if (a == "--type") type_list = args.value();
-    else if (a == "--count") count = args.integer(0, 1LL << 40);
-    else if (a == "--rate") rate = args.number(0, 1e6);
-    else if (a == "--start-seq") start_seq = args.integer(0, 1LL << 40);
-    else if (a == "--channel") channel = args.value();
-    else throw UsageError("sample: unknown option '" + a + "'");
+    else if (a == "--count")
+      count = args.integer(0, 1LL << 40);
+    else if (a == "--rate")
+      rate = args.number(0, 1e6);
+    else if (a == "--start-seq")
+      start_seq = args.integer(0, 1LL << 40);
+    else if (a == "--channel")
+      channel = args.value();
+    else
+      throw UsageError("sample: unknown option '" + a + "'");
   }
   if (type_list.empty()) throw UsageError("sample: --type is required");
   std::vector<const Struct*> types = parse_types(schema, type_list);
@@ -218,7 +243,8 @@ std::vector<uint8_t> garbage_message(const Schema& schema, long long i, std::mt1
       valid.resize(std::uniform_int_distribution<std::size_t>(0, valid.size() - 1)(rng));
       return valid;
     case 2:  // trailing bytes
-      for (int k = std::uniform_int_distribution<int>(1, 16)(rng); k > 0; --k) valid.push_back(static_cast<uint8_t>(rng()));
+      for (int k = std::uniform_int_distribution<int>(1, 16)(rng); k > 0; --k)
+        valid.push_back(static_cast<uint8_t>(rng()));
       return valid;
     default: {  // header.frame_id length lies (fingerprint 8 + seq 8 + utime 8 = byte 24): huge, negative, zero
       static const uint32_t lies[] = {0x7fffffffu, 0xffffffffu, 0u};
@@ -237,10 +263,14 @@ int cmd_garbage(lcm::LCM& lcm, const Schema& schema, Args& args) {
   while (!args.done()) {
     std::string a = args.next();
     if (a == "--channel") channel = args.value();
-    else if (a == "--count") count = args.integer(0, 1LL << 40);
-    else if (a == "--rate") rate = args.number(0, 1e6);
-    else if (a == "--seed") seed = static_cast<uint64_t>(args.integer(0, INT64_MAX));
-    else throw UsageError("garbage: unknown option '" + a + "'");
+    else if (a == "--count")
+      count = args.integer(0, 1LL << 40);
+    else if (a == "--rate")
+      rate = args.number(0, 1e6);
+    else if (a == "--seed")
+      seed = static_cast<uint64_t>(args.integer(0, INT64_MAX));
+    else
+      throw UsageError("garbage: unknown option '" + a + "'");
   }
   if (channel.empty()) throw UsageError("garbage: --channel is required");
   for (const Struct* t : message_types(schema))
@@ -263,9 +293,12 @@ int cmd_json(lcm::LCM& lcm, const Schema& schema, Args& args) {
   while (!args.done()) {
     std::string a = args.next();
     if (a == "--type") type = args.value();
-    else if (a == "--channel") channel = args.value();
-    else if (a.rfind("--", 0) != 0 && text.empty()) text = a;
-    else throw UsageError("json: unexpected argument '" + a + "'");
+    else if (a == "--channel")
+      channel = args.value();
+    else if (a.rfind("--", 0) != 0 && text.empty())
+      text = a;
+    else
+      throw UsageError("json: unexpected argument '" + a + "'");
   }
   if (type.empty() || channel.empty() || text.empty()) throw UsageError("json: needs --type, --channel and JSON");
   const Struct* t = schema.find(type);

@@ -70,10 +70,14 @@ bool is_integer(Kind k) { return k == Kind::Int8 || k == Kind::Int16 || k == Kin
 
 std::size_t fixed_size(Kind k) {
   switch (k) {
-    case Kind::Int8: case Kind::Boolean: case Kind::Byte: return 1;
+    case Kind::Int8:
+    case Kind::Boolean:
+    case Kind::Byte: return 1;
     case Kind::Int16: return 2;
-    case Kind::Int32: case Kind::Float: return 4;
-    case Kind::Int64: case Kind::Double: return 8;
+    case Kind::Int32:
+    case Kind::Float: return 4;
+    case Kind::Int64:
+    case Kind::Double: return 8;
     default: return 0;  // variable: string, struct
   }
 }
@@ -176,8 +180,7 @@ class Parser {
         } else {
           d.variable = true;
           d.var = size;
-          auto it = std::find_if(s.members.begin(), s.members.end(),
-                                 [&](const Member& o) { return o.name == size; });
+          auto it = std::find_if(s.members.begin(), s.members.end(), [&](const Member& o) { return o.name == size; });
           if (it == s.members.end() || !is_integer(it->kind) || !it->dims.empty())
             fail("array size '" + size + "' of '" + m.name + "' is not an earlier integer member");
         }
@@ -249,7 +252,8 @@ void Schema::add(std::string_view text, const std::string& source_name) {
 void Schema::finish() {
   std::set<std::string> names;
   for (const Struct& s : structs_)
-    if (!names.insert(s.full_name()).second) throw SchemaError(s.source + ": struct " + s.full_name() + " defined twice");
+    if (!names.insert(s.full_name()).second)
+      throw SchemaError(s.source + ": struct " + s.full_name() + " defined twice");
   for (const Struct& s : structs_)
     for (const Member& m : s.members)
       if (m.kind == Kind::Struct && !find(m.type_name))
@@ -372,7 +376,7 @@ struct Decoder {
   }
 
   Json array(const Member& m, const std::vector<int64_t>& lens, std::size_t level, const std::string& path,
-                       bool build) {
+             bool build) {
     if (level == lens.size()) return element(m, path, build);
     std::size_t n = static_cast<std::size_t>(lens[level]);
     std::size_t fixed = m.kind == Kind::Struct || m.kind == Kind::String ? 0 : fixed_size(m.kind);
@@ -420,8 +424,8 @@ struct Decoder {
       long double left = static_cast<long double>(r.size - r.pos);
       if (total * static_cast<long double>(ms) > left || (ms == 0 && total > (1 << 20)))
         throw DecodeError("array '" + mpath + "' of " + std::to_string(static_cast<long long>(total)) +
-                          " elements does not fit in the " + std::to_string(r.size - r.pos) +
-                          " bytes left at byte " + std::to_string(r.pos));
+                          " elements does not fit in the " + std::to_string(r.size - r.pos) + " bytes left at byte " +
+                          std::to_string(r.pos));
       Json v = array(m, lens, 0, mpath, build);
       if (build) obj[m.name] = std::move(v);
     }
@@ -432,7 +436,7 @@ struct Decoder {
 }  // namespace
 
 Json Schema::decode(const Struct& s, const uint8_t* data, std::size_t size, std::size_t& consumed,
-                              const DecodeOptions& opt) const {
+                    const DecodeOptions& opt) const {
   Decoder dec{*this, opt, Reader{data, size, 0}, {}};
   dec.r.need(8, "fingerprint");
   int64_t fp = static_cast<int64_t>(dec.r.be(8));

@@ -19,7 +19,7 @@
 namespace hg::lcmtools {
 // Objects keep the schema's field order, so printed messages read like the .lcm file.
 using Json = nlohmann::ordered_json;
-}
+}  // namespace hg::lcmtools
 
 namespace hg::lcmtools {
 
@@ -84,7 +84,7 @@ class Schema {
   // Decodes a whole message (fingerprint + body) of type s. Returns the fields; `consumed` gets the bytes
   // used. Throws DecodeError naming the field and byte offset.
   Json decode(const Struct& s, const uint8_t* data, std::size_t size, std::size_t& consumed,
-                        const DecodeOptions& opt) const;
+              const DecodeOptions& opt) const;
   // Encodes a full JSON value of s (as decode with full=true prints it) into a message with fingerprint.
   std::vector<uint8_t> encode(const Struct& s, const Json& value) const;
 

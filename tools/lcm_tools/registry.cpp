@@ -7,10 +7,10 @@
 namespace hg::lcmtools {
 
 const std::vector<GeneratedType>& generated_types() {
-#define HG_GENERATED_ENTRY(T)                                        \
+#define HG_GENERATED_ENTRY(T)                                                              \
   GeneratedType{"hullgrind." #T, hullgrind::T::getHash(), [](const void* data, int size) { \
-                  hullgrind::T m;                                    \
-                  return m.decode(data, 0, size);                    \
+                  hullgrind::T m;                                                          \
+                  return m.decode(data, 0, size);                                          \
                 }},
   static const std::vector<GeneratedType> types = {HG_LCM_FOR_EACH_TYPE(HG_GENERATED_ENTRY)};
 #undef HG_GENERATED_ENTRY
@@ -51,8 +51,8 @@ Decoded decode_message(const Schema& schema, const uint8_t* data, std::size_t si
     std::size_t used = 0;
     out.msg = schema.decode(*s, data, size, used, opt);
     if (used != size) {
-      out.error = gen->full_name + ": " + std::to_string(size - used) + " trailing bytes after byte " +
-                  std::to_string(used);
+      out.error =
+          gen->full_name + ": " + std::to_string(size - used) + " trailing bytes after byte " + std::to_string(used);
       return out;
     }
   } catch (const DecodeError& e) {

@@ -27,7 +27,7 @@ void check_schema_matches_generated(const Schema& schema);
 struct Decoded {
   const Struct* type = nullptr;  // null when decoding failed
   Json msg;
-  std::string error;             // why, when type is null
+  std::string error;  // why, when type is null
 };
 
 // Never throws on bad bytes: unknown fingerprint, truncation, lying lengths and trailing bytes come back

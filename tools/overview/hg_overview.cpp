@@ -51,9 +51,27 @@ void take_planner_args(int argc, char** argv, int first, std::string& config, st
     const bool has_value = i + 1 < argc && std::string(argv[i + 1]).rfind("--", 0) != 0;
     const std::string value = has_value ? argv[i + 1] : "true";
     if (a == "--config") config = value;
-    else if (is_planner_param(a.substr(2))) cli[a.substr(2)] = value;
+    else if (is_planner_param(a.substr(2)))
+      cli[a.substr(2)] = value;
     if (has_value) ++i;
   }
+}
+
+// What the run did, as lines for a person: final state, sizes of cloud, outline and path, stage times.
+void print_summary(const hg::overview::JobTrace& job, const nlohmann::ordered_json& summary,
+                   const std::string& out_dir) {
+  std::printf("job %s: %s%s%s\n", job.job_id.c_str(), summary["final_state"].get<std::string>().c_str(),
+              job.final_status && !job.final_status->msg.message.empty() ? " - " : "",
+              job.final_status ? job.final_status->msg.message.c_str() : "");
+  if (summary.contains("cloud_points")) std::printf("  plate cloud   %d points\n", summary["cloud_points"].get<int>());
+  if (summary.contains("outline_loops"))
+    std::printf("  outline       %d loops (%d holes)\n", summary["outline_loops"].get<int>(),
+                summary["outline_holes"].get<int>());
+  if (summary.contains("path_waypoints"))
+    std::printf("  grind path    %d waypoints\n", summary["path_waypoints"].get<int>());
+  for (auto& [k, v] : summary["stages"].items()) std::printf("  %-22s %9.1f ms\n", k.c_str(), v.get<double>());
+  std::printf("wrote %s/{%s%soverview.png, summary.json}\n", out_dir.c_str(), job.outline ? "outline.json, " : "",
+              job.path ? "path.json, " : "");
 }
 
 }  // namespace
@@ -74,17 +92,22 @@ int main(int argc, char** argv) {
     if (a == "-h" || a == "--help") {
       std::fputs(kUsage, stdout);
       return 0;
-    } else if (a == "--out") out_dir = value();
-    else if (a == "--job-id") job_id = value();
-    else if (a == "--planner-config") planner_config = value();
+    } else if (a == "--out")
+      out_dir = value();
+    else if (a == "--job-id")
+      job_id = value();
+    else if (a == "--planner-config")
+      planner_config = value();
     else if (a == "--planner-args") {
       take_planner_args(argc, argv, i + 1, planner_config, planner_cli);
       break;
-    } else if (a.rfind("--", 0) == 0 && is_planner_param(a.substr(2))) planner_cli[a.substr(2)] = value();
+    } else if (a.rfind("--", 0) == 0 && is_planner_param(a.substr(2)))
+      planner_cli[a.substr(2)] = value();
     else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "hg-overview: unknown option %s\n%s", a.c_str(), kUsage);
       return 2;
-    } else log_path = a;
+    } else
+      log_path = a;
   }
   if (log_path.empty() || out_dir.empty()) {
     std::fputs(kUsage, stderr);
@@ -121,18 +144,7 @@ int main(int argc, char** argv) {
     files.stage(out_dir + "/summary.json", summary.dump(1) + "\n");
     files.commit();
 
-    std::printf("job %s: %s%s%s\n", job.job_id.c_str(), summary["final_state"].get<std::string>().c_str(),
-                job.final_status && !job.final_status->msg.message.empty() ? " - " : "",
-                job.final_status ? job.final_status->msg.message.c_str() : "");
-    if (summary.contains("cloud_points"))
-      std::printf("  plate cloud   %d points\n", summary["cloud_points"].get<int>());
-    if (summary.contains("outline_loops"))
-      std::printf("  outline       %d loops (%d holes)\n", summary["outline_loops"].get<int>(), summary["outline_holes"].get<int>());
-    if (summary.contains("path_waypoints"))
-      std::printf("  grind path    %d waypoints\n", summary["path_waypoints"].get<int>());
-    for (auto& [k, v] : summary["stages"].items()) std::printf("  %-22s %9.1f ms\n", k.c_str(), v.get<double>());
-    std::printf("wrote %s/{%s%soverview.png, summary.json}\n", out_dir.c_str(), job.outline ? "outline.json, " : "",
-                job.path ? "path.json, " : "");
+    print_summary(job, summary, out_dir);
     return summary["final_state"] == "DONE" ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hg-overview: %s\n", e.what());

@@ -44,7 +44,8 @@ Json summary_json(const JobTrace& job) {
   if (job.outline && job.path && job.request)
     stages["plan_ms"] = ms(std::max(job.outline->log_utime, job.request->log_utime), job.path->log_utime);
   if (job.path && job.final_status) stages["robot_run_ms"] = ms(job.path->log_utime, job.final_status->log_utime);
-  if (job.request && job.final_status) stages["request_to_end_ms"] = ms(job.request->log_utime, job.final_status->log_utime);
+  if (job.request && job.final_status)
+    stages["request_to_end_ms"] = ms(job.request->log_utime, job.final_status->log_utime);
   j["stages"] = std::move(stages);
   if (job.cloud) j["cloud_points"] = job.cloud->msg.n;
   if (job.outline) {
@@ -57,7 +58,9 @@ Json summary_json(const JobTrace& job) {
   Json states = Json::array();
   for (const auto& s : job.statuses)
     states.push_back({{"t_ms", job.request ? ms(job.request->log_utime, s.log_utime) : 0.0},
-                      {"source", s.msg.source}, {"state", state_name(s.msg.state)}, {"progress", s.msg.progress},
+                      {"source", s.msg.source},
+                      {"state", state_name(s.msg.state)},
+                      {"progress", s.msg.progress},
                       {"message", s.msg.message}});
   j["statuses"] = std::move(states);
   return j;
@@ -159,15 +162,18 @@ std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std
                                  int holes, const std::string& base_frame, bool coverage, double unreached_mm) {
   const Json s = summary_json(job);
   std::vector<std::string> lines;
-  std::string outcome = "job " + job.job_id + ": " + s["final_state"].get<std::string>() +
-                        (job.final_status && !job.final_status->msg.message.empty() ? " (" + job.final_status->msg.message + ")" : "");
+  std::string outcome =
+      "job " + job.job_id + ": " + s["final_state"].get<std::string>() +
+      (job.final_status && !job.final_status->msg.message.empty() ? " (" + job.final_status->msg.message + ")" : "");
   if (outcome.size() > 125) outcome = outcome.substr(0, 122) + "...";
   lines.push_back(outcome);
   char buf[256];
-  std::snprintf(buf, sizeof buf, "cloud %zu points; outline %d outer + %d holes (blue, red), R = %.2f mm; path %zu waypoints",
+  std::snprintf(buf, sizeof buf,
+                "cloud %zu points; outline %d outer + %d holes (blue, red), R = %.2f mm; path %zu waypoints",
                 cloud_points, outers, holes, job.outline ? job.outline->msg.alpha_radius * 1e3 : 0.0, path.uv.size());
   lines.push_back(buf);
-  const std::string camera = job.outline && !job.outline->msg.header.frame_id.empty() ? job.outline->msg.header.frame_id : "camera";
+  const std::string camera =
+      job.outline && !job.outline->msg.header.frame_id.empty() ? job.outline->msg.header.frame_id : "camera";
   lines.push_back("view: the plate plane (u right, v up) of frame '" + camera + "'; path from frame '" + base_frame +
                   "' through the camera-to-base calibration");
   if (path.grind_height_median() > kOffPlaneWarning) {
@@ -178,7 +184,8 @@ std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std
   lines.push_back("path: grind (green), lead-in/out (cyan), approach/retract/travel (orange); circle: start" +
                   std::string(coverage ? "; edge out of the tool's reach (magenta)" : ""));
   if (unreached_mm > 0) {
-    std::snprintf(buf, sizeof buf, "edge out of the tool's reach: about %.1f mm (the planner's coverage check)", unreached_mm);
+    std::snprintf(buf, sizeof buf, "edge out of the tool's reach: about %.1f mm (the planner's coverage check)",
+                  unreached_mm);
     lines.push_back(buf);
   }
   std::string t = "stages:";
@@ -201,7 +208,8 @@ std::vector<std::vector<Eigen::Vector3d>> unreached_stretches(const JobTrace& jo
   std::vector<pp::Waypoint> path;
   for (std::size_t i = 0; i < g.position.size() && i < g.kind.size(); ++i)
     path.push_back({Eigen::Vector3d(g.position[i].data()), Eigen::Quaterniond::Identity(), 0, g.kind[i], -1});
-  const pp::PathCoverage pc = pp::path_coverage(pp::from_lcm(job.outline->msg), path, g.tool_radius, g.flipped, planner);
+  const pp::PathCoverage pc =
+      pp::path_coverage(pp::from_lcm(job.outline->msg), path, g.tool_radius, g.flipped, planner);
   for (const pp::LoopCoverage& l : pc.loops)
     for (const pp::UnreachedStretch& s : l.unreached) {
       std::vector<Eigen::Vector3d> pts;
@@ -243,7 +251,8 @@ std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isomet
                        : (k == hullgrind::grind_path_t::KIND_LEAD_IN || k == hullgrind::grind_path_t::KIND_LEAD_OUT)
                            ? cv::Scalar(200, 160, 0)
                            : cv::Scalar(0, 140, 255);
-    cv::line(img, c.px(path.uv[i - 1]), c.px(path.uv[i]), color, k == hullgrind::grind_path_t::KIND_GRIND ? 2 : 1, cv::LINE_AA);
+    cv::line(img, c.px(path.uv[i - 1]), c.px(path.uv[i]), color, k == hullgrind::grind_path_t::KIND_GRIND ? 2 : 1,
+             cv::LINE_AA);
   }
   if (!path.uv.empty()) cv::circle(img, c.px(path.uv.front()), 7, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
   const double unreached_mm = planner ? draw_unreached(img, c, job, camera_to_base, *planner) : 0;

@@ -35,10 +35,14 @@ RunLog read_run_log(const std::string& path) {
     ++log.events;
     bool ok = true;
     if (e->channel == "HG_PLATE_CLOUD") ok = decode(e, log.clouds);
-    else if (e->channel == "HG_OUTLINE") ok = decode(e, log.outlines);
-    else if (e->channel == "HG_GRIND_PATH") ok = decode(e, log.paths);
-    else if (e->channel == "HG_JOB_REQUEST") ok = decode(e, log.requests);
-    else if (e->channel == "HG_JOB_STATUS") ok = decode(e, log.statuses);
+    else if (e->channel == "HG_OUTLINE")
+      ok = decode(e, log.outlines);
+    else if (e->channel == "HG_GRIND_PATH")
+      ok = decode(e, log.paths);
+    else if (e->channel == "HG_JOB_REQUEST")
+      ok = decode(e, log.requests);
+    else if (e->channel == "HG_JOB_STATUS")
+      ok = decode(e, log.statuses);
     if (!ok) ++log.undecodable;
   }
   return log;

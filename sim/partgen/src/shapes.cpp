@@ -169,7 +169,8 @@ constexpr Entry kFixtures[] = {{"calibration-plate", calibration_plate}};
 
 std::vector<CalibrationHole> calibration_plate_holes(double s) {
   // The drawing of docs/calibration.md, mm: no two diameters closer than 10, no symmetry of the pattern.
-  const double holes[6][3] = {{50, 50, 30}, {370, 50, 40}, {370, 250, 50}, {250, 110, 60}, {260, 230, 70}, {110, 190, 80}};
+  const double holes[6][3] = {{50, 50, 30},   {370, 50, 40},  {370, 250, 50},
+                              {250, 110, 60}, {260, 230, 70}, {110, 190, 80}};
   std::vector<CalibrationHole> out;
   for (int k = 0; k < 6; ++k) {
     std::string id = "H";
@@ -335,8 +336,8 @@ Scene single_part_scene(const Shape& shape, double rotation_rad) {
 Scene demo_scene(double scale) {
   Scene scene;
   const double s = scale;
-  scene.add_part(make_shape("plate-hole-slot", s), pose_about_centre(make_shape("plate-hole-slot", s),
-                                                                      0.05, Vec2(-0.33, 0.22) * s));
+  scene.add_part(make_shape("plate-hole-slot", s),
+                 pose_about_centre(make_shape("plate-hole-slot", s), 0.05, Vec2(-0.33, 0.22) * s));
   const Shape l = make_shape("l-bracket", s);
   scene.add_part(l, pose_about_centre(l, -0.12, Vec2(0.30, 0.24) * s));
   const Shape k = make_shape("knee-scallop", s);

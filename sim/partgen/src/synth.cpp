@@ -181,8 +181,7 @@ Cloud synthesize(const Scene& scene, const CloudOptions& o) {
     if (!o.jagged) {
       raster.spans(yc, spans);
       for (const Span& s : spans)
-        for (int col = first_col_at_or_after(g, s.x0); col < g.cols && g.x(col) < s.x1; ++col)
-          emit(row, col, s.part);
+        for (int col = first_col_at_or_after(g, s.x0); col < g.cols && g.x(col) < s.x1; ++col) emit(row, col, s.part);
       continue;
     }
     // Jagged edges: coverage of each pixel square, exact along x and sampled on sub-lines along y.
@@ -213,8 +212,7 @@ Cloud synthesize(const Scene& scene, const CloudOptions& o) {
       if (c >= 1.0 || jag_rng.uniform() < c) emit(row, col, coverage_part[col]);
     }
   }
-  cloud.expected_points =
-      (o.jagged ? coverage_sum : static_cast<double>(cloud.candidates)) * (1.0 - o.dropout);
+  cloud.expected_points = (o.jagged ? coverage_sum : static_cast<double>(cloud.candidates)) * (1.0 - o.dropout);
   return cloud;
 }
 

@@ -52,9 +52,7 @@ class AtomicFile {
   std::FILE* f_ = nullptr;
 };
 
-char* put_fixed(char* p, char* end, double v) {
-  return std::to_chars(p, end, v, std::chars_format::fixed, 7).ptr;
-}
+char* put_fixed(char* p, char* end, double v) { return std::to_chars(p, end, v, std::chars_format::fixed, 7).ptr; }
 
 nlohmann::json ring_json(const Ring& r) {
   nlohmann::json a = nlohmann::json::array();
@@ -90,9 +88,10 @@ void write_xyz(const Cloud& cloud, const std::string& path) {
 void write_pcd(const Cloud& cloud, const std::string& path, bool binary) {
   AtomicFile f(path);
   const std::string n = std::to_string(cloud.size());
-  f.write("# .PCD v0.7 - Point Cloud Data file format (hg-gen)\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\n"
-          "TYPE F F F\nCOUNT 1 1 1\nWIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n +
-          "\nDATA " + (binary ? "binary" : "ascii") + "\n");
+  f.write(
+      "# .PCD v0.7 - Point Cloud Data file format (hg-gen)\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\n"
+      "TYPE F F F\nCOUNT 1 1 1\nWIDTH " +
+      n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA " + (binary ? "binary" : "ascii") + "\n");
   if (binary) {
     static_assert(sizeof(float) == 4);
     std::vector<unsigned char> bytes(cloud.xyz.size() * 4);
@@ -132,7 +131,9 @@ nlohmann::json truth_json(const Scene& scene, const CloudOptions& o, const Cloud
         {"description", p.shape.description},
         {"scale", p.shape.scale},
         {"thickness", p.shape.thickness},
-        {"pose", {{"rotation_deg", p.pose.theta * 180.0 / M_PI}, {"translation", {p.pose.translation.x(), p.pose.translation.y()}}}},
+        {"pose",
+         {{"rotation_deg", p.pose.theta * 180.0 / M_PI},
+          {"translation", {p.pose.translation.x(), p.pose.translation.y()}}}},
         {"area", p.shape.exact_area},
         {"perimeter", p.shape.exact_perimeter},
         {"polygon_area", polygon_area(p.placed)},
@@ -147,17 +148,28 @@ nlohmann::json truth_json(const Scene& scene, const CloudOptions& o, const Cloud
       {"generator", "hg-gen"},
       {"format_version", 1},
       {"units", "metres"},
-      {"frame", "table frame: x right, y up (the top of the image is +y), z up towards the camera; "
-                "outer rings counter-clockwise, holes clockwise, rings open (last vertex not repeated)"},
+      {"frame",
+       "table frame: x right, y up (the top of the image is +y), z up towards the camera; "
+       "outer rings counter-clockwise, holes clockwise, rings open (last vertex not repeated)"},
       {"chord_tolerance", kChordTolerance},
       {"parts", parts},
       {"area", scene.total_area()},
       {"perimeter", scene.total_perimeter()},
-      {"grid", {{"pitch", g.pitch}, {"origin", {g.origin_x, g.origin_y}}, {"rows", g.rows}, {"cols", g.cols},
-                {"order", "scan-line: rows from the top (largest y) down, columns left to right; "
-                          "pixel (row, col) centre = (origin_x + col*pitch, origin_y - row*pitch)"}}},
-      {"noise", {{"in_plane_sigma", o.in_plane_sigma}, {"depth_sigma", o.depth_sigma}, {"dropout", o.dropout},
-                 {"jagged", o.jagged}, {"coverage_subrows", o.coverage_subrows}, {"seed", o.seed}}},
+      {"grid",
+       {{"pitch", g.pitch},
+        {"origin", {g.origin_x, g.origin_y}},
+        {"rows", g.rows},
+        {"cols", g.cols},
+        {"order",
+         "scan-line: rows from the top (largest y) down, columns left to right; "
+         "pixel (row, col) centre = (origin_x + col*pitch, origin_y - row*pitch)"}}},
+      {"noise",
+       {{"in_plane_sigma", o.in_plane_sigma},
+        {"depth_sigma", o.depth_sigma},
+        {"dropout", o.dropout},
+        {"jagged", o.jagged},
+        {"coverage_subrows", o.coverage_subrows},
+        {"seed", o.seed}}},
       {"points", cloud.size()},
       {"pixels_on_part", cloud.candidates},
       {"expected_points", cloud.expected_points},

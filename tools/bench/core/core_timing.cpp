@@ -33,8 +33,9 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   if (hg::runtime::answer_version(argc, argv, "hg-core-timing")) return 0;
-  const char* usage = "usage: hg-core-timing FILE [--runs N] [--only CONFIG] [--mode M]\n"
-                      "Times the outline core's stages on a point-cloud file per insertion order (docs/BENCHMARKS.md).\n";
+  const char* usage =
+      "usage: hg-core-timing FILE [--runs N] [--only CONFIG] [--mode M]\n"
+      "Times the outline core's stages on a point-cloud file per insertion order (docs/BENCHMARKS.md).\n";
   for (int i = 1; i < argc; ++i)
     if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) return std::fputs(usage, stdout), 0;
   if (argc < 2) return std::fputs(usage, stderr), 2;
@@ -43,8 +44,10 @@ int main(int argc, char** argv) {
   Mode mode = Mode::DSHI;
   for (int i = 2; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-    else if (!std::strcmp(argv[i], "--mode") && i + 1 < argc) mode = parse_mode(argv[++i]);
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc)
+      only = argv[++i];
+    else if (!std::strcmp(argv[i], "--mode") && i + 1 < argc)
+      mode = parse_mode(argv[++i]);
     else {
       std::fprintf(stderr, "hg-core-timing: unknown argument '%s'\n", argv[i]);
       return 2;
@@ -59,9 +62,9 @@ int main(int argc, char** argv) {
   std::mt19937_64 rng(12345);
   std::shuffle(shuf.begin(), shuf.end(), rng);
 
-  const Config configs[] = {{"scan-asis", false, Order::AsIs},     {"scan-hilbert", false, Order::Hilbert},
-                            {"scan-brio", false, Order::Brio},     {"shuf-hilbert", true, Order::Hilbert},
-                            {"shuf-brio", true, Order::Brio},      {"shuf-asis", true, Order::AsIs}};
+  const Config configs[] = {{"scan-asis", false, Order::AsIs}, {"scan-hilbert", false, Order::Hilbert},
+                            {"scan-brio", false, Order::Brio}, {"shuf-hilbert", true, Order::Hilbert},
+                            {"shuf-brio", true, Order::Brio},  {"shuf-asis", true, Order::AsIs}};
   std::printf("%s: %zu points, %d runs, mode %s\n", file.c_str(), scan.size(), runs, to_string(mode));
   std::printf("%-13s %9s %9s %8s %8s %9s | %7s %7s %7s %7s\n", "config", "total_ms", "tri_ms", "alpha_ms", "loops_ms",
               "loops", "cav/pt", "inc/pt", "ori/pt", "loc/pt");

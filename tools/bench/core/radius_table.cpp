@@ -117,13 +117,14 @@ double hausdorff_in_spacings(const synth::TiltedView& v, const std::vector<Loop>
 
 // The tilted-camera table: every catalogue part, spacing gradients 1x, 2x and 5x, both alpha modes.
 int tilted_table(const Options& base, double points) {
-  std::printf("| part | gradient | points | truth holes | global: outer / holes / Hausdorff | local: outer / holes / Hausdorff |\n");
+  std::printf(
+      "| part | gradient | points | truth holes | global: outer / holes / Hausdorff | local: outer / holes / Hausdorff |\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (double g : {1.0, 2.0, 5.0})
     for (const hg::partgen::Shape& shape : hg::partgen::catalogue()) {
       const synth::TiltedView view = synth::tilted_view(shape, g, points, 0.2, 3);
-      std::printf("| %s | %.1f | %zu | %zu |", shape.name.c_str(), view.spacing_far / view.spacing_near, view.points.size(),
-                  view.truth.holes.size());
+      std::printf("| %s | %.1f | %zu | %zu |", shape.name.c_str(), view.spacing_far / view.spacing_near,
+                  view.points.size(), view.truth.holes.size());
       for (AlphaMode m : {AlphaMode::Global, AlphaMode::Local}) {
         Options o = base;
         o.alpha_mode = m;
@@ -142,8 +143,9 @@ int tilted_table(const Options& base, double points) {
 
 int main(int argc, char** argv) {
   if (hg::runtime::answer_version(argc, argv, "hg-radius-table")) return 0;
-  const char* usage = "usage: hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode M] [--boundary] | --tilted POINTS\n"
-                      "The automatic radius's table on generated plates (docs/outline-auto-radius.md).\n";
+  const char* usage =
+      "usage: hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode M] [--boundary] | --tilted POINTS\n"
+      "The automatic radius's table on generated plates (docs/outline-auto-radius.md).\n";
   for (int i = 1; i < argc; ++i)
     if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) return std::fputs(usage, stdout), 0;
   std::string size = "17k";
@@ -153,11 +155,16 @@ int main(int argc, char** argv) {
   double tilted_points = 0;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--size") && i + 1 < argc) size = argv[++i];
-    else if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) seeds = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--k") && i + 1 < argc) base.auto_factor = std::atof(argv[++i]);
-    else if (!std::strcmp(argv[i], "--alpha-mode") && i + 1 < argc) base.alpha_mode = parse_alpha_mode(argv[++i]);
-    else if (!std::strcmp(argv[i], "--boundary")) boundary = true;
-    else if (!std::strcmp(argv[i], "--tilted") && i + 1 < argc) tilted_points = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc)
+      seeds = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--k") && i + 1 < argc)
+      base.auto_factor = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--alpha-mode") && i + 1 < argc)
+      base.alpha_mode = parse_alpha_mode(argv[++i]);
+    else if (!std::strcmp(argv[i], "--boundary"))
+      boundary = true;
+    else if (!std::strcmp(argv[i], "--tilted") && i + 1 < argc)
+      tilted_points = std::atof(argv[++i]);
     else {
       std::fputs(usage, stderr);
       return 2;
@@ -166,25 +173,30 @@ int main(int argc, char** argv) {
   if (tilted_points > 0) return tilted_table(base, tilted_points);
   synth::PlateSpec spec;
   if (size == "2k") spec.W = 60, spec.H = 34, spec.hole_diameters = {4, 5, 8};
-  else if (size == "17k") spec.W = 170, spec.H = 100, spec.hole_diameters = {4, 4, 4.5, 5, 6, 8, 12};
-  else if (size == "1.6M") spec.W = 1600, spec.H = 1000, spec.hole_diameters = {4, 4, 4, 4, 4.5, 4.5, 5, 5, 6, 8, 12, 20, 40};
+  else if (size == "17k")
+    spec.W = 170, spec.H = 100, spec.hole_diameters = {4, 4, 4.5, 5, 6, 8, 12};
+  else if (size == "1.6M")
+    spec.W = 1600, spec.H = 1000, spec.hole_diameters = {4, 4, 4, 4, 4.5, 4.5, 5, 5, 6, 8, 12, 20, 40};
   else {
     std::fprintf(stderr, "hg-radius-table: unknown size '%s'\n", size.c_str());
     return 2;
   }
   // --boundary: the diameter-4 holes centred on grid points, i.e. exactly 3x3 gaps.
   if (boundary) spec.holes_on_grid_points = true, spec.hole_diameters.assign(spec.hole_diameters.size(), 4.0);
-  const Noise noises[] = {{"none", 0, 0},          {"uniform +-0.2", 0.2, 0}, {"uniform +-0.35", 0.35, 0},
-                          {"uniform +-0.5", 0.5, 0}, {"gauss 0.1", 0, 0.1},     {"gauss 0.2", 0, 0.2},
-                          {"gauss 0.3", 0, 0.3}};
+  const Noise noises[] = {
+      {"none", 0, 0},        {"uniform +-0.2", 0.2, 0}, {"uniform +-0.35", 0.35, 0}, {"uniform +-0.5", 0.5, 0},
+      {"gauss 0.1", 0, 0.1}, {"gauss 0.2", 0, 0.2},     {"gauss 0.3", 0, 0.3}};
   const Dropout drops[] = {{"0", 0, 0}, {"2 %", 0.02, 0}, {"5 %", 0.05, 0}, {"5 % (2.5 % as 3x3)", 0.05, 0.025}};
   const std::string k = base.auto_factor > 0 ? std::to_string(base.auto_factor) : "automatic";
-  std::printf("hg-radius-table: %d x %d grid (%d points before holes/dropout), holes %zu%s, k = %s, alpha mode %s, %d seeds\n",
-              spec.W, spec.H, spec.W * spec.H, spec.hole_diameters.size(), boundary ? " (d = 4 on grid points)" : "", k.c_str(),
-              to_string(base.alpha_mode), seeds);
-  std::printf("columns: outer-loop failures / runs; spurious and missed holes summed over the seeds at hole threshold m"
-              " (holes < (m h)^2 dropped); largest spurious and smallest real hole area (by diameter) in h^2 (m = 0; 0 = missed); h range\n\n");
-  std::printf("| noise | dropout | outer bad | m=0 sp/mi | m=4 | m=4.25 | m=4.5 | m=5 | max sp area | min d=4 | d=4.5 | d=5 | d>=6 | h |\n");
+  std::printf(
+      "hg-radius-table: %d x %d grid (%d points before holes/dropout), holes %zu%s, k = %s, alpha mode %s, %d seeds\n",
+      spec.W, spec.H, spec.W * spec.H, spec.hole_diameters.size(), boundary ? " (d = 4 on grid points)" : "", k.c_str(),
+      to_string(base.alpha_mode), seeds);
+  std::printf(
+      "columns: outer-loop failures / runs; spurious and missed holes summed over the seeds at hole threshold m"
+      " (holes < (m h)^2 dropped); largest spurious and smallest real hole area (by diameter) in h^2 (m = 0; 0 = missed); h range\n\n");
+  std::printf(
+      "| noise | dropout | outer bad | m=0 sp/mi | m=4 | m=4.25 | m=4.5 | m=5 | max sp area | min d=4 | d=4.5 | d=5 | d>=6 | h |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Noise& n : noises)
     for (const Dropout& d : drops) {
@@ -200,7 +212,8 @@ int main(int argc, char** argv) {
       std::printf(" %.1f |", cell.max_spurious_area);
       for (double a : cell.min_real_area) {
         if (a > 1e299) std::printf(" - |");
-        else std::printf(" %.1f |", a);
+        else
+          std::printf(" %.1f |", a);
       }
       std::printf(" %.3f-%.3f |\n", cell.h_min, cell.h_max);
       std::fflush(stdout);

@@ -15,7 +15,7 @@
 namespace hg::outline::synth {
 
 struct PlateSpec {
-  int W = 200, H = 100;               // grid columns, rows (unit spacing)
+  int W = 200, H = 100;                // grid columns, rows (unit spacing)
   std::vector<double> hole_diameters;  // circular cut-outs along the middle row, in spacings
   bool holes_on_grid_points = false;   // hole centres on grid points (else a random offset in the cell)
   double uniform_amp = 0;              // in-plane noise, uniform in [-amp, amp] per coordinate

@@ -55,7 +55,7 @@ struct TiltedView {
   std::vector<Vec2> points;
   partgen::PolygonWithHoles truth;  // the placed part, in the same plane coordinates
   TiltedCamera camera{partgen::Box{0, 0, 1, 1}, 0, 1};
-  double pitch = 0;                // pixel pitch in image units
+  double pitch = 0;                          // pixel pitch in image units
   double spacing_near = 0, spacing_far = 0;  // sqrt(footprint area) at the nearest / farthest box edge
   double spacing(const partgen::Vec2& p, bool longer_side) const {
     double l, a;

@@ -16,10 +16,10 @@
 namespace hg::partgen {
 
 struct Preset {
-  std::string name;          // low-1..6, high-1..6, down-1..6
-  std::string table;         // "Table 1", "Table 4", "Table 6"
-  int piece = 0;             // test piece number 1..6
-  std::string shape;         // catalogue name
+  std::string name;   // low-1..6, high-1..6, down-1..6
+  std::string table;  // "Table 1", "Table 4", "Table 6"
+  int piece = 0;      // test piece number 1..6
+  std::string shape;  // catalogue name
   double scale = 1.0;
   double rotation_deg = 0;   // rotation of the part against the camera's pixel grid
   double pitch = 0;          // metres, fitted (hg-gen --fit-presets prints fresh values)

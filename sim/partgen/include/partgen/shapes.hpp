@@ -32,17 +32,17 @@ inline constexpr double kChordTolerance = 0.05e-3;
 struct Shape {
   std::string name;
   std::string description;
-  double scale = 1.0;         // every length of the nominal part is multiplied by this
-  double thickness = 0.012;   // plate thickness in metres (top surface height above the table)
-  PolygonWithHoles polygon;   // in the plate frame
-  double exact_area = 0;      // analytic area of the ideal part (curves as true arcs)
-  double exact_perimeter = 0; // analytic length of every boundary (outer + holes)
-  int exact_hole_count = 0;   // cut-outs that do not touch the outer edge
+  double scale = 1.0;          // every length of the nominal part is multiplied by this
+  double thickness = 0.012;    // plate thickness in metres (top surface height above the table)
+  PolygonWithHoles polygon;    // in the plate frame
+  double exact_area = 0;       // analytic area of the ideal part (curves as true arcs)
+  double exact_perimeter = 0;  // analytic length of every boundary (outer + holes)
+  int exact_hole_count = 0;    // cut-outs that do not touch the outer edge
 };
 
 // Signed area (positive for counter-clockwise) and length of a closed ring (polygon/polygon.hpp).
-using polygon::signed_area;
 using polygon::ring_length;
+using polygon::signed_area;
 // Area of the polygon (outer minus holes) and total boundary length.
 double polygon_area(const PolygonWithHoles& poly);
 double polygon_perimeter(const PolygonWithHoles& poly);
@@ -66,9 +66,9 @@ std::vector<Shape> catalogue(double scale = 1.0);
 // makes them too; they are not in shape_names() / catalogue(), the test pieces.
 std::vector<std::string> fixture_names();
 struct CalibrationHole {
-  std::string id;     // "H1".."H6", as on the drawing
-  Vec2 centre;        // plate frame, metres
-  double diameter;    // metres
+  std::string id;   // "H1".."H6", as on the drawing
+  Vec2 centre;      // plate frame, metres
+  double diameter;  // metres
 };
 // The calibration plate's drawing (docs/calibration.md) at the given scale.
 std::vector<CalibrationHole> calibration_plate_holes(double scale = 1.0);

@@ -39,8 +39,7 @@ struct Span {
 class SpanRasterizer {
  public:
   // polys[k] is part k. Lines queried must satisfy y_bottom <= y <= y_top; bands of height band_height.
-  SpanRasterizer(const std::vector<const PolygonWithHoles*>& polys, double y_top, double y_bottom,
-                 double band_height);
+  SpanRasterizer(const std::vector<const PolygonWithHoles*>& polys, double y_top, double y_bottom, double band_height);
   // Spans of every part along the line at y, sorted by x0. Reuses `out`'s storage.
   void spans(double y, std::vector<Span>& out) const;
 
@@ -58,12 +57,12 @@ class SpanRasterizer {
 };
 
 struct CloudOptions {
-  double pitch = 0.002;          // pixel spacing on the table, metres
-  double in_plane_sigma = 0;     // Gaussian noise added to x and y, metres
-  double depth_sigma = 0;        // Gaussian noise added to z, metres
-  double dropout = 0;            // fraction of pixels lost at random, [0, 1]
-  bool jagged = false;           // edge pixels kept with probability = fraction of the pixel covered
-  int coverage_subrows = 8;      // sub-lines per pixel row used to measure coverage (jagged only)
+  double pitch = 0.002;       // pixel spacing on the table, metres
+  double in_plane_sigma = 0;  // Gaussian noise added to x and y, metres
+  double depth_sigma = 0;     // Gaussian noise added to z, metres
+  double dropout = 0;         // fraction of pixels lost at random, [0, 1]
+  bool jagged = false;        // edge pixels kept with probability = fraction of the pixel covered
+  int coverage_subrows = 8;   // sub-lines per pixel row used to measure coverage (jagged only)
   std::uint64_t seed = 1;
 };
 
@@ -81,12 +80,12 @@ PixelGrid grid_for(const Scene& scene, double pitch);
 
 struct Cloud {
   PixelGrid grid;
-  std::vector<double> xyz;               // x0 y0 z0 x1 y1 z1 ... in scan-line order
-  std::vector<std::int32_t> pixel_row;   // pixel each point came from
+  std::vector<double> xyz;              // x0 y0 z0 x1 y1 z1 ... in scan-line order
+  std::vector<std::int32_t> pixel_row;  // pixel each point came from
   std::vector<std::int32_t> pixel_col;
-  std::vector<std::uint16_t> part;       // index of the scene part under the pixel
-  std::size_t candidates = 0;            // pixels seen on the parts before dropout
-  double expected_points = 0;            // sum of pixel coverage (jagged) or centre count, times (1 - dropout)
+  std::vector<std::uint16_t> part;  // index of the scene part under the pixel
+  std::size_t candidates = 0;       // pixels seen on the parts before dropout
+  double expected_points = 0;       // sum of pixel coverage (jagged) or centre count, times (1 - dropout)
   std::size_t size() const { return pixel_row.size(); }
 };
 
