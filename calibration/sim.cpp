@@ -121,16 +121,15 @@ EyeToHandSession eye_to_hand(const std::string& profile_name, int placements, do
   return s;
 }
 
-EyeInHandSession eye_in_hand(const std::string& profile_name, int views, double pose_noise, std::uint64_t seed) {
+EyeInHandPlan eye_in_hand_plan(const std::string& profile_name, int views, std::uint64_t seed) {
   const cb::CameraProfile prof = cb::camera_profile(profile_name);
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
-  EyeInHandSession s;
-  s.camera_to_flange_true = camera_to_flange();
-  s.plate_to_base_true = table_to_base() * pose(-0.21, -0.15, 0, Eigen::Matrix3d::Identity());
+  EyeInHandPlan plan;
+  plan.camera_to_flange_true = camera_to_flange();
+  plan.plate_to_base_true = table_to_base() * pose(-0.21, -0.15, 0, Eigen::Matrix3d::Identity());
   const Eigen::Matrix3d flip = Eigen::Vector3d(1, -1, -1).asDiagonal();
   const double h = 0.6 * prof.mount_height;  // the carrying robot holds the camera closer than a fixed mount
-  std::normal_distribution<double> n(0, pose_noise);
   for (int k = 0; k < views; ++k) {
     // Camera over the plate centre, tilted about the table's x and y, turned about its optical axis.
     const Eigen::Matrix3d R = flip * (Eigen::AngleAxisd(0.25 * u(rng), Eigen::Vector3d::UnitX()) *
@@ -139,10 +138,32 @@ EyeInHandSession eye_in_hand(const std::string& profile_name, int views, double 
                                          .toRotationMatrix();
     const Eigen::Isometry3d plate_to_camera =
         pose(0.03 * u(rng), 0.03 * u(rng), h + 0.1 * u(rng), R) * pose(-0.21, -0.15, 0, Eigen::Matrix3d::Identity());
-    View v = render_plate(prof, plate_to_camera, seed, k);
-    // The robot pose that puts the camera there (truth), then what the robot reports.
-    const Eigen::Isometry3d flange =
-        s.plate_to_base_true * v.plate_to_camera.inverse() * s.camera_to_flange_true.inverse();
+    plan.flange_to_base.push_back(plan.plate_to_base_true * plate_to_camera.inverse() *
+                                  plan.camera_to_flange_true.inverse());
+  }
+  return plan;
+}
+
+View render_from_flange(const std::string& profile, const EyeInHandPlan& plan, const Eigen::Isometry3d& flange,
+                        std::uint64_t seed, std::uint64_t frame_index, Eigen::Isometry3d* rendered_flange) {
+  const Eigen::Isometry3d plate_to_camera = (flange * plan.camera_to_flange_true).inverse() * plan.plate_to_base_true;
+  View v = render_plate(cb::camera_profile(profile), plate_to_camera, seed, frame_index);
+  if (rendered_flange)
+    *rendered_flange = plan.plate_to_base_true * v.plate_to_camera.inverse() * plan.camera_to_flange_true.inverse();
+  return v;
+}
+
+EyeInHandSession eye_in_hand(const std::string& profile_name, int views, double pose_noise, std::uint64_t seed) {
+  const EyeInHandPlan plan = eye_in_hand_plan(profile_name, views, seed);
+  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
+  EyeInHandSession s;
+  s.camera_to_flange_true = plan.camera_to_flange_true;
+  s.plate_to_base_true = plan.plate_to_base_true;
+  std::normal_distribution<double> n(0, pose_noise);
+  for (int k = 0; k < views; ++k) {
+    // The robot pose that put the camera there (the renderer's truth), then what the robot reports.
+    Eigen::Isometry3d flange;
+    View v = render_from_flange(profile_name, plan, plan.flange_to_base[k], seed, k, &flange);
     Eigen::Isometry3d reported = flange;
     reported.linear() = flange.linear() * small_rotation(rng, 0.1 * pose_noise);
     reported.translation() += Eigen::Vector3d(n(rng), n(rng), n(rng));

@@ -44,6 +44,21 @@ struct EyeInHandSession {
   Eigen::Isometry3d plate_to_base_true = Eigen::Isometry3d::Identity();
 };
 
+// The eye-in-hand procedure's plan: the flange poses to command (true poses that put the camera over the
+// plate), the camera's true mount and the plate's true place.
+struct EyeInHandPlan {
+  std::vector<Eigen::Isometry3d> flange_to_base;
+  Eigen::Isometry3d camera_to_flange_true = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d plate_to_base_true = Eigen::Isometry3d::Identity();
+};
+EyeInHandPlan eye_in_hand_plan(const std::string& profile, int views, std::uint64_t seed);
+
+// What the flange camera sees with the flange at `flange_to_base` (the robot's true pose). The returned view's
+// plate_to_camera is the renderer's truth; `rendered_flange` (if given) receives the flange pose that truth
+// implies (equal to flange_to_base up to the renderer's placement rounding).
+View render_from_flange(const std::string& profile, const EyeInHandPlan& plan, const Eigen::Isometry3d& flange_to_base,
+                        std::uint64_t seed, std::uint64_t frame_index, Eigen::Isometry3d* rendered_flange = nullptr);
+
 // Camera on the flange; `views` robot poses around the plate (tilts up to ~15 deg about two axes, turns
 // about the optical axis); reported poses with `pose_noise` metres / `pose_noise` x 0.1 rad of error.
 EyeInHandSession eye_in_hand(const std::string& profile, int views, double pose_noise, std::uint64_t seed);

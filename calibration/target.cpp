@@ -18,19 +18,14 @@ Drawing calibration_plate_drawing() {
 
 namespace {
 
-// Each hole loop of the plate's outline, circle-fitted, in the camera frame.
-std::vector<SeenHole> hole_circles(const camera_bridge::Segmentation& seg) {
-  std::vector<outline::Vec2> pts(seg.size());
-  for (std::size_t i = 0; i < seg.size(); ++i) pts[i] = {seg.u[i], seg.v[i]};
-  const outline::Result res = outline::compute_outline(std::move(pts));
+// Each hole loop circle-fitted, its centre in the camera frame.
+std::vector<SeenHole> hole_circles(const PlatePlane& plane, const std::vector<HoleLoop>& loops) {
   std::vector<SeenHole> out;
-  for (const outline::Loop& loop : res.loops) {
-    if (!loop.hole || loop.points.size() < 8) continue;
-    std::vector<Eigen::Vector2d> ring;
-    for (const auto& p : loop.points) ring.emplace_back(p.x, p.y);
+  for (const HoleLoop& ring : loops) {
+    if (ring.size() < 8) continue;
     const Circle c = fit_circle(ring);
     SeenHole h;
-    h.centre_camera = seg.origin + c.centre.x() * seg.u_axis + c.centre.y() * seg.v_axis;
+    h.centre_camera = plane.origin + c.centre.x() * plane.u_axis + c.centre.y() * plane.v_axis;
     h.diameter = 2 * c.radius;
     h.fit_rms = c.rms;
     h.points = static_cast<int>(ring.size());
@@ -61,11 +56,23 @@ std::vector<SeenHole> match_by_diameter(std::vector<SeenHole> seen, const Drawin
 
 }  // namespace
 
-PlateView detect_plate(const cv::Mat& depth, const camera_bridge::Intrinsics& in, const Drawing& drawing,
-                       const DetectOptions& options) {
-  const camera_bridge::Segmentation seg = camera_bridge::segment(depth, in, options.segment);
-  if (seg.status != camera_bridge::SegmentStatus::Ok) throw CalibrationError("no plate in the frame: " + seg.text);
-  const std::vector<SeenHole> all = hole_circles(seg);
+std::vector<HoleLoop> hole_loops(const std::vector<float>& u, const std::vector<float>& v) {
+  std::vector<outline::Vec2> pts(u.size());
+  for (std::size_t i = 0; i < u.size(); ++i) pts[i] = {u[i], v[i]};
+  const outline::Result res = outline::compute_outline(std::move(pts));
+  std::vector<HoleLoop> out;
+  for (const outline::Loop& loop : res.loops) {
+    if (!loop.hole) continue;
+    HoleLoop ring;
+    for (const auto& p : loop.points) ring.emplace_back(p.x, p.y);
+    out.push_back(std::move(ring));
+  }
+  return out;
+}
+
+PlateView plate_from_loops(const PlatePlane& plane, const std::vector<HoleLoop>& loops, const Drawing& drawing,
+                           const DetectOptions& options) {
+  const std::vector<SeenHole> all = hole_circles(plane, loops);
   PlateView view;
   view.holes = match_by_diameter(all, drawing, options.diameter_tolerance);
   if (view.holes.size() < 3)
@@ -85,6 +92,13 @@ PlateView detect_plate(const cv::Mat& depth, const camera_bridge::Intrinsics& in
   view.text = std::to_string(view.holes.size()) + " of " + std::to_string(drawing.holes.size()) +
               " holes, pattern rms " + std::to_string(view.pattern_fit.rms * 1e3) + " mm";
   return view;
+}
+
+PlateView detect_plate(const cv::Mat& depth, const camera_bridge::Intrinsics& in, const Drawing& drawing,
+                       const DetectOptions& options) {
+  const camera_bridge::Segmentation seg = camera_bridge::segment(depth, in, options.segment);
+  if (seg.status != camera_bridge::SegmentStatus::Ok) throw CalibrationError("no plate in the frame: " + seg.text);
+  return plate_from_loops({seg.origin, seg.u_axis, seg.v_axis}, hole_loops(seg.u, seg.v), drawing, options);
 }
 
 }  // namespace hg::calibration

@@ -49,6 +49,26 @@ struct DetectOptions {
   double pattern_tolerance = 0.003;   // m: worst residual of the pattern fit accepted
 };
 
+// The plate's top plane in the camera frame: p = origin + u * u_axis + v * v_axis (the plane of a
+// plate_cloud_t / outline_t, or of camera_bridge::segment).
+struct PlatePlane {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero(), u_axis = Eigen::Vector3d::UnitX(),
+                  v_axis = Eigen::Vector3d::UnitY();
+};
+
+// One hole loop of the outline core, in plate-plane coordinates (u, v), metres.
+using HoleLoop = std::vector<Eigen::Vector2d>;
+
+// The hole loops of the outline core's result on plate-plane points (u, v): automatic radius, as the outline
+// service runs it by default.
+std::vector<HoleLoop> hole_loops(const std::vector<float>& u, const std::vector<float>& v);
+
+// Circle fit on each hole loop (loops of fewer than 8 vertices skipped), matching to the drawing by diameter
+// and pattern. Throws CalibrationError (fewer than 3 holes matched, pattern not the drawing's).
+PlateView plate_from_loops(const PlatePlane& plane, const std::vector<HoleLoop>& loops, const Drawing& drawing,
+                           const DetectOptions& options = {});
+
+// A depth frame through the camera bridge's segmentation, the outline core and plate_from_loops.
 // Throws CalibrationError (why: no plate, fewer than 3 holes matched, pattern not the drawing's).
 PlateView detect_plate(const cv::Mat& depth, const camera_bridge::Intrinsics& in, const Drawing& drawing,
                        const DetectOptions& options = {});

@@ -2,6 +2,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <memory>
 #include <string>
 
@@ -11,7 +13,9 @@
 #include "calibration/target.hpp"
 #include "cell/cell.hpp"
 #include "runtime/lcm_url.hpp"
-#include "runtime/version.hpp"
+#include "runtime/params.hpp"
+#include "tools/calibrate/bus_capture.hpp"
+#include "camera_bridge/sources.hpp"
 #include "tools/calibrate/robot_moves.hpp"
 #include "tools/calibrate/session.hpp"
 
@@ -29,36 +33,80 @@ modes:
                 (Tsai and Park, their disagreement); writes calibration.camera-to-flange
   verify        the TCP targets above each predicted hole centre from the cell's calibration; with a
                 simulated session (DIR/truth.json) the distance of each prediction from the true centre
+  capture       --from-bus: one view from the product's pipeline on the bus: the camera bridge's next plate
+                cloud (HG_PLATE_CLOUD) and the outline service's outline of it (HG_OUTLINE; --local-outline:
+                the outline core run here on the cloud); circle fit on the hole loops at fit time. With
+                --trigger a job_request_t START asks the bridge for the frame (--trigger job bridges). The
+                view replaces view --view (keeping its TCP readings) or is appended; eye-in-hand sessions take
+                the robot pose of the next HG_ROBOT_STATUS as the view's flange pose
   touch         records the robot's TCP (next HG_ROBOT_STATUS) as the position of hole --hole in view --view
                 of the session (eye-to-hand: bring the pointer to the hole centre, then run this)
-  simulate      writes a simulated session (virtual camera, renderer's truth in DIR/truth.json)
-options:
-  --session DIR     session folder: DIR/session.json (+ depth PNGs)
-  --cell FILE       cell file to update / read (default config/cell.yaml); a dated backup is kept
-  --report FILE     JSON report of the fit (transform, residuals per feature and per view)
-  --dry-run         do not write the cell file
-  --above M         verify: height of the TCP target above the hole centre (default 0.01)
-  --move            verify: move the robot's TCP to each target over the bus (HG_ROBOT_MOVE, answered on
-                    HG_JOB_STATUS; docs/CHANNELS.md) and report where HG_ROBOT_STATUS says it got
-  --lcm-url URL     with --move [default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0]
-  --speed V         with --move: m/s (default 0.1)
-touch only:  --view K (default 0)  --hole H1..H6
-simulate only:
-  --mode eye-to-hand|eye-in-hand  --profile pm806|lsr-l  --views N (default 3 / 8)  --seed N
-  --tcp-noise M     robot reading error per axis, metres (default 0.00005)
-Exit status: 0 done, 1 refused (the reason on stderr), 2 usage.
+  simulate      writes a simulated session (virtual camera, renderer's truth in DIR/truth.json); eye-in-hand
+                with --move: the simulated robot is moved to each view pose over HG_ROBOT_MOVE and the view is
+                rendered from the flange pose HG_ROBOT_STATUS reports
+A view is a 16-bit depth PNG ("depth"), a .pcd/.ply cloud in the camera frame ("cloud", rendered into a depth
+image through the view's intrinsics as the camera bridge's files source does) or a captured outline
+("outline"); see docs/calibration.md. Exit status: 0 done, 1 refused (the reason on stderr), 2 usage.
 )";
 
+// The options, declared once (runtime::Params: types, ranges, --help, --help-markdown, nearest key).
+std::vector<runtime::Param> calibrate_params() {
+  using namespace runtime;
+  const double inf = std::numeric_limits<double>::infinity();
+  return {
+      text_param("session", "", "session folder: DIR/session.json (+ the views' files)"),
+      text_param("cell", "config/cell.yaml", "cell file to update / read; a dated backup is kept"),
+      text_param("report", "", "JSON report of the fit (transform, residuals per feature and per view)"),
+      flag_param("dry-run", "do not write the cell file"),
+      number_param("above", "0.01", "verify: height of the TCP target above the hole centre, m", 0, inf),
+      flag_param("move",
+                 "verify: move the TCP to each target over HG_ROBOT_MOVE and report where HG_ROBOT_STATUS says it "
+                 "got; simulate eye-in-hand: move the sim robot to each view pose and render from its reported pose"),
+      text_param(
+          "lcm-url", runtime::default_lcm_url(),
+          "LCM provider for --move, touch, capture [$LCM_DEFAULT_URL, else " + std::string(kDefaultLcmUrl) + "]"),
+      number_param("speed", "0.1", "with --move: TCP speed, m/s", 0, inf, true),
+      integer_param("view", "", "touch: view index (default 0); capture: view to replace (default: append)", 0),
+      text_param("hole", "", "touch: drawing hole id H1..H6"),
+      flag_param("from-bus", "capture: take the view from HG_PLATE_CLOUD / HG_OUTLINE (the only capture source)"),
+      flag_param("trigger", "capture: send a job_request_t START to make a --trigger job camera bridge capture"),
+      flag_param("local-outline", "capture: run the outline core here on the plate cloud instead of HG_OUTLINE"),
+      number_param("timeout", "10", "capture, touch: seconds to wait for the bus", 0, inf, true),
+      text_param("mode", "eye-to-hand", "simulate, capture of a new session: the mount",
+                 {"eye-to-hand", "eye-in-hand"}),
+      text_param("profile", "pm806", "simulate: camera profile", {"pm806", "lsr-l"}),
+      integer_param("views", "", "simulate: views (default 3 eye-to-hand, 8 eye-in-hand)", 1, 64),
+      integer_param("seed", "1", "simulate: seed of the scene noise and the view poses", 0),
+      number_param("tcp-noise", "0.00005",
+                   "simulate: robot reading error per axis, m (eye-in-hand: a tenth of it in rad)", 0, inf)};
+}
+
 struct Args {
-  std::string mode, session, cell = "config/cell.yaml", report, sim_mode = "eye-to-hand", profile = "pm806";
-  bool dry_run = false, move = false;
-  std::string lcm_url = runtime::default_lcm_url();
-  double speed = 0.1;
-  double above = 0.01, tcp_noise = 0.00005;
-  int views = 0, view = 0;
-  std::string hole;
+  std::string mode, session, cell, report, sim_mode, profile, lcm_url, hole;
+  bool dry_run = false, move = false, from_bus = false, trigger = false, local_outline = false;
+  double speed = 0.1, above = 0.01, tcp_noise = 0.00005, timeout = 10;
+  int views = 0, view = -1;
   std::uint64_t seed = 1;
 };
+
+Args args_from(const runtime::Params& p) {
+  if (p.positional().size() != 1)
+    throw runtime::ConfigError(p.positional().empty() ? "command line: no MODE given"
+                                                      : "command line: one MODE, not '" + p.positional()[1] + "' too");
+  Args a;
+  a.mode = p.positional()[0];
+  a.session = p.text("session"), a.cell = p.text("cell"), a.report = p.text("report");
+  a.sim_mode = p.text("mode"), a.profile = p.text("profile"), a.lcm_url = p.text("lcm-url"), a.hole = p.text("hole");
+  a.dry_run = p.flag("dry-run"), a.move = p.flag("move"), a.from_bus = p.flag("from-bus");
+  a.trigger = p.flag("trigger"), a.local_outline = p.flag("local-outline");
+  a.speed = p.number("speed"), a.above = p.number("above"), a.tcp_noise = p.number("tcp-noise");
+  a.timeout = p.number("timeout");
+  if (p.given("views")) a.views = static_cast<int>(p.integer("views"));
+  if (p.given("view")) a.view = static_cast<int>(p.integer("view"));
+  a.seed = static_cast<std::uint64_t>(p.integer("seed"));
+  if (a.session.empty()) throw runtime::ConfigError("command line: --session DIR is required");
+  return a;
+}
 
 json transform_json(const Eigen::Isometry3d& t) { return calibrate::to_row_major(t); }
 
@@ -73,10 +121,9 @@ std::vector<calibration::PlateView> detect_all(const calibrate::Session& s, cons
   std::vector<calibration::PlateView> out;
   for (std::size_t i = 0; i < s.views.size(); ++i) {
     try {
-      out.push_back(calibration::detect_plate(s.views[i].depth, s.views[i].intrinsics, d));
+      out.push_back(calibrate::detect_view(s.views[i], d));
     } catch (const calibration::CalibrationError& e) {
-      throw calibration::CalibrationError("view " + std::to_string(i) + " (" + s.views[i].depth_file +
-                                          "): " + e.what());
+      throw calibration::CalibrationError("view " + std::to_string(i) + " (" + s.views[i].file + "): " + e.what());
     }
     std::fprintf(stderr, "hg-calibrate: view %zu: %s\n", i, out.back().text.c_str());
   }
@@ -240,10 +287,81 @@ calibrate::SessionView session_view(const calibration::sim::View& v, std::size_t
   calibrate::SessionView sv;
   char name[32];
   std::snprintf(name, sizeof name, "view_%03zu.png", k);
-  sv.depth_file = name;
+  sv.file = name;
   sv.depth = v.frame.depth;
   sv.intrinsics = v.frame.intrinsics;
   return sv;
+}
+
+void simulate_eye_to_hand(const Args& a, calibrate::Session& s, json& truth) {
+  const calibration::Drawing d = calibration::calibration_plate_drawing();
+  const auto sim = calibration::sim::eye_to_hand(a.profile, a.views > 0 ? a.views : 3, a.tcp_noise, a.seed);
+  for (std::size_t k = 0; k < sim.views.size(); ++k) {
+    calibrate::SessionView sv = session_view(sim.views[k], k);
+    for (std::size_t h = 0; h < d.holes.size(); ++h) sv.tcp_at_hole[d.holes[h].id] = sim.tcp_at_hole[k][h];
+    s.views.push_back(std::move(sv));
+    truth["plate_to_base"].push_back(transform_json(sim.plate_to_base_true[k]));
+  }
+  truth["camera_to_base"] = transform_json(sim.camera_to_base_true);
+}
+
+Eigen::Isometry3d isometry(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = q.normalized().toRotationMatrix();
+  t.translation() = p;
+  return t;
+}
+
+// Eye-in-hand with the simulated robot: each view pose is commanded over HG_ROBOT_MOVE; the camera renders
+// from the pose HG_ROBOT_STATUS reports, off by the robot's repeatability (--tcp-noise): the reported pose is
+// what the session keeps, as a real robot's reading.
+void simulate_eye_in_hand_moved(const Args& a, const calibration::sim::EyeInHandPlan& plan, calibrate::Session& s,
+                                json& truth) {
+  calibrate::RobotMoves robot(a.lcm_url);
+  std::mt19937_64 rng(a.seed ^ 0x5851f42d4c957f2dull);
+  std::normal_distribution<double> n(0, a.tcp_noise), w(0, 0.1 * a.tcp_noise);
+  const std::string stamp = cell::utc_now_iso();
+  for (std::size_t k = 0; k < plan.flange_to_base.size(); ++k) {
+    const Eigen::Isometry3d& commanded = plan.flange_to_base[k];
+    const calibrate::MoveResult r =
+        robot.move_to("calibrate-view-" + stamp + "-" + std::to_string(k), commanded.translation(),
+                      Eigen::Quaterniond(commanded.linear()).normalized(), a.speed, 120);
+    if (!r.done) throw std::runtime_error("move to view " + std::to_string(k) + ": " + r.message);
+    const Eigen::Isometry3d reported = isometry(r.tcp, r.orientation);
+    Eigen::Isometry3d actual = reported;  // where the robot really is
+    const Eigen::Vector3d rot(w(rng), w(rng), w(rng));
+    if (rot.norm() > 0)
+      actual.linear() = reported.linear() * Eigen::AngleAxisd(rot.norm(), rot.normalized()).toRotationMatrix();
+    actual.translation() += Eigen::Vector3d(n(rng), n(rng), n(rng));
+    const calibration::sim::View v = calibration::sim::render_from_flange(a.profile, plan, actual, a.seed, k);
+    calibrate::SessionView sv = session_view(v, k);
+    sv.flange_to_base = reported;
+    s.views.push_back(std::move(sv));
+    truth["plate_to_base"].push_back(transform_json(plan.plate_to_base_true));
+    truth["commanded_flange"].push_back(transform_json(commanded));
+    truth["reported_flange"].push_back(transform_json(reported));
+    std::fprintf(stderr, "hg-calibrate: view %zu: robot at (%.4f, %.4f, %.4f), %.3f mm from the commanded pose\n", k,
+                 r.tcp.x(), r.tcp.y(), r.tcp.z(), (r.tcp - commanded.translation()).norm() * 1e3);
+  }
+}
+
+void simulate_eye_in_hand(const Args& a, calibrate::Session& s, json& truth) {
+  const int views = a.views > 0 ? a.views : 8;
+  if (a.move) {
+    const auto plan = calibration::sim::eye_in_hand_plan(a.profile, views, a.seed);
+    simulate_eye_in_hand_moved(a, plan, s, truth);
+    truth["robot"] = "moved over HG_ROBOT_MOVE; rendered from the reported pose + repeatability noise";
+    truth["camera_to_flange"] = transform_json(plan.camera_to_flange_true);
+    return;
+  }
+  const auto sim = calibration::sim::eye_in_hand(a.profile, views, a.tcp_noise, a.seed);
+  for (std::size_t k = 0; k < sim.views.size(); ++k) {
+    calibrate::SessionView sv = session_view(sim.views[k], k);
+    sv.flange_to_base = sim.flange_to_base[k];
+    s.views.push_back(std::move(sv));
+    truth["plate_to_base"].push_back(transform_json(sim.plate_to_base_true));
+  }
+  truth["camera_to_flange"] = transform_json(sim.camera_to_flange_true);
 }
 
 int simulate(const Args& a) {
@@ -253,32 +371,16 @@ int simulate(const Args& a) {
              {"profile", a.profile},
              {"seed", a.seed},
              {"plate_to_base", json::array()}};
-  const calibration::Drawing d = calibration::calibration_plate_drawing();
-  if (a.sim_mode == "eye-to-hand") {
-    const auto sim = calibration::sim::eye_to_hand(a.profile, a.views > 0 ? a.views : 3, a.tcp_noise, a.seed);
-    for (std::size_t k = 0; k < sim.views.size(); ++k) {
-      calibrate::SessionView sv = session_view(sim.views[k], k);
-      for (std::size_t h = 0; h < d.holes.size(); ++h) sv.tcp_at_hole[d.holes[h].id] = sim.tcp_at_hole[k][h];
-      s.views.push_back(std::move(sv));
-      truth["plate_to_base"].push_back(transform_json(sim.plate_to_base_true[k]));
-    }
-    truth["camera_to_base"] = transform_json(sim.camera_to_base_true);
-  } else if (a.sim_mode == "eye-in-hand") {
-    const auto sim = calibration::sim::eye_in_hand(a.profile, a.views > 0 ? a.views : 8, a.tcp_noise, a.seed);
-    for (std::size_t k = 0; k < sim.views.size(); ++k) {
-      calibrate::SessionView sv = session_view(sim.views[k], k);
-      sv.flange_to_base = sim.flange_to_base[k];
-      s.views.push_back(std::move(sv));
-      truth["plate_to_base"].push_back(transform_json(sim.plate_to_base_true));
-    }
-    truth["camera_to_flange"] = transform_json(sim.camera_to_flange_true);
-  } else {
-    throw std::runtime_error("--mode: unknown '" + a.sim_mode + "' (eye-to-hand, eye-in-hand)");
-  }
+  if (a.sim_mode == "eye-to-hand") simulate_eye_to_hand(a, s, truth);
+  else
+    simulate_eye_in_hand(a, s, truth);
   calibrate::write_session(a.session, s);
+  // The views' intrinsics beside the PNGs: the folder is also input for the camera bridge's files source.
+  camera_bridge::write_intrinsics(s.views.front().intrinsics, a.session + "/intrinsics.yaml");
   write_json(a.session + "/truth.json", truth);
-  std::printf("simulate: %s session, %zu views (%s, seed %llu) in %s\n", a.sim_mode.c_str(), s.views.size(),
-              a.profile.c_str(), static_cast<unsigned long long>(a.seed), a.session.c_str());
+  std::printf("simulate: %s session, %zu views (%s, seed %llu%s) in %s\n", a.sim_mode.c_str(), s.views.size(),
+              a.profile.c_str(), static_cast<unsigned long long>(a.seed),
+              a.move && a.sim_mode == "eye-in-hand" ? ", robot moved" : "", a.session.c_str());
   return 0;
 }
 
@@ -289,79 +391,68 @@ int touch(const Args& a) {
   bool known = false;
   for (const auto& h : d.holes) known |= h.id == a.hole;
   if (!known) throw std::runtime_error("--hole: '" + a.hole + "' is not a hole of the drawing (H1..H6)");
-  if (a.view < 0 || a.view >= static_cast<int>(s.views.size()))
-    throw std::runtime_error("--view: " + std::to_string(a.view) + " not in the session (" +
+  const int view = a.view < 0 ? 0 : a.view;
+  if (view >= static_cast<int>(s.views.size()))
+    throw std::runtime_error("--view: " + std::to_string(view) + " not in the session (" +
                              std::to_string(s.views.size()) + " views)");
   calibrate::RobotMoves robot(a.lcm_url);
-  const auto tcp = robot.current_tcp(5.0);
-  if (!tcp) throw std::runtime_error("no HG_ROBOT_STATUS within 5 s on " + a.lcm_url);
-  s.views[a.view].tcp_at_hole[a.hole] = *tcp;
+  const auto tcp = robot.current_tcp(a.timeout);
+  if (!tcp) throw std::runtime_error("no HG_ROBOT_STATUS within " + std::to_string(a.timeout) + " s on " + a.lcm_url);
+  s.views[view].tcp_at_hole[a.hole] = *tcp;
   calibrate::write_session(a.session, s);
-  std::printf("touch: view %d hole %s at TCP (%.5f, %.5f, %.5f)\n", a.view, a.hole.c_str(), tcp->x(), tcp->y(),
-              tcp->z());
+  std::printf("touch: view %d hole %s at TCP (%.5f, %.5f, %.5f)\n", view, a.hole.c_str(), tcp->x(), tcp->y(), tcp->z());
   return 0;
 }
 
-bool parse(int argc, char** argv, Args& a) {
-  if (argc < 2) return false;
-  a.mode = argv[1];
-  for (int i = 2; i < argc; ++i) {
-    const std::string o = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(o + ": needs a value");
-      return argv[++i];
-    };
-    if (o == "--session") a.session = value();
-    else if (o == "--cell")
-      a.cell = value();
-    else if (o == "--report")
-      a.report = value();
-    else if (o == "--dry-run")
-      a.dry_run = true;
-    else if (o == "--move")
-      a.move = true;
-    else if (o == "--view")
-      a.view = std::stoi(value());
-    else if (o == "--hole")
-      a.hole = value();
-    else if (o == "--lcm-url")
-      a.lcm_url = value();
-    else if (o == "--speed")
-      a.speed = std::stod(value());
-    else if (o == "--above")
-      a.above = std::stod(value());
-    else if (o == "--mode")
-      a.sim_mode = value();
-    else if (o == "--profile")
-      a.profile = value();
-    else if (o == "--views")
-      a.views = std::stoi(value());
-    else if (o == "--seed")
-      a.seed = std::stoull(value());
-    else if (o == "--tcp-noise")
-      a.tcp_noise = std::stod(value());
-    else
-      throw std::runtime_error("unknown option " + o);
-  }
-  return !a.session.empty();
+// One view from the bus into the session (a new session takes --mode).
+int capture(const Args& a) {
+  if (!a.from_bus) throw std::runtime_error("capture: only --from-bus is a capture source (see --help)");
+  calibrate::Session s;
+  if (std::ifstream(a.session + "/session.json")) s = calibrate::read_session(a.session);
+  else
+    s.mode = a.sim_mode;
+  const std::size_t k = a.view < 0 ? s.views.size() : static_cast<std::size_t>(a.view);
+  if (k > s.views.size())
+    throw std::runtime_error("--view: " + std::to_string(k) + " is past the session's end (" +
+                             std::to_string(s.views.size()) + " views; the next is appended)");
+  calibrate::CaptureOptions o;
+  o.lcm_url = a.lcm_url;
+  o.local_outline = a.local_outline;
+  o.robot_pose = s.mode == "eye-in-hand";
+  o.timeout_s = a.timeout;
+  if (a.trigger) o.job_id = "calibrate-capture-" + cell::utc_now_iso() + "-" + std::to_string(k);
+  const calibrate::Captured c = calibrate::capture_from_bus(o);
+  // Refuse a view the fit could not use now, not at fit time.
+  const calibration::PlateView seen =
+      calibration::plate_from_loops(c.plane, c.loops, calibration::calibration_plate_drawing());
+  if (k == s.views.size()) s.views.emplace_back();
+  calibrate::SessionView& v = s.views[k];
+  char name[40];
+  std::snprintf(name, sizeof name, "view_%03zu.outline.json", k);
+  v.kind = "outline", v.file = name, v.depth.release();
+  v.plane = c.plane, v.loops = c.loops, v.outline_record = c.record;
+  if (c.tcp_to_base) v.flange_to_base = c.tcp_to_base;
+  calibrate::write_session(a.session, s);
+  std::printf("capture: view %zu: %s; %s\n", k, c.text.c_str(), seen.text.c_str());
+  return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   Args a;
-  if (hg::runtime::answer_version(argc, argv, "hg-calibrate")) return 0;
   try {
-    if (argc >= 2 && std::string(argv[1]) == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-    if (!parse(argc, argv, a)) {
-      std::fputs(kUsage, stderr);
-      return 2;
-    }
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "hg-calibrate: %s\n", e.what());
+    runtime::Params params(calibrate_params());
+    const auto action = params.parse(argc, argv);
+    if (action != runtime::Params::Action::Run)
+      return runtime::answer(action, "hg-calibrate", params, [](std::FILE* f, const runtime::Params& p) {
+        std::fputs(kUsage, f);
+        std::fputs("options:\n", f);
+        p.print_options(f);
+      });
+    a = args_from(params);
+  } catch (const std::exception& e) {  // runtime::ConfigError
+    std::fprintf(stderr, "hg-calibrate: %s\n(hg-calibrate --help shows the options)\n", e.what());
     return 2;
   }
   try {
@@ -370,7 +461,10 @@ int main(int argc, char** argv) {
     if (a.mode == "verify") return verify(a);
     if (a.mode == "simulate") return simulate(a);
     if (a.mode == "touch") return touch(a);
-    std::fprintf(stderr, "hg-calibrate: unknown mode '%s'\n%s", a.mode.c_str(), kUsage);
+    if (a.mode == "capture") return capture(a);
+    std::fprintf(stderr,
+                 "hg-calibrate: unknown mode '%s' (eye-to-hand, eye-in-hand, verify, capture, touch, simulate)\n",
+                 a.mode.c_str());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hg-calibrate: refused: %s\n", e.what());

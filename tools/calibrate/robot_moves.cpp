@@ -19,6 +19,7 @@ struct RobotMoves::Impl {
   std::string message;
   long statuses = 0;
   Eigen::Vector3d tcp = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   explicit Impl(const std::string& url) : lcm(url) {}
   void on_job(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_status_t* s) {
     if (s->job_id != waiting_for || s->source != "hg-robot-bridge") return;
@@ -27,6 +28,8 @@ struct RobotMoves::Impl {
   }
   void on_robot(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::robot_status_t* s) {
     tcp = Eigen::Vector3d(s->tcp_position[0], s->tcp_position[1], s->tcp_position[2]);
+    const double* q = s->tcp_orientation;
+    orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
     ++statuses;
   }
 };
@@ -67,6 +70,7 @@ MoveResult RobotMoves::move_to(const std::string& id, const Eigen::Vector3d& p, 
   const long seen = m.statuses;  // a status published after DONE carries the final TCP
   while (m.statuses < seen + 2 && std::chrono::steady_clock::now() < deadline) m.lcm.handleTimeout(50);
   r.tcp = m.tcp;
+  r.orientation = m.orientation;
   return r;
 }
 

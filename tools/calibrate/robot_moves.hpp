@@ -14,6 +14,7 @@ struct MoveResult {
   bool done = false;
   std::string message;                            // the bridge's last word on the move
   Eigen::Vector3d tcp = Eigen::Vector3d::Zero();  // HG_ROBOT_STATUS after the move
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
 };
 
 class RobotMoves {

@@ -4,8 +4,10 @@
 #include <fstream>
 #include <stdexcept>
 
-#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+
+#include "camera_bridge/sources.hpp"
+#include "cloud_io/cloud_io.hpp"
 
 namespace hg::calibrate {
 
@@ -29,6 +31,101 @@ Eigen::Isometry3d from_row_major(const std::vector<double>& v, const std::string
   return t;
 }
 
+namespace {
+
+Eigen::Vector3d vec3(const json& j, const char* key) {
+  const auto v = j.at(key).get<std::vector<double>>();
+  if (v.size() != 3) throw std::runtime_error(std::string(key) + ": expected [x, y, z]");
+  return {v[0], v[1], v[2]};
+}
+
+json vec3_json(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+
+camera_bridge::Intrinsics intrinsics_from(const json& in) {
+  return {in.at("width").get<int>(),        in.at("height").get<int>(), in.at("fx").get<double>(),
+          in.at("fy").get<double>(),        in.at("cx").get<double>(),  in.at("cy").get<double>(),
+          in.at("depth_unit").get<double>()};
+}
+
+// The view's data: a depth PNG, a cloud through the intrinsics, or an outline file. `key` follows what is read.
+void read_view_data(const std::string& dir, const json& v, SessionView& sv, std::string& key, const std::string& at) {
+  for (const char* kind : {"depth", "cloud", "outline"})
+    if (v.contains(kind)) sv.kind = kind;
+  key = at + sv.kind;
+  sv.file = v.at(sv.kind).get<std::string>();
+  const std::string path = dir + "/" + sv.file;
+  if (sv.kind == "outline") {
+    std::ifstream f(path);
+    if (!f) throw std::runtime_error(sv.file + ": cannot open");
+    read_outline_json(json::parse(f), sv, path);
+    return;
+  }
+  key = at + "intrinsics";
+  sv.intrinsics = intrinsics_from(v.at("intrinsics"));
+  key = at + sv.kind;
+  if (sv.kind == "cloud") {
+    sv.depth = camera_bridge::cloud_to_depth(outline::io::read_cloud_file(path).xyz, sv.intrinsics);
+  } else {
+    sv.depth = cv::imread(path, cv::IMREAD_UNCHANGED);
+    if (sv.depth.empty() || sv.depth.type() != CV_16UC1) throw std::runtime_error("not a 16-bit depth PNG");
+  }
+}
+
+SessionView read_view(const std::string& dir, const json& v, const std::string& mode, std::string& key,
+                      const std::string& at) {
+  SessionView sv;
+  read_view_data(dir, v, sv, key, at);
+  if (v.contains("flange_to_base")) {
+    key = at + "flange_to_base";
+    sv.flange_to_base = from_row_major(v["flange_to_base"].get<std::vector<double>>(), "flange_to_base");
+  }
+  if (v.contains("tcp_at_hole"))
+    for (const auto& [id, p] : v["tcp_at_hole"].items()) {
+      key = at + "tcp_at_hole." + id;
+      const auto xyz = p.get<std::vector<double>>();
+      if (xyz.size() != 3) throw std::runtime_error("expected [x, y, z]");
+      sv.tcp_at_hole[id] = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+    }
+  if (mode == "eye-in-hand" && !sv.flange_to_base) throw std::runtime_error("missing flange_to_base");
+  return sv;
+}
+
+}  // namespace
+
+json outline_json(const calibration::PlatePlane& plane, const std::vector<calibration::HoleLoop>& loops) {
+  json holes = json::array();
+  for (const auto& loop : loops) {
+    json u = json::array(), v = json::array();
+    for (const auto& p : loop) u.push_back(p.x()), v.push_back(p.y());
+    holes.push_back({{"u", u}, {"v", v}});
+  }
+  return {
+      {"plane",
+       {{"origin", vec3_json(plane.origin)}, {"u_axis", vec3_json(plane.u_axis)}, {"v_axis", vec3_json(plane.v_axis)}}},
+      {"holes", holes}};
+}
+
+void read_outline_json(const json& j, SessionView& v, const std::string& where) {
+  std::string key = "plane";
+  try {
+    const json& p = j.at("plane");
+    v.plane = {vec3(p, "origin"), vec3(p, "u_axis"), vec3(p, "v_axis")};
+    v.loops.clear();
+    for (std::size_t i = 0; i < j.at("holes").size(); ++i) {
+      key = "holes[" + std::to_string(i) + "]";
+      const auto u = j["holes"][i].at("u").get<std::vector<double>>(),
+                 w = j["holes"][i].at("v").get<std::vector<double>>();
+      if (u.size() != w.size()) throw std::runtime_error("u and v differ in length");
+      calibration::HoleLoop loop;
+      for (std::size_t k = 0; k < u.size(); ++k) loop.emplace_back(u[k], w[k]);
+      v.loops.push_back(std::move(loop));
+    }
+  } catch (const std::exception& e) {
+    throw std::runtime_error(where + ": " + key + ": " + e.what());
+  }
+  v.outline_record = j;
+}
+
 Session read_session(const std::string& dir) {
   const std::string path = dir + "/session.json";
   std::ifstream f(path);
@@ -44,33 +141,8 @@ Session read_session(const std::string& dir) {
   try {
     s.mode = j.at("mode").get<std::string>();
     if (s.mode != "eye-to-hand" && s.mode != "eye-in-hand") throw std::runtime_error("unknown mode '" + s.mode + "'");
-    for (std::size_t i = 0; i < j.at("views").size(); ++i) {
-      const json& v = j["views"][i];
-      const std::string at = "views[" + std::to_string(i) + "].";
-      SessionView sv;
-      key = at + "depth";
-      sv.depth_file = v.at("depth").get<std::string>();
-      sv.depth = cv::imread(dir + "/" + sv.depth_file, cv::IMREAD_UNCHANGED);
-      if (sv.depth.empty() || sv.depth.type() != CV_16UC1) throw std::runtime_error("not a 16-bit depth PNG");
-      key = at + "intrinsics";
-      const json& in = v.at("intrinsics");
-      sv.intrinsics = {in.at("width").get<int>(),        in.at("height").get<int>(), in.at("fx").get<double>(),
-                       in.at("fy").get<double>(),        in.at("cx").get<double>(),  in.at("cy").get<double>(),
-                       in.at("depth_unit").get<double>()};
-      if (v.contains("flange_to_base")) {
-        key = at + "flange_to_base";
-        sv.flange_to_base = from_row_major(v["flange_to_base"].get<std::vector<double>>(), path + ": " + key);
-      }
-      if (v.contains("tcp_at_hole"))
-        for (const auto& [id, p] : v["tcp_at_hole"].items()) {
-          key = at + "tcp_at_hole." + id;
-          const auto xyz = p.get<std::vector<double>>();
-          if (xyz.size() != 3) throw std::runtime_error("expected [x, y, z]");
-          sv.tcp_at_hole[id] = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
-        }
-      if (s.mode == "eye-in-hand" && !sv.flange_to_base) throw std::runtime_error("missing flange_to_base");
-      s.views.push_back(std::move(sv));
-    }
+    for (std::size_t i = 0; i < j.at("views").size(); ++i)
+      s.views.push_back(read_view(dir, j["views"][i], s.mode, key, "views[" + std::to_string(i) + "]."));
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": " + key + ": " + e.what());
   }
@@ -81,23 +153,28 @@ void write_session(const std::string& dir, const Session& s) {
   std::filesystem::create_directories(dir);
   json j{{"mode", s.mode}, {"views", json::array()}};
   for (const SessionView& v : s.views) {
-    if (!cv::imwrite(dir + "/" + v.depth_file, v.depth))
-      throw std::runtime_error(dir + "/" + v.depth_file + ": cannot write");
-    const auto& in = v.intrinsics;
-    json jv{{"depth", v.depth_file},
-            {"intrinsics",
-             {{"width", in.width},
-              {"height", in.height},
-              {"fx", in.fx},
-              {"fy", in.fy},
-              {"cx", in.cx},
-              {"cy", in.cy},
-              {"depth_unit", in.depth_unit}}}};
+    json jv{{v.kind, v.file}};
+    const std::string path = dir + "/" + v.file;
+    if (v.kind == "depth" && !cv::imwrite(path, v.depth)) throw std::runtime_error(path + ": cannot write");
+    if (v.kind == "outline" && !(std::ofstream(path) << v.outline_record.dump(1) << "\n"))
+      throw std::runtime_error(path + ": cannot write");
+    if (v.kind != "outline") {
+      const auto& in = v.intrinsics;
+      jv["intrinsics"] = {
+          {"width", in.width}, {"height", in.height},        {"fx", in.fx}, {"fy", in.fy}, {"cx", in.cx},
+          {"cy", in.cy},       {"depth_unit", in.depth_unit}};
+    }
     if (v.flange_to_base) jv["flange_to_base"] = to_row_major(*v.flange_to_base);
-    for (const auto& [id, p] : v.tcp_at_hole) jv["tcp_at_hole"][id] = {p.x(), p.y(), p.z()};
+    for (const auto& [id, p] : v.tcp_at_hole) jv["tcp_at_hole"][id] = vec3_json(p);
     j["views"].push_back(jv);
   }
-  std::ofstream(dir + "/session.json") << j.dump(1) << "\n";
+  if (!(std::ofstream(dir + "/session.json") << j.dump(1) << "\n"))
+    throw std::runtime_error(dir + "/session.json: cannot write");
+}
+
+calibration::PlateView detect_view(const SessionView& v, const calibration::Drawing& d) {
+  if (v.kind == "outline") return calibration::plate_from_loops(v.plane, v.loops, d);
+  return calibration::detect_plate(v.depth, v.intrinsics, d);
 }
 
 }  // namespace hg::calibrate

@@ -1,5 +1,10 @@
-// A calibration session on disk: DIR/session.json lists the views (16-bit depth PNG, intrinsics, the robot's
-// reading at that view) and, for a simulated session only, DIR/truth.json holds the renderer's ground truth.
+// A calibration session on disk: DIR/session.json lists the views and the robot's reading at each view;
+// DIR/truth.json (a simulated session only) holds the renderer's ground truth. A view is one of:
+//   "depth":   a 16-bit depth PNG with its intrinsics (segmented by hg-calibrate, as the camera bridge does),
+//   "cloud":   a .pcd/.ply cloud in the camera frame (metres), rendered into a depth image through the
+//              view's intrinsics as the camera bridge's files source does, then as a depth PNG,
+//   "outline": the camera bridge's plate plane and the outline service's hole loops captured from the bus
+//              (hg-calibrate capture --from-bus), a JSON file beside session.json.
 #pragma once
 
 #include <map>
@@ -8,16 +13,22 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
+#include "calibration/target.hpp"
 #include "camera_types/depth_source.hpp"
 
 namespace hg::calibrate {
 
 struct SessionView {
-  std::string depth_file;  // relative to the session folder
-  cv::Mat depth;           // CV_16UC1
+  std::string kind = "depth";  // "depth" | "cloud" | "outline"
+  std::string file;            // relative to the session folder
+  cv::Mat depth;               // CV_16UC1 (depth and cloud views)
   camera_bridge::Intrinsics intrinsics;
+  calibration::PlatePlane plane;                       // outline views
+  std::vector<calibration::HoleLoop> loops;            // outline views: hole loops in plate-plane coordinates
+  nlohmann::json outline_record;                       // outline views: the file's content, written back as read
   std::optional<Eigen::Isometry3d> flange_to_base;     // eye-in-hand: the robot pose at this view
   std::map<std::string, Eigen::Vector3d> tcp_at_hole;  // eye-to-hand: drawing hole id -> TCP position (base)
 };
@@ -30,6 +41,14 @@ struct Session {
 // Throws std::runtime_error naming the file and the key.
 Session read_session(const std::string& dir);
 void write_session(const std::string& dir, const Session& s);
+
+// The plate in one view: the product's pipeline on the view's data (calibration::detect_plate for depth and
+// cloud views, calibration::plate_from_loops for outline views). Throws calibration::CalibrationError.
+calibration::PlateView detect_view(const SessionView& v, const calibration::Drawing& d);
+
+// An outline view's file content from the plane and the hole loops; and back (throws naming `where`).
+nlohmann::json outline_json(const calibration::PlatePlane& plane, const std::vector<calibration::HoleLoop>& loops);
+void read_outline_json(const nlohmann::json& j, SessionView& v, const std::string& where);
 
 std::vector<double> to_row_major(const Eigen::Isometry3d& t);
 Eigen::Isometry3d from_row_major(const std::vector<double>& v, const std::string& where);
