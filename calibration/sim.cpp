@@ -132,8 +132,8 @@ EyeInHandPlan eye_in_hand_plan(const std::string& profile_name, int views, std::
   const double h = 0.6 * prof.mount_height;  // the carrying robot holds the camera closer than a fixed mount
   for (int k = 0; k < views; ++k) {
     // Camera over the plate centre, tilted about the table's x and y, turned about its optical axis.
-    const Eigen::Matrix3d R = flip * (Eigen::AngleAxisd(0.25 * u(rng), Eigen::Vector3d::UnitX()) *
-                                      Eigen::AngleAxisd(0.25 * u(rng), Eigen::Vector3d::UnitY()) *
+    const Eigen::Matrix3d R = flip * (Eigen::AngleAxisd(0.4 * u(rng), Eigen::Vector3d::UnitX()) *
+                                      Eigen::AngleAxisd(0.4 * u(rng), Eigen::Vector3d::UnitY()) *
                                       Eigen::AngleAxisd(0.6 * u(rng), Eigen::Vector3d::UnitZ()))
                                          .toRotationMatrix();
     const Eigen::Isometry3d plate_to_camera =

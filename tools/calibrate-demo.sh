@@ -4,8 +4,9 @@
 # depth frames of the calibration plate and the robot's readings), calibrate with hg-calibrate into a copy of
 # the cell file, verify, and write OUT/calibration.json with the estimated transform, the true one (the
 # renderer's ground truth, from the session's truth.json, never from the estimator) and the errors.
-# The verify step moves the simulated robot (hg-robot-bridge --driver sim) over each predicted hole centre
-# through HG_ROBOT_MOVE; the demo runs in a network namespace of its own (tests/netns.sh, loopback only).
+# The simulated robot (hg-robot-bridge --driver sim) is moved through HG_ROBOT_MOVE: to each eye-in-hand view
+# pose (the view is rendered from the flange pose HG_ROBOT_STATUS reports) and, in verify, over each predicted
+# hole centre; the demo runs in a network namespace of its own (tests/netns.sh, loopback only).
 # Exits non-zero when a target is missed: eye-to-hand <= 0.5 mm and 0.05 deg, eye-in-hand <= 1.0 mm and 0.1 deg.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
@@ -49,8 +50,11 @@ trap 'kill "$ROBOT_PID" 2>/dev/null || true; wait "$ROBOT_PID" 2>/dev/null || tr
 for profile in pm806 lsr-l; do
   for mode in eye-to-hand eye-in-hand; do
     dir=$WORK/$profile-$mode
+    mkdir -p "$dir"
     echo "== $profile $mode"
-    "$BIN/hg-calibrate" simulate --mode "$mode" --profile "$profile" --seed "$SEED" --session "$dir/session"
+    move=()
+    [[ $mode == eye-in-hand ]] && move=(--move)  # the robot is commanded to every view pose
+    "$BIN/hg-calibrate" simulate "${move[@]}" --mode "$mode" --profile "$profile" --seed "$SEED" --session "$dir/session" 2>"$dir/simulate.log"
     "$BIN/hg-calibrate" "$mode" --session "$dir/session" --cell "$CELL" --report "$dir/fit.json" 2>"$dir/fit.log"
     "$BIN/hg-calibrate" verify --move --session "$dir/session" --cell "$CELL" --report "$dir/verify.json" 2>"$dir/verify.log"
   done
@@ -78,6 +82,8 @@ for profile in ("pm806", "lsr-l"):
                "truth_source": truth["source"]}
         run["translation_error_mm"], run["rotation_error_deg"] = errors(fit[key], truth[key])
         if mode == "eye-in-hand":
+            assert len(truth.get("reported_flange", [])) == len(truth["plate_to_base"]), "views not moved to"
+            run["views_moved_to"] = len(truth["reported_flange"])
             run["methods"] = {}
             for m in fit["methods"]:
                 dt, dr = errors(m[key], truth[key])

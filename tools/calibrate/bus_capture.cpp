@@ -10,6 +10,7 @@
 #include "hullgrind/plate_cloud_t.hpp"
 #include "hullgrind/robot_status_t.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/lcm_url.hpp"
 #include "tools/calibrate/session.hpp"
 
 namespace hg::calibrate {
@@ -83,7 +84,7 @@ Eigen::Isometry3d pose_of(const hullgrind::robot_status_t& s) {
 }  // namespace
 
 Captured capture_from_bus(const CaptureOptions& o) {
-  lcm::LCM lcm(o.lcm_url);
+  lcm::LCM lcm(runtime::with_receive_buffer(o.lcm_url));  // plate clouds are megabytes
   if (!lcm.good()) throw std::runtime_error("cannot start LCM on " + o.lcm_url);
   Listener l;
   l.start_utime = now_utime();

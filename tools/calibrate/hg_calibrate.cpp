@@ -333,15 +333,21 @@ void simulate_eye_in_hand_moved(const Args& a, const calibration::sim::EyeInHand
     if (rot.norm() > 0)
       actual.linear() = reported.linear() * Eigen::AngleAxisd(rot.norm(), rot.normalized()).toRotationMatrix();
     actual.translation() += Eigen::Vector3d(n(rng), n(rng), n(rng));
-    const calibration::sim::View v = calibration::sim::render_from_flange(a.profile, plan, actual, a.seed, k);
+    Eigen::Isometry3d rendered;  // the flange pose the renderer's truth implies: `actual`, to its placement rounding
+    const calibration::sim::View v =
+        calibration::sim::render_from_flange(a.profile, plan, actual, a.seed, k, &rendered);
     calibrate::SessionView sv = session_view(v, k);
     sv.flange_to_base = reported;
     s.views.push_back(std::move(sv));
     truth["plate_to_base"].push_back(transform_json(plan.plate_to_base_true));
     truth["commanded_flange"].push_back(transform_json(commanded));
     truth["reported_flange"].push_back(transform_json(reported));
-    std::fprintf(stderr, "hg-calibrate: view %zu: robot at (%.4f, %.4f, %.4f), %.3f mm from the commanded pose\n", k,
-                 r.tcp.x(), r.tcp.y(), r.tcp.z(), (r.tcp - commanded.translation()).norm() * 1e3);
+    std::fprintf(stderr,
+                 "hg-calibrate: view %zu: robot at (%.4f, %.4f, %.4f), %.3f mm from the commanded pose; rendered "
+                 "%.2e m, %.2e rad from the reported one\n",
+                 k, r.tcp.x(), r.tcp.y(), r.tcp.z(), (r.tcp - commanded.translation()).norm() * 1e3,
+                 (rendered.translation() - reported.translation()).norm(),
+                 calibration::rotation_distance(rendered.linear(), reported.linear()));
   }
 }
 
@@ -386,7 +392,7 @@ int simulate(const Args& a) {
 
 // Eye-to-hand by hand: the pointer is on a hole centre; its TCP from HG_ROBOT_STATUS goes into the session.
 int touch(const Args& a) {
-  calibrate::Session s = calibrate::read_session(a.session);
+  calibrate::Session s = calibrate::read_session(a.session, false);
   const calibration::Drawing d = calibration::calibration_plate_drawing();
   bool known = false;
   for (const auto& h : d.holes) known |= h.id == a.hole;
@@ -408,7 +414,7 @@ int touch(const Args& a) {
 int capture(const Args& a) {
   if (!a.from_bus) throw std::runtime_error("capture: only --from-bus is a capture source (see --help)");
   calibrate::Session s;
-  if (std::ifstream(a.session + "/session.json")) s = calibrate::read_session(a.session);
+  if (std::ifstream(a.session + "/session.json")) s = calibrate::read_session(a.session, false);
   else
     s.mode = a.sim_mode;
   const std::size_t k = a.view < 0 ? s.views.size() : static_cast<std::size_t>(a.view);

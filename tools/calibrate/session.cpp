@@ -48,13 +48,15 @@ camera_bridge::Intrinsics intrinsics_from(const json& in) {
 }
 
 // The view's data: a depth PNG, a cloud through the intrinsics, or an outline file. `key` follows what is read.
-void read_view_data(const std::string& dir, const json& v, SessionView& sv, std::string& key, const std::string& at) {
+void read_view_data(const std::string& dir, const json& v, SessionView& sv, std::string& key, const std::string& at,
+                    bool load) {
   for (const char* kind : {"depth", "cloud", "outline"})
     if (v.contains(kind)) sv.kind = kind;
   key = at + sv.kind;
   sv.file = v.at(sv.kind).get<std::string>();
   const std::string path = dir + "/" + sv.file;
   if (sv.kind == "outline") {
+    if (!load) return;
     std::ifstream f(path);
     if (!f) throw std::runtime_error(sv.file + ": cannot open");
     read_outline_json(json::parse(f), sv, path);
@@ -63,6 +65,7 @@ void read_view_data(const std::string& dir, const json& v, SessionView& sv, std:
   key = at + "intrinsics";
   sv.intrinsics = intrinsics_from(v.at("intrinsics"));
   key = at + sv.kind;
+  if (!load) return;
   if (sv.kind == "cloud") {
     sv.depth = camera_bridge::cloud_to_depth(outline::io::read_cloud_file(path).xyz, sv.intrinsics);
   } else {
@@ -72,9 +75,9 @@ void read_view_data(const std::string& dir, const json& v, SessionView& sv, std:
 }
 
 SessionView read_view(const std::string& dir, const json& v, const std::string& mode, std::string& key,
-                      const std::string& at) {
+                      const std::string& at, bool load) {
   SessionView sv;
-  read_view_data(dir, v, sv, key, at);
+  read_view_data(dir, v, sv, key, at, load);
   if (v.contains("flange_to_base")) {
     key = at + "flange_to_base";
     sv.flange_to_base = from_row_major(v["flange_to_base"].get<std::vector<double>>(), "flange_to_base");
@@ -126,7 +129,7 @@ void read_outline_json(const json& j, SessionView& v, const std::string& where) 
   v.outline_record = j;
 }
 
-Session read_session(const std::string& dir) {
+Session read_session(const std::string& dir, bool load_data) {
   const std::string path = dir + "/session.json";
   std::ifstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot open");
@@ -142,7 +145,7 @@ Session read_session(const std::string& dir) {
     s.mode = j.at("mode").get<std::string>();
     if (s.mode != "eye-to-hand" && s.mode != "eye-in-hand") throw std::runtime_error("unknown mode '" + s.mode + "'");
     for (std::size_t i = 0; i < j.at("views").size(); ++i)
-      s.views.push_back(read_view(dir, j["views"][i], s.mode, key, "views[" + std::to_string(i) + "]."));
+      s.views.push_back(read_view(dir, j["views"][i], s.mode, key, "views[" + std::to_string(i) + "].", load_data));
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": " + key + ": " + e.what());
   }
@@ -155,8 +158,11 @@ void write_session(const std::string& dir, const Session& s) {
   for (const SessionView& v : s.views) {
     json jv{{v.kind, v.file}};
     const std::string path = dir + "/" + v.file;
-    if (v.kind == "depth" && !cv::imwrite(path, v.depth)) throw std::runtime_error(path + ": cannot write");
-    if (v.kind == "outline" && !(std::ofstream(path) << v.outline_record.dump(1) << "\n"))
+    // A view read without its data keeps its file untouched.
+    if (v.kind == "depth" && !v.depth.empty() && !cv::imwrite(path, v.depth))
+      throw std::runtime_error(path + ": cannot write");
+    if (v.kind == "outline" && !v.outline_record.is_null() &&
+        !(std::ofstream(path) << v.outline_record.dump(1) << "\n"))
       throw std::runtime_error(path + ": cannot write");
     if (v.kind != "outline") {
       const auto& in = v.intrinsics;

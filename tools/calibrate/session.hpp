@@ -38,8 +38,9 @@ struct Session {
   std::vector<SessionView> views;
 };
 
-// Throws std::runtime_error naming the file and the key.
-Session read_session(const std::string& dir);
+// Throws std::runtime_error naming the file and the key. Without load_data the views' files are not read
+// (capture, touch: only session.json changes; write_session then keeps those files as they are).
+Session read_session(const std::string& dir, bool load_data = true);
 void write_session(const std::string& dir, const Session& s);
 
 // The plate in one view: the product's pipeline on the view's data (calibration::detect_plate for depth and
