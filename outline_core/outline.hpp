@@ -95,6 +95,9 @@ struct Result {
   // Final Delaunay triangles (only with Options::keep_triangles), counter-clockwise, indices into the
   // input as given; a merged duplicate is referred to by its first occurrence.
   std::vector<std::array<uint32_t, 3>> delaunay_triangles;
+  // Strips computed in parallel (Options::threads); with more than one, the search and test counts are
+  // the sums over the strips (their margin bands are triangulated twice).
+  int threads_used = 1;
   Timings time;
 };
 
