@@ -12,6 +12,8 @@
 #include <cmath>
 #include <limits>
 #include <thread>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "alpha.hpp"
 #include "delaunay.hpp"
@@ -27,6 +29,16 @@ constexpr double kMarginUnits = 16;
 
 constexpr double kEps = pred::kEps;
 
+// A vertex as input index and coordinates; a directed edge between two.
+struct VertexRef {
+  std::uint32_t id;
+  Vec2 p;
+};
+struct EdgeRef {
+  VertexRef a, b;
+};
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) { return std::uint64_t{a} << 32 | b; }
+
 struct Strip {
   std::size_t index = 0;
   double lo = 0, hi = 0;  // owned x range [lo, hi)
@@ -37,7 +49,9 @@ struct Strip {
   // What the survey found (before the radius is known).
   AreaHistogram areas;             // owned trusted triangles
   std::vector<float> nn2;          // owned distinct vertices' squared nearest-neighbour distances
-  std::vector<Vec2> hull;          // convex hull vertices of the zone's points
+  std::vector<VertexRef> hull;     // convex hull vertices of the zone's points
+  // Edges of counted triangles with no counted triangle of this strip across (seams, hull, gaps).
+  std::vector<EdgeRef> frontier;
   std::vector<std::array<std::uint32_t, 3>> kept;  // owned trusted triangles (keep_triangles)
   std::vector<FreeEdge> edges;     // free edges with an owned tail (input indices)
   // Owned triangles whose disk leaves the zone (hull slivers, huge cut-outs): checked against the
@@ -164,10 +178,12 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
   while (T.tri[h0] != T.ghost) ++h0;
   std::uint32_t h = h0;
   do {
-    s.hull.push_back(at(T.tri[Triangulation::next(h)]));
+    const std::uint32_t u = T.tri[Triangulation::next(h)];
+    s.hull.push_back({s.gid[T.ids[u]], at(u)});
     h = T.twin[Triangulation::prev(h)];
   } while (h != h0);
   const bool left_open = std::isinf(s.lo), right_open = std::isinf(s.hi);
+  std::vector<std::uint8_t> counted(T.slots(), 0);  // 1: trusted here, 2: untrusted (checked later)
   for (std::size_t t = 0; t < T.slots(); ++t) {
     if (T.is_ghost(t)) continue;
     const std::uint32_t* v = &T.tri[3 * t];
@@ -180,11 +196,18 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
     if ((sl < 0 || sh >= 0) && reporter_of(a, b, c, k, split) != static_cast<long>(s.index)) continue;
     if (!disk_inside(k, zlo, zhi)) {
       s.untrusted.push_back({a, b, c, {s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]}});
+      counted[t] = 2;
       continue;
     }
+    counted[t] = 1;
     s.areas.add(triangle_area(a, b, c));
     if (options.keep_triangles) s.kept.push_back({s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]});
   }
+  for (std::uint32_t h = 0; h < T.tri.size(); ++h)
+    if (counted[h / 3] == 1 && counted[T.twin[h] / 3] != 1) {
+      const std::uint32_t u = T.tri[h], w = T.tri[Triangulation::next(h)];
+      s.frontier.push_back({{s.gid[T.ids[u]], at(u)}, {s.gid[T.ids[w]], at(w)}});
+    }
 }
 
 // The strip's owned points in cells of size `cell` over the box (counting sort).
@@ -246,27 +269,91 @@ void check_untrusted(std::vector<Strip>& strips, bool keep) {
       if (!empty) continue;
       strips[i].areas.add(triangle_area(u.a, u.b, u.c));
       if (keep) strips[i].kept.push_back(u.ids);
+      const VertexRef r[3] = {{u.ids[0], u.a}, {u.ids[1], u.b}, {u.ids[2], u.c}};
+      for (int e = 0; e < 3; ++e) strips[i].frontier.push_back({r[e], r[(e + 1) % 3]});
     }
 }
 
-// Points on the boundary of the convex hull of `pts` (collinear ones included: each is a Delaunay
-// vertex on a hull edge), by the monotone chain with exact orientation.
-std::size_t hull_boundary_points(std::vector<Vec2> pts) {
-  auto lex = [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); };
+// The convex hull of `pts` as directed edges (counter-clockwise), collinear boundary points included
+// (each is a Delaunay vertex on a hull edge): the monotone chain with exact orientation.
+std::vector<EdgeRef> hull_edges(std::vector<VertexRef> pts) {
+  auto lex = [](const VertexRef& a, const VertexRef& b) { return a.p.x < b.p.x || (a.p.x == b.p.x && a.p.y < b.p.y); };
   std::sort(pts.begin(), pts.end(), lex);
-  pts.erase(std::unique(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; }),
+  pts.erase(std::unique(pts.begin(), pts.end(), [](const VertexRef& a, const VertexRef& b) { return a.id == b.id; }),
             pts.end());
+  std::vector<EdgeRef> edges;
   auto chain = [&](auto first, auto last) {
-    std::vector<Vec2> c;
+    std::vector<VertexRef> c;
     for (auto it = first; it != last; ++it) {
-      while (c.size() >= 2 &&
-             pred::orient2d(c[c.size() - 2].x, c[c.size() - 2].y, c.back().x, c.back().y, it->x, it->y) < 0)
+      while (c.size() >= 2 && pred::orient2d(c[c.size() - 2].p.x, c[c.size() - 2].p.y, c.back().p.x, c.back().p.y,
+                                             it->p.x, it->p.y) < 0)
         c.pop_back();
       c.push_back(*it);
     }
-    return c.size();
+    for (std::size_t k = 0; k + 1 < c.size(); ++k) edges.push_back({c[k], c[k + 1]});
   };
-  return chain(pts.begin(), pts.end()) + chain(pts.rbegin(), pts.rend()) - 2;
+  chain(pts.begin(), pts.end());
+  chain(pts.rbegin(), pts.rend());
+  return edges;
+}
+
+// The triangles no strip could count (their vertices leave every zone, or a point beyond the zone
+// fell in their disk): the region they fill is bounded by the unmatched frontier edges; it is
+// triangulated from those edges' vertices, and each triangle found must be empty of every point
+// (exact). Their areas join strip 0's; false when the region cannot be recovered so.
+bool recover_missing(std::vector<Strip>& strips, const std::vector<EdgeRef>& hull, bool keep) {
+  std::unordered_set<std::uint64_t> known;
+  for (const Strip& s : strips)
+    for (const EdgeRef& e : s.frontier) known.insert(edge_key(e.a.id, e.b.id));
+  for (const EdgeRef& e : hull) known.insert(edge_key(e.b.id, e.a.id));  // the outside across a hull edge
+  std::unordered_set<std::uint64_t> open;  // the missing region's side of each unmatched edge, b -> a
+  std::vector<VertexRef> verts;
+  for (const Strip& s : strips)
+    for (const EdgeRef& e : s.frontier)
+      if (!known.count(edge_key(e.b.id, e.a.id))) {
+        open.insert(edge_key(e.b.id, e.a.id));
+        verts.push_back(e.a), verts.push_back(e.b);
+      }
+  if (open.empty()) return true;
+  std::sort(verts.begin(), verts.end(), [](const VertexRef& a, const VertexRef& b) { return a.id < b.id; });
+  verts.erase(std::unique(verts.begin(), verts.end(), [](const VertexRef& a, const VertexRef& b) { return a.id == b.id; }),
+              verts.end());
+  std::vector<Vec2> xy;
+  for (const VertexRef& v : verts) xy.push_back(v.p);
+  Triangulation D;
+  try {
+    D = triangulate(xy, Mode::DSHI, Order::Hilbert);
+  } catch (const OutlineError&) {
+    return false;
+  }
+  auto gid = [&](std::uint32_t v) { return verts[D.ids[v]].id; };
+  // Flood from the open edges through D's triangles, never across a known edge.
+  std::vector<std::uint8_t> seen(D.slots(), 0);
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t h = 0; h < D.tri.size(); ++h)
+    if (D.tri[h] != D.ghost && D.tri[Triangulation::next(h)] != D.ghost &&
+        open.count(edge_key(gid(D.tri[h]), gid(D.tri[Triangulation::next(h)]))))
+      stack.push_back(h / 3);
+  std::size_t found = 0;
+  while (!stack.empty()) {
+    const std::uint32_t t = stack.back();
+    stack.pop_back();
+    if (seen[t]) continue;
+    seen[t] = 1;
+    if (D.is_ghost(t)) return false;  // the region is not closed
+    const std::uint32_t* v = &D.tri[3 * t];
+    const Strip::Untrusted u{xy[D.ids[v[0]]], xy[D.ids[v[1]]], xy[D.ids[v[2]]], {gid(v[0]), gid(v[1]), gid(v[2])}};
+    for (const Strip& s : strips)
+      if (!empty_of(u, s)) return false;
+    strips[0].areas.add(triangle_area(u.a, u.b, u.c));
+    if (keep) strips[0].kept.push_back(u.ids);
+    ++found;
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t h = 3 * t + static_cast<std::uint32_t>(i);
+      if (!known.count(edge_key(gid(D.tri[Triangulation::next(h)]), gid(D.tri[h])))) stack.push_back(D.twin[h] / 3);
+    }
+  }
+  return found > 0;
 }
 
 // The inner strip boundaries: x quantiles of a sample, rounded to a multiple of a power of two about
@@ -316,19 +403,21 @@ double merged_spacing(const std::vector<Strip>& strips, std::size_t triangles) {
 // The global figures from the surveys into res and survey; false if the split is unsafe.
 bool merge_surveys(std::vector<Strip>& strips, const Options& options, double margin, Result& res,
                    StripSurvey& survey) {
-  std::vector<Vec2> hull;
+  std::vector<VertexRef> hull;
   std::vector<float> nn2;
   for (const Strip& s : strips)
     if (!s.ok) return false;
   check_untrusted(strips, options.keep_triangles);
+  for (const Strip& s : strips) hull.insert(hull.end(), s.hull.begin(), s.hull.end());
+  const std::vector<EdgeRef> hull_ring = hull_edges(std::move(hull));
+  if (!recover_missing(strips, hull_ring, options.keep_triangles)) return false;
   for (const Strip& s : strips) {
     survey.distinct += s.nn2.size();
-    hull.insert(hull.end(), s.hull.begin(), s.hull.end());
     nn2.insert(nn2.end(), s.nn2.begin(), s.nn2.end());
     for (const auto& t : s.kept) survey.owned.push_back(t);
     survey.trusted += s.areas.count();
   }
-  survey.hull = hull_boundary_points(std::move(hull));
+  survey.hull = hull_ring.size();
   if (2 * survey.distinct < survey.hull + 2 + 1) return false;
   survey.triangles = 2 * survey.distinct - 2 - survey.hull;
   if (options.keep_triangles && survey.trusted != survey.triangles) return false;
