@@ -148,6 +148,57 @@ long reporter_of(const Vec2& a, const Vec2& b, const Vec2& c, const Circle& k, c
   return -1;
 }
 
+// A triangle with its vertices at least x from the strip's ends and circumradius below x: its
+// circumcentre is here and its disk inside the zone (the common case, decided without the circle).
+bool deep_inside(const Vec2& a, const Vec2& b, const Vec2& c, double lo, double hi, double x) {
+  const double x0 = std::min({a.x, b.x, c.x}), x1 = std::max({a.x, b.x, c.x});
+  if (!(x0 - x >= lo && x1 + x < hi)) return false;
+  const double abx = a.x - b.x, aby = a.y - b.y, bcx = b.x - c.x, bcy = b.y - c.y, cax = c.x - a.x, cay = c.y - a.y;
+  const double N = (abx * abx + aby * aby) * (bcx * bcx + bcy * bcy) * (cax * cax + cay * cay);
+  const double cross = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  return N < 0.99 * 4 * (x * x) * (cross * cross);  // r^2 = N / (4 cross^2); rounding far below 1 %
+}
+
+// The strip's counted triangles: the trusted ones' areas (and ids), the untrusted ones for
+// check_untrusted, and the frontier edges.
+void count_triangles(Strip& s, const Split& split, bool keep) {
+  const Triangulation& T = s.T;
+  auto at = [&](std::uint32_t v) { return Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y}; };  // exact
+  const double zlo = split.zone_lo(s.index), zhi = split.zone_hi(s.index), deep = split.margin / 2;
+  const bool left_open = std::isinf(s.lo), right_open = std::isinf(s.hi);
+  std::vector<std::uint8_t> counted(T.slots(), 0);  // 1: trusted here, 2: untrusted (checked later)
+  for (std::size_t t = 0; t < T.slots(); ++t) {
+    if (T.is_ghost(t)) continue;
+    const std::uint32_t* v = &T.tri[3 * t];
+    const Vec2 a = at(v[0]), b = at(v[1]), c = at(v[2]);
+    if (deep_inside(a, b, c, s.lo, s.hi, deep)) {
+      counted[t] = 1;
+      s.areas.add(triangle_area(a, b, c));
+      if (keep) s.kept.push_back({s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]});
+      continue;
+    }
+    const Circle k = circle_of(a, b, c);
+    const int sl = left_open ? 1 : circumcentre_side(a, b, c, k, s.lo);
+    const int sh = right_open ? -1 : circumcentre_side(a, b, c, k, s.hi);
+    if (sl == 2 || sh == 2) s.ok = false;
+    // Circumcentre here: this strip's (its vertices are in this zone). Elsewhere: maybe, see reporter_of.
+    if ((sl < 0 || sh >= 0) && reporter_of(a, b, c, k, split) != static_cast<long>(s.index)) continue;
+    if (!disk_inside(k, zlo, zhi)) {
+      s.untrusted.push_back({a, b, c, {s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]}});
+      counted[t] = 2;
+      continue;
+    }
+    counted[t] = 1;
+    s.areas.add(triangle_area(a, b, c));
+    if (keep) s.kept.push_back({s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]});
+  }
+  for (std::uint32_t h = 0; h < T.tri.size(); ++h)
+    if (counted[h / 3] == 1 && counted[T.twin[h] / 3] != 1) {
+      const std::uint32_t u = T.tri[h], w = T.tri[Triangulation::next(h)];
+      s.frontier.push_back({{s.gid[T.ids[u]], at(u)}, {s.gid[T.ids[w]], at(w)}});
+    }
+}
+
 // The strip's zone points, its triangulation, and the survey of its owned triangles and vertices.
 void survey_strip(std::span<const Vec2> points, const Options& options, const Split& split, Strip& s) {
   const double margin = split.margin;
@@ -182,32 +233,7 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
     s.hull.push_back({s.gid[T.ids[u]], at(u)});
     h = T.twin[Triangulation::prev(h)];
   } while (h != h0);
-  const bool left_open = std::isinf(s.lo), right_open = std::isinf(s.hi);
-  std::vector<std::uint8_t> counted(T.slots(), 0);  // 1: trusted here, 2: untrusted (checked later)
-  for (std::size_t t = 0; t < T.slots(); ++t) {
-    if (T.is_ghost(t)) continue;
-    const std::uint32_t* v = &T.tri[3 * t];
-    const Vec2 a = at(v[0]), b = at(v[1]), c = at(v[2]);
-    const Circle k = circle_of(a, b, c);
-    const int sl = left_open ? 1 : circumcentre_side(a, b, c, k, s.lo);
-    const int sh = right_open ? -1 : circumcentre_side(a, b, c, k, s.hi);
-    if (sl == 2 || sh == 2) s.ok = false;
-    // Circumcentre here: this strip's (its vertices are in this zone). Elsewhere: maybe, see reporter_of.
-    if ((sl < 0 || sh >= 0) && reporter_of(a, b, c, k, split) != static_cast<long>(s.index)) continue;
-    if (!disk_inside(k, zlo, zhi)) {
-      s.untrusted.push_back({a, b, c, {s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]}});
-      counted[t] = 2;
-      continue;
-    }
-    counted[t] = 1;
-    s.areas.add(triangle_area(a, b, c));
-    if (options.keep_triangles) s.kept.push_back({s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]});
-  }
-  for (std::uint32_t h = 0; h < T.tri.size(); ++h)
-    if (counted[h / 3] == 1 && counted[T.twin[h] / 3] != 1) {
-      const std::uint32_t u = T.tri[h], w = T.tri[Triangulation::next(h)];
-      s.frontier.push_back({{s.gid[T.ids[u]], at(u)}, {s.gid[T.ids[w]], at(w)}});
-    }
+  count_triangles(s, split, options.keep_triangles);
 }
 
 // The strip's owned points in cells of size `cell` over the box (counting sort).
