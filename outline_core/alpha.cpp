@@ -371,7 +371,9 @@ std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::u
 }
 
 std::vector<Loop> chain_loops(std::vector<FreeEdge> edges) {
-  auto key_less = [](const FreeEdge& a, const FreeEdge& b) { return a.from < b.from || (a.from == b.from && a.to < b.to); };
+  auto key_less = [](const FreeEdge& a, const FreeEdge& b) {
+    return a.from < b.from || (a.from == b.from && a.to < b.to);
+  };
   std::sort(edges.begin(), edges.end(), key_less);
   // The edge a -> b, by binary search in the sorted list (its length is the outline's, not the cloud's).
   auto find = [&](std::uint32_t a, std::uint32_t b) {

@@ -41,19 +41,19 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) { return std::uint64_t{
 
 struct Strip {
   std::size_t index = 0;
-  double lo = 0, hi = 0;  // owned x range [lo, hi)
-  std::vector<Vec2> pts;  // the zone's points, in input order
+  double lo = 0, hi = 0;           // owned x range [lo, hi)
+  std::vector<Vec2> pts;           // the zone's points, in input order
   std::vector<std::uint32_t> gid;  // their input indices
   Triangulation T;
   bool ok = true;
   // What the survey found (before the radius is known).
-  AreaHistogram areas;             // owned trusted triangles
-  std::vector<float> nn2;          // owned distinct vertices' squared nearest-neighbour distances
-  std::vector<VertexRef> hull;     // convex hull vertices of the zone's points
+  AreaHistogram areas;          // owned trusted triangles
+  std::vector<float> nn2;       // owned distinct vertices' squared nearest-neighbour distances
+  std::vector<VertexRef> hull;  // convex hull vertices of the zone's points
   // Edges of counted triangles with no counted triangle of this strip across (seams, hull, gaps).
   std::vector<EdgeRef> frontier;
   std::vector<std::array<std::uint32_t, 3>> kept;  // owned trusted triangles (keep_triangles)
-  std::vector<FreeEdge> edges;     // free edges with an owned tail (input indices)
+  std::vector<FreeEdge> edges;                     // free edges with an owned tail (input indices)
   // Owned triangles whose disk leaves the zone (hull slivers, huge cut-outs): checked against the
   // other strips' points (check_untrusted) before they count.
   struct Untrusted {
@@ -118,7 +118,9 @@ bool disk_inside(const Circle& k, double zlo, double zhi) {
 struct Split {
   std::vector<double> bounds;
   double margin = 0;
-  double zone_lo(std::size_t i) const { return i == 0 ? -std::numeric_limits<double>::infinity() : bounds[i - 1] - margin; }
+  double zone_lo(std::size_t i) const {
+    return i == 0 ? -std::numeric_limits<double>::infinity() : bounds[i - 1] - margin;
+  }
   double zone_hi(std::size_t i) const {
     return i == bounds.size() ? std::numeric_limits<double>::infinity() : bounds[i] + margin;
   }
@@ -311,8 +313,8 @@ std::vector<EdgeRef> hull_edges(std::vector<VertexRef> pts) {
   auto chain = [&](auto first, auto last) {
     std::vector<VertexRef> c;
     for (auto it = first; it != last; ++it) {
-      while (c.size() >= 2 && pred::orient2d(c[c.size() - 2].p.x, c[c.size() - 2].p.y, c.back().p.x, c.back().p.y,
-                                             it->p.x, it->p.y) < 0)
+      while (c.size() >= 2 &&
+             pred::orient2d(c[c.size() - 2].p.x, c[c.size() - 2].p.y, c.back().p.x, c.back().p.y, it->p.x, it->p.y) < 0)
         c.pop_back();
       c.push_back(*it);
     }
@@ -342,8 +344,9 @@ bool recover_missing(std::vector<Strip>& strips, const std::vector<EdgeRef>& hul
       }
   if (open.empty()) return true;
   std::sort(verts.begin(), verts.end(), [](const VertexRef& a, const VertexRef& b) { return a.id < b.id; });
-  verts.erase(std::unique(verts.begin(), verts.end(), [](const VertexRef& a, const VertexRef& b) { return a.id == b.id; }),
-              verts.end());
+  verts.erase(
+      std::unique(verts.begin(), verts.end(), [](const VertexRef& a, const VertexRef& b) { return a.id == b.id; }),
+      verts.end());
   std::vector<Vec2> xy;
   for (const VertexRef& v : verts) xy.push_back(v.p);
   Triangulation D;

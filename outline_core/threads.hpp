@@ -19,12 +19,12 @@ int strips_for(const Options& options, std::size_t points);
 
 // What the strips found before the radius is known, merged (for tests: the split's own figures).
 struct StripSurvey {
-  std::size_t distinct = 0;         // distinct finite points, each counted by the strip owning it
-  std::size_t hull = 0;             // points on the convex hull's boundary
-  std::size_t triangles = 0;        // finite Delaunay triangles: 2 distinct - 2 - hull
-  std::size_t trusted = 0;          // owned triangles proven Delaunay for the whole cloud
-  double margin = 0;                // the margin band's width M
-  std::vector<double> boundaries;   // the strips' x boundaries (inner ones)
+  std::size_t distinct = 0;        // distinct finite points, each counted by the strip owning it
+  std::size_t hull = 0;            // points on the convex hull's boundary
+  std::size_t triangles = 0;       // finite Delaunay triangles: 2 distinct - 2 - hull
+  std::size_t trusted = 0;         // owned triangles proven Delaunay for the whole cloud
+  double margin = 0;               // the margin band's width M
+  std::vector<double> boundaries;  // the strips' x boundaries (inner ones)
   // Owned trusted triangles as input indices, counter-clockwise (filled with Options::keep_triangles).
   std::vector<std::array<std::uint32_t, 3>> owned;
 };

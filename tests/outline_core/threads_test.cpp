@@ -131,8 +131,8 @@ TEST(OutlineThreads, LoopsAndRadiusIdenticalToOneThread) {
       ASSERT_EQ(one.threads_used, 1);
       ASSERT_GE(one.loops.size(), 3u) << "kind " << kind;  // the plate and its two cut-outs at least
       for (int threads : {2, 3}) {
-        const std::string what = "kind " + std::to_string(kind) + " seed " + std::to_string(seed) + " threads " +
-                                 std::to_string(threads);
+        const std::string what =
+            "kind " + std::to_string(kind) + " seed " + std::to_string(seed) + " threads " + std::to_string(threads);
         const Result many = run(pts, threads);
         EXPECT_EQ(many.threads_used, threads) << what;  // the threaded path ran, not the fallback
         expect_same(one, many, what);
