@@ -60,7 +60,7 @@ struct Options {
   bool outer_only = false;      // paper's BFS from outside only: big triangles inside are kept (no holes)
   bool keep_triangles = false;  // fill Result::triangles
   // Threads: 0 = all hardware cores, 1 = one thread, N = at most N. The cloud is split into vertical
-  // strips, one per thread (docs/outline-core.md "Threads"); the loops are identical to one thread's.
+  // strips, one per thread (docs/outline-core-threads.md); the loops are identical to one thread's.
   // One thread is used below min_points_per_thread points per strip, and for outer_only, local alpha
   // mode, modes other than DSHI, or when a strip's margin turns out too narrow for R.
   int threads = 0;

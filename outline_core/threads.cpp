@@ -1,4 +1,4 @@
-// The outline on several threads; see threads.hpp and docs/outline-core.md ("Threads").
+// The outline on several threads; see threads.hpp and docs/outline-core-threads.md.
 //
 // Strip i owns the x range [lo, hi) and triangulates the finite points with x in [lo - M, hi + M). A
 // triangle of a strip's triangulation whose closed circumdisk lies inside that zone is Delaunay for the

@@ -1,5 +1,5 @@
 // The outline on several threads: the cloud split into vertical strips, one per thread, each
-// triangulated with a margin band of its neighbours' points (docs/outline-core.md, "Threads").
+// triangulated with a margin band of its neighbours' points (docs/outline-core-threads.md).
 // Internal to the outline core: compute_outline calls it.
 #pragma once
 
