@@ -277,7 +277,7 @@ bool empty_of(const Strip::Untrusted& u, const Strip& j) {
       const double x0 = j.cx0 + static_cast<double>(ci) * j.cell, y0 = j.cy0 + static_cast<double>(cj) * j.cell;
       const double dx = std::max({0.0, x0 - k.ox, k.ox - (x0 + j.cell)});
       const double dy = std::max({0.0, y0 - k.oy, k.oy - (y0 + j.cell)});
-      if (std::hypot(dx, dy) > r) continue;  // the cell clearly misses the disk
+      if (std::sqrt(dx * dx + dy * dy) > r) continue;  // the cell clearly misses the disk
       const std::size_t c = static_cast<std::size_t>(cj) * j.nx + static_cast<std::size_t>(ci);
       for (std::uint32_t q = j.cell_start[c]; q < j.cell_start[c + 1]; ++q) {
         const Vec2& p = j.cell_pts[q];
@@ -288,18 +288,18 @@ bool empty_of(const Strip::Untrusted& u, const Strip& j) {
 }
 
 // The untrusted triangles proven Delaunay against every other strip's points join the trusted ones.
-void check_untrusted(std::vector<Strip>& strips, bool keep) {
-  for (std::size_t i = 0; i < strips.size(); ++i)
-    for (const Strip::Untrusted& u : strips[i].untrusted) {
-      bool empty = true;
-      for (std::size_t j = 0; j < strips.size() && empty; ++j)
-        if (j != i) empty = empty_of(u, strips[j]);
-      if (!empty) continue;
-      strips[i].areas.add(triangle_area(u.a, u.b, u.c));
-      if (keep) strips[i].kept.push_back(u.ids);
-      const VertexRef r[3] = {{u.ids[0], u.a}, {u.ids[1], u.b}, {u.ids[2], u.c}};
-      for (int e = 0; e < 3; ++e) strips[i].frontier.push_back({r[e], r[(e + 1) % 3]});
-    }
+// Strip i's: it writes only strip i and reads the others' cells, so the strips run it in parallel.
+void check_untrusted(std::vector<Strip>& strips, std::size_t i, bool keep) {
+  for (const Strip::Untrusted& u : strips[i].untrusted) {
+    bool empty = true;
+    for (std::size_t j = 0; j < strips.size() && empty; ++j)
+      if (j != i) empty = empty_of(u, strips[j]);
+    if (!empty) continue;
+    strips[i].areas.add(triangle_area(u.a, u.b, u.c));
+    if (keep) strips[i].kept.push_back(u.ids);
+    const VertexRef r[3] = {{u.ids[0], u.a}, {u.ids[1], u.b}, {u.ids[2], u.c}};
+    for (int e = 0; e < 3; ++e) strips[i].frontier.push_back({r[e], r[(e + 1) % 3]});
+  }
 }
 
 // The convex hull of `pts` as directed edges (counter-clockwise), collinear boundary points included
@@ -436,7 +436,7 @@ bool merge_surveys(std::vector<Strip>& strips, const Options& options, double ma
   std::vector<float> nn2;
   for (const Strip& s : strips)
     if (!s.ok) return false;
-  check_untrusted(strips, options.keep_triangles);
+  for_each_strip(strips.size(), [&](std::size_t i) { check_untrusted(strips, i, options.keep_triangles); });
   for (const Strip& s : strips) hull.insert(hull.end(), s.hull.begin(), s.hull.end());
   const std::vector<EdgeRef> hull_ring = hull_edges(std::move(hull));
   if (!recover_missing(strips, hull_ring, options.keep_triangles)) return false;
