@@ -12,7 +12,6 @@
 #include <cmath>
 #include <limits>
 #include <thread>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "alpha.hpp"
@@ -461,7 +460,7 @@ bool merge_surveys(std::vector<Strip>& strips, const Options& options, double ma
   res.alpha_automatic = !(options.alpha_radius > 0);
   res.alpha_radius = res.alpha_automatic ? k * res.spacing : options.alpha_radius;
   // Every inside triangle at an owned vertex or at its neighbours has its disk within 4 R of the strip.
-  return 4 * res.alpha_radius * (1 + 1e-9) < margin;
+  return 4 * res.alpha_radius * (1 + 1e-6) < margin * (1 - 1e-6);
 }
 
 // The strip's inside triangles and its free edges with an owned tail, as input indices.
@@ -507,6 +506,9 @@ bool run_threaded(std::span<const Vec2> points, const Options& options, int nstr
   const double margin = kMarginUnits * std::sqrt((maxx - minx) * (maxy - miny) / static_cast<double>(finite));
   const std::vector<double> bounds = strip_boundaries(points, nstrips, minx, maxx);
   if (bounds.empty() || !std::isfinite(margin) || !(margin > 0)) return false;
+  // The float slacks of the checks (zone ends, deep_inside, the margin test) assume coordinates below
+  // 1e9 margins: the rounding of x - M is then far below the 0.25 % of M they leave.
+  if (std::max(std::fabs(minx), std::fabs(maxx)) > 1e9 * margin) return false;
   std::vector<Strip> strips(bounds.size() + 1);
   const Split split{bounds, margin};
   for (std::size_t i = 0; i < strips.size(); ++i) {
