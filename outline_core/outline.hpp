@@ -60,9 +60,10 @@ struct Options {
   bool outer_only = false;      // paper's BFS from outside only: big triangles inside are kept (no holes)
   bool keep_triangles = false;  // fill Result::triangles
   // Threads: 0 = all hardware cores, 1 = one thread, N = at most N. The cloud is split into vertical
-  // strips, one per thread (docs/outline-core-threads.md); the loops are identical to one thread's.
-  // One thread is used below min_points_per_thread points per strip, and for outer_only, local alpha
-  // mode, modes other than DSHI, or when a strip's margin turns out too narrow for R.
+  // strips, one per thread (docs/outline-core-threads.md); the loops and R are identical to one
+  // thread's. One thread is used below min_points_per_thread points per strip, for outer_only, local
+  // alpha mode and modes other than DSHI, and when the split's checks fail for the cloud (a margin too
+  // narrow for R, a median the strips cannot pin down; with keep_triangles, any triangle not proven).
   int threads = 0;
   std::size_t min_points_per_thread = 100'000;  // below this per strip a second thread does not pay
 };
