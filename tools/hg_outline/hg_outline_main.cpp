@@ -53,7 +53,8 @@ options
   --threads N           threads (default 0: all cores): the cloud is split into vertical strips, one
                         per thread, with loops identical to one thread's; one thread below 100 k
                         points per strip, with --outer-only, --alpha-mode local or --mode other than
-                        dshi, and when the strips' checks find the split unsafe for the cloud
+                        dshi, and when the strips' checks find the split unsafe for the cloud;
+                        "threads" in the JSON and the summary line say how many ran
   --outer-only          remove only big triangles connected to the outside (no holes)
   -o FILE, --output FILE
                         write the outline JSON to FILE (default: print it on stdout)
