@@ -405,13 +405,23 @@ std::vector<double> strip_boundaries(std::span<const Vec2> points, int strips, d
   return b;
 }
 
-// Runs f(i) for every strip, strip 0 on the calling thread.
+// Runs f(i) for every strip, strip 0 on the calling thread; false if any threw (an exception must not
+// leave a thread: the caller then runs the one-thread path, which reports it where it can be caught).
 template <class F>
-void for_each_strip(std::size_t n, F f) {
+bool for_each_strip(std::size_t n, F f) {
+  std::vector<std::uint8_t> failed(n, 0);
+  auto run = [&](std::size_t i) {
+    try {
+      f(i);
+    } catch (...) {
+      failed[i] = 1;
+    }
+  };
   std::vector<std::thread> pool;
-  for (std::size_t i = 1; i < n; ++i) pool.emplace_back(f, i);
-  f(0);
+  for (std::size_t i = 1; i < n; ++i) pool.emplace_back(run, i);
+  run(0);
   for (std::thread& t : pool) t.join();
+  return std::find(failed.begin(), failed.end(), 1) == failed.end();
 }
 
 // The median spacing of the whole cloud from the strips' trusted triangles, or 0 when the unknown
@@ -435,7 +445,8 @@ bool merge_surveys(std::vector<Strip>& strips, const Options& options, double ma
   std::vector<float> nn2;
   for (const Strip& s : strips)
     if (!s.ok) return false;
-  for_each_strip(strips.size(), [&](std::size_t i) { check_untrusted(strips, i, options.keep_triangles); });
+  if (!for_each_strip(strips.size(), [&](std::size_t i) { check_untrusted(strips, i, options.keep_triangles); }))
+    return false;
   for (const Strip& s : strips) hull.insert(hull.end(), s.hull.begin(), s.hull.end());
   const std::vector<EdgeRef> hull_ring = hull_edges(std::move(hull));
   if (!recover_missing(strips, hull_ring, options.keep_triangles)) return false;
@@ -516,7 +527,7 @@ bool run_threaded(std::span<const Vec2> points, const Options& options, int nstr
     strips[i].lo = i == 0 ? -std::numeric_limits<double>::infinity() : bounds[i - 1];
     strips[i].hi = i + 1 == strips.size() ? std::numeric_limits<double>::infinity() : bounds[i];
   }
-  for_each_strip(strips.size(), [&](std::size_t i) {
+  const bool surveyed = for_each_strip(strips.size(), [&](std::size_t i) {
     survey_strip(points, options, split, strips[i]);
     index_owned(strips[i], margin / 2, miny, maxy);
   });
@@ -524,8 +535,8 @@ bool run_threaded(std::span<const Vec2> points, const Options& options, int nstr
   StripSurvey survey;
   survey.margin = margin;
   survey.boundaries = bounds;
-  if (!merge_surveys(strips, options, margin, res, survey)) return false;
-  for_each_strip(strips.size(), [&](std::size_t i) { strip_edges(strips[i], res.alpha_radius); });
+  if (!surveyed || !merge_surveys(strips, options, margin, res, survey)) return false;
+  if (!for_each_strip(strips.size(), [&](std::size_t i) { strip_edges(strips[i], res.alpha_radius); })) return false;
   std::vector<FreeEdge> edges;
   for (Strip& s : strips) {
     edges.insert(edges.end(), s.edges.begin(), s.edges.end());
