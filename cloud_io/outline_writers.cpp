@@ -73,6 +73,7 @@ nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar,
   j["holes_dropped"] = r.holes_dropped;
   j["mode"] = to_string(r.mode);
   j["order"] = to_string(r.order);
+  j["threads"] = r.threads_used;  // strips computed in parallel (1: the one-thread path ran)
   j["triangles"] = r.triangles;
   j["search_cost"] = r.search_cost;
   j["incircle_tests"] = r.incircle_tests;

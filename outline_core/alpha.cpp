@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <string>
 
 #include "predicates.hpp"
 
@@ -66,36 +67,44 @@ double median_nn_spacing(const Triangulation& T) {
   return std::sqrt(static_cast<double>(d2));
 }
 
+double median_distance(std::span<const float> squared) {
+  const float d2 = radix_median(squared.size(), [&](std::size_t i, float& f) {
+    f = squared[i];
+    return true;
+  });
+  return std::sqrt(static_cast<double>(d2));
+}
+
+AreaHistogram::AreaHistogram() : hist_(1u << 19, 0) {}
+
+void AreaHistogram::add(double area) {
+  const float a = static_cast<float>(area);
+  if (!std::isfinite(a)) return;
+  std::uint32_t k;
+  std::memcpy(&k, &a, 4);
+  ++hist_[(k & 0x7fffffffu) >> 12];
+  ++used_;
+}
+
+void AreaHistogram::merge(const AreaHistogram& other) {
+  for (std::size_t b = 0; b < hist_.size(); ++b) hist_[b] += other.hist_[b];
+  used_ += other.used_;
+}
+
+std::size_t AreaHistogram::bucket_at(std::size_t rank) const {
+  std::size_t b = 0;
+  while (rank >= hist_[b]) rank -= hist_[b++];
+  return b;
+}
+
+double AreaHistogram::spacing_of(std::size_t bucket) {
+  const std::uint32_t bits = static_cast<std::uint32_t>(bucket) << 12;
+  float area;
+  std::memcpy(&area, &bits, 4);
+  return std::sqrt(2.0 * static_cast<double>(area));
+}
+
 namespace {
-
-// Median area by a histogram of the top 20 bits of the float areas (exponent and 11 mantissa bits,
-// 2 MB), read off as its bucket's lower edge: within 2^-11 of the true median, exact for areas with few
-// mantissa bits, like the 0.5 of a unit grid's triangles. add(area) per triangle, then spacing().
-class AreaMedian {
- public:
-  AreaMedian() : hist_(1u << 19, 0) {}
-  void add(double area) {
-    const float a = static_cast<float>(area);
-    if (!std::isfinite(a)) return;
-    std::uint32_t k;
-    std::memcpy(&k, &a, 4);
-    ++hist_[(k & 0x7fffffffu) >> 12];
-    ++used_;
-  }
-  double spacing() const {
-    if (used_ == 0) return 0;
-    std::size_t rank = used_ / 2, b = 0;
-    while (rank >= hist_[b]) rank -= hist_[b++];
-    const std::uint32_t bits = static_cast<std::uint32_t>(b) << 12;
-    float area;
-    std::memcpy(&area, &bits, 4);
-    return std::sqrt(2.0 * static_cast<double>(area));
-  }
-
- private:
-  std::vector<std::uint32_t> hist_;
-  std::size_t used_ = 0;
-};
 
 constexpr std::uint8_t kGhostClass = 0;  // rclass of a ghost triangle slot
 constexpr std::uint8_t kUndecided = 255;
@@ -143,6 +152,8 @@ inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) {
 
 }  // namespace
 
+double triangle_area(const Vec2& a, const Vec2& b, const Vec2& c) { return measure(a, b, c, 0).area; }
+
 double random_cloud_factor(std::size_t points) {
   const double target = std::log(2.0 * std::max<std::size_t>(points, 1));  // T - ln(1 + T) = ln(2n)
   double t = target + 1;
@@ -166,7 +177,7 @@ TriangleScan scan_triangles(const Triangulation& T) {
   if (!std::isnormal(scan.scale2)) scan.scale2 = 0;  // no classes: every decision exact
   const std::size_t slots = T.slots();
   scan.rclass.assign(slots, kGhostClass);
-  AreaMedian median;
+  AreaHistogram median;
   // The three vertices of a triangle are scattered over the coordinate array: fetching those of a few
   // triangles ahead overlaps the cache misses that otherwise dominate this pass.
   constexpr std::size_t kAhead = 8;
@@ -317,26 +328,21 @@ std::vector<std::uint8_t> classify_alpha_local(const Triangulation& T, std::span
 
 namespace {
 
-// A vertex's input coordinates; with no input given, the translated point plus the origin (exact when
-// the caller released its points through triangulate_releasing).
-Vec2 input_coord(const Triangulation& T, std::span<const Vec2> input, std::uint32_t v) {
-  return input.empty() ? Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y} : input[T.ids[v]];
-}
-
-// The loop through the vertices v[0..m), starting at its smallest input index.
-Loop make_loop(const Triangulation& T, std::span<const Vec2> input, const std::uint32_t* v, std::size_t m) {
+// The loop through the free edges e[0..m) (a chain: each one's head is the next one's tail), starting at
+// its smallest input index.
+Loop make_loop(const std::vector<FreeEdge>& edges, const std::uint32_t* e, std::size_t m) {
   Loop L;
   std::size_t start = 0;
   for (std::size_t k = 1; k < m; ++k)
-    if (T.ids[v[k]] < T.ids[v[start]]) start = k;
+    if (edges[e[k]].from < edges[e[start]].from) start = k;
   // Area and length in input coordinates relative to the loop's first point: exact for integer-valued
   // inputs, and no cancellation against a far origin.
-  const Vec2 o = input_coord(T, input, v[start]);
+  const Vec2 o = edges[e[start]].from_xy;
   double twice_area = 0;
   for (std::size_t k = 0; k < m; ++k) {
-    const std::uint32_t vi = v[(start + k) % m], vj = v[(start + k + 1) % m];
-    const Vec2 pi = input_coord(T, input, vi), pj = input_coord(T, input, vj);
-    L.point_index.push_back(T.ids[vi]);
+    const FreeEdge &ei = edges[e[(start + k) % m]], &ej = edges[e[(start + k + 1) % m]];
+    const Vec2 pi = ei.from_xy, pj = ej.from_xy;
+    L.point_index.push_back(ei.from);
     L.points.push_back(pi);
     const double xi = pi.x - o.x, yi = pi.y - o.y, xj = pj.x - o.x, yj = pj.y - o.y;
     twice_area += xi * yj - xj * yi;
@@ -347,12 +353,13 @@ Loop make_loop(const Triangulation& T, std::span<const Vec2> input, const std::u
   return L;
 }
 
-// Outer loops first, then holes, each group by decreasing area, ties by first point index.
+// Outer loops first, then holes, each group by decreasing area, ties by the point indices (a total
+// order: the result does not depend on the order the loops were traced in).
 void sort_loops(std::vector<Loop>& loops) {
-  std::stable_sort(loops.begin(), loops.end(), [](const Loop& a, const Loop& b) {
+  std::sort(loops.begin(), loops.end(), [](const Loop& a, const Loop& b) {
     if (a.hole != b.hole) return !a.hole;
     if (a.area != b.area) return a.area > b.area;
-    return a.point_index[0] < b.point_index[0];
+    return a.point_index < b.point_index;
   });
 }
 
@@ -360,57 +367,50 @@ void sort_loops(std::vector<Loop>& loops) {
 
 std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::uint8_t>& inside,
                                 std::span<const Vec2> input) {
-  const std::size_t hcount = T.tri.size();
-  auto is_free = [&](std::uint32_t h) { return inside[h / 3] && !inside[T.twin[h] / 3]; };
-  // The next free half-edge after h = a -> b: turn around b through the inside triangles of the same fan.
-  auto successor = [&](std::uint32_t h) {
-    std::uint32_t g = Triangulation::next(h);
-    while (inside[T.twin[g] / 3]) g = Triangulation::next(T.twin[g]);
-    return g;
-  };
-  std::vector<Loop> loops;
-  auto emit = [&](const std::uint32_t* v, std::size_t m) { loops.push_back(make_loop(T, input, v, m)); };
+  return chain_loops(free_edges(T, inside, input, [](std::uint32_t) { return true; }));
+}
 
-  // The free half-edges, in increasing order (one pass over the triangles); the tracing below then
-  // works on this short list (its length is the outline's, not the cloud's): used marks per free edge,
-  // found by binary search; the chain position of a boundary vertex likewise.
-  std::vector<std::uint32_t> free_edges, bverts;
-  for (std::uint32_t h = 0; h < hcount; ++h)
-    if (is_free(h)) free_edges.push_back(h);
-  bverts.reserve(free_edges.size());
-  for (std::uint32_t h : free_edges) bverts.push_back(T.tri[h]);
-  std::sort(bverts.begin(), bverts.end());
-  bverts.erase(std::unique(bverts.begin(), bverts.end()), bverts.end());
-  auto edge_slot = [&](std::uint32_t h) {
-    return static_cast<std::size_t>(std::lower_bound(free_edges.begin(), free_edges.end(), h) - free_edges.begin());
+std::vector<Loop> chain_loops(std::vector<FreeEdge> edges) {
+  auto key_less = [](const FreeEdge& a, const FreeEdge& b) {
+    return a.from < b.from || (a.from == b.from && a.to < b.to);
   };
+  std::sort(edges.begin(), edges.end(), key_less);
+  // The edge a -> b, by binary search in the sorted list (its length is the outline's, not the cloud's).
+  auto find = [&](std::uint32_t a, std::uint32_t b) {
+    const auto it = std::lower_bound(edges.begin(), edges.end(), FreeEdge{a, b, 0, {}}, key_less);
+    if (it == edges.end() || it->from != a || it->to != b)
+      throw OutlineError("internal error: free edge " + std::to_string(a) + " -> " + std::to_string(b) + " missing");
+    return static_cast<std::size_t>(it - edges.begin());
+  };
+  std::vector<std::uint32_t> bverts;  // the boundary vertices, for the chain position of each
+  for (const FreeEdge& e : edges) bverts.push_back(e.from);
+  bverts.erase(std::unique(bverts.begin(), bverts.end()), bverts.end());  // sorted already
   auto vert_slot = [&](std::uint32_t v) {
     return static_cast<std::size_t>(std::lower_bound(bverts.begin(), bverts.end(), v) - bverts.begin());
   };
-  std::vector<std::uint8_t> used(free_edges.size(), 0);
+  std::vector<Loop> loops;
+  std::vector<std::uint8_t> used(edges.size(), 0);
   std::vector<std::int32_t> pos(bverts.size(), -1);  // position of a vertex in the chain being traced
-  std::vector<std::uint32_t> path;
-  for (std::size_t e0 = 0; e0 < free_edges.size(); ++e0) {
+  std::vector<std::uint32_t> path;                   // edges of the chain
+  for (std::size_t e0 = 0; e0 < edges.size(); ++e0) {
     if (used[e0]) continue;
-    const std::uint32_t h0 = free_edges[e0];
     path.clear();
-    std::uint32_t h = h0;
+    std::size_t e = e0;
     do {
-      used[edge_slot(h)] = 1;
-      const std::uint32_t v = T.tri[h];
-      const std::size_t vs = vert_slot(v);
-      if (pos[vs] >= 0) {  // the chain came back to v: what lies between is a closed loop on its own
+      used[e] = 1;
+      const std::size_t vs = vert_slot(edges[e].from);
+      if (pos[vs] >= 0) {  // the chain came back to this vertex: what lies between is a closed loop on its own
         const std::size_t p = static_cast<std::size_t>(pos[vs]);
-        emit(path.data() + p, path.size() - p);
-        for (std::size_t k = p; k < path.size(); ++k) pos[vert_slot(path[k])] = -1;
+        loops.push_back(make_loop(edges, path.data() + p, path.size() - p));
+        for (std::size_t k = p; k < path.size(); ++k) pos[vert_slot(edges[path[k]].from)] = -1;
         path.resize(p);
       }
       pos[vs] = static_cast<std::int32_t>(path.size());
-      path.push_back(v);
-      h = successor(h);
-    } while (h != h0);
-    emit(path.data(), path.size());
-    for (std::uint32_t v : path) pos[vert_slot(v)] = -1;
+      path.push_back(static_cast<std::uint32_t>(e));
+      e = find(edges[e].to, edges[e].next);
+    } while (e != e0);
+    loops.push_back(make_loop(edges, path.data(), path.size()));
+    for (std::uint32_t k : path) pos[vert_slot(edges[k].from)] = -1;
   }
   sort_loops(loops);
   return loops;

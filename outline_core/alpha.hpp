@@ -36,6 +36,30 @@ double automatic_factor(double q, std::size_t points);
 // Not the unit of R (in-plane noise shrinks it: ~0.65 of the grid spacing at +-0.5 spacing noise); its
 // ratio to the triangle spacing is the regularity q of automatic_factor.
 double median_nn_spacing(const Triangulation& T);
+// The same median over given squared distances (non-finite ones ignored): sqrt of the element of rank
+// count / 2. The threaded outline merges the strips' vertices with it.
+double median_distance(std::span<const float> squared);
+
+// Histogram of triangle areas behind median_triangle_spacing: the top 20 bits of each float area
+// (exponent and 11 mantissa bits, 2 MB); the median is read off as its bucket's lower edge, within 2^-11
+// of the true median, exact for areas with few mantissa bits (the 0.5 of a unit grid's triangles).
+class AreaHistogram {
+ public:
+  AreaHistogram();
+  void add(double area);  // non-finite areas are not counted
+  void merge(const AreaHistogram& other);
+  std::size_t count() const { return used_; }
+  std::size_t bucket_at(std::size_t rank) const;  // the bucket holding the element of this rank (< count)
+  static double spacing_of(std::size_t bucket);   // sqrt(2 x the bucket's lower edge)
+  double spacing() const { return used_ ? spacing_of(bucket_at(used_ / 2)) : 0; }
+
+ private:
+  std::vector<std::uint32_t> hist_;
+  std::size_t used_ = 0;
+};
+// The area of a finite triangle as the spacing counts it: the same value for every rotation and
+// orientation of the vertices, and for any exact translation of them.
+double triangle_area(const Vec2& a, const Vec2& b, const Vec2& c);
 
 // The point spacing of the automatic radius: sqrt(2 x median area of the finite Delaunay triangles)
 // (= the pitch on a square grid, whose cells split into two triangles). Noise does not shrink it (the
@@ -85,5 +109,38 @@ double local_radius(std::span<const float> vertex_spacing, double k, std::uint32
 // point index.
 std::vector<Loop> extract_loops(const Triangulation& T, const std::vector<std::uint8_t>& inside,
                                 std::span<const Vec2> input);
+
+// extract_loops in two steps, so that strips of a split cloud can each contribute their free edges:
+// a free half-edge from -> to (input indices), the head of the free edge after it (the pinch rule
+// above) and the coordinates of `from`.
+struct FreeEdge {
+  std::uint32_t from = 0, to = 0, next = 0;
+  Vec2 from_xy;
+};
+// The free edges of T whose tail vertex v passes keep_tail(v) (by vertex id). `input` as above.
+template <class KeepTail>
+std::vector<FreeEdge> free_edges(const Triangulation& T, const std::vector<std::uint8_t>& inside,
+                                 std::span<const Vec2> input, KeepTail keep_tail);
+// The loops through a complete set of free edges (each edge's successor present), in extract_loops'
+// canonical order; the same loops whatever order the edges come in. Throws OutlineError if an edge's
+// successor is missing.
+std::vector<Loop> chain_loops(std::vector<FreeEdge> edges);
+
+template <class KeepTail>
+std::vector<FreeEdge> free_edges(const Triangulation& T, const std::vector<std::uint8_t>& inside,
+                                 std::span<const Vec2> input, KeepTail keep_tail) {
+  std::vector<FreeEdge> edges;
+  const std::uint32_t hcount = static_cast<std::uint32_t>(T.tri.size());
+  for (std::uint32_t h = 0; h < hcount; ++h) {
+    if (!inside[h / 3] || inside[T.twin[h] / 3] || !keep_tail(T.tri[h])) continue;
+    // The next free half-edge after h = a -> b: turn around b through the inside triangles of its fan.
+    std::uint32_t g = Triangulation::next(h);
+    while (inside[T.twin[g] / 3]) g = Triangulation::next(T.twin[g]);
+    const std::uint32_t a = T.tri[h], b = T.tri[g], c = T.tri[Triangulation::next(g)];
+    const Vec2 xy = input.empty() ? Vec2{T.xy[a].x + T.origin.x, T.xy[a].y + T.origin.y} : input[T.ids[a]];
+    edges.push_back({T.ids[a], T.ids[b], T.ids[c], xy});
+  }
+  return edges;
+}
 
 }  // namespace hg::outline

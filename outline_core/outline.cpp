@@ -7,6 +7,7 @@
 
 #include "alpha.hpp"
 #include "delaunay.hpp"
+#include "threads.hpp"
 
 namespace hg::outline {
 
@@ -40,11 +41,13 @@ void check_options(const Options& options) {
     throw OutlineError("min hole spacings must be a finite number >= 0");
   if (options.alpha_mode == AlphaMode::Local && options.alpha_radius > 0)
     throw OutlineError("alpha mode local sets the radius per triangle: give no alpha radius");
+  if (options.threads < 0) throw OutlineError("threads must be >= 0 (0: all cores)");
 }
 
 // Removes the holes smaller than (min_spacings x spacing)^2, the spacing being the global one or, in
 // local mode, the median local spacing at the hole's vertices; returns how many were removed.
-std::size_t drop_small_holes(std::vector<Loop>& loops, const Triangulation& T, std::span<const float> local,
+// T is read only in local mode (local not empty).
+std::size_t drop_small_holes(std::vector<Loop>& loops, const Triangulation* T, std::span<const float> local,
                              double spacing, double min_spacings) {
   if (min_spacings <= 0) return 0;
   // Local mode: the spacing of each hole vertex (input index -> vertex is found by one pass over the
@@ -55,10 +58,10 @@ std::size_t drop_small_holes(std::vector<Loop>& loops, const Triangulation& T, s
       if (L.hole)
         for (std::uint32_t i : L.point_index) at.push_back({i, 0.0f});
     std::sort(at.begin(), at.end());
-    for (std::uint32_t v = 0; v < T.xy.size(); ++v) {
-      if (T.vrep[v] != v) continue;
-      auto it = std::lower_bound(at.begin(), at.end(), std::pair<std::uint32_t, float>{T.ids[v], 0.0f});
-      for (; it != at.end() && it->first == T.ids[v]; ++it) it->second = local[v];
+    for (std::uint32_t v = 0; v < T->xy.size(); ++v) {
+      if (T->vrep[v] != v) continue;
+      auto it = std::lower_bound(at.begin(), at.end(), std::pair<std::uint32_t, float>{T->ids[v], 0.0f});
+      for (; it != at.end() && it->first == T->ids[v]; ++it) it->second = local[v];
     }
   }
   std::vector<float> buf;
@@ -100,6 +103,18 @@ std::vector<std::uint8_t> classify_by_options(const Triangulation& T, const Opti
   return classify_alpha(T, res.alpha_radius, options.outer_only, scan);
 }
 
+// The pipeline on several strips when the options and the size call for it and the split's checks
+// pass (threads.hpp); false (res untouched) when the one-thread path is to run.
+bool run_on_strips(std::span<const Vec2> points, const Options& options, Result& res) {
+  const int strips = strips_for(options, points.size());
+  if (strips < 2) return false;
+  Result r;
+  if (!run_threaded(points, options, strips, r)) return false;
+  r.holes_dropped = drop_small_holes(r.loops, nullptr, {}, r.spacing, options.min_hole_spacings);
+  res = std::move(r);
+  return true;
+}
+
 // The pipeline; `owned`, when given, is the vector `points` views and may be released by the
 // triangulation (then the loops take their coordinates from it).
 Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const Options& options) {
@@ -111,6 +126,11 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
 
   const auto t0 = Clock::now();
   Result res;
+  if (run_on_strips(points, options, res)) {
+    res.time.total_ms = ms(t0, Clock::now());
+    res.time.loops_ms = res.time.total_ms - res.time.triangulate_ms - res.time.alpha_ms;
+    return res;
+  }
   res.points_read = points.size();
   res.mode = options.mode;
   res.order = options.order;
@@ -133,7 +153,7 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   const auto t2 = Clock::now();
 
   res.loops = extract_loops(T, inside, points);
-  res.holes_dropped = drop_small_holes(res.loops, T, local, res.spacing, options.min_hole_spacings);
+  res.holes_dropped = drop_small_holes(res.loops, &T, local, res.spacing, options.min_hole_spacings);
   if (options.keep_triangles) {
     const std::size_t slots = T.slots();
     for (std::size_t t = 0; t < slots; ++t) {

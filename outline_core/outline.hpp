@@ -59,6 +59,13 @@ struct Options {
   Order order = Order::Brio;    // docs/outline-core-performance.md: scan order makes long thin fans
   bool outer_only = false;      // paper's BFS from outside only: big triangles inside are kept (no holes)
   bool keep_triangles = false;  // fill Result::triangles
+  // Threads: 0 = all hardware cores, 1 = one thread, N = at most N. The cloud is split into vertical
+  // strips, one per thread (docs/outline-core-threads.md); the loops and R are identical to one
+  // thread's. One thread is used below min_points_per_thread points per strip, for outer_only, local
+  // alpha mode and modes other than DSHI, and when the split's checks fail for the cloud (a margin too
+  // narrow for R, a median the strips cannot pin down; with keep_triangles, any triangle not proven).
+  int threads = 0;
+  std::size_t min_points_per_thread = 100'000;  // below this per strip a second thread does not pay
 };
 
 struct Timings {
@@ -89,6 +96,9 @@ struct Result {
   // Final Delaunay triangles (only with Options::keep_triangles), counter-clockwise, indices into the
   // input as given; a merged duplicate is referred to by its first occurrence.
   std::vector<std::array<uint32_t, 3>> delaunay_triangles;
+  // Strips computed in parallel (Options::threads); with more than one, the search and test counts are
+  // the sums over the strips (their margin bands are triangulated twice).
+  int threads_used = 1;
   Timings time;
 };
 

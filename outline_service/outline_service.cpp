@@ -45,6 +45,10 @@ runtime::ProcessInfo process_info() {
            "insertion order: brio (default: biased randomized rounds of Hilbert order, 2-3x faster on camera clouds)|hilbert|as-is (the scan order the paper inserts in)",
            {"brio", "hilbert", "as-is"}),
        {"outer-only", "", "remove only big triangles connected to the outside (the paper's BFS): no holes", true},
+       runtime::integer_param(
+           "threads", "0",
+           "threads of the outline core (0: all cores): vertical strips, loops identical to one thread's; one thread below 100 k points per strip",
+           0, 1024),
        {"min-hole-spacings", kMinHoleDefault,
         "drop holes smaller in area than (this x point spacing)^2: dropout, not cut-outs (0: keep all); the outline core's rule, as hg-outline",
         false, runtime::ParamType::Number, 0}}};
@@ -71,6 +75,7 @@ ServiceOptions options_from(const runtime::Node& node) {
   if (o.alpha_mode == outline::AlphaMode::Local && o.alpha_radius > 0)
     throw runtime::ConfigError("alpha-mode local sets the radius per triangle: alpha-radius must be 0");
   o.outer_only = node.param_bool("outer-only");
+  o.threads = static_cast<int>(node.param_int("threads"));
   return o;
 }
 

@@ -51,13 +51,18 @@ std::set<Edge> cgal_boundary(const std::vector<Vec2>& pts, double R) {
   return out;
 }
 
-std::set<Edge> our_boundary(const std::vector<Vec2>& pts, double R, Mode m, Order o) {
+// threads > 1: the strips of the threaded path (small clouds allowed); threads_used reports the path run.
+std::set<Edge> our_boundary(const std::vector<Vec2>& pts, double R, Mode m, Order o, int threads = 1,
+                            int* threads_used = nullptr) {
   Options opt;
   opt.alpha_radius = R;
   opt.mode = m;
   opt.order = o;
   opt.min_hole_spacings = 0;  // the raw alpha shape, as CGAL's: no hole rule
+  opt.threads = threads;
+  opt.min_points_per_thread = 300;
   const Result r = compute_outline(pts, opt);
+  if (threads_used) *threads_used = r.threads_used;
   std::set<Edge> out;
   for (const Loop& L : r.loops)
     for (std::size_t i = 0; i < L.point_index.size(); ++i)
@@ -75,6 +80,13 @@ void expect_agreement(const std::vector<Vec2>& pts, const std::vector<double>& r
         EXPECT_EQ(got.size(), want.size());
         EXPECT_TRUE(got == want);
       }
+    for (int threads : {2, 3}) {  // the threaded path (vertical strips) against CGAL too
+      SCOPED_TRACE("R " + std::to_string(R) + " threads " + std::to_string(threads));
+      int used = 0;
+      const auto got = our_boundary(pts, R, Mode::DSHI, Order::Brio, threads, &used);
+      EXPECT_EQ(used, threads);
+      EXPECT_TRUE(got == want);
+    }
   }
 }
 

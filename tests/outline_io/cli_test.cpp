@@ -106,7 +106,19 @@ TEST_F(OutlineIoCli, JsonOnStdoutAndAutomaticRadiusFindsTheHole) {
   expect_square_with_hole(j);
   EXPECT_EQ(j["mode"], "ds");
   EXPECT_EQ(j["order"], "hilbert");
+  EXPECT_EQ(j["threads"], 1);                        // ds is never split into strips
   EXPECT_GT(j["alpha_radius"].get<double>(), 0.70);  // must exceed a grid triangle's circumradius, sqrt(2)/2
+}
+
+TEST_F(OutlineIoCli, ThreadsOutOfRangeIsAUsageErrorNamingTheKey) {
+  CliRun r = run("'" + data("grid_hole.xyz") + "' --threads -1");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("threads"), std::string::npos) << r.err;
+  CliRun ok = run("'" + data("grid_hole.xyz") + "' --threads 2");  // too small to split: one thread, same loops
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  auto j = nlohmann::json::parse(ok.out);
+  expect_square_with_hole(j);
+  EXPECT_EQ(j["threads"], 1);
 }
 
 TEST_F(OutlineIoCli, TiltedCloudIsProjectedOntoItsPlane) {

@@ -50,6 +50,11 @@ options
   --order O             insertion order: brio | hilbert | as-is   (default brio: biased randomized
                         rounds along a Hilbert curve; as-is inserts in file order, slow on scan-order
                         grids; docs/outline-core-performance.md)
+  --threads N           threads (default 0: all cores): the cloud is split into vertical strips, one
+                        per thread, with loops identical to one thread's; one thread below 100 k
+                        points per strip, with --outer-only, --alpha-mode local or --mode other than
+                        dshi, and when the strips' checks find the split unsafe for the cloud;
+                        "threads" in the JSON and the summary line say how many ran
   --outer-only          remove only big triangles connected to the outside (no holes)
   -o FILE, --output FILE
                         write the outline JSON to FILE (default: print it on stdout)
@@ -90,6 +95,7 @@ std::vector<hg::runtime::Param> outline_params() {
           text_param("mode", "dshi", "point location", {"ordinary", "ds", "dshi"}),
           text_param("order", "brio", "insertion order", {"brio", "hilbert", "as-is"}),
           flag_param("outer-only", "remove only big triangles connected to the outside (no holes)"),
+          integer_param("threads", "0", "threads (0: all cores)", 0, 1024),
           output,
           text_param("svg", "", "write an SVG picture"),
           text_param("png", "", "write a PNG picture"),
@@ -112,6 +118,7 @@ Args args_from(const hg::runtime::Params& p) {
   a.opt.mode = hg::outline::parse_mode(p.text("mode"));
   a.opt.order = hg::outline::parse_order(p.text("order"));
   a.opt.outer_only = p.flag("outer-only");
+  a.opt.threads = static_cast<int>(p.integer("threads"));
   a.draw_triangles = p.flag("draw-triangles");
   a.json_out = p.text("output"), a.svg_out = p.text("svg"), a.png_out = p.text("png"), a.tri_out = p.text("triangles");
   if (have_alpha && have_factor) throw UsageError("give --alpha-radius or --auto-factor, not both");
@@ -141,13 +148,13 @@ void print_summary(const Args& args, const hg::outline::Result& result, double m
   std::size_t holes = 0;
   for (auto& l : result.loops) holes += l.hole;
   std::printf(
-      "hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %.1f ms -> %s\n",
+      "hg-outline: %s: %zu points (%zu skipped, %zu used), %zu outer loops, %zu holes (%zu small dropped), R = %g%s, %d thread%s, %.1f ms -> %s\n",
       args.input.c_str(), result.points_read, result.points_skipped, result.points_used, result.loops.size() - holes,
       holes, result.holes_dropped, result.alpha_radius,
       result.alpha_mode == hg::outline::AlphaMode::Local ? " (local, per triangle)"
       : result.alpha_automatic                           ? " (automatic)"
                                                          : "",
-      ms, args.json_out.c_str());
+      result.threads_used, result.threads_used == 1 ? "" : "s", ms, args.json_out.c_str());
 }
 
 }  // namespace

@@ -1,0 +1,567 @@
+// The outline on several threads; see threads.hpp and docs/outline-core-threads.md.
+//
+// Strip i owns the x range [lo, hi) and triangulates the finite points with x in [lo - M, hi + M). A
+// triangle of a strip's triangulation whose closed circumdisk lies inside that zone is Delaunay for the
+// whole cloud (no point outside the zone can be in its disk), and so is its whole cocircular cell. Each
+// triangle is owned by the strip holding its circumcentre (decided exactly: the triangles of a
+// cocircular cell share it, so a cell is never split between two strips' different diagonals).
+#include "threads.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <thread>
+#include <unordered_set>
+
+#include "alpha.hpp"
+#include "delaunay.hpp"
+#include "predicates.hpp"
+
+namespace hg::outline {
+
+namespace {
+
+// The margin band's width in units of sqrt(box area / points): >= 4 R with room (R is k <= 2.8 point
+// spacings, and the spacing of a cloud not filling its box is below this unit).
+constexpr double kMarginUnits = 16;
+
+constexpr double kEps = pred::kEps;
+
+// A vertex as input index and coordinates; a directed edge between two.
+struct VertexRef {
+  std::uint32_t id;
+  Vec2 p;
+};
+struct EdgeRef {
+  VertexRef a, b;
+};
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) { return std::uint64_t{a} << 32 | b; }
+
+struct Strip {
+  std::size_t index = 0;
+  double lo = 0, hi = 0;           // owned x range [lo, hi)
+  std::vector<Vec2> pts;           // the zone's points, in input order
+  std::vector<std::uint32_t> gid;  // their input indices
+  Triangulation T;
+  bool ok = true;
+  // What the survey found (before the radius is known).
+  AreaHistogram areas;          // owned trusted triangles
+  std::vector<float> nn2;       // owned distinct vertices' squared nearest-neighbour distances
+  std::vector<VertexRef> hull;  // convex hull vertices of the zone's points
+  // Edges of counted triangles with no counted triangle of this strip across (seams, hull, gaps).
+  std::vector<EdgeRef> frontier;
+  std::vector<std::array<std::uint32_t, 3>> kept;  // owned trusted triangles (keep_triangles)
+  std::vector<FreeEdge> edges;                     // free edges with an owned tail (input indices)
+  // Owned triangles whose disk leaves the zone (hull slivers, huge cut-outs): checked against the
+  // other strips' points (check_untrusted) before they count.
+  struct Untrusted {
+    Vec2 a, b, c;
+    std::array<std::uint32_t, 3> ids;
+  };
+  std::vector<Untrusted> untrusted;
+  // The owned points in square cells (counting sort), for those checks.
+  double cx0 = 0, cy0 = 0, cell = 1;
+  std::size_t nx = 0, ny = 0;
+  std::vector<std::uint32_t> cell_start;
+  std::vector<Vec2> cell_pts;
+
+  bool owns_x(double x) const { return lo <= x && x < hi; }
+};
+
+// A finite triangle's circumcentre and radius in floating point, with whether they are accurate to
+// about 1e-7 of the radius (the triangle is not a sliver: |D| >= 1e-6 (|ab|^2 + |ac|^2)).
+struct Circle {
+  double ox, oy, r;
+  bool accurate;
+};
+
+Circle circle_of(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
+  const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+  const double D = 2 * (bx * cy - by * cx);
+  const double ux = (cy * b2 - by * c2) / D, uy = (bx * c2 - cx * b2) / D;
+  Circle k{a.x + ux, a.y + uy, std::sqrt(ux * ux + uy * uy), false};
+  k.accurate = std::fabs(D) >= 2e-6 * (b2 + c2) && std::isfinite(k.ox) && std::isfinite(k.oy) && std::isfinite(k.r);
+  return k;
+}
+
+// Sign of (circumcentre x - xb) for the counter-clockwise triangle a, b, c: exact. The float circle
+// decides when it is far enough; otherwise the mirror image p' = (2 xb - p.x, p.y) of a vertex p off the
+// line x = xb: |O - p'|^2 - |O - p|^2 = 4 (p.x - xb)(O.x - xb), and its sign is that of -incircle(a, b, c,
+// p'). 2 (no exact mirror image of any vertex: not decidable here).
+int circumcentre_side(const Vec2& a, const Vec2& b, const Vec2& c, const Circle& k, double xb) {
+  if (k.accurate) {
+    const double d = k.ox - xb, slack = 1e-6 * k.r + 8 * kEps * (std::fabs(k.ox) + std::fabs(xb));
+    if (d > slack) return 1;
+    if (d < -slack) return -1;
+  }
+  for (const Vec2* p : {&a, &b, &c}) {
+    if (p->x == xb || !pred::difference_is_exact(2 * xb, p->x) || !std::isfinite(2 * xb)) continue;
+    const double s = pred::incircle(a.x, a.y, b.x, b.y, c.x, c.y, 2 * xb - p->x, p->y);
+    if (s == 0) return 0;
+    return (s < 0) == (p->x > xb) ? 1 : -1;
+  }
+  return 2;
+}
+
+// The triangle's closed circumdisk lies in the open x range (zlo, zhi) (decided conservatively).
+bool disk_inside(const Circle& k, double zlo, double zhi) {
+  if (!k.accurate) return false;
+  const double r = k.r * (1 + 1e-6), slack = 8 * kEps * (std::fabs(k.ox) + r);
+  return k.ox - r - slack > zlo && k.ox + r + slack < zhi;
+}
+
+// The split: inner boundaries b[0] < b[1] < ...; strip i owns [b[i-1], b[i]) and sees the zone
+// [b[i-1] - margin, b[i] + margin).
+struct Split {
+  std::vector<double> bounds;
+  double margin = 0;
+  double zone_lo(std::size_t i) const {
+    return i == 0 ? -std::numeric_limits<double>::infinity() : bounds[i - 1] - margin;
+  }
+  double zone_hi(std::size_t i) const {
+    return i == bounds.size() ? std::numeric_limits<double>::infinity() : bounds[i] + margin;
+  }
+};
+
+// The strip holding the circumcentre (exact), or -1 when not decidable.
+long owner_of(const Vec2& a, const Vec2& b, const Vec2& c, const Circle& k, const Split& split) {
+  for (std::size_t i = 0; i < split.bounds.size(); ++i) {
+    const int side = circumcentre_side(a, b, c, k, split.bounds[i]);
+    if (side == 2) return -1;
+    if (side < 0) return static_cast<long>(i);
+  }
+  return static_cast<long>(split.bounds.size());
+}
+
+// Which strip counts the triangle: the one holding its circumcentre (all of a cocircular cell's
+// triangles share it), unless the triangle's vertices leave that strip's zone (a long hull sliver: that
+// strip cannot have it); then the first strip whose zone holds them. -1: none, or not decidable.
+long reporter_of(const Vec2& a, const Vec2& b, const Vec2& c, const Circle& k, const Split& split) {
+  const long owner = owner_of(a, b, c, k, split);
+  if (owner < 0) return -1;
+  const double x0 = std::min({a.x, b.x, c.x}), x1 = std::max({a.x, b.x, c.x});
+  auto fits = [&](std::size_t i) { return x0 >= split.zone_lo(i) && x1 < split.zone_hi(i); };
+  if (fits(static_cast<std::size_t>(owner))) return owner;
+  for (std::size_t i = 0; i <= split.bounds.size(); ++i)
+    if (fits(i)) return static_cast<long>(i);
+  return -1;
+}
+
+// A triangle with its vertices at least x from the strip's ends and circumradius below x: its
+// circumcentre is here and its disk inside the zone (the common case, decided without the circle).
+bool deep_inside(const Vec2& a, const Vec2& b, const Vec2& c, double lo, double hi, double x) {
+  const double x0 = std::min({a.x, b.x, c.x}), x1 = std::max({a.x, b.x, c.x});
+  if (!(x0 - x >= lo && x1 + x < hi)) return false;
+  const double abx = a.x - b.x, aby = a.y - b.y, bcx = b.x - c.x, bcy = b.y - c.y, cax = c.x - a.x, cay = c.y - a.y;
+  const double N = (abx * abx + aby * aby) * (bcx * bcx + bcy * bcy) * (cax * cax + cay * cay);
+  const double cross = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  return N < 0.99 * 4 * (x * x) * (cross * cross);  // r^2 = N / (4 cross^2); rounding far below 1 %
+}
+
+// The strip's counted triangles: the trusted ones' areas (and ids), the untrusted ones for
+// check_untrusted, and the frontier edges.
+void count_triangles(Strip& s, const Split& split, bool keep) {
+  const Triangulation& T = s.T;
+  auto at = [&](std::uint32_t v) { return Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y}; };  // exact
+  const double zlo = split.zone_lo(s.index), zhi = split.zone_hi(s.index), deep = split.margin / 2;
+  const bool left_open = std::isinf(s.lo), right_open = std::isinf(s.hi);
+  std::vector<std::uint8_t> counted(T.slots(), 0);  // 1: trusted here, 2: untrusted (checked later)
+  for (std::size_t t = 0; t < T.slots(); ++t) {
+    if (T.is_ghost(t)) continue;
+    const std::uint32_t* v = &T.tri[3 * t];
+    const Vec2 a = at(v[0]), b = at(v[1]), c = at(v[2]);
+    if (deep_inside(a, b, c, s.lo, s.hi, deep)) {
+      counted[t] = 1;
+      s.areas.add(triangle_area(a, b, c));
+      if (keep) s.kept.push_back({s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]});
+      continue;
+    }
+    const Circle k = circle_of(a, b, c);
+    const int sl = left_open ? 1 : circumcentre_side(a, b, c, k, s.lo);
+    const int sh = right_open ? -1 : circumcentre_side(a, b, c, k, s.hi);
+    if (sl == 2 || sh == 2) s.ok = false;
+    // Circumcentre here: this strip's (its vertices are in this zone). Elsewhere: maybe, see reporter_of.
+    if ((sl < 0 || sh >= 0) && reporter_of(a, b, c, k, split) != static_cast<long>(s.index)) continue;
+    if (!disk_inside(k, zlo, zhi)) {
+      s.untrusted.push_back({a, b, c, {s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]}});
+      counted[t] = 2;
+      continue;
+    }
+    counted[t] = 1;
+    s.areas.add(triangle_area(a, b, c));
+    if (keep) s.kept.push_back({s.gid[T.ids[v[0]]], s.gid[T.ids[v[1]]], s.gid[T.ids[v[2]]]});
+  }
+  for (std::uint32_t h = 0; h < T.tri.size(); ++h)
+    if (counted[h / 3] == 1 && counted[T.twin[h] / 3] != 1) {
+      const std::uint32_t u = T.tri[h], w = T.tri[Triangulation::next(h)];
+      s.frontier.push_back({{s.gid[T.ids[u]], at(u)}, {s.gid[T.ids[w]], at(w)}});
+    }
+}
+
+// The strip's zone points, its triangulation, and the survey of its owned triangles and vertices.
+void survey_strip(std::span<const Vec2> points, const Options& options, const Split& split, Strip& s) {
+  const double margin = split.margin;
+  const double zlo = s.lo - margin, zhi = s.hi + margin;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec2 p = points[i];
+    if (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= zlo && p.x < zhi) {
+      s.pts.push_back(p);
+      s.gid.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  try {
+    s.T = triangulate(s.pts, options.mode, options.order);
+  } catch (const OutlineError&) {
+    s.ok = false;  // too few or collinear points in this strip: the one-thread path decides
+    return;
+  }
+  const Triangulation& T = s.T;
+  auto at = [&](std::uint32_t v) { return Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y}; };  // exact
+  const double m2 = 0.99 * margin * margin;
+  for (std::uint32_t v = 0; v < T.xy.size(); ++v) {
+    if (T.vrep[v] != v || !s.owns_x(at(v).x)) continue;
+    // The nearest neighbour is within M, hence in the zone: this strip measured it.
+    if (!(static_cast<double>(T.nn2[v]) < m2)) s.ok = false;
+    s.nn2.push_back(T.nn2[v]);
+  }
+  std::uint32_t h0 = 0;  // the hull: the vertices around the ghost
+  while (T.tri[h0] != T.ghost) ++h0;
+  std::uint32_t h = h0;
+  do {
+    const std::uint32_t u = T.tri[Triangulation::next(h)];
+    s.hull.push_back({s.gid[T.ids[u]], at(u)});
+    h = T.twin[Triangulation::prev(h)];
+  } while (h != h0);
+  count_triangles(s, split, options.keep_triangles);
+}
+
+// The strip's owned points in cells of size `cell` over the box (counting sort).
+void index_owned(Strip& s, double cell, double miny, double maxy) {
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0;
+  for (const Vec2& p : s.pts)
+    if (s.owns_x(p.x)) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x);
+  if (!(x1 >= x0)) return;
+  s.cx0 = x0, s.cy0 = miny, s.cell = cell;
+  s.nx = static_cast<std::size_t>((x1 - x0) / cell) + 1, s.ny = static_cast<std::size_t>((maxy - miny) / cell) + 1;
+  auto cell_of = [&](const Vec2& p) {
+    const std::size_t i = std::min(s.nx - 1, static_cast<std::size_t>((p.x - x0) / cell));
+    const std::size_t j = std::min(s.ny - 1, static_cast<std::size_t>((p.y - miny) / cell));
+    return j * s.nx + i;
+  };
+  s.cell_start.assign(s.nx * s.ny + 1, 0);
+  for (const Vec2& p : s.pts)
+    if (s.owns_x(p.x)) ++s.cell_start[cell_of(p) + 1];
+  for (std::size_t c = 0; c + 1 < s.cell_start.size(); ++c) s.cell_start[c + 1] += s.cell_start[c];
+  s.cell_pts.resize(s.cell_start.back());
+  std::vector<std::uint32_t> fill(s.cell_start.begin(), s.cell_start.end() - 1);
+  for (const Vec2& p : s.pts)
+    if (s.owns_x(p.x)) s.cell_pts[fill[cell_of(p)]++] = p;
+}
+
+// No point of strip j strictly inside the circle of the counter-clockwise triangle u (exact incircle;
+// cells clearly outside the disk skipped).
+bool empty_of(const Strip::Untrusted& u, const Strip& j) {
+  if (j.cell_start.empty()) return true;
+  const Circle k = circle_of(u.a, u.b, u.c);
+  if (!std::isfinite(k.r)) return false;
+  const double r = k.r * (1 + 1e-6) + 1e-9 * j.cell;
+  const long i0 = std::max(0L, static_cast<long>(std::floor((k.ox - r - j.cx0) / j.cell)));
+  const long i1 = std::min(static_cast<long>(j.nx) - 1, static_cast<long>(std::floor((k.ox + r - j.cx0) / j.cell)));
+  const long j0 = std::max(0L, static_cast<long>(std::floor((k.oy - r - j.cy0) / j.cell)));
+  const long j1 = std::min(static_cast<long>(j.ny) - 1, static_cast<long>(std::floor((k.oy + r - j.cy0) / j.cell)));
+  for (long cj = j0; cj <= j1; ++cj)
+    for (long ci = i0; ci <= i1; ++ci) {
+      const double x0 = j.cx0 + static_cast<double>(ci) * j.cell, y0 = j.cy0 + static_cast<double>(cj) * j.cell;
+      const double dx = std::max({0.0, x0 - k.ox, k.ox - (x0 + j.cell)});
+      const double dy = std::max({0.0, y0 - k.oy, k.oy - (y0 + j.cell)});
+      if (std::sqrt(dx * dx + dy * dy) > r) continue;  // the cell clearly misses the disk
+      const std::size_t c = static_cast<std::size_t>(cj) * j.nx + static_cast<std::size_t>(ci);
+      for (std::uint32_t q = j.cell_start[c]; q < j.cell_start[c + 1]; ++q) {
+        const Vec2& p = j.cell_pts[q];
+        if (pred::incircle(u.a.x, u.a.y, u.b.x, u.b.y, u.c.x, u.c.y, p.x, p.y) > 0) return false;
+      }
+    }
+  return true;
+}
+
+// The untrusted triangles proven Delaunay against every other strip's points join the trusted ones.
+// Strip i's: it writes only strip i and reads the others' cells, so the strips run it in parallel.
+void check_untrusted(std::vector<Strip>& strips, std::size_t i, bool keep) {
+  for (const Strip::Untrusted& u : strips[i].untrusted) {
+    bool empty = true;
+    for (std::size_t j = 0; j < strips.size() && empty; ++j)
+      if (j != i) empty = empty_of(u, strips[j]);
+    if (!empty) continue;
+    strips[i].areas.add(triangle_area(u.a, u.b, u.c));
+    if (keep) strips[i].kept.push_back(u.ids);
+    const VertexRef r[3] = {{u.ids[0], u.a}, {u.ids[1], u.b}, {u.ids[2], u.c}};
+    for (int e = 0; e < 3; ++e) strips[i].frontier.push_back({r[e], r[(e + 1) % 3]});
+  }
+}
+
+// The convex hull of `pts` as directed edges (counter-clockwise), collinear boundary points included
+// (each is a Delaunay vertex on a hull edge): the monotone chain with exact orientation.
+std::vector<EdgeRef> hull_edges(std::vector<VertexRef> pts) {
+  auto lex = [](const VertexRef& a, const VertexRef& b) { return a.p.x < b.p.x || (a.p.x == b.p.x && a.p.y < b.p.y); };
+  std::sort(pts.begin(), pts.end(), lex);
+  pts.erase(std::unique(pts.begin(), pts.end(), [](const VertexRef& a, const VertexRef& b) { return a.id == b.id; }),
+            pts.end());
+  std::vector<EdgeRef> edges;
+  auto chain = [&](auto first, auto last) {
+    std::vector<VertexRef> c;
+    for (auto it = first; it != last; ++it) {
+      while (c.size() >= 2 &&
+             pred::orient2d(c[c.size() - 2].p.x, c[c.size() - 2].p.y, c.back().p.x, c.back().p.y, it->p.x, it->p.y) < 0)
+        c.pop_back();
+      c.push_back(*it);
+    }
+    for (std::size_t k = 0; k + 1 < c.size(); ++k) edges.push_back({c[k], c[k + 1]});
+  };
+  chain(pts.begin(), pts.end());
+  chain(pts.rbegin(), pts.rend());
+  return edges;
+}
+
+// The triangles no strip could count (their vertices leave every zone, or a point beyond the zone
+// fell in their disk): the region they fill is bounded by the unmatched frontier edges; it is
+// triangulated from those edges' vertices, and each triangle found must be empty of every point
+// (exact). Their areas join strip 0's; false when the region cannot be recovered so.
+bool recover_missing(std::vector<Strip>& strips, const std::vector<EdgeRef>& hull, bool keep) {
+  std::unordered_set<std::uint64_t> known;
+  for (const Strip& s : strips)
+    for (const EdgeRef& e : s.frontier) known.insert(edge_key(e.a.id, e.b.id));
+  for (const EdgeRef& e : hull) known.insert(edge_key(e.b.id, e.a.id));  // the outside across a hull edge
+  std::unordered_set<std::uint64_t> open;  // the missing region's side of each unmatched edge, b -> a
+  std::vector<VertexRef> verts;
+  for (const Strip& s : strips)
+    for (const EdgeRef& e : s.frontier)
+      if (!known.count(edge_key(e.b.id, e.a.id))) {
+        open.insert(edge_key(e.b.id, e.a.id));
+        verts.push_back(e.a), verts.push_back(e.b);
+      }
+  if (open.empty()) return true;
+  std::sort(verts.begin(), verts.end(), [](const VertexRef& a, const VertexRef& b) { return a.id < b.id; });
+  verts.erase(
+      std::unique(verts.begin(), verts.end(), [](const VertexRef& a, const VertexRef& b) { return a.id == b.id; }),
+      verts.end());
+  std::vector<Vec2> xy;
+  for (const VertexRef& v : verts) xy.push_back(v.p);
+  Triangulation D;
+  try {
+    D = triangulate(xy, Mode::DSHI, Order::Hilbert);
+  } catch (const OutlineError&) {
+    return false;
+  }
+  auto gid = [&](std::uint32_t v) { return verts[D.ids[v]].id; };
+  // Flood from the open edges through D's triangles, never across a known edge.
+  std::vector<std::uint8_t> seen(D.slots(), 0);
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t h = 0; h < D.tri.size(); ++h)
+    if (D.tri[h] != D.ghost && D.tri[Triangulation::next(h)] != D.ghost &&
+        open.count(edge_key(gid(D.tri[h]), gid(D.tri[Triangulation::next(h)]))))
+      stack.push_back(h / 3);
+  std::size_t found = 0;
+  while (!stack.empty()) {
+    const std::uint32_t t = stack.back();
+    stack.pop_back();
+    if (seen[t]) continue;
+    seen[t] = 1;
+    if (D.is_ghost(t)) return false;  // the region is not closed
+    const std::uint32_t* v = &D.tri[3 * t];
+    const Strip::Untrusted u{xy[D.ids[v[0]]], xy[D.ids[v[1]]], xy[D.ids[v[2]]], {gid(v[0]), gid(v[1]), gid(v[2])}};
+    for (const Strip& s : strips)
+      if (!empty_of(u, s)) return false;
+    strips[0].areas.add(triangle_area(u.a, u.b, u.c));
+    if (keep) strips[0].kept.push_back(u.ids);
+    ++found;
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t h = 3 * t + static_cast<std::uint32_t>(i);
+      if (!known.count(edge_key(gid(D.tri[Triangulation::next(h)]), gid(D.tri[h])))) stack.push_back(D.twin[h] / 3);
+    }
+  }
+  return found > 0;
+}
+
+// The inner strip boundaries: x quantiles of a sample, rounded to a multiple of a power of two about
+// 2^-20 of the extent (so that mirror images across them are exact for most inputs). Empty if the
+// boundaries do not come out strictly increasing inside the box.
+std::vector<double> strip_boundaries(std::span<const Vec2> points, int strips, double minx, double maxx) {
+  std::vector<double> xs;
+  const std::size_t step = std::max<std::size_t>(1, points.size() / 8192);
+  for (std::size_t i = 0; i < points.size(); i += step)
+    if (std::isfinite(points[i].x) && std::isfinite(points[i].y)) xs.push_back(points[i].x);
+  std::sort(xs.begin(), xs.end());
+  std::vector<double> b;
+  if (xs.empty() || !(maxx > minx)) return b;
+  const double unit = std::ldexp(1.0, std::ilogb(maxx - minx) - 20);
+  for (int i = 1; i < strips; ++i) {
+    const double q = xs[xs.size() * static_cast<std::size_t>(i) / static_cast<std::size_t>(strips)];
+    const double x = std::round(q / unit) * unit;
+    if (!(x > minx && x < maxx) || (!b.empty() && !(x > b.back()))) return {};
+    b.push_back(x);
+  }
+  return b;
+}
+
+// Runs f(i) for every strip, strip 0 on the calling thread; false if any threw (an exception must not
+// leave a thread: the caller then runs the one-thread path, which reports it where it can be caught).
+template <class F>
+bool for_each_strip(std::size_t n, F f) {
+  std::vector<std::uint8_t> failed(n, 0);
+  auto run = [&](std::size_t i) {
+    try {
+      f(i);
+    } catch (...) {
+      failed[i] = 1;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t i = 1; i < n; ++i) pool.emplace_back(run, i);
+  run(0);
+  for (std::thread& t : pool) t.join();
+  return std::find(failed.begin(), failed.end(), 1) == failed.end();
+}
+
+// The median spacing of the whole cloud from the strips' trusted triangles, or 0 when the unknown
+// (untrusted) triangles could move it: the median bucket must be the same whether all of them lie
+// below it or above.
+double merged_spacing(const std::vector<Strip>& strips, std::size_t triangles) {
+  AreaHistogram all;
+  for (const Strip& s : strips) all.merge(s.areas);
+  if (all.count() > triangles) return 0;
+  const std::size_t unknown = triangles - all.count(), rank = triangles / 2;
+  if (rank < unknown || rank >= all.count()) return 0;
+  const std::size_t b = all.bucket_at(rank - unknown);
+  if (all.bucket_at(rank) != b) return 0;
+  return AreaHistogram::spacing_of(b);
+}
+
+// The global figures from the surveys into res and survey; false if the split is unsafe.
+bool merge_surveys(std::vector<Strip>& strips, const Options& options, double margin, Result& res,
+                   StripSurvey& survey) {
+  std::vector<VertexRef> hull;
+  std::vector<float> nn2;
+  for (const Strip& s : strips)
+    if (!s.ok) return false;
+  if (!for_each_strip(strips.size(), [&](std::size_t i) { check_untrusted(strips, i, options.keep_triangles); }))
+    return false;
+  for (const Strip& s : strips) hull.insert(hull.end(), s.hull.begin(), s.hull.end());
+  const std::vector<EdgeRef> hull_ring = hull_edges(std::move(hull));
+  if (!recover_missing(strips, hull_ring, options.keep_triangles)) return false;
+  for (const Strip& s : strips) {
+    survey.distinct += s.nn2.size();
+    nn2.insert(nn2.end(), s.nn2.begin(), s.nn2.end());
+    for (const auto& t : s.kept) survey.owned.push_back(t);
+    survey.trusted += s.areas.count();
+  }
+  survey.hull = hull_ring.size();
+  if (2 * survey.distinct < survey.hull + 2 + 1) return false;
+  survey.triangles = 2 * survey.distinct - 2 - survey.hull;
+  if (options.keep_triangles && survey.trusted != survey.triangles) return false;
+  res.points_used = survey.distinct;
+  res.triangles = survey.triangles;
+  res.nn_spacing_median = median_distance(nn2);
+  res.spacing = merged_spacing(strips, survey.triangles);
+  if (!(res.spacing > 0)) return false;
+  const double k = options.auto_factor > 0 ? options.auto_factor
+                                           : automatic_factor(res.nn_spacing_median / res.spacing, survey.distinct);
+  res.alpha_mode = AlphaMode::Global;
+  res.alpha_automatic = !(options.alpha_radius > 0);
+  res.alpha_radius = res.alpha_automatic ? k * res.spacing : options.alpha_radius;
+  // Every inside triangle at an owned vertex or at its neighbours has its disk within 4 R of the strip.
+  return 4 * res.alpha_radius * (1 + 1e-6) < margin * (1 - 1e-6);
+}
+
+// The strip's inside triangles and its free edges with an owned tail, as input indices.
+void strip_edges(Strip& s, double R) {
+  const Triangulation& T = s.T;
+  const std::vector<std::uint8_t> inside = classify_alpha(T, R, false, scan_triangles(T));
+  s.edges = free_edges(T, inside, s.pts, [&](std::uint32_t v) { return s.owns_x(T.xy[v].x + T.origin.x); });
+  for (FreeEdge& e : s.edges) e.from = s.gid[e.from], e.to = s.gid[e.to], e.next = s.gid[e.next];
+}
+
+void add_stats(const Triangulation& T, Result& res) {
+  res.search_cost += T.stats.search_cost();
+  res.search_cost_locate += T.stats.locate_visits;
+  res.search_cost_cavity += T.stats.cavity_visits;
+  res.cavity_triangles += T.stats.cavity_triangles;
+  res.incircle_tests += T.stats.incircle_tests;
+  res.orient_tests += T.stats.orient_tests;
+}
+
+}  // namespace
+
+int strips_for(const Options& options, std::size_t points) {
+  if (options.threads == 1 || options.outer_only || options.alpha_mode == AlphaMode::Local ||
+      options.mode != Mode::DSHI)
+    return 1;
+  const long hw = std::max(1L, static_cast<long>(std::thread::hardware_concurrency()));
+  const long wanted = options.threads > 0 ? options.threads : hw;
+  const long fit = static_cast<long>(points / std::max<std::size_t>(options.min_points_per_thread, 1));
+  return static_cast<int>(std::clamp(std::min(wanted, fit), 1L, 64L));
+}
+
+bool run_threaded(std::span<const Vec2> points, const Options& options, int nstrips, Result& res,
+                  StripSurvey* survey_out) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  double minx = std::numeric_limits<double>::infinity(), maxx = -minx, miny = minx, maxy = -minx;
+  std::size_t finite = 0;
+  for (const Vec2& p : points)
+    if (std::isfinite(p.x) && std::isfinite(p.y)) {
+      ++finite;
+      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
+    }
+  const double margin = kMarginUnits * std::sqrt((maxx - minx) * (maxy - miny) / static_cast<double>(finite));
+  const std::vector<double> bounds = strip_boundaries(points, nstrips, minx, maxx);
+  if (bounds.empty() || !std::isfinite(margin) || !(margin > 0)) return false;
+  // The float slacks of the checks (zone ends, deep_inside, the margin test) assume coordinates below
+  // 1e9 margins: the rounding of x - M is then far below the 0.25 % of M they leave.
+  if (std::max(std::fabs(minx), std::fabs(maxx)) > 1e9 * margin) return false;
+  std::vector<Strip> strips(bounds.size() + 1);
+  const Split split{bounds, margin};
+  for (std::size_t i = 0; i < strips.size(); ++i) {
+    strips[i].index = i;
+    strips[i].lo = i == 0 ? -std::numeric_limits<double>::infinity() : bounds[i - 1];
+    strips[i].hi = i + 1 == strips.size() ? std::numeric_limits<double>::infinity() : bounds[i];
+  }
+  const bool surveyed = for_each_strip(strips.size(), [&](std::size_t i) {
+    survey_strip(points, options, split, strips[i]);
+    index_owned(strips[i], margin / 2, miny, maxy);
+  });
+  const auto t1 = Clock::now();
+  StripSurvey survey;
+  survey.margin = margin;
+  survey.boundaries = bounds;
+  if (!surveyed || !merge_surveys(strips, options, margin, res, survey)) return false;
+  if (!for_each_strip(strips.size(), [&](std::size_t i) { strip_edges(strips[i], res.alpha_radius); })) return false;
+  std::vector<FreeEdge> edges;
+  for (Strip& s : strips) {
+    edges.insert(edges.end(), s.edges.begin(), s.edges.end());
+    add_stats(s.T, res);
+  }
+  const auto t2 = Clock::now();
+  try {
+    res.loops = chain_loops(std::move(edges));
+  } catch (const OutlineError&) {
+    return false;  // a successor missing: the strips disagree (not expected once the checks passed)
+  }
+  res.points_read = points.size();
+  res.points_skipped = points.size() - finite;
+  res.duplicates_merged = finite - survey.distinct;
+  res.mode = options.mode;
+  res.order = options.order;
+  res.threads_used = static_cast<int>(strips.size());
+  if (options.keep_triangles) res.delaunay_triangles = survey.owned;
+  auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
+  res.time.triangulate_ms = ms(t0, t1);
+  res.time.alpha_ms = ms(t1, t2);
+  if (survey_out) *survey_out = std::move(survey);
+  return true;
+}
+
+}  // namespace hg::outline

@@ -1,0 +1,39 @@
+// The outline on several threads: the cloud split into vertical strips, one per thread, each
+// triangulated with a margin band of its neighbours' points (docs/outline-core-threads.md).
+// Internal to the outline core: compute_outline calls it.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "outline.hpp"
+
+namespace hg::outline {
+
+// How many strips compute_outline uses for `points` points under `options`: 1 for Options::threads == 1,
+// for outer_only, local alpha mode, modes other than DSHI, and below min_points_per_thread per strip.
+int strips_for(const Options& options, std::size_t points);
+
+// What the strips found before the radius is known, merged (for tests: the split's own figures).
+struct StripSurvey {
+  std::size_t distinct = 0;        // distinct finite points, each counted by the strip owning it
+  std::size_t hull = 0;            // points on the convex hull's boundary
+  std::size_t triangles = 0;       // finite Delaunay triangles: 2 distinct - 2 - hull
+  std::size_t trusted = 0;         // owned triangles proven Delaunay for the whole cloud
+  double margin = 0;               // the margin band's width M
+  std::vector<double> boundaries;  // the strips' x boundaries (inner ones)
+  // Owned trusted triangles as input indices, counter-clockwise (filled with Options::keep_triangles).
+  std::vector<std::array<std::uint32_t, 3>> owned;
+};
+
+// The threaded pipeline into `res`; false when a check finds the split unsafe for this cloud (a strip
+// with too few points, the margin narrower than 4 R, a median not determined by the trusted triangles,
+// a circumcentre side not decidable exactly): the caller then runs the one-thread path. `survey`, when
+// given, receives the split's figures.
+bool run_threaded(std::span<const Vec2> points, const Options& options, int strips, Result& res,
+                  StripSurvey* survey = nullptr);
+
+}  // namespace hg::outline
