@@ -100,7 +100,8 @@ TEST(CellAgreement, PlannerAndBridgeReadTheSameLimits) {
     const Cell c = random_cell(rng, height);
     const std::string file = scratch("limits.yaml");
     hg::cell::write_cell(file, c);
-    const pp::PlannerConfig cfg = pp::config_from(pp::lookup_from({{"cell", file}}, hg::runtime::Config()));
+    const pp::PlannerConfig cfg =
+        pp::config_from(pp::lookup_from({{"cell", file}, {"travel-speed", exact(c.max_speed)}}, hg::runtime::Config()));
     const rb::Limits b = bridge_limits(file);
     for (const auto* L : {&cfg.limits, &b}) {  // both equal to the values written
       EXPECT_EQ(L->table_z, c.table_z);
@@ -134,11 +135,15 @@ TEST(CellAgreement, TheBridgeAcceptsEveryPathThePlannerValidates) {
     const rb::Limits limits = bridge_limits(file), strict = bridge_limits(stricter);
     for (int job = 0; job < 3; ++job) {
       const pp::OutlineInput in = random_plate(rng, height - c.table_z - 0.01);
-      pp::JobParams jp;  // zero: the cell's tool; a fast feed so that corners are slowed
+      pp::JobParams jp;  // as a job request: zeros take the defaults (the cell's tool); a fast feed
+      jp.tool_radius = jp.chamfer_angle = jp.travel_speed = jp.step = jp.safe_height = 0;
       jp.grind_speed = c.max_speed * (0.2 + 0.8 * u(rng));
       const Vector3d robot(c.workspace_min.x() + 0.2 + u(rng), 0.4 * (u(rng) - 0.5), c.table_z + 0.1 + 0.3 * u(rng));
       const pp::PlanResult r = pp::plan(in, jp, cfg, robot);
-      if (!r.ok) continue;
+      if (!r.ok) {
+        std::printf("  seed %llu job %d not planned: %s\n", (unsigned long long)seed, job, r.reason.c_str());
+        continue;
+      }
       ++planned;
       const rb::Path path = rb::from_lcm(pp::to_lcm(r, "agree", 0, "robot_base", 0));
       const rb::Pose start{robot, Eigen::Quaterniond::Identity()};
@@ -146,6 +151,8 @@ TEST(CellAgreement, TheBridgeAcceptsEveryPathThePlannerValidates) {
       refused_by_stricter += !rb::check_path(path, start, strict).empty();
     }
   }
+  std::printf("  %d jobs planned and accepted; a cell with a quarter of the acceleration refused %d of them\n", planned,
+              refused_by_stricter);
   EXPECT_GE(planned, 80) << "too few generated jobs planned for the property to mean much";
   EXPECT_GT(refused_by_stricter, 0) << "the control: a stricter cell must refuse some of these paths";
 }

@@ -147,7 +147,8 @@ TEST(PathPlannerCli, ConfigFileErrorsNameTheFileAndKey) {
     std::stringstream ss;
     ss << std::ifstream(path).rdbuf();
     double fastest = 0;
-    for (const auto& w : nlohmann::json::parse(ss.str())["waypoints"])
+    const nlohmann::json planned = nlohmann::json::parse(ss.str());
+    for (const auto& w : planned["waypoints"])
       if (w["kind"] == "grind") fastest = std::max(fastest, w["speed"].get<double>());
     return fastest;
   };

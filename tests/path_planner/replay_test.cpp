@@ -21,6 +21,7 @@
 #include "outline_service/outline_service.hpp"
 #include "path_planner/io.hpp"
 #include "robot_bridge/path.hpp"
+#include "robot_bridge/robot_bridge.hpp"
 #include "runtime/config.hpp"
 #include "tests/common/cell_file.hpp"
 #include "tests/path_planner/truth.hpp"
