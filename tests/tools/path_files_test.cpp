@@ -41,8 +41,9 @@ const std::string kShippedCell = std::string(HG_SOURCE_DIR) + "/config/cell.yaml
 const std::string kRunCell = std::string(HG_SOURCE_DIR) + "/config/cell-sim.yaml";  // pipeline.toml's, 1.5 m
 
 // The cell of config/pipeline.toml: camera 1.5 m above the table, looking down (config/cell.yaml says 1.2).
-const Eigen::Isometry3d kRunCamera = pp::pose_from_xyz_rpy({0.5, 0, 1.5}, {M_PI, 0, 0});
-const Eigen::Isometry3d kConfigCamera = pp::pose_from_xyz_rpy({0.5, 0, 1.2}, {M_PI, 0, 0});
+// (As the cell files hold them, exactly: the in-process plan below and hg-plan's must agree to the bit.)
+const Eigen::Isometry3d kRunCamera = hg::cell::read_cell(kRunCell).calibration.camera_to_base;
+const Eigen::Isometry3d kConfigCamera = hg::cell::read_cell(kShippedCell).calibration.camera_to_base;
 
 // A 0.3 x 0.2 m plate with a 60 x 40 mm cut-out, 10 mm thick, seen by that camera: plane 1.49 m away.
 struct Scene {
