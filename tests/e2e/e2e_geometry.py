@@ -5,6 +5,7 @@ hand-eye calibration, and a waypoint of a correct path lies one tool radius outs
 
 import math
 import os
+import re
 
 
 # ---- small linear algebra on 4x4 row-major lists ----
@@ -22,7 +23,39 @@ def apply(t, p):
     return [sum(t[i][k] * p[k] for k in range(3)) + t[i][3] for i in range(3)]
 
 
-# ---- the cell file, read independently of the product's code ----
+# ---- the planner's configuration and the cell file, read independently of the product's code ----
+def read_yaml_scalars(path):
+    """Top-level `key: value` lines of a YAML file (numbers, [lists], strings)."""
+    out = {}
+    with open(path) as f:
+        for line in f:
+            m = re.match(r"^([A-Za-z_][\w-]*)\s*:\s*(.+?)\s*$", line)
+            if not m:
+                continue
+            key, val = m.group(1), m.group(2).split(" #")[0].strip()
+            if val.startswith("["):
+                out[key] = [float(x) for x in val.strip("[]").split(",")]
+            else:
+                try:
+                    out[key] = float(val)
+                except ValueError:
+                    out[key] = val.strip('"')
+    return out
+
+
+def planner_settings(yaml_path, command):
+    """Config file values, overridden by `--key value` of the planner's command line (lists as a,b,c)."""
+    cfg = read_yaml_scalars(yaml_path)
+    for i, a in enumerate(command[:-1]):
+        if a.startswith("--") and a != "--config":
+            key, val = a[2:], command[i + 1]
+            try:
+                cfg[key] = [float(x) for x in val.split(",")] if "," in val else float(val)
+            except ValueError:
+                cfg[key] = val  # a word (e.g. --small-hole skip)
+    return cfg
+
+
 def read_cell(path):
     """The cell file's calibration.camera-to-base (4 rows) and tool radius and tilt, read line by line
     (docs/cell.md's layout as config/cell.yaml writes it), independently of the product's reader."""

@@ -141,6 +141,7 @@ class E2EWholePipeline(PipelineCase):
 
     def check_path_against_truth(self, path, truth):
         # Expected frames: table --(truth camera_from_table)--> camera --(the cell's hand-eye calibration)--> base.
+        cfg = G.planner_settings(os.path.join(E.CONFIG, "path_planner.yaml"), E.process_command("planner"))
         cell = G.read_cell(G.cell_of(E.process_command("planner"), E.CONFIG))
         camera_to_base = cell["camera-to-base"]
         base_to_table = G.rigid_inverse(G.matmul(camera_to_base, truth["camera_from_table"]))
