@@ -132,15 +132,16 @@ std::string utc_now_iso() {
   return buf;
 }
 
+bool is_rotation(const Eigen::Matrix3d& R) {
+  return R.allFinite() && (R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-6 &&
+         R.determinant() > 0;
+}
+
 void validate(const Cell& c, const std::string& where) {
-  const Eigen::Matrix3d R = c.calibration.camera_to_base.linear();
-  if ((R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 || R.determinant() < 0)
+  if (!is_rotation(c.calibration.camera_to_base.linear()))
     fail(where, "calibration.camera-to-base", "rotation part is not a proper orthonormal matrix");
-  if (c.calibration.camera_to_flange) {
-    const Eigen::Matrix3d F = c.calibration.camera_to_flange->linear();
-    if ((F * F.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 || F.determinant() < 0)
-      fail(where, "calibration.camera-to-flange", "rotation part is not a proper orthonormal matrix");
-  }
+  if (c.calibration.camera_to_flange && !is_rotation(c.calibration.camera_to_flange->linear()))
+    fail(where, "calibration.camera-to-flange", "rotation part is not a proper orthonormal matrix");
   if (c.calibration.rms_mm < 0 || c.calibration.worst_mm < c.calibration.rms_mm)
     fail(where, "calibration.rms-mm", "residuals must satisfy 0 <= rms-mm <= worst-mm");
   for (int i = 0; i < 3; ++i)

@@ -54,6 +54,10 @@ std::string write_cell(const std::string& path, const Cell& cell);
 // The checks read_cell applies, for a cell built in code; `where` prefixes the messages.
 void validate(const Cell& cell, const std::string& where);
 
+// True when R is a proper rotation: orthonormal (every entry of R R^T - I within 1e-6) and det R > 0. The one
+// check of a calibration's rotation, for the cell file and everything that takes a transform.
+bool is_rotation(const Eigen::Matrix3d& R);
+
 // Current UTC time as ISO 8601 ("2026-12-01T20:30:00Z").
 std::string utc_now_iso();
 

@@ -21,20 +21,26 @@ std::vector<Param> planner_params() {
   using runtime::text_param;
   constexpr double inf = std::numeric_limits<double>::infinity();
   const bool open = true;  // the range's lower end is excluded: the value must be > min
-  return {
-      number_param("tool-radius", "0.01", "effective tool radius, m (job default)", 0, inf, open),
-      number_param("chamfer-angle", "0.7853981633974483",
-                   "tool tilt toward the edge normal, rad (job default; 45 deg; at most 80 deg)", 0,
-                   1.3962634015954636),
-      number_param("grind-speed", "0.02", "TCP speed along the edge, m/s (job default)", 0, inf, open),
-      number_param("travel-speed", "0.2", "air-move speed, m/s (job default)", 0, inf, open),
+  std::vector<Param> params = {
+      cell::cell_param(),
+      number_param("tool-radius", "",
+                   "effective tool radius, m (job default); default: the cell's tool.radius, which it must equal", 0,
+                   inf, open),
+      number_param("chamfer-angle", "",
+                   "tool tilt toward the edge normal, rad (job default; at most 80 deg); default: the cell's "
+                   "tool.tilt, which it must equal",
+                   0, 1.3962634015954636),
+      number_param("grind-speed", "0.02", "TCP speed along the edge, m/s (job default; <= the cell's max-speed)", 0,
+                   inf, open),
+      number_param("travel-speed", "0.2", "air-move speed, m/s (job default; <= the cell's max-speed)", 0, inf, open),
       number_param("step", "0.002", "resampling step along the path, m (job default)", 0, inf, open),
       number_param("safe-height", "0.05", "approach/retract height above the plate, m (job default)", 0, inf, open),
       text_param("direction", "climb", "hg-plan; a job request carries its own", {"climb", "conventional"}),
       flag_param("flipped", "plan for the flipped part (hg-plan; a job request carries its own)"),
       Param{"spindle-clockwise", "true", "spindle turns clockwise seen from above (decides what climb means)", false,
             runtime::ParamType::Flag},
-      number_param("approach-speed", "0.05", "speed of the vertical approach and retract, m/s (capped by travel-speed)",
+      number_param("approach-speed", "0.05",
+                   "speed of the vertical approach and retract, m/s (capped by travel-speed; <= the cell's max-speed)",
                    0, inf, open),
       number_param("lead-radius", "0.01", "radius of the lead-in/lead-out arcs, m (smaller in small holes)", 0, inf,
                    open),
@@ -61,10 +67,6 @@ std::vector<Param> planner_params() {
                    "every edge point must be within tool-radius + this of the grind path, m", 0, inf, open),
       number_param("resample-chord-error", "1e-5", "largest distance of a resampled chord from the offset ring, m", 0,
                    inf, open),
-      numbers_param("camera-to-base", "",
-                    "hand-eye calibration as 16 numbers, row-major 4x4; overrides camera-xyz/rpy"),
-      numbers_param("camera-xyz", "0.5,0,1.2", "camera origin in the robot base frame, m"),
-      numbers_param("camera-rpy", "3.141592653589793,0,0", "camera roll, pitch, yaw in the base frame, rad (Rz Ry Rx)"),
       numbers_param("plane-origin", "0,0,1.19",
                     "plate plane in the camera frame for outline files without one: origin"),
       numbers_param("plane-u", "1,0,0", "... u axis"),
@@ -72,17 +74,8 @@ std::vector<Param> planner_params() {
       numbers_param("plane-normal", "0,0,-1", "... normal (u, v, normal right-handed)"),
       text_param("base-frame", "robot_base", "name of the robot base frame in the path"),
       text_param("outline-frame", "",
-                 "hg-plan: frame of the outline file's plane: camera (camera-to-base applied), robot_base "
+                 "hg-plan: frame of the outline file's plane: camera (the cell's camera-to-base applied), robot_base "
                  "(the base-frame: none applied); default: the file's \"frame\" (cloud or none: camera)"),
-      numbers_param("home", "0.5,0,0.3",
-                    "robot position (base frame) used as the start reference until HG_ROBOT_STATUS is heard"),
-      numbers_param("workspace-min", "-1,-1,0", "workspace box, base frame, m: lower corner"),
-      numbers_param("workspace-max", "1.5,1,1", "workspace box, base frame, m: upper corner"),
-      number_param("table-z", "0", "table top height in the base frame; every waypoint must be above it, m"),
-      number_param("max-speed", "0.5", "largest TCP speed allowed, m/s", 0, inf, open),
-      number_param("max-accel", "2.0",
-                   "largest acceleration a corner may demand (v^2/r), m/s^2; = the robot bridge's max-accel", 0, inf,
-                   open),
       number_param(
           "outline-max-age", "2.0",
           "hg-path-planner: a job starts on the latest outline if it arrived at most this long ago (s), else on the next",
@@ -90,11 +83,12 @@ std::vector<Param> planner_params() {
       number_param("outline-timeout", "10.0", "hg-path-planner: a job with no outline after this long fails, s", 0, inf,
                    open),
   };
+  for (Param& p : moved_planner_keys()) params.push_back(std::move(p));
+  return params;
 }
 
 ParamLookup lookup_from(const runtime::Params& params) {
-  return {[&params](const std::string& k) { return params.text(k); },
-          [&params](const std::string& k) { return params.numbers(k); }};
+  return {std::shared_ptr<const runtime::Params>(std::shared_ptr<void>(), &params)};  // not owned
 }
 
 ParamLookup lookup_from(const runtime::Node& node) { return lookup_from(node.params()); }
@@ -104,101 +98,81 @@ ParamLookup lookup_from(const std::map<std::string, std::string>& cli, const run
   auto params = std::make_shared<runtime::Params>(planner_params());
   params->use_config(config);
   for (const auto& [k, v] : cli) params->set(k, v);
-  return {[params](const std::string& k) { return params->text(k); },
-          [params](const std::string& k) { return params->numbers(k); }};
+  return {params};
 }
 
 namespace {
 
-double num(const ParamLookup& L, const std::string& key) {
-  const std::string v = L.text(key);
-  char* end = nullptr;
-  const double d = std::strtod(v.c_str(), &end);
-  if (v.empty() || *end != '\0' || !std::isfinite(d))
-    throw ConfigError("parameter '" + key + "': '" + v + "' is not a number");
-  return d;
-}
-bool boolean(const ParamLookup& L, const std::string& key) {
-  const std::string v = L.text(key);
-  if (v == "true" || v == "1") return true;
-  if (v == "false" || v == "0" || v.empty()) return false;
-  throw ConfigError("parameter '" + key + "': '" + v + "' is not true or false");
-}
-Vec3 vec3(const ParamLookup& L, const std::string& key) {
-  const std::vector<double> v = L.list(key);
-  if (v.size() != 3) throw ConfigError("parameter '" + key + "': expected 3 numbers");
+Vec3 vec3(const runtime::Params& P, const std::string& key) {
+  const std::vector<double> v = P.numbers(key);
+  if (v.size() != 3) throw P.error(key, "expected 3 numbers");
   return Vec3(v[0], v[1], v[2]);
+}
+
+// The job defaults: the tool is the cell's (a value given must equal it), speeds within the cell's max-speed.
+JobParams job_defaults(const runtime::Params& P, const cell::LoadedCell& cell) {
+  const cell::Cell& c = cell.cell;
+  JobParams d;
+  d.tool_radius = P.given("tool-radius") ? P.number("tool-radius") : c.tool.radius;
+  cell::refuse_unequal(P, "tool-radius", d.tool_radius, cell, "tool.radius", c.tool.radius);
+  d.chamfer_angle = P.given("chamfer-angle") ? P.number("chamfer-angle") : c.tool.tilt;
+  cell::refuse_unequal(P, "chamfer-angle", d.chamfer_angle, cell, "tool.tilt", c.tool.tilt);
+  if (!(d.chamfer_angle >= 0 && d.chamfer_angle <= P.find("chamfer-angle")->max))
+    throw runtime::ConfigError(cell.file + ": tool.tilt: " + std::to_string(d.chamfer_angle) +
+                               " rad is outside the planner's chamfer-angle range [0, 80 deg]");
+  d.grind_speed = P.number("grind-speed");
+  d.travel_speed = P.number("travel-speed");
+  for (const char* speed : {"grind-speed", "travel-speed", "approach-speed"})
+    cell::refuse_above(P, speed, P.number(speed), cell, "max-speed", c.max_speed);
+  d.step = P.number("step");
+  d.safe_height = P.number("safe-height");
+  d.direction = P.text("direction") == "conventional" ? Direction::Conventional : Direction::Climb;
+  d.flipped = P.flag("flipped");
+  return d;
 }
 
 }  // namespace
 
-PlannerConfig config_from(const ParamLookup& L) {
+std::vector<Param> moved_planner_keys() {
+  return cell::moved_to_cell({{"camera-to-base", "calibration.camera-to-base"},
+                              {"camera-xyz", "calibration.camera-to-base"},
+                              {"camera-rpy", "calibration.camera-to-base"},
+                              {"home", "home"},
+                              {"workspace-min", "workspace.min"},
+                              {"workspace-max", "workspace.max"},
+                              {"table-z", "table-z"},
+                              {"max-speed", "max-speed"},
+                              {"max-accel", "max-accel"}});
+}
+
+PlannerConfig config_from(const ParamLookup& L) { return config_from(L, cell::load_cell(*L.params)); }
+
+PlannerConfig config_from(const ParamLookup& L, const cell::LoadedCell& cell) {
+  const runtime::Params& P = *L.params;
   PlannerConfig c;
-  JobParams& d = c.defaults;
-  d.tool_radius = num(L, "tool-radius");
-  d.chamfer_angle = num(L, "chamfer-angle");
-  d.grind_speed = num(L, "grind-speed");
-  d.travel_speed = num(L, "travel-speed");
-  d.step = num(L, "step");
-  d.safe_height = num(L, "safe-height");
-  const std::string dir = L.text("direction");
-  if (dir == "climb") d.direction = Direction::Climb;
-  else if (dir == "conventional")
-    d.direction = Direction::Conventional;
-  else
-    throw ConfigError("parameter 'direction': '" + dir + "' is not climb or conventional");
-  d.flipped = boolean(L, "flipped");
-  JobParams checked;
-  if (std::string why = resolve_params(d, d, checked); !why.empty()) throw ConfigError("parameters: " + why);
-  c.spindle_clockwise = boolean(L, "spindle-clockwise");
-  c.approach_speed = num(L, "approach-speed");
-  c.lead_radius = num(L, "lead-radius");
-  c.lead_angle = num(L, "lead-angle");
-  c.z_offset = num(L, "z-offset");
-  c.smooth.pitch = num(L, "pixel-pitch");
-  c.smooth.window_pitches = num(L, "smooth-window");
-  c.smooth.corner_scale_pitches = num(L, "corner-scale");
-  c.smooth.corner_angle = num(L, "corner-angle");
-  c.smooth.edge_compensation = boolean(L, "edge-compensation");
-  c.arc_tolerance = num(L, "arc-tolerance");
-  c.resample_corner_angle = num(L, "resample-corner-angle");
-  c.coverage_tolerance = num(L, "coverage-tolerance");
-  c.resample_chord_error = num(L, "resample-chord-error");
-  if (!(c.coverage_tolerance > 0) || !(c.resample_chord_error > 0))
-    throw ConfigError("coverage-tolerance and resample-chord-error must be > 0");
-  if (!(c.approach_speed > 0) || !(c.lead_radius > 0) || !(c.lead_angle > 0) || !(c.arc_tolerance > 0) ||
-      !(c.smooth.window_pitches > 0) || !(c.smooth.corner_scale_pitches > 0))
-    throw ConfigError(
-        "approach-speed, lead-radius, lead-angle, arc-tolerance, smooth-window and corner-scale must be > 0");
-  const std::string sh = L.text("small-hole");
-  if (sh == "fail") c.small_hole = SmallHolePolicy::Fail;
-  else if (sh == "skip")
-    c.small_hole = SmallHolePolicy::Skip;
-  else
-    throw ConfigError("parameter 'small-hole': '" + sh + "' is not fail or skip");
-  if (!L.list("camera-to-base").empty()) {
-    const std::vector<double> m = L.list("camera-to-base");
-    if (m.size() != 16) throw ConfigError("parameter 'camera-to-base': expected 16 numbers (row-major 4x4)");
-    Eigen::Matrix4d M;
-    for (int r = 0; r < 4; ++r)
-      for (int k = 0; k < 4; ++k) M(r, k) = m[r * 4 + k];
-    const Eigen::Matrix3d R = M.topLeftCorner<3, 3>();
-    if ((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 || R.determinant() < 0 ||
-        M.row(3) != Eigen::RowVector4d(0, 0, 0, 1))
-      throw ConfigError("parameter 'camera-to-base': not a rigid transform");
-    c.camera_to_base.matrix() = M;
-  } else {
-    c.camera_to_base = pose_from_xyz_rpy(vec3(L, "camera-xyz"), vec3(L, "camera-rpy"));
-  }
-  c.default_plane = {vec3(L, "plane-origin"), vec3(L, "plane-u"), vec3(L, "plane-v"), vec3(L, "plane-normal")};
-  c.base_frame = L.text("base-frame");
-  c.home = vec3(L, "home");
-  c.limits.workspace_min = vec3(L, "workspace-min");
-  c.limits.workspace_max = vec3(L, "workspace-max");
-  c.limits.table_z = num(L, "table-z");
-  c.limits.max_speed = num(L, "max-speed");
-  c.limits.max_accel = num(L, "max-accel");
-  if (!(c.limits.max_speed > 0) || !(c.limits.max_accel > 0)) throw ConfigError("max-speed and max-accel must be > 0");
+  c.defaults = job_defaults(P, cell);
+  c.spindle_clockwise = P.flag("spindle-clockwise");
+  c.approach_speed = P.number("approach-speed");
+  c.lead_radius = P.number("lead-radius");
+  c.lead_angle = P.number("lead-angle");
+  c.z_offset = P.number("z-offset");
+  c.smooth.pitch = P.number("pixel-pitch");
+  c.smooth.window_pitches = P.number("smooth-window");
+  c.smooth.corner_scale_pitches = P.number("corner-scale");
+  c.smooth.corner_angle = P.number("corner-angle");
+  c.smooth.edge_compensation = P.flag("edge-compensation");
+  c.arc_tolerance = P.number("arc-tolerance");
+  c.resample_corner_angle = P.number("resample-corner-angle");
+  c.coverage_tolerance = P.number("coverage-tolerance");
+  c.resample_chord_error = P.number("resample-chord-error");
+  c.small_hole = P.text("small-hole") == "skip" ? SmallHolePolicy::Skip : SmallHolePolicy::Fail;
+  c.camera_to_base = cell.cell.calibration.camera_to_base;
+  c.default_plane = {vec3(P, "plane-origin"), vec3(P, "plane-u"), vec3(P, "plane-v"), vec3(P, "plane-normal")};
+  c.base_frame = P.text("base-frame");
+  c.home = cell.cell.home;
+  c.limits = cell::limits_of(cell.cell);
+  c.cell_file = cell.file;
+  c.max_tool_radius = cell.cell.tool.radius;
   return c;
 }
 

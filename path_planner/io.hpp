@@ -2,11 +2,13 @@
 // hg-plan).
 #pragma once
 
+#include "cell/cell_params.hpp"
 #include "path_planner/pipeline.hpp"
 #include "runtime/node.hpp"
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "hullgrind/grind_path_t.hpp"
@@ -14,21 +16,27 @@
 
 namespace hg::path_planner {
 
-// Every planner parameter (hg-path-planner and hg-plan read the same keys, config/path_planner.yaml).
+// Every planner parameter (hg-path-planner and hg-plan read the same keys, config/path_planner.yaml), with
+// --cell: the camera-to-base calibration, table, workspace, speed and acceleration limits, tool and home come
+// from the cell file (docs/cell.md); their old keys are declared as moved and refused naming the cell's key.
 std::vector<runtime::Param> planner_params();
+// The keys that moved into the cell file (part of planner_params()): refused naming the cell's key.
+std::vector<runtime::Param> moved_planner_keys();
 
-// Where parameter values come from (command line > config file > default, as runtime::Node does).
+// Where parameter values come from (command line > config file > default, runtime::Params), for the
+// process, hg-plan and hg-overview alike.
 struct ParamLookup {
-  std::function<std::string(const std::string&)> text;
-  std::function<std::vector<double>(const std::string&)> list;
+  std::shared_ptr<const runtime::Params> params;  // owned (lookup_from(cli, config)) or not (the others)
 };
 ParamLookup lookup_from(const runtime::Node& node);
 ParamLookup lookup_from(const runtime::Params& params);  // params must outlive the lookup
-// The same outside a process (hg-plan, hg-overview): `cli` (name -> value, lists as "a,b,c") > `config`
-// (must outlive the lookup) > the default of planner_params().
+// The same outside a process (hg-overview, tests): `cli` (name -> value, lists as "a,b,c") > `config` > the
+// default of planner_params().
 ParamLookup lookup_from(const std::map<std::string, std::string>& cli, const runtime::Config& config);
-// Throws runtime::ConfigError naming the parameter when a value is unusable.
+// Reads the cell file (parameter cell) and the parameters. Throws runtime::ConfigError naming the parameter
+// (and where it came from) when a value is unusable or contradicts the cell, or the cell file and its key.
 PlannerConfig config_from(const ParamLookup& lookup);
+PlannerConfig config_from(const ParamLookup& lookup, const cell::LoadedCell& cell);
 
 // Outline JSON as hg-outline writes it: {"loops": [{"hole", "points": [[x, y], ...]}, ...], "plane"?:
 // {"origin", "normal", "u", "v"}, "frame"?: the frame the plane is in}. Without a plane, default_plane is

@@ -28,8 +28,11 @@ runtime::ProcessInfo process_info() {
       "reports PLANNING on HG_JOB_STATUS, plans on the latest outline if it is fresh (outline-max-age) or else\n"
       "on the next one, publishes grind_path_t on HG_GRIND_PATH and then PLANNED, or FAILED with the reason\n"
       "(outline with an error status, bad outline, hole too small for the tool, validation). Zero-valued job\n"
-      "parameters take the configured defaults below. The path starts at the loop point nearest to the\n"
-      "robot's TCP (HG_ROBOT_STATUS) or to `home` until the robot has been heard. A job id is planned once:\n"
+      "parameters take the configured defaults below. The cell file (--cell, docs/cell.md) gives the\n"
+      "camera-to-base calibration, the tool (the default tool-radius and chamfer-angle), the limits every path\n"
+      "is validated against and home; a value given here that contradicts it stops the start (exit 2), a job\n"
+      "asking for more (a speed above max-speed, a tool larger than the cell's) is FAILED. The path starts at\n"
+      "the loop point nearest to the robot's TCP (HG_ROBOT_STATUS) or to the cell's home until it is heard. A job id is planned once:\n"
       "a repeated START (or an ABORT) of a job id already seen is answered with the job's state while the\n"
       "planner holds or ended it (PLANNING, FAILED, ABORTED, REFUSED) and changes nothing; once PLANNED the\n"
       "robot bridge answers. See docs/path_planner.md.",

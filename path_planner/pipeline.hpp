@@ -271,6 +271,10 @@ struct PlannerConfig {
   Vec3 home = Vec3(0.5, 0, 0.3);  // base frame; start reference when the robot's position is unknown
   std::string base_frame = "robot_base";
   Limits limits;
+  // From the cell file (config_from): its name for messages, and the mounted tool's radius, which a job may
+  // not exceed (0: no such check, a config built in code).
+  std::string cell_file;
+  double max_tool_radius = 0;
 };
 struct PlanResult {
   bool ok = false;
@@ -289,6 +293,9 @@ struct PlanResult {
 };
 // Fills zero-valued job parameters from the defaults; returns a reason when a parameter is unusable.
 std::string resolve_params(const JobParams& requested, const JobParams& defaults, JobParams& out);
+// Empty when the job's parameters are within the cell (speeds <= limits.max_speed, tool radius <=
+// max_tool_radius); else the reason, naming the cell file and key.
+std::string check_job_within_cell(const JobParams& params, const PlannerConfig& config);
 PlanResult plan(OutlineInput outline, const JobParams& params, const PlannerConfig& config,
                 const std::optional<Vec3>& robot_position_base);
 // The first steps of plan(): normalize_up, make_canonical, the flip's mirror (in place on `outline`), the

@@ -31,6 +31,23 @@ std::string resolve_params(const JobParams& req, const JobParams& def, JobParams
   return "";
 }
 
+std::string check_job_within_cell(const JobParams& p, const PlannerConfig& cfg) {
+  const std::string cell = cfg.cell_file.empty() ? std::string("the cell's") : cfg.cell_file;
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  if (p.grind_speed > cfg.limits.max_speed)
+    return "grind_speed " + num(p.grind_speed) + " m/s exceeds " + cell + " max-speed " + num(cfg.limits.max_speed);
+  if (p.travel_speed > cfg.limits.max_speed)
+    return "travel_speed " + num(p.travel_speed) + " m/s exceeds " + cell + " max-speed " + num(cfg.limits.max_speed);
+  if (cfg.max_tool_radius > 0 && p.tool_radius > cfg.max_tool_radius)
+    return "tool_radius " + num(p.tool_radius) + " m exceeds " + cell + " tool.radius " + num(cfg.max_tool_radius) +
+           " (the mounted tool)";
+  return "";
+}
+
 std::vector<Ring> edges_to_grind(OutlineInput& in, bool flipped, const PlannerConfig& cfg, double& pitch) {
   normalize_up(in, cfg.camera_to_base);
   make_canonical(in.loops);
@@ -126,6 +143,8 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
     return res;
   };
   if (std::string why = resolve_params(requested, cfg.defaults, res.params); !why.empty()) return fail(why);
+  if (std::string why = check_job_within_cell(res.params, cfg); !why.empty())
+    return fail("refused by the cell: " + why);
   const JobParams& P = res.params;
   if (std::string why = check_outline(in); !why.empty()) return fail("bad outline: " + why);
 

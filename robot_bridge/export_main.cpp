@@ -1,5 +1,5 @@
 // hg-robot-export: the URScript of a path file, checked against the cell's limits as hg-robot-bridge checks
-// a path before running it; no bus. Reads the robot bridge's keys (config/robot_bridge.yaml).
+// a path before running it; no bus. Reads the robot bridge's keys (config/robot_bridge.yaml) and the cell file.
 #include <cstdio>
 #include <exception>
 
@@ -13,9 +13,10 @@ void usage(std::FILE* f, const hg::runtime::Params& params) {
       f,
       "usage: hg-robot-export [options] PATH.json -o JOB.script\n"
       "Writes the URScript program of a path file (docs/path_file.md) after the robot bridge's checks\n"
-      "(workspace box, table height, speed, corner acceleration; from the first waypoint, as the robot's pose\n"
-      "is unknown offline). Exit status: 0 written, 1 refused by the checks (nothing written), 2 bad command\n"
-      "line, config or path file.\n\noptions (the keys of hg-robot-bridge; only the limits and script options matter here):\n");
+      "(workspace box, table height, speed, corner acceleration: the limits of the cell file, --cell; from the\n"
+      "first waypoint, as the robot's pose is unknown offline). Exit status: 0 written, 1 refused by the checks\n"
+      "(nothing written), 2 bad command line, config, cell or path file.\n\n"
+      "options (the keys of hg-robot-bridge; only --cell and the script options matter here):\n");
   params.print_options(f);
   std::fprintf(f,
                "  --config FILE                      YAML config file, e.g. config/robot_bridge.yaml\n"

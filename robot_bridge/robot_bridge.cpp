@@ -28,31 +28,14 @@ void on_sim_signal(int sig) { g_sim_signal = sig; }
 
 double mono_now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
-Vec3 vec3_param(const runtime::Params& params, const std::string& name) {
-  auto v = params.numbers(name);
-  if (v.size() != 3) throw params.error(name, "needs 3 numbers x,y,z");
-  return Vec3(v[0], v[1], v[2]);
-}
-Vec3 vec3_param(const runtime::Node& node, const std::string& name) { return vec3_param(node.params(), name); }
-
 }  // namespace
 
-Limits limits_from(const runtime::Params& params) {
-  Limits l;
-  l.workspace_min = vec3_param(params, "workspace-min");
-  l.workspace_max = vec3_param(params, "workspace-max");
-  l.table_z = params.number("table-z");
-  l.max_speed = params.number("max-speed");
-  l.max_accel = params.number("max-accel");
-  for (int a = 0; a < 3; ++a)
-    if (!(l.workspace_min[a] < l.workspace_max[a]))
-      throw params.error("workspace-min", "must be below workspace-max on every axis");
-  return l;
-}
+Limits limits_from(const runtime::Params& params) { return cell::limits_of(cell::load_cell(params).cell); }
 
-ScriptOptions script_from(const runtime::Params& params) {
+ScriptOptions script_from(const runtime::Params& params, const cell::LoadedCell& cell) {
   ScriptOptions s;
   s.accel = params.number("accel");
+  cell::refuse_above(params, "accel", s.accel, cell, "max-accel", cell.cell.max_accel);
   s.blend_radius = params.number("blend-radius");
   s.progress_register = int(params.integer("ur-register"));
   if (s.progress_register < 0 || s.progress_register > 47) throw params.error("ur-register", "must be 0..47");
@@ -60,12 +43,14 @@ ScriptOptions script_from(const runtime::Params& params) {
 }
 
 runtime::ProcessInfo process_info() {
-  return {
+  runtime::ProcessInfo info{
       "hg-robot-bridge",
       "Accepted jobs' grind paths (HG_GRIND_PATH) -> robot (simulated or Universal Robots) -> HG_ROBOT_STATUS (100 Hz), HG_JOB_STATUS.",
       "Job protocol: a START job_request_t is ACCEPTED (or REFUSED: busy, FAULT, robot not ready); the grind_path_t\n"
       "with that job id is checked (workspace box, table height, speed, corner acceleration) and run: RUNNING with\n"
-      "progress, then DONE, or FAILED/ABORTED with the reason. A fault (protective/emergency stop, lost connection,\n"
+      "progress, then DONE, or FAILED/ABORTED with the reason. The limits checked and the simulated robot's home\n"
+      "come from the cell file (--cell, docs/cell.md); an accel above its max-accel stops the start (exit 2).\n"
+      "A fault (protective/emergency stop, lost connection,\n"
       "unexpected robot mode) puts the bridge in FAULT until a RESET request. ABORT stops the job. A job id is\n"
       "one job: a request with an id seen before (a retrying writer) is answered with that job's state and\n"
       "changes nothing; only the ABORT of the held job acts. A RESET needs an id of its own.\n"
@@ -78,17 +63,9 @@ runtime::ProcessInfo process_info() {
       {
           runtime::text_param("driver", "sim", "robot driver: sim | ur", {"sim", "ur"}),
           {"export", "", "also write the URScript of every path run to this file"},
-          {"workspace-min", "-1.5,-1.5,-0.5", "workspace box minimum corner x,y,z in the robot base frame, m", false,
-           runtime::ParamType::Numbers},
-          {"workspace-max", "1.5,1.5,1.5", "workspace box maximum corner x,y,z, m", false, runtime::ParamType::Numbers},
-          {"table-z", "-0.5", "table top height in the base frame: every point must be strictly above, m", false,
-           runtime::ParamType::Number},
-          {"max-speed", "0.25", "highest TCP speed a path may ask for, m/s", false, runtime::ParamType::Number, 0,
-           std::numeric_limits<double>::infinity(), true},
-          {"max-accel", "2.0", "highest TCP acceleration (corners: v^2/r), m/s^2", false, runtime::ParamType::Number, 0,
-           std::numeric_limits<double>::infinity(), true},
-          {"accel", "0.5", "tool acceleration commanded (UR a=, sim speed ramps), m/s^2; <= max-accel", false,
-           runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
+          cell::cell_param(),
+          {"accel", "0.5", "tool acceleration commanded (UR a=, sim speed ramps), m/s^2; <= the cell's max-accel",
+           false, runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
           {"blend-radius", "0.001", "UR blend radius between moves (capped at 40% of the shorter segment), m", false,
            runtime::ParamType::Number, 0},
           {"path-timeout", "60", "an accepted job FAILS if its path does not arrive within this, s", false,
@@ -100,7 +77,6 @@ runtime::ProcessInfo process_info() {
           {"frame", "robot_base", "robot base frame name (robot_status_t header.frame_id)"},
           {"sim-time-scale", "1", "sim: simulated seconds per real second", false, runtime::ParamType::Number, 0,
            std::numeric_limits<double>::infinity(), true},
-          {"sim-home", "0.5,0,0.3", "sim: TCP position at start-up, m", false, runtime::ParamType::Numbers},
           {"sim-home-orientation", "0,1,0,0",
            "sim: TCP orientation at start-up, quaternion w,x,y,z (default: tool down)", false,
            runtime::ParamType::Numbers},
@@ -130,12 +106,20 @@ runtime::ProcessInfo process_info() {
           {"ur-backoff-max", "5", "longest reconnect delay, s", false, runtime::ParamType::Number, 0,
            std::numeric_limits<double>::infinity(), true},
       }};
+  for (runtime::Param& p : cell::moved_to_cell({{"workspace-min", "workspace.min"},
+                                                {"workspace-max", "workspace.max"},
+                                                {"table-z", "table-z"},
+                                                {"max-speed", "max-speed"},
+                                                {"max-accel", "max-accel"},
+                                                {"sim-home", "home"}}))
+    info.params.push_back(std::move(p));
+  return info;
 }
 
 // The simulated robot from the sim-* parameters; SIGUSR1 / SIGUSR2 then inject its faults.
-std::unique_ptr<Driver> make_sim_driver(runtime::Node& node, const ScriptOptions& script) {
+std::unique_ptr<Driver> make_sim_driver(runtime::Node& node, const ScriptOptions& script, const Vec3& home) {
   SimOptions so;
-  so.home.position = vec3_param(node, "sim-home");
+  so.home.position = home;
   auto q = node.param_doubles("sim-home-orientation");
   if (q.size() != 4) throw node.params().error("sim-home-orientation", "needs 4 numbers w,x,y,z");
   so.home.orientation = Quat(q[0], q[1], q[2], q[3]).normalized();
@@ -171,8 +155,9 @@ std::unique_ptr<Driver> make_ur_driver(runtime::Node& node, const ScriptOptions&
   return std::make_unique<UrDriver>(uo);
 }
 
-std::unique_ptr<Driver> make_driver(runtime::Node& node, const std::string& driver, const ScriptOptions& script) {
-  if (driver == "sim") return make_sim_driver(node, script);
+std::unique_ptr<Driver> make_driver(runtime::Node& node, const std::string& driver, const ScriptOptions& script,
+                                    const Vec3& home) {
+  if (driver == "sim") return make_sim_driver(node, script, home);
   if (driver == "ur") return make_ur_driver(node, script);
   throw node.params().error("driver", "unknown driver '" + driver + "' (sim|ur)");
 }
@@ -181,7 +166,8 @@ class Process {
  public:
   explicit Process(runtime::Node& node) : node_(node) {
     BridgeConfig cfg;
-    cfg.limits = limits_from(node.params());
+    const cell::LoadedCell cell = cell::load_cell(node.params());
+    cfg.limits = cell::limits_of(cell.cell);
     cfg.path_timeout = node.param_double("path-timeout");
     cfg.progress_period = node.param_double("progress-period");
     cfg.state_file = node.param("state-file");
@@ -189,11 +175,9 @@ class Process {
     cfg.export_file = node.param("export");
     cfg.frame = node.param("frame");
     cfg.source = node.name();
-    cfg.script = script_from(node.params());
-    if (cfg.script.accel <= 0 || cfg.script.accel > cfg.limits.max_accel)
-      throw node.params().error("accel", "must be in (0, max-accel]");
+    cfg.script = script_from(node.params(), cell);
     const std::string driver = node.param("driver");
-    std::unique_ptr<Driver> d = make_driver(node, driver, cfg.script);
+    std::unique_ptr<Driver> d = make_driver(node, driver, cfg.script, cell.cell.home);
     d->on_decode_error = [&node](const std::string& what) { node.count_decode_error("robot controller", what); };
     BridgeOutputs out;
     out.job_status = [&node](hullgrind::job_status_t& s) { node.publish(channels::kJobStatus, s); };
@@ -224,11 +208,12 @@ class Process {
       bridge_->tick(mono_now());
     });
     if (!cfg.run_id.empty()) logf(Level::Info, "run %s", cfg.run_id.c_str());
-    logf(Level::Info,
-         "driver %s; workspace (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f), table z %.3f, max %.3f m/s, %.2f m/s^2",
-         driver.c_str(), cfg.limits.workspace_min.x(), cfg.limits.workspace_min.y(), cfg.limits.workspace_min.z(),
-         cfg.limits.workspace_max.x(), cfg.limits.workspace_max.y(), cfg.limits.workspace_max.z(), cfg.limits.table_z,
-         cfg.limits.max_speed, cfg.limits.max_accel);
+    logf(
+        Level::Info,
+        "driver %s; cell %s: workspace (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f), table z %.3f, max %.3f m/s, %.2f m/s^2",
+        driver.c_str(), cell.file.c_str(), cfg.limits.workspace_min.x(), cfg.limits.workspace_min.y(),
+        cfg.limits.workspace_min.z(), cfg.limits.workspace_max.x(), cfg.limits.workspace_max.y(),
+        cfg.limits.workspace_max.z(), cfg.limits.table_z, cfg.limits.max_speed, cfg.limits.max_accel);
   }
 
   ~Process() { bridge_->shutdown(mono_now()); }
@@ -247,12 +232,14 @@ int export_script(const runtime::Params& params, const std::string& path_file, c
   if (path.size() == 0) throw std::invalid_argument(path_file + ": no waypoints");
   // Offline the robot's pose is unknown: check from the first waypoint.
   const Pose start{path.position[0], path.orientation[0]};
-  if (std::string why = check_path(path, start, limits_from(params)); !why.empty()) {
+  const cell::LoadedCell cell = cell::load_cell(params);
+  const ScriptOptions script = script_from(params, cell);
+  if (std::string why = check_path(path, start, cell::limits_of(cell.cell)); !why.empty()) {
     logf(Level::Error, "%s: refused: %s", path_file.c_str(), why.c_str());
     return 1;
   }
   std::ofstream out(out_file, std::ios::trunc);
-  out << make_script(path, script_from(params));
+  out << make_script(path, script);
   if (!out) throw std::runtime_error("cannot write " + out_file);
   logf(Level::Info, "wrote %s: %zu waypoints of job %s", out_file.c_str(), path.size(), path.job_id.c_str());
   return 0;

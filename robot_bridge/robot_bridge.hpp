@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "cell/cell_params.hpp"
 #include "robot_bridge/bridge.hpp"
 #include "runtime/node.hpp"
 
@@ -21,9 +22,10 @@ using ProcessHandle = std::unique_ptr<Process, ProcessDeleter>;
 // Wires the process's subscriptions and timers onto a node. Throws std::exception on a bad configuration.
 ProcessHandle attach(runtime::Node& node);
 
-// The cell's limits and the URScript options from the bridge's parameters (throw runtime::ConfigError).
+// The cell's limits (from the cell file named by --cell) and the URScript options (accel within the cell's
+// max-accel) from the bridge's parameters. Throw runtime::ConfigError naming the key (and the cell file).
 Limits limits_from(const runtime::Params& params);
-ScriptOptions script_from(const runtime::Params& params);
+ScriptOptions script_from(const runtime::Params& params, const cell::LoadedCell& cell);
 
 // hg-robot-export: writes the URScript of a path file and returns the exit code (0 when the path passes the
 // configured checks, 1 otherwise; the script is written only when it passes).

@@ -69,6 +69,11 @@ Param numbers_param(std::string name, std::string def, std::string help) {
   return Param{std::move(name), std::move(def), std::move(help), false, ParamType::Numbers};
 }
 Param flag_param(std::string name, std::string help) { return Param{std::move(name), "", std::move(help), true}; }
+Param moved_param(std::string name, std::string now) {
+  Param p{std::move(name), "", ""};
+  p.moved_to = std::move(now);
+  return p;
+}
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> row(b.size() + 1);
@@ -118,12 +123,15 @@ std::string Params::unknown_key_message(const std::string& key, bool command_lin
   const std::string dash = command_line ? "--" : "'", end = command_line ? "" : "'";
   std::string kebab = key;
   std::replace(kebab.begin(), kebab.end(), '_', '-');
+  if (const Param* moved = find(kebab); moved && !moved->moved_to.empty())
+    return (command_line ? "--" + key + " " : std::string()) + "moved: it lives in " + moved->moved_to;
   if (kebab != key && find(kebab))
     return (command_line ? "--" + key + " is the " : std::string()) + "old spelling of " + dash + kebab + end +
            " (keys are kebab-case)";
   const Param* nearest = nullptr;
   std::size_t best = std::string::npos;
   for (const Param& p : declared_) {
+    if (!p.moved_to.empty()) continue;
     const std::size_t d = edit_distance(kebab, p.name);
     if (d < best) best = d, nearest = &p;
   }
@@ -157,6 +165,7 @@ Params::Action Params::parse(int argc, const char* const* argv) {
       value = name.substr(eq + 1), name = name.substr(0, eq), has_value = true;
     }
     const Param* p = name == "config" ? nullptr : find(name);
+    if (p && !p->moved_to.empty()) p = nullptr;
     if (!p && name != "config") throw ConfigError("command line: " + unknown_key_message(name, true));
     if (p && p->is_flag) {
       cli_[p->name] = has_value ? value : "true";
@@ -182,18 +191,19 @@ void Params::use_config(Config config) {
 
 void Params::set(const std::string& name, const std::string& value) {
   const Param* p = find(name);
-  if (!p) throw ConfigError("command line: " + unknown_key_message(name, true));
+  if (!p || !p->moved_to.empty()) throw ConfigError("command line: " + unknown_key_message(name, true));
   cli_[p->name] = value;
 }
 
 void Params::check_config_keys() const {
   for (const std::string& key : config_.keys())
-    if (!find(key) || is_builtin(key)) throw config_.error(key, unknown_key_message(key, false));
+    if (const Param* p = find(key); !p || !p->moved_to.empty() || is_builtin(key))
+      throw config_.error(key, unknown_key_message(key, false));
 }
 
 void Params::check_values() const {
   for (const Param& p : declared_) {
-    if (!given(p.name) && p.default_value.empty()) continue;  // optional, read by the program if at all
+    if (!p.moved_to.empty() || (!given(p.name) && p.default_value.empty())) continue;  // optional: read if at all
     switch (p.kind()) {
       case ParamType::Number: number(p.name); break;
       case ParamType::Integer: integer(p.name); break;
@@ -289,6 +299,7 @@ std::vector<double> Params::numbers(const std::string& name) const {
 void Params::print_options(std::FILE* out) const {
   if (declared_.empty()) std::fprintf(out, "  (none)\n");
   for (const Param& p : declared_) {
+    if (!p.moved_to.empty()) continue;
     std::string left = "  " + (p.alias.empty() ? "" : p.alias + ", ") + "--" + p.name;
     if (!p.is_flag)
       left += p.kind() == ParamType::Numbers ? " A,B,.." : p.kind() == ParamType::Flag ? " true|false" : " VALUE";
@@ -307,6 +318,7 @@ std::string Params::markdown() const {
   std::ostringstream md;
   md << "| key | type | default | range | what |\n|---|---|---|---|---|\n";
   for (const Param& p : declared_) {
+    if (!p.moved_to.empty()) continue;
     std::string range = range_text(p);
     for (const std::string& c : p.choices) range += (range.empty() ? "" : " \\| ") + c;
     auto cell = [](const std::string& text) {  // a '|' inside a cell would end it

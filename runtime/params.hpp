@@ -29,6 +29,9 @@ struct Param {
   bool min_open = false;               // true: the value must be > min, not >= min
   std::vector<std::string> choices{};  // Text: the only values accepted (empty: any)
   std::string alias{};                 // a short command-line spelling, e.g. "-o"
+  // Not a parameter any more: where the value lives now (e.g. "config/cell.yaml key max-speed"). Given on
+  // the command line or in a config file it is refused with this; --help and the docs do not list it.
+  std::string moved_to{};
 
   ParamType kind() const { return is_flag ? ParamType::Flag : type; }
 };
@@ -43,6 +46,8 @@ Param integer_param(std::string name, std::string def, std::string help,
                     double max = std::numeric_limits<double>::infinity());
 Param numbers_param(std::string name, std::string def, std::string help);
 Param flag_param(std::string name, std::string help);
+// A key that moved elsewhere (see Param::moved_to): refused naming where it lives now.
+Param moved_param(std::string name, std::string now);
 
 // Levenshtein distance (for "did you mean").
 std::size_t edit_distance(const std::string& a, const std::string& b);

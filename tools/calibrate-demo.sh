@@ -44,7 +44,7 @@ mkdir -p "$WORK"
 CELL=$WORK/cell.yaml
 cp "$ROOT/config/cell.yaml" "$CELL"
 # The simulated robot, fast (50 simulated seconds per second); stopped by its pid when the demo ends.
-"$BIN/hg-robot-bridge" --driver sim --sim-time-scale 50 --state-file "$WORK/robot.state" >"$WORK/robot_bridge.log" 2>&1 &
+"$BIN/hg-robot-bridge" --driver sim --cell "$CELL" --sim-time-scale 50 --state-file "$WORK/robot.state" >"$WORK/robot_bridge.log" 2>&1 &
 ROBOT_PID=$!
 trap 'kill "$ROBOT_PID" 2>/dev/null || true; wait "$ROBOT_PID" 2>/dev/null || true' EXIT
 for profile in pm806 lsr-l; do

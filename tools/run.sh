@@ -192,7 +192,7 @@ for p in pipeline.get("process", []):
     if os.path.basename(cmd[0]) == "hg-path-planner":
         cwd = p.get("cwd", os.path.dirname(path))  # the supervisor runs a process there
         for i, a in enumerate(cmd[1:]):
-            print(os.path.join(cwd, a) if i > 0 and cmd[i] == "--config" else a)
+            print(os.path.join(cwd, a) if i > 0 and cmd[i] in ("--config", "--cell") else a)
         break
 PY
 )

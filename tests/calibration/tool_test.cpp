@@ -14,6 +14,7 @@
 
 #include "calibration/geometry.hpp"
 #include "cell/cell.hpp"
+#include "tests/common/cell_file.hpp"
 #include "tests/common/child_process.hpp"
 
 namespace fs = std::filesystem;
@@ -96,10 +97,12 @@ TEST(HgCalibrate, TouchRecordsTheRobotsTcp) {
   ASSERT_EQ(
       run(kBin + "/hg-calibrate simulate --mode eye-to-hand --profile pm806 --views 1 --session " + (d / "s").string()),
       0);
-  // The sim robot at rest where the test put it.
-  hg::test::ChildProcess robot({kBin + "/hg-robot-bridge", "--driver", "sim", "--sim-home", "0.41,-0.07,0.23",
-                                "--state-file", (d / "robot.state").string()},
-                               hg::test::ChildOptions().stderr_to((d / "robot.log").string()));
+  // The sim robot at rest where the test put it: the home of its cell file.
+  const std::string cell = hg::test::write_test_cell(
+      (d / "robot_cell.yaml").string(), [](hg::cell::Cell& c) { c.home = Eigen::Vector3d(0.41, -0.07, 0.23); });
+  hg::test::ChildProcess robot(
+      {kBin + "/hg-robot-bridge", "--driver", "sim", "--cell", cell, "--state-file", (d / "robot.state").string()},
+      hg::test::ChildOptions().stderr_to((d / "robot.log").string()));
   std::string err;
   ASSERT_EQ(run(kBin + "/hg-calibrate touch --view 0 --hole H3 --session " + (d / "s").string(), &err), 0) << err;
   const json s = json::parse(std::ifstream(d / "s" / "session.json"));

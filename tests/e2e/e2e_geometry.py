@@ -4,6 +4,7 @@ hand-eye calibration, and a waypoint of a correct path lies one tool radius outs
 (outside the outer edge, inside a hole). Plain Python (no numpy in the test environment)."""
 
 import math
+import os
 import re
 
 
@@ -22,18 +23,7 @@ def apply(t, p):
     return [sum(t[i][k] * p[k] for k in range(3)) + t[i][3] for i in range(3)]
 
 
-def pose_xyz_rpy(xyz, rpy):
-    """R = Rz(yaw) Ry(pitch) Rx(roll), as docs/path_planner.md states for camera_xyz + camera_rpy."""
-    cr, sr = math.cos(rpy[0]), math.sin(rpy[0])
-    cp, sp = math.cos(rpy[1]), math.sin(rpy[1])
-    cy, sy = math.cos(rpy[2]), math.sin(rpy[2])
-    r = [[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-         [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-         [-sp, cp * sr, cp * cr]]
-    return [r[0] + [xyz[0]], r[1] + [xyz[1]], r[2] + [xyz[2]], [0.0, 0.0, 0.0, 1.0]]
-
-
-# ---- the planner's configuration, read independently of the planner's code ----
+# ---- the planner's configuration and the cell file, read independently of the product's code ----
 def read_yaml_scalars(path):
     """Top-level `key: value` lines of a YAML file (numbers, [lists], strings)."""
     out = {}
@@ -64,6 +54,36 @@ def planner_settings(yaml_path, command):
             except ValueError:
                 cfg[key] = val  # a word (e.g. --small-hole skip)
     return cfg
+
+
+def read_cell(path):
+    """The cell file's calibration.camera-to-base (4 rows) and tool radius and tilt, read line by line
+    (docs/cell.md's layout as config/cell.yaml writes it), independently of the product's reader."""
+    rows, tool, section = [], {}, None
+    with open(path) as f:
+        for line in f:
+            text = line.split("#")[0].rstrip()
+            if not text.strip():
+                continue
+            indent = len(text) - len(text.lstrip())
+            if indent == 0:
+                section = text.split(":")[0]
+            elif text.strip().endswith(":"):
+                section = section.split(".")[0] + "." + text.strip()[:-1]
+            elif section == "calibration.camera-to-base" and text.strip().startswith("- ["):
+                rows.append([float(x) for x in text.strip()[2:].strip("[]").split(",")])
+            elif section == "tool":
+                key, val = text.strip().split(":")
+                tool[key.strip()] = float(val)
+    if len(rows) != 4 or not all(len(r) == 4 for r in rows) or set(tool) != {"radius", "tilt"}:
+        raise ValueError("%s: no camera-to-base rows or tool radius/tilt where docs/cell.md puts them" % path)
+    return {"camera-to-base": rows, "tool-radius": tool["radius"], "tool-tilt": tool["tilt"]}
+
+
+def cell_of(command, config_dir):
+    """The cell file a process command names with --cell (relative paths: the pipeline file's folder)."""
+    path = command[command.index("--cell") + 1]
+    return path if os.path.isabs(path) else os.path.join(config_dir, path)
 
 
 # ---- planar geometry ----

@@ -140,11 +140,12 @@ class E2EWholePipeline(PipelineCase):
         self.assertEqual(len(started), 1, "run %d times" % len(started))
 
     def check_path_against_truth(self, path, truth):
-        # Expected frames: table --(truth camera_from_table)--> camera --(planner hand-eye config)--> base.
+        # Expected frames: table --(truth camera_from_table)--> camera --(the cell's hand-eye calibration)--> base.
         cfg = G.planner_settings(os.path.join(E.CONFIG, "path_planner.yaml"), E.process_command("planner"))
-        camera_to_base = G.pose_xyz_rpy(cfg["camera-xyz"], cfg["camera-rpy"])
+        cell = G.read_cell(G.cell_of(E.process_command("planner"), E.CONFIG))
+        camera_to_base = cell["camera-to-base"]
         base_to_table = G.rigid_inverse(G.matmul(camera_to_base, truth["camera_from_table"]))
-        radius = cfg["tool-radius"]  # the job request leaves it at 0: the configured default
+        radius = cell["tool-radius"]  # the job request leaves it at 0: the cell's tool
         self.assertEqual(len(truth["parts"]), 1, "the shipped scene has one part (camera: --parts largest)")
         part = truth["parts"][0]
         rings = [part["outer"]] + part["holes"]
@@ -375,7 +376,8 @@ class E2EReplay(PipelineCase):
         replayed = os.path.join(p.dir, "replayed")
         os.makedirs(replayed)
         ov = E.run([E.bin_path("hg-overview"), replay_log, "--out", replayed, "--job-id", job, "--planner-config",
-                    os.path.join(E.CONFIG, "path_planner.yaml")], timeout=120)
+                    os.path.join(E.CONFIG, "path_planner.yaml"), "--cell",
+                    G.cell_of(E.process_command("planner"), E.CONFIG)], timeout=120)
         self.assertIn(ov.returncode, (0, 1), ov.stderr)  # 1: no robot in the replay, the job is not DONE
         for name in ("outline.json", "path.json"):
             self.assertTrue(os.path.exists(os.path.join(replayed, name)), "replay gave no %s: %s" % (name, ov.stdout))

@@ -11,16 +11,31 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/common/cell_file.hpp"
+
 namespace {
+
+std::string slurp_file(const std::string& path) {
+  std::stringstream ss;
+  ss << std::ifstream(path).rdbuf();
+  return ss.str();
+}
 
 // Per-test names: CTest runs each TEST as its own process, possibly side by side.
 std::string tmp(const std::string& name) {
   return testing::TempDir() + "/pp_cli_" + testing::UnitTest::GetInstance()->current_test_info()->name() + "_" + name;
 }
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+// A cell file like the shipped one with another tool radius.
+std::string cell_with_tool(double radius) {
+  return hg::test::write_test_cell(tmp("cell_" + std::to_string(radius) + ".yaml"),
+                                   [&](hg::cell::Cell& c) { c.tool.radius = radius; });
+}
+// hg-plan with the shipped cell file unless the arguments name one.
 int run(const std::string& args, std::string* out = nullptr) {
   const std::string log = tmp("out.txt");
-  const int rc = std::system((std::string(HG_BIN_DIR) + "/hg-plan " + args + " >" + log + " 2>&1").c_str());
+  const std::string cell = args.find("--cell ") == std::string::npos ? " --cell " + hg::test::shipped_cell() : "";
+  const int rc = std::system((std::string(HG_BIN_DIR) + "/hg-plan " + args + cell + " >" + log + " 2>&1").c_str());
   if (out) {
     std::stringstream ss;
     ss << std::ifstream(log).rdbuf();
@@ -40,7 +55,9 @@ const char* kOutline = R"({"loops": [
 TEST(PathPlannerCli, WritesThePathSchema) {
   write(tmp("outline.json"), kOutline);
   std::string out;
-  ASSERT_EQ(run(tmp("outline.json") + " --job-id j1 --tool-radius 0.005 -o " + tmp("path.json"), &out), 0) << out;
+  ASSERT_EQ(run(tmp("outline.json") + " --job-id j1 --cell " + cell_with_tool(0.005) + " -o " + tmp("path.json"), &out),
+            0)
+      << out;
   nlohmann::json j = nlohmann::json::parse(std::ifstream(tmp("path.json")));
   EXPECT_EQ(j["job_id"], "j1");
   EXPECT_EQ(j["frame"], "robot_base");
@@ -73,11 +90,15 @@ TEST(PathPlannerCli, FailuresAndHelp) {
   EXPECT_EQ(run(tmp("bad.json"), &out), 2);
   EXPECT_NE(out.find("loops[0].points[1]"), std::string::npos) << out;
   write(tmp("outline.json"), kOutline);
-  EXPECT_EQ(run(tmp("outline.json") + " --tool-radius 0.03", &out), 1);  // 40 mm hole, 60 mm tool
+  const std::string big_tool = cell_with_tool(0.03);
+  EXPECT_EQ(run(tmp("outline.json") + " --cell " + big_tool, &out), 1);  // 40 mm hole, 60 mm tool
   EXPECT_NE(out.find("hole 1 is too small"), std::string::npos) << out;
-  EXPECT_EQ(run(tmp("outline.json") + " --tool-radius 0.03 --small-hole skip -o " + tmp("p2.json"), &out), 0) << out;
+  EXPECT_EQ(run(tmp("outline.json") + " --cell " + big_tool + " --small-hole skip -o " + tmp("p2.json"), &out), 0)
+      << out;
   EXPECT_NE(out.find("warning: skipped"), std::string::npos) << out;
-  EXPECT_EQ(run(tmp("outline.json") + " --workspace-max 0.6,1,1", &out), 1);
+  const std::string small_box =
+      hg::test::write_test_cell(tmp("box.yaml"), [](hg::cell::Cell& c) { c.workspace_max.x() = 0.6; });
+  EXPECT_EQ(run(tmp("outline.json") + " --cell " + small_box, &out), 1);
   EXPECT_NE(out.find("outside the workspace box"), std::string::npos) << out;
   EXPECT_EQ(run(tmp("outline.json") + " --no_such_option 1", &out), 2);
 }
@@ -98,7 +119,10 @@ TEST(PathPlannerCli, ConfigFileErrorsNameTheFileAndKey) {
       {"grind-speed: 0.02\ntool-radus: 0.01\n", "line 2: key 'tool-radus': unknown key (nearest known: 'tool-radius')"},
       {"tool-radius: -0.01\n", "key 'tool-radius': -0.01 is out of range (> 0)"},
       {"spindle-clockwise: sometimes\n", "key 'spindle-clockwise': 'sometimes' is not true or false"},
-      {"camera-xyz: [0.5, zero, 1.2]\n", "key 'camera-xyz': element 1 is not a number"},
+      {"camera-xyz: [0.5, 0, 1.2]\n",
+       "key 'camera-xyz': moved: it lives in the cell file (--cell, default "
+       "config/cell.yaml), key calibration.camera-to-base"},
+      {"plane-u: [1, zero, 0]\n", "key 'plane-u': element 1 is not a number"},
       {"small-hole: ignore\n", "key 'small-hole': 'ignore' is not one of fail | skip"},
   };
   for (const Case& c : cases) {
@@ -111,21 +135,76 @@ TEST(PathPlannerCli, ConfigFileErrorsNameTheFileAndKey) {
   }
   EXPECT_EQ(run(tmp("outline.json") + " --tool_radius 0.005", &out), 2);
   EXPECT_NE(out.find("--tool_radius is the old spelling of --tool-radius"), std::string::npos) << out;
-  // Precedence: the file's value over the default, the command line's over the file's.
-  write(tmp("r.yaml"), "tool-radius: 0.007\n");
+  // Precedence: the file's value over the default, the command line's over the file's (the grind speed: the
+  // fastest grind waypoint; corners only lower it).
+  write(tmp("r.yaml"), "grind-speed: 0.015\nsmall-hole: skip\n");
   ASSERT_EQ(run("--config " + tmp("r.yaml") + " " + tmp("outline.json") + " -o " + tmp("f.json"), &out), 0) << out;
   ASSERT_EQ(
-      run("--config " + tmp("r.yaml") + " --tool-radius 0.005 " + tmp("outline.json") + " -o " + tmp("c.json"), &out),
+      run("--config " + tmp("r.yaml") + " --grind-speed 0.012 " + tmp("outline.json") + " -o " + tmp("c.json"), &out),
       0);
   ASSERT_EQ(run(tmp("outline.json") + " --small-hole skip -o " + tmp("d.json"), &out), 0) << out;  // 10 mm: skip
-  auto radius = [](const std::string& path) {
+  auto grind_speed = [](const std::string& path) {
     std::stringstream ss;
     ss << std::ifstream(path).rdbuf();
-    return nlohmann::json::parse(ss.str())["tool_radius"].get<double>();
+    double fastest = 0;
+    const nlohmann::json planned = nlohmann::json::parse(ss.str());
+    for (const auto& w : planned["waypoints"])
+      if (w["kind"] == "grind") fastest = std::max(fastest, w["speed"].get<double>());
+    return fastest;
   };
-  EXPECT_EQ(radius(tmp("f.json")), 0.007);
-  EXPECT_EQ(radius(tmp("c.json")), 0.005);
-  EXPECT_EQ(radius(tmp("d.json")), 0.01);  // the declared default
+  EXPECT_EQ(grind_speed(tmp("f.json")), 0.015);
+  EXPECT_EQ(grind_speed(tmp("c.json")), 0.012);
+  EXPECT_EQ(grind_speed(tmp("d.json")), 0.02);  // the declared default
+  // The tool is the cell's: the path carries the cell's tool radius and tilt.
+  const nlohmann::json d = nlohmann::json::parse(std::ifstream(tmp("d.json")));
+  const hg::cell::Cell cell = hg::cell::read_cell(hg::test::shipped_cell());
+  EXPECT_EQ(d["tool_radius"].get<double>(), cell.tool.radius);
+  EXPECT_EQ(d["tilt"].get<double>(), cell.tool.tilt);
+}
+
+// A value that contradicts the cell file stops hg-plan with exit 2 and one line naming the option, its value,
+// the cell file and the cell's key and value; a broken cell file names the file and the key.
+TEST(PathPlannerCli, ContradictingTheCellExits2NamingBoth) {
+  std::string out;
+  write(tmp("outline.json"), kOutline);
+  const hg::cell::Cell cell = hg::cell::read_cell(hg::test::shipped_cell());
+  ASSERT_EQ(cell.max_speed, 0.25);  // the expectations below are written for the shipped cell
+  const std::string c = hg::test::shipped_cell();
+  struct Case {
+    std::string args, expected;
+  } cases[] = {
+      {"--travel-speed 0.4", "command line: --travel-speed: 0.4 exceeds " + c + " max-speed 0.25"},
+      {"--grind-speed 0.26", "command line: --grind-speed: 0.26 exceeds " + c + " max-speed 0.25"},
+      {"--approach-speed 1", "command line: --approach-speed: 1 exceeds " + c + " max-speed 0.25"},
+      {"--tool-radius 0.005", "command line: --tool-radius: 0.005 contradicts " + c + " tool.radius 0.01"},
+      {"--chamfer-angle 0.5", "command line: --chamfer-angle: 0.5 contradicts " + c + " tool.tilt 0.7853981633974483"},
+      {"--max-speed 0.1",
+       "--max-speed moved: it lives in the cell file (--cell, default config/cell.yaml), key max-speed"},
+      {"--table-z -0.5", "--table-z moved: it lives in the cell file (--cell, default config/cell.yaml), key table-z"},
+  };
+  for (const Case& k : cases) {
+    EXPECT_EQ(run(k.args + " " + tmp("outline.json"), &out), 2) << k.args;
+    EXPECT_NE(out.find(k.expected), std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+  }
+  // The same values in a config file name the config file, its line and key, and the cell.
+  write(tmp("fast.yaml"), "step: 0.002\ntravel-speed: 0.4\n");
+  EXPECT_EQ(run("--config " + tmp("fast.yaml") + " " + tmp("outline.json"), &out), 2);
+  EXPECT_NE(out.find("config '" + tmp("fast.yaml") + "' line 2: key 'travel-speed': 0.4 exceeds " + c + " max-speed"),
+            std::string::npos)
+      << out;
+  // Equal to the cell is no contradiction.
+  EXPECT_EQ(
+      run("--tool-radius 0.01 --travel-speed 0.25 --small-hole skip " + tmp("outline.json") + " -o " + tmp("eq.json"),
+          &out),
+      0)
+      << out;
+  // A broken cell file: exit 2, the file and the key.
+  std::string text = slurp_file(c);
+  text.replace(text.find("max-accel: 2.0"), 14, "max-accel: fast");
+  write(tmp("broken.yaml"), text);
+  EXPECT_EQ(run("--cell " + tmp("broken.yaml") + " " + tmp("outline.json"), &out), 2);
+  EXPECT_NE(out.find(tmp("broken.yaml") + ": max-accel: expected a number, got 'fast'"), std::string::npos) << out;
 }
 
 namespace {
@@ -182,21 +261,23 @@ TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
     EXPECT_EQ(o["frame"], "cloud");
     ASSERT_TRUE(o.contains("plane")) << "a cloud with depth noise is projected onto its plane";
 
-    EXPECT_EQ(run_tool("hg-plan " + outline + " -o " + path, &out), 1) << out;
-    EXPECT_NE(out.find("camera-to-base applied: [1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.2; 0 0 0 1]"), std::string::npos) << out;
+    const std::string cell = cell_with_tool(radius);  // the shipped cell with this test's tool
+    EXPECT_EQ(run_tool("hg-plan " + outline + " --cell " + cell + " -o " + path, &out), 1) << out;
+    EXPECT_NE(out.find("camera-to-base applied: [1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.2; 0 0 0 1]"), std::string::npos)
+        << out;  // the shipped cell's calibration
     EXPECT_NE(out.find("outside the workspace box (-1.0000, -1.0000, 0.0000) .. (1.5000, 1.0000, 1.0000)"),
               std::string::npos)
         << out;
     EXPECT_NE(out.find("--outline-frame robot_base"), std::string::npos) << out;
 
-    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline-frame robot_base --pixel-pitch 0.002 --tool-radius " +
-                           std::to_string(radius) + " -o " + path,
+    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline-frame robot_base --pixel-pitch 0.002 --cell " + cell +
+                           " -o " + path,
                        &out),
               0)
         << out;
     EXPECT_NE(out.find("camera-to-base applied: none (identity)"), std::string::npos) << out;
-    ASSERT_EQ(run_tool("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml -o " +
-                           script + " " + path,
+    ASSERT_EQ(run_tool("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml --cell " +
+                           cell + " -o " + script + " " + path,
                        &out),
               0)
         << out;

@@ -2,6 +2,11 @@
 // expectations.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <map>
+
+#include "path_planner/io.hpp"
+#include "tests/common/cell_file.hpp"
 #include "tests/path_planner/step_shapes.hpp"
 
 TEST(PathPlannerFrame, KnownPointsIntoTheBaseFrame) {
@@ -20,41 +25,36 @@ TEST(PathPlannerFrame, KnownPointsIntoTheBaseFrame) {
   EXPECT_LT((b[0].orientation.toRotationMatrix().col(0) - Vec3(1, 0, 0)).norm(), 1e-12);
 }
 
-TEST(PathPlannerFrame, MatrixAndXyzRpyConfigAgree) {
+// The planner's camera-to-base is the cell file's calibration, exactly (17 digits); a cell whose rotation is
+// not orthonormal, or a bad planner value, is a ConfigError.
+TEST(PathPlannerFrame, CameraToBaseIsTheCellsCalibration) {
   const Eigen::Isometry3d ref = pose_from_xyz_rpy(Vec3(0.3, -0.2, 1.1), Vec3(3.0, 0.1, -0.4));
-  std::string m;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.17g", ref.matrix()(r, c));
-      if (!m.empty()) m += ',';
-      m += buf;
-    }
-  auto defaults = planner_params();
+  const std::string cell =
+      hg::test::write_test_cell(testing::TempDir() + "/pp_frame_cell.yaml", [&](hg::cell::Cell& c) {
+        c.calibration.camera_to_base = ref;
+        c.home = Vec3(0.4, 0.1, 0.3);
+      });
   auto lookup = [&](std::map<std::string, std::string> over) {
-    return ParamLookup{[=](const std::string& k) {
-                         if (over.count(k)) return over.at(k);
-                         for (auto& p : defaults)
-                           if (p.name == k) return p.default_value;
-                         return std::string();
-                       },
-                       [=](const std::string& k) {
-                         std::string text = over.count(k) ? over.at(k) : "";
-                         if (text.empty())
-                           for (auto& p : defaults)
-                             if (p.name == k) text = p.default_value;
-                         std::vector<double> v;
-                         std::stringstream ss(text);
-                         std::string item;
-                         while (std::getline(ss, item, ',')) v.push_back(std::stod(item));
-                         return v;
-                       }};
+    over.emplace("cell", cell);
+    return lookup_from(over, hg::runtime::Config());
   };
-  const PlannerConfig a = config_from(lookup({{"camera-to-base", m}}));
-  const PlannerConfig b = config_from(lookup({{"camera-xyz", "0.3,-0.2,1.1"}, {"camera-rpy", "3.0,0.1,-0.4"}}));
-  EXPECT_LT((a.camera_to_base.matrix() - b.camera_to_base.matrix()).norm(), 1e-12);
-  EXPECT_THROW(config_from(lookup({{"camera-to-base", "1,0,0,0, 0,2,0,0, 0,0,1,0, 0,0,0,1"}})),
-               hg::runtime::ConfigError);
+  const PlannerConfig a = config_from(lookup({}));
+  EXPECT_EQ(a.camera_to_base.matrix(), ref.matrix());
+  EXPECT_EQ(a.home, Vec3(0.4, 0.1, 0.3));
+  std::ifstream in(cell);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::size_t row = text.find("camera-to-base:") + std::string("camera-to-base:").size();
+  const std::size_t first = text.find('[', row) + 1;
+  text.replace(first, text.find(',', first) - first, "2");  // r00 = 2: not a rotation
+  std::ofstream(testing::TempDir() + "/pp_frame_bad.yaml") << text;
+  try {
+    config_from(lookup({{"cell", testing::TempDir() + "/pp_frame_bad.yaml"}}));
+    ADD_FAILURE() << "a cell with a non-rigid camera-to-base was taken";
+  } catch (const hg::runtime::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("pp_frame_bad.yaml: calibration.camera-to-base: rotation part"),
+              std::string::npos)
+        << e.what();
+  }
   EXPECT_THROW(config_from(lookup({{"tool-radius", "-1"}})), hg::runtime::ConfigError);
 }
 

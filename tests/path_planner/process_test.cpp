@@ -16,6 +16,7 @@
 #include "hullgrind/job_status_t.hpp"
 #include "hullgrind/outline_t.hpp"
 #include "runtime/node.hpp"
+#include "tests/common/cell_file.hpp"
 #include "tests/common/child_process.hpp"
 
 using namespace std::chrono_literals;
@@ -81,8 +82,8 @@ class PathPlannerProcess : public testing::Test {
  protected:
   void SetUp() override {
     ASSERT_TRUE(lcm.good()) << "no LCM: the test must run inside tests/netns.sh";
-    planner = hg::test::ChildProcess(
-        {std::string(HG_BIN_DIR) + "/hg-path-planner", "--log-level", "warn", "--outline-max-age", "30"});
+    planner = hg::test::ChildProcess({std::string(HG_BIN_DIR) + "/hg-path-planner", "--log-level", "warn",
+                                      "--outline-max-age", "30", "--cell", hg::test::shipped_cell()});
     ASSERT_TRUE(planner.started());
     // Subscribed once it beats.
     ASSERT_TRUE(wait_for([&] { return !bus.beats.empty(); }, 5s)) << "no heartbeat from hg-path-planner";
@@ -196,6 +197,27 @@ TEST_F(PathPlannerProcess, ErrorOutlineBadOutlineAndGarbageGiveErrorStatuses) {
   ASSERT_TRUE(s.has_value());
   EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_FAILED);
   EXPECT_NE(s->message.find("grind_speed"), std::string::npos) << s->message;
+
+  // More than the cell allows is refused at the job (the process keeps running): a speed above the cell's
+  // max-speed (0.25), a tool larger than the cell's (10 mm).
+  r = start("job-fast");
+  r.travel_speed = 0.4;
+  lcm.publish("HG_JOB_REQUEST", &r);
+  s = final_status("job-fast");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_FAILED);
+  EXPECT_NE(s->message.find("travel_speed 0.4 m/s exceeds " + hg::test::shipped_cell() + " max-speed 0.25"),
+            std::string::npos)
+      << s->message;
+  r = start("job-big-tool");
+  r.tool_radius = 0.012;
+  lcm.publish("HG_JOB_REQUEST", &r);
+  s = final_status("job-big-tool");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_FAILED);
+  EXPECT_NE(s->message.find("tool_radius 0.012 m exceeds " + hg::test::shipped_cell() + " tool.radius 0.01"),
+            std::string::npos)
+      << s->message;
 
   // Still alive, still planning, and the garbage was counted.
   r = start("job-ok");

@@ -21,7 +21,9 @@
 #include "outline_service/outline_service.hpp"
 #include "path_planner/io.hpp"
 #include "robot_bridge/path.hpp"
+#include "robot_bridge/robot_bridge.hpp"
 #include "runtime/config.hpp"
+#include "tests/common/cell_file.hpp"
 #include "tests/path_planner/truth.hpp"
 
 using namespace hg::path_planner;
@@ -29,46 +31,29 @@ namespace rb = hg::robot_bridge;
 
 namespace {
 
-// config/path_planner.yaml with command-line style overrides, the way hg-plan reads it.
-PlannerConfig planner_config(const std::map<std::string, std::string>& overrides) {
-  const auto file = hg::runtime::Config::load(std::string(HG_SOURCE_DIR) + "/config/path_planner.yaml");
-  const std::vector<hg::runtime::Param> params = planner_params();
-  auto fallback = [&](const std::string& k) {
-    for (const auto& p : params)
-      if (p.name == k) return p.default_value;
-    return std::string();
-  };
-  ParamLookup L{[&](const std::string& k) -> std::string {
-                  if (auto it = overrides.find(k); it != overrides.end()) return it->second;
-                  if (auto v = file.get_string(k)) return *v;
-                  return fallback(k);
-                },
-                [&](const std::string& k) -> std::vector<double> {
-                  std::string text;
-                  if (auto it = overrides.find(k); it != overrides.end()) text = it->second;
-                  else if (file.has(k))
-                    return file.get_doubles(k).value_or(std::vector<double>{});
-                  else
-                    text = fallback(k);
-                  std::vector<double> out;
-                  std::stringstream ss(text);
-                  std::string item;
-                  while (std::getline(ss, item, ',')) out.push_back(std::stod(item));
-                  return out;
-                }};
-  return config_from(L);
+// config/path_planner.yaml with command-line style overrides and a cell file (default: the simulated cell of
+// `make run`, config/cell-sim.yaml: camera 1.5 m up), the way hg-plan reads them.
+PlannerConfig planner_config(std::map<std::string, std::string> overrides,
+                             const std::string& cell = hg::test::sim_cell()) {
+  overrides.emplace("cell", cell);
+  return config_from(
+      lookup_from(overrides, hg::runtime::Config::load(std::string(HG_SOURCE_DIR) + "/config/path_planner.yaml")));
 }
 
-rb::Limits bridge_limits() {
-  const auto file = hg::runtime::Config::load(std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml");
-  rb::Limits l;
-  const auto lo = file.get_doubles("workspace-min").value(), hi = file.get_doubles("workspace-max").value();
-  l.workspace_min = rb::Vec3(lo[0], lo[1], lo[2]);
-  l.workspace_max = rb::Vec3(hi[0], hi[1], hi[2]);
-  l.table_z = file.get_double("table-z").value();
-  l.max_speed = file.get_double("max-speed").value();
-  l.max_accel = file.get_double("max-accel").value();
-  return l;
+// The robot bridge's limits as it takes them: config/robot_bridge.yaml and the same cell file.
+rb::Limits bridge_limits(const std::string& cell = hg::test::sim_cell()) {
+  hg::runtime::Params params(rb::process_info().params);
+  params.use_config(hg::runtime::Config::load(std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml"));
+  params.set("cell", cell);
+  return rb::limits_from(params);
+}
+
+// The simulated cell with the camera `height` above the table origin, looking down.
+std::string cell_with_camera_at(double height) {
+  return hg::test::write_test_cell(
+      testing::TempDir() + "/pp_replay_cell_" + std::to_string(height) + ".yaml", [&](hg::cell::Cell& c) {
+        c.calibration.camera_to_base = pose_from_xyz_rpy(Vec3(0.5, 0, height), Vec3(M_PI, 0, 0));
+      });
 }
 
 // The outline service's options at its defaults (what `make run` starts it with).
@@ -102,12 +87,9 @@ TEST(PathPlannerReplay, EveryPlannedPathPassesTheRobotBridgesCheck) {
   const std::vector<hullgrind::plate_cloud_t> cs = clouds();
   ASSERT_EQ(cs.size(), 2u);
   const rb::Limits limits = bridge_limits();
-  const PlannerConfig cfg =
-      planner_config({{"camera-xyz", "0.5,0,1.5"}, {"small-hole", "skip"}});  // the scene has tiny holes
-  ASSERT_EQ(cfg.limits.max_accel, limits.max_accel) << "config/path_planner.yaml max_accel must equal "
-                                                       "config/robot_bridge.yaml max-accel";
-  EXPECT_LE(cfg.limits.max_speed, limits.max_speed)
-      << "config/path_planner.yaml max_speed above the bridge's max-speed";
+  const PlannerConfig cfg = planner_config({{"small-hole", "skip"}});  // the scene has tiny holes
+  ASSERT_EQ(cfg.limits.max_accel, limits.max_accel) << "the planner's max_accel must equal the bridge's";
+  EXPECT_LE(cfg.limits.max_speed, limits.max_speed) << "the planner's max_speed above the bridge's";
   // Without the corner step (max_accel out of reach) for comparison: the failure `make run` showed.
   PlannerConfig unlimited = cfg;
   unlimited.limits.max_accel = 1e12;
@@ -159,7 +141,7 @@ TEST(PathPlannerReplay, MakeRunSceneFramesPassTheRobotBridgesCheck) {
   namespace cb = hg::camera_bridge;
   const rb::Limits limits = bridge_limits();
   // small_hole skip: some frames' noise opens a spurious pin hole in the outline (reported as a warning).
-  const PlannerConfig cfg = planner_config({{"camera-xyz", "0.5,0,1.5"}, {"small-hole", "skip"}});
+  const PlannerConfig cfg = planner_config({{"small-hole", "skip"}});
   PlannerConfig unlimited = cfg;
   unlimited.limits.max_accel = 1e12;
   const cb::SceneSpec spec = cb::scene_preset("plate-hole-slot");
@@ -220,9 +202,8 @@ std::vector<double> ground_truth_errors(const std::string& scene, const std::str
     // The pixel pitch on the plate, as config/pipeline.toml gives it to the planner: plate top distance / fx.
     const double pitch = (std::abs(f.table_offset) - f.part_thickness[0]) / f.intrinsics.fx;
     // The camera above the table origin, looking down (config/pipeline.toml's hand-eye for the pm806).
-    const PlannerConfig cfg = planner_config({{"camera-xyz", "0.5,0," + std::to_string(profile.mount_height)},
-                                              {"small-hole", "skip"},
-                                              {"pixel-pitch", std::to_string(pitch)}});
+    const PlannerConfig cfg = planner_config({{"small-hole", "skip"}, {"pixel-pitch", std::to_string(pitch)}},
+                                             cell_with_camera_at(profile.mount_height));
     const cb::Segmentation seg = cb::segment(f.depth, f.intrinsics, cb::SegmentParams{});
     EXPECT_EQ(seg.status, cb::SegmentStatus::Ok) << seg.text;
     if (seg.status != cb::SegmentStatus::Ok) return {};

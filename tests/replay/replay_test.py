@@ -74,11 +74,11 @@ class ReplayCameraLog(unittest.TestCase):
             p.cleanup(failed=failed)
 
     def check(self, path, outline, truth, p):
-        cfg = G.planner_settings(os.path.join(E.CONFIG, "path_planner.yaml"), E.process_command("planner"))
-        camera_to_base = G.pose_xyz_rpy(cfg["camera-xyz"], cfg["camera-rpy"])
+        cell = G.read_cell(G.cell_of(E.process_command("planner"), E.CONFIG))
+        camera_to_base = cell["camera-to-base"]
         base_to_table = G.rigid_inverse(G.matmul(camera_to_base, truth["camera_from_table"]))
-        radius = cfg["tool-radius"]
-        tilt = cfg["chamfer-angle"]
+        radius = cell["tool-radius"]
+        tilt = cell["tool-tilt"]
         # Every part of the scene was in the cloud (the log was recorded with --parts all): one outer loop
         # per part, one hole per cut-out.
         rings, owners = [], []

@@ -18,6 +18,7 @@
 #include "hullgrind/job_status_t.hpp"
 #include "hullgrind/robot_status_t.hpp"
 #include "test_paths.hpp"
+#include "tests/common/cell_file.hpp"
 #include "tests/common/child_process.hpp"
 
 using hullgrind::job_request_t;
@@ -70,8 +71,8 @@ struct Bus {
 TEST(RobotBridgeProcess, SimJobFaultResetAndCleanExit) {
   Bus bus;
   ASSERT_TRUE(bus.lcm.good());
-  hg::test::ChildProcess bridge(
-      {std::string(HG_BIN_DIR) + "/hg-robot-bridge", "--driver", "sim", "--sim-time-scale", "10", "--lcm-url", kUrl});
+  hg::test::ChildProcess bridge({std::string(HG_BIN_DIR) + "/hg-robot-bridge", "--driver", "sim", "--sim-time-scale",
+                                 "10", "--lcm-url", kUrl, "--cell", hg::test::shipped_cell()});
   ASSERT_TRUE(bridge.started());
   ASSERT_TRUE(bus.wait([&] { return bus.robot.size() > 5; })) << "no robot_status_t from the bridge";
   bus.send("e1", job_request_t::ACTION_START);
@@ -121,7 +122,8 @@ TEST(RobotBridgeProcess, ExportWritesTheScriptOfAPathFile) {
       {"position": [0.4, 0, 0.2], "orientation": [0, 1, 0, 0], "speed": 0.05, "kind": "approach"},
       {"position": [0.45, 0.0000004, 0.2], "orientation": [0, 1, 0, 0], "speed": 0.02, "kind": "grind"}]})";
   }
-  std::string cmd = std::string(HG_BIN_DIR) + "/hg-robot-export -o " + script + " " + json + " 2>/dev/null";
+  const std::string cell = " --cell " + hg::test::shipped_cell();
+  std::string cmd = std::string(HG_BIN_DIR) + "/hg-robot-export" + cell + " -o " + script + " " + json + " 2>/dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   std::ifstream in(script);
   std::stringstream ss;
@@ -129,10 +131,59 @@ TEST(RobotBridgeProcess, ExportWritesTheScriptOfAPathFile) {
   EXPECT_NE(ss.str().find("movel(p[0.400000000, 0.000000000, 0.200000000"), std::string::npos) << ss.str();
   EXPECT_NE(ss.str().find("movep(p[0.450000000, 0.000000400, 0.200000000"), std::string::npos) << ss.str();
   EXPECT_NE(ss.str().find("v=0.020000"), std::string::npos);
-  // Too fast for the limits: refused, exit 1, no script.
+  // Too fast for the cell's limits: refused, exit 1, no script.
   std::remove(script.c_str());
-  cmd = std::string(HG_BIN_DIR) + "/hg-robot-export --max-speed 0.01 -o " + script + " " + json + " 2>/dev/null";
+  const std::string slow = hg::test::write_test_cell(dir + "rb_export_slow_" + std::to_string(getpid()) + ".yaml",
+                                                     [](hg::cell::Cell& c) { c.max_speed = 0.01; });
+  cmd = std::string(HG_BIN_DIR) + "/hg-robot-export --cell " + slow + " -o " + script + " " + json + " 2>/dev/null";
   EXPECT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 1);
   EXPECT_FALSE(std::ifstream(script).good());
   std::remove(json.c_str());
+}
+
+namespace {
+
+// Runs a program to its end, returning the exit code and its output (both streams).
+int run_to_end(const std::string& args, std::string& out) {
+  const std::string log = ::testing::TempDir() + "rb_start_" + std::to_string(getpid()) + ".txt";
+  const int rc = std::system((std::string(HG_BIN_DIR) + "/" + args + " >" + log + " 2>&1").c_str());
+  std::stringstream ss;
+  ss << std::ifstream(log).rdbuf();
+  out = ss.str();
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+}  // namespace
+
+// The bridge's limits live in the cell file: an old key in its config file is refused naming the cell key, a
+// commanded acceleration above the cell's max-accel stops the start (exit 2) naming both, and a broken cell
+// file names the file and the key. None of these opens the bus (memq://).
+TEST(RobotBridgeProcess, StartRefusesWhatContradictsTheCell) {
+  const std::string dir = ::testing::TempDir(), cell = hg::test::shipped_cell();
+  const std::string bridge = "hg-robot-bridge --lcm-url memq:// --cell ";
+  std::string out;
+  const std::string old = dir + "rb_old_keys_" + std::to_string(getpid()) + ".yaml";
+  for (const auto& [key, cell_key] :
+       std::vector<std::pair<std::string, std::string>>{{"table-z: -0.5", "table-z"},
+                                                        {"max-accel: 2.0", "max-accel"},
+                                                        {"sim-home: [0.5, 0, 0.3]", "home"},
+                                                        {"workspace-min: [-1, -1, 0]", "workspace.min"}}) {
+    std::ofstream(old) << "driver: sim\n" << key << "\n";
+    EXPECT_EQ(run_to_end(bridge + cell + " --config " + old, out), 2) << key;
+    EXPECT_NE(out.find("config '" + old + "' line 2: key '" + key.substr(0, key.find(':')) +
+                       "': moved: it lives in the cell file (--cell, default config/cell.yaml), key " + cell_key),
+              std::string::npos)
+        << out;
+  }
+  EXPECT_EQ(run_to_end(bridge + cell + " --accel 2.5", out), 2);
+  EXPECT_NE(out.find("command line: --accel: 2.5 exceeds " + cell + " max-accel 2"), std::string::npos) << out;
+  EXPECT_EQ(run_to_end(bridge + cell + " --max-speed 0.1", out), 2);
+  EXPECT_NE(out.find("--max-speed moved: it lives in the cell file"), std::string::npos) << out;
+  const std::string broken = dir + "rb_broken_cell_" + std::to_string(getpid()) + ".yaml";
+  std::ifstream in(cell);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  text.replace(text.find("table-z: 0.0"), 12, "table-z: 1.5");
+  std::ofstream(broken) << text;
+  EXPECT_EQ(run_to_end(bridge + broken, out), 2);
+  EXPECT_NE(out.find(broken + ": table-z: must lie in the workspace's z range"), std::string::npos) << out;
 }

@@ -34,11 +34,11 @@ std::string temp_yaml(const std::string& content) {
 }
 
 // Parses args (argv[0] added) and returns the ConfigError's message, or "" when parsing succeeded.
-std::string parse_error(std::vector<std::string> args) {
+std::string parse_error(std::vector<std::string> args, std::vector<hr::Param> params = declared()) {
   args.insert(args.begin(), "hg-test");
   std::vector<const char*> argv;
   for (const auto& a : args) argv.push_back(a.c_str());
-  hr::Params p(declared());
+  hr::Params p(std::move(params));
   try {
     p.parse(int(argv.size()), argv.data());
   } catch (const hr::ConfigError& e) {
@@ -116,6 +116,27 @@ TEST(RuntimeParams, OldSnakeCaseSpellingIsRefusedNamingTheNewKey) {
   EXPECT_TRUE(contains(in_file, cfg)) << in_file;
   EXPECT_TRUE(contains(in_file, "key 'small_hole': old spelling of 'small-hole'")) << in_file;
   unlink(cfg.c_str());
+}
+
+// A key that moved elsewhere is refused where it used to be (command line, config file, its snake_case
+// spelling), naming where it lives now; it is no nearest-known suggestion and not in --help or the docs.
+TEST(RuntimeParams, MovedKeyIsRefusedNamingWhereItLivesNow) {
+  std::vector<hr::Param> params = declared();
+  params.push_back(hr::moved_param("table-z", "the cell file, key table-z"));
+  EXPECT_EQ(parse_error({"--table-z", "0.1"}, params),
+            "command line: --table-z moved: it lives in the cell file, key table-z");
+  EXPECT_EQ(parse_error({"--table_z", "0.1"}, params),
+            "command line: --table_z moved: it lives in the cell file, key table-z");
+  const std::string cfg = temp_yaml("frame: base\ntable-z: 0.1\n");
+  EXPECT_EQ(parse_error({"--config", cfg}, params),
+            "config '" + cfg + "' line 2: key 'table-z': moved: it lives in the cell file, key table-z");
+  unlink(cfg.c_str());
+  EXPECT_FALSE(contains(parse_error({"--table-zz", "1"}, params), "nearest known: --table-z"))
+      << "a moved key is no suggestion";
+  hr::Params p(params);
+  EXPECT_FALSE(contains(p.markdown(), "table-z"));
+  EXPECT_THROW(p.set("table-z", "0"), hr::ConfigError);
+  EXPECT_EQ(parse_error({}, params), "");  // declared but not given: nothing to refuse
 }
 
 TEST(RuntimeParams, BadValuesNameWhereTheyCameFrom) {

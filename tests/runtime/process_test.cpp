@@ -58,7 +58,8 @@ class RuntimeProcess : public testing::Test {
  protected:
   void SetUp() override {
     ASSERT_TRUE(lcm.good()) << "no LCM: the test must run inside tests/netns.sh";
-    process = hg::test::ChildProcess({std::string(HG_BIN_DIR) + "/hg-robot-bridge", "--log-level", "warn"});
+    process = hg::test::ChildProcess({std::string(HG_BIN_DIR) + "/hg-robot-bridge", "--log-level", "warn", "--cell",
+                                      std::string(HG_SOURCE_DIR) + "/config/cell.yaml"});
     pid = process.pid();
     ASSERT_GT(pid, 0);
   }

@@ -229,7 +229,8 @@ class TestPipelineFile(SupervisorCase):
 
 class TestBus(SupervisorCase):
     def test_heartbeat_stall_restarts_the_process(self):
-        path = self.pipeline([{"name": "robot", "command": ["hg-robot-bridge"], "wait_heartbeat": True,
+        path = self.pipeline([{"name": "robot", "command": ["hg-robot-bridge", "--cell", os.path.join(SRC, "config", "cell.yaml")],
+                               "wait_heartbeat": True,
                                "heartbeat_timeout": 2.5, "backoff_initial": 0.2}], heartbeat_watch=True)
         sup = self.start(path)
         st = self.wait_for(lambda st: st["robot"]["state"] == "running" and st["robot"]["heartbeat_age"] is not None,

@@ -37,10 +37,13 @@ int run(const std::string& command, std::string* out) {
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
 const std::string kPlannerConfig = std::string(HG_SOURCE_DIR) + "/config/path_planner.yaml";
+const std::string kShippedCell = std::string(HG_SOURCE_DIR) + "/config/cell.yaml";  // camera 1.2 m up
+const std::string kRunCell = std::string(HG_SOURCE_DIR) + "/config/cell-sim.yaml";  // pipeline.toml's, 1.5 m
 
-// The cell of config/pipeline.toml: camera 1.5 m above the table, looking down (the config file says 1.2).
-const Eigen::Isometry3d kRunCamera = pp::pose_from_xyz_rpy({0.5, 0, 1.5}, {M_PI, 0, 0});
-const Eigen::Isometry3d kConfigCamera = pp::pose_from_xyz_rpy({0.5, 0, 1.2}, {M_PI, 0, 0});
+// The cell of config/pipeline.toml: camera 1.5 m above the table, looking down (config/cell.yaml says 1.2).
+// (As the cell files hold them, exactly: the in-process plan below and hg-plan's must agree to the bit.)
+const Eigen::Isometry3d kRunCamera = hg::cell::read_cell(kRunCell).calibration.camera_to_base;
+const Eigen::Isometry3d kConfigCamera = hg::cell::read_cell(kShippedCell).calibration.camera_to_base;
 
 // A 0.3 x 0.2 m plate with a 60 x 40 mm cut-out, 10 mm thick, seen by that camera: plane 1.49 m away.
 struct Scene {
@@ -76,7 +79,7 @@ Scene scene() {
 
 pp::PlannerConfig planner_config(const Eigen::Isometry3d& camera_to_base) {
   const auto file = hg::runtime::Config::load(kPlannerConfig);
-  pp::PlannerConfig cfg = pp::config_from(pp::lookup_from({}, file));
+  pp::PlannerConfig cfg = pp::config_from(pp::lookup_from({{"cell", kRunCell}}, file));
   cfg.camera_to_base = camera_to_base;
   // The scene's hole has sharp corners a 10 mm tool cannot reach (the coverage check fails such a job);
   // these tests are about the files, so the path is planned anyway.
@@ -155,8 +158,8 @@ void every_reader_reads(const std::string& file, const hullgrind::grind_path_t& 
   }
   std::string out;
   const std::string script = tmp("job.script");
-  ASSERT_EQ(run("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml -o " + script +
-                    " " + file,
+  ASSERT_EQ(run("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml --cell " +
+                    kRunCell + " -o " + script + " " + file,
                 &out),
             0)
       << out;
@@ -190,7 +193,7 @@ TEST(PathFiles, EveryWriterIsReadByEveryReader) {
   // 2. hg-overview (make run's out/path.json)
   std::string out;
   ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov") + " --planner-config " + kPlannerConfig +
-                    " --camera-xyz 0.5,0,1.5",
+                    " --cell " + kRunCell,
                 &out),
             0)
       << out;
@@ -198,8 +201,8 @@ TEST(PathFiles, EveryWriterIsReadByEveryReader) {
 
   // 3. hg-plan, on the outline hg-overview wrote ("frame": "camera"), with the run's camera pose
   EXPECT_EQ(nlohmann::json::parse(slurp(tmp("ov") + "/outline.json"))["frame"], "camera");
-  ASSERT_EQ(run("hg-plan " + tmp("ov") + "/outline.json --config " + kPlannerConfig +
-                    " --camera-xyz 0.5,0,1.5 --small-hole skip --job-id J1 -o " + tmp("plan.json"),
+  ASSERT_EQ(run("hg-plan " + tmp("ov") + "/outline.json --config " + kPlannerConfig + " --cell " + kRunCell +
+                    " --small-hole skip --job-id J1 -o " + tmp("plan.json"),
                 &out),
             0)
       << out;
@@ -231,8 +234,9 @@ TEST(PathFiles, OneSpellingOfTheKinds) {
   EXPECT_THROW(hg::path_file::from_json_text(j.dump(), "bad.json"), std::runtime_error);
 }
 
-// The run planned with the camera 1.5 m up (pipeline.toml) while config/path_planner.yaml says 1.2 m:
-// with the run's calibration the path lies on the plate, a tool radius from the outline's edges.
+// The run planned with the camera 1.5 m up (pipeline.toml's cell, config/cell-sim.yaml) while config/cell.yaml
+// says 1.2 m: with the run's calibration the path lies on the plate, a tool radius from the outline's edges.
+// hg-overview takes camera-to-base from the cell file it is given (--cell, or the planner's own --cell).
 TEST(Overview, DrawsThePathOnThePlateWithTheRunsCalibration) {
   write_job_log(tmp("run.lcmlog"));
   const auto job = hg::overview::trace_job(hg::overview::read_run_log(tmp("run.lcmlog")));
@@ -248,24 +252,47 @@ TEST(Overview, DrawsThePathOnThePlateWithTheRunsCalibration) {
   }
   EXPECT_GT(grind, 100);
   EXPECT_LT(on_plate.grind_height_median(), hg::overview::kOffPlaneWarning);
-  // The config file's calibration puts it 300 mm off the plate: what the old picture did.
+  // config/cell.yaml's calibration puts it 300 mm off the plate.
   EXPECT_NEAR(hg::overview::path_on_plate(job, kConfigCamera).grind_height_median(), 0.3, 1e-9);
 
-  // hg-overview with the planner's command line from the pipeline file: that calibration, no warning.
+  // hg-overview with the planner's command line from the pipeline file (its --cell): that calibration, no
+  // warning.
   std::string out;
   ASSERT_EQ(
       run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov") + " --planner-args --config " + kPlannerConfig +
-              " --camera-xyz 0.5,0,1.5 --pixel-pitch 0.001342 --small-hole skip --lcm-url memq://",
+              " --cell " + kRunCell + " --pixel-pitch 0.001342 --small-hole skip --lcm-url memq://",
           &out),
       0)
       << out;
-  EXPECT_NE(out.find("[1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.5; 0 0 0 1]"), std::string::npos) << out;
+  EXPECT_NE(out.find("(from the cell file " + kRunCell + "): [1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.5; 0 0 0 1]"),
+            std::string::npos)
+      << out;
   EXPECT_EQ(out.find("warning"), std::string::npos) << out;
-  // Without it: the config file's 1.2 m, and a warning that the path is off the plate.
-  ASSERT_EQ(
-      run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov2") + " --planner-config " + kPlannerConfig, &out), 0)
+  // With config/cell.yaml instead: its 1.2 m, and a warning that the path is off the plate.
+  ASSERT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov2") + " --planner-config " + kPlannerConfig +
+                    " --cell " + kShippedCell,
+                &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("(from the cell file " + kShippedCell + "): [1 0 0 0.5; 0 -1 0 0; 0 0 -1 1.2; 0 0 0 1]"),
+            std::string::npos)
       << out;
   EXPECT_NE(out.find("warning: the grind path lies 300.0 mm off the outline's plane"), std::string::npos) << out;
+  // An old key on its command line names the cell key; a broken cell file names the file and the key.
+  EXPECT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov3") + " --cell " + kRunCell +
+                    " --planner-config " + kPlannerConfig + " --camera-xyz 0.5,0,1.5",
+                &out),
+            2);
+  EXPECT_NE(out.find("--camera-xyz moved: it lives in the cell file (--cell, default config/cell.yaml), key "
+                     "calibration.camera-to-base"),
+            std::string::npos)
+      << out;
+  std::ofstream(tmp("broken_cell.yaml")) << slurp(kRunCell).replace(slurp(kRunCell).find("home:"), 5, "hom:");
+  EXPECT_EQ(run("hg-overview " + tmp("run.lcmlog") + " --out " + tmp("ov4") + " --cell " + tmp("broken_cell.yaml") +
+                    " --planner-config " + kPlannerConfig,
+                &out),
+            2);
+  EXPECT_NE(out.find(tmp("broken_cell.yaml") + ": hom: unknown key"), std::string::npos) << out;
 }
 
 TEST(Overview, ScaleBarIsARoundLengthOfAtMostAQuarterOfThePicture) {

@@ -33,6 +33,7 @@ import os
 import shutil
 import struct
 import sys
+import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -146,8 +147,17 @@ def bench_profile(E, profile, frames, warmup):
     """Runs the jobs; returns the pipeline (its run directory holds run.lcmlog), the measured job ids and
     the load averages before and after."""
     import tomllib
-    p = E.Pipeline("bench-" + profile, without=("camera",), extra_args={"robot": ["--sim-time-scale", "100"],
-                   "planner": ["--small-hole", "skip", "--camera-xyz", "0.5,0,%g" % MOUNT_HEIGHT[profile]]})
+    # The simulated cell (config/cell-sim.yaml) with this profile's camera height, for the planner and the robot.
+    with open(os.path.join(E.CONFIG, "cell-sim.yaml")) as f:
+        cell_text = f.read()
+    row = "    - [0, 0, -1, 1.5]"
+    assert row in cell_text, "config/cell-sim.yaml: the camera row this bench rewrites is not there"
+    cell = os.path.join(tempfile.gettempdir(), "hg-bench-cell-%s-%d.yaml" % (profile, os.getpid()))
+    with open(cell, "w") as f:
+        f.write(cell_text.replace(row, "    - [0, 0, -1, %r]" % MOUNT_HEIGHT[profile]))
+    p = E.Pipeline("bench-" + profile, without=("camera",),
+                   extra_args={"robot": ["--sim-time-scale", "100", "--cell", cell],
+                               "planner": ["--small-hole", "skip", "--cell", cell]})
     # The camera first, as in the shipped file, on the synthetic source of this profile.
     with open(p.toml, "rb") as f:
         mine = tomllib.load(f)

@@ -16,7 +16,7 @@
 
 namespace {
 
-const char* kUsage = R"(usage: hg-overview LOG.lcmlog --out DIR [--job-id J] [--planner-config FILE]
+const char* kUsage = R"(usage: hg-overview LOG.lcmlog --out DIR [--job-id J] [--cell FILE] [--planner-config FILE]
                    [--NAME VALUE ...] [--planner-args ARG ...]
 Reads a recorded run (tools/record) and writes, for one job (default: the last START request):
   DIR/outline.json   the outline the job was planned on, in hg-outline's JSON schema ("frame": "camera")
@@ -25,12 +25,14 @@ Reads a recorded run (tools/record) and writes, for one job (default: the last S
                      reach (magenta: the planner's coverage check redone with the planner's settings below),
                      scale bar, frames, legend
   DIR/summary.json   stage timings (ms) and every job status
-The picture brings the path (robot base frame) back onto the plate with the camera-to-base calibration the
-planner used; give the planner's settings as the run gave them:
+The picture brings the path (robot base frame) back onto the plate with the camera-to-base calibration of
+the cell file the planner used; give the cell and the planner's settings as the run gave them:
+  --cell FILE            the cell file (docs/cell.md): calibration.camera-to-base [default: config/cell.yaml]
   --planner-config FILE  the planner's config file [default: config/path_planner.yaml]
-  --NAME VALUE           any planner parameter (hg-plan --help lists them), e.g. --camera-xyz 0.5,0,1.5
+  --NAME VALUE           any planner parameter (hg-plan --help lists them), e.g. --pixel-pitch 0.001342
   --planner-args ARG...  the rest of the command line is the planner's own (as in the pipeline file, without
-                         the program): its --config and its planner parameters are taken, other options skipped
+                         the program): its --config, --cell and planner parameters are taken, other options
+                         skipped
 The calibration used is printed; a grind path more than 5 mm off the outline's plane is warned about (on
 stderr and in the picture): the settings given are not the ones the planner ran with.
 Exit status: 0 the job is DONE, 1 it is not (or not in the log), 2 bad usage or unreadable log.
@@ -114,12 +116,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    // Camera -> base through the planner's own configuration code, from the settings the run gave it.
+    // Camera -> base from the cell file, through the planner's own configuration code, as the run gave them.
     const hg::runtime::Config cfg = hg::runtime::Config::load(planner_config);
     const auto planner = hg::path_planner::config_from(hg::path_planner::lookup_from(planner_cli, cfg));
     const Eigen::Isometry3d camera_to_base = planner.camera_to_base;
-    std::printf("camera-to-base calibration (from %s%s): %s\n", planner_config.c_str(),
-                planner_cli.empty() ? "" : " and the planner's command line",
+    std::printf("camera-to-base calibration (from the cell file %s): %s\n", planner.cell_file.c_str(),
                 hg::path_planner::matrix_text(camera_to_base).c_str());
 
     auto log = hg::overview::read_run_log(log_path);
@@ -136,7 +137,7 @@ int main(int argc, char** argv) {
     if (off_plane > hg::overview::kOffPlaneWarning)
       std::fprintf(stderr,
                    "hg-overview: warning: the grind path lies %.1f mm off the outline's plane with this calibration: "
-                   "the planner ran with other settings (give them: --planner-args)\n",
+                   "the planner ran with another cell file or settings (give them: --cell, --planner-args)\n",
                    off_plane * 1e3);
     auto png = hg::overview::overview_png(job, camera_to_base, &planner);
     files.stage(out_dir + "/overview.png", png.data(), png.size());
