@@ -50,7 +50,7 @@ struct DetectOptions {
 };
 
 // Throws CalibrationError (why: no plate, fewer than 3 holes matched, pattern not the drawing's).
-PlateView detect_plate(const cv::Mat& depth, const camera_bridge::Intrinsics& in, const Drawing& drawing,
+PlateView detect_plate(const cv::Mat& depth, const camera::Intrinsics& in, const Drawing& drawing,
                        const DetectOptions& options = {});
 
 }  // namespace hg::calibration

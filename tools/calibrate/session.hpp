@@ -17,7 +17,7 @@ namespace hg::calibrate {
 struct SessionView {
   std::string depth_file;  // relative to the session folder
   cv::Mat depth;           // CV_16UC1
-  camera_bridge::Intrinsics intrinsics;
+  camera::Intrinsics intrinsics;
   std::optional<Eigen::Isometry3d> flange_to_base;     // eye-in-hand: the robot pose at this view
   std::map<std::string, Eigen::Vector3d> tcp_at_hole;  // eye-to-hand: drawing hole id -> TCP position (base)
 };
