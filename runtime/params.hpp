@@ -29,6 +29,7 @@ struct Param {
   bool min_open = false;               // true: the value must be > min, not >= min
   std::vector<std::string> choices{};  // Text: the only values accepted (empty: any)
   std::string alias{};                 // a short command-line spelling, e.g. "-o"
+  std::string value_name{};            // what --help shows for the value ("FILE"); empty: VALUE
 
   ParamType kind() const { return is_flag ? ParamType::Flag : type; }
 };
@@ -43,6 +44,9 @@ Param integer_param(std::string name, std::string def, std::string help,
                     double max = std::numeric_limits<double>::infinity());
 Param numbers_param(std::string name, std::string def, std::string help);
 Param flag_param(std::string name, std::string help);
+// Names the values --help shows ({"output", "FILE"}: --output FILE); throws std::invalid_argument for a
+// name that is not declared.
+void set_value_names(std::vector<Param>& params, const std::map<std::string, std::string>& value_names);
 
 // Levenshtein distance (for "did you mean").
 std::size_t edit_distance(const std::string& a, const std::string& b);
