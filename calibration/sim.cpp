@@ -9,7 +9,7 @@
 
 namespace hg::calibration::sim {
 
-namespace cb = camera_bridge;
+namespace scene = hg::sim;
 
 Eigen::Isometry3d table_to_base() {
   // Table top at base z = 0 (config/cell.yaml), its origin 0.6 m in front of the robot, turned 2 deg.
@@ -29,7 +29,7 @@ Eigen::Isometry3d camera_to_flange() {
   return T;
 }
 
-View render_plate(const cb::CameraProfile& profile, const Eigen::Isometry3d& plate_to_camera, std::uint64_t seed,
+View render_plate(const scene::CameraProfile& profile, const Eigen::Isometry3d& plate_to_camera, std::uint64_t seed,
                   std::uint64_t frame_index) {
   // Renderer: camera_from_table = [F Rx(a) Ry(b) | (0, 0, h)], table_from_part = [Rz(c) | (tx, ty, 0)],
   // F = diag(1, -1, -1). Decompose F R = Rx(a) Ry(b) Rz(c) and solve the translation for tx, ty, h.
@@ -51,14 +51,14 @@ View render_plate(const cb::CameraProfile& profile, const Eigen::Isometry3d& pla
     for (const auto& p : shape.polygon.outer) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     return Eigen::Vector2d((lo + hi) / 2);
   }();
-  cb::CameraProfile prof = profile;
+  scene::CameraProfile prof = profile;
   prof.mount_height = sol.z();
-  cb::SceneSpec spec;
+  scene::SceneSpec spec;
   spec.name = "calibration-plate";
   spec.table_tilt_x = a;
   spec.table_tilt_y = b;
   spec.seed = seed;
-  cb::ScenePart part;
+  scene::ScenePart part;
   part.shape = "calibration-plate";
   part.theta = c;
   part.thickness = shape.thickness;
@@ -67,7 +67,7 @@ View render_plate(const cb::CameraProfile& profile, const Eigen::Isometry3d& pla
   part.y = centre.y();
   spec.parts.push_back(part);
   View v;
-  v.frame = cb::render(spec, prof, frame_index);
+  v.frame = scene::render(spec, prof, frame_index);
   // Truth from the renderer: its camera pose and the part's placement as it placed it.
   const partgen::Pose placed = partgen::pose_about_centre(shape, part.theta, {part.x, part.y});
   Eigen::Isometry3d part_to_table = Eigen::Isometry3d::Identity();
@@ -95,7 +95,7 @@ Eigen::Matrix3d small_rotation(std::mt19937_64& rng, double sigma) {
 }  // namespace
 
 EyeToHandSession eye_to_hand(const std::string& profile_name, int placements, double tcp_noise, std::uint64_t seed) {
-  const cb::CameraProfile prof = cb::camera_profile(profile_name);
+  const scene::CameraProfile prof = scene::camera_profile(profile_name);
   const Drawing drawing = calibration_plate_drawing();
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -122,7 +122,7 @@ EyeToHandSession eye_to_hand(const std::string& profile_name, int placements, do
 }
 
 EyeInHandPlan eye_in_hand_plan(const std::string& profile_name, int views, std::uint64_t seed) {
-  const cb::CameraProfile prof = cb::camera_profile(profile_name);
+  const scene::CameraProfile prof = scene::camera_profile(profile_name);
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   EyeInHandPlan plan;
@@ -147,7 +147,7 @@ EyeInHandPlan eye_in_hand_plan(const std::string& profile_name, int views, std::
 View render_from_flange(const std::string& profile, const EyeInHandPlan& plan, const Eigen::Isometry3d& flange,
                         std::uint64_t seed, std::uint64_t frame_index, Eigen::Isometry3d* rendered_flange) {
   const Eigen::Isometry3d plate_to_camera = (flange * plan.camera_to_flange_true).inverse() * plan.plate_to_base_true;
-  View v = render_plate(cb::camera_profile(profile), plate_to_camera, seed, frame_index);
+  View v = render_plate(scene::camera_profile(profile), plate_to_camera, seed, frame_index);
   if (rendered_flange)
     *rendered_flange = plan.plate_to_base_true * v.plate_to_camera.inverse() * plan.camera_to_flange_true.inverse();
   return v;

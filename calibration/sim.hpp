@@ -15,7 +15,7 @@
 namespace hg::calibration::sim {
 
 struct View {
-  camera_bridge::RenderedFrame frame;
+  hg::sim::RenderedFrame frame;
   Eigen::Isometry3d plate_to_camera = Eigen::Isometry3d::Identity();  // renderer's truth
 };
 
@@ -23,8 +23,8 @@ struct View {
 // (tilted) table under a camera at its mount height, so the wanted pose is decomposed into table tilt,
 // mount height and the part's placement on the table. Throws std::invalid_argument when the pose cannot be
 // shown (plate facing away, outside the view).
-View render_plate(const camera_bridge::CameraProfile& profile, const Eigen::Isometry3d& plate_to_camera,
-                  std::uint64_t seed, std::uint64_t frame_index);
+View render_plate(const hg::sim::CameraProfile& profile, const Eigen::Isometry3d& plate_to_camera, std::uint64_t seed,
+                  std::uint64_t frame_index);
 
 struct EyeToHandSession {
   std::vector<View> views;  // fixed camera; one per plate placement (several frames averaged per placement)

@@ -94,7 +94,7 @@ PlateView plate_from_loops(const PlatePlane& plane, const std::vector<HoleLoop>&
   return view;
 }
 
-PlateView detect_plate(const cv::Mat& depth, const camera_bridge::Intrinsics& in, const Drawing& drawing,
+PlateView detect_plate(const cv::Mat& depth, const camera::Intrinsics& in, const Drawing& drawing,
                        const DetectOptions& options) {
   const camera_bridge::Segmentation seg = camera_bridge::segment(depth, in, options.segment);
   if (seg.status != camera_bridge::SegmentStatus::Ok) throw CalibrationError("no plate in the frame: " + seg.text);

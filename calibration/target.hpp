@@ -70,7 +70,7 @@ PlateView plate_from_loops(const PlatePlane& plane, const std::vector<HoleLoop>&
 
 // A depth frame through the camera bridge's segmentation, the outline core and plate_from_loops.
 // Throws CalibrationError (why: no plate, fewer than 3 holes matched, pattern not the drawing's).
-PlateView detect_plate(const cv::Mat& depth, const camera_bridge::Intrinsics& in, const Drawing& drawing,
+PlateView detect_plate(const cv::Mat& depth, const camera::Intrinsics& in, const Drawing& drawing,
                        const DetectOptions& options = {});
 
 }  // namespace hg::calibration

@@ -41,8 +41,8 @@ static std::vector<runtime::Param> bridge_params() {
   return {
       runtime::text_param("source", "synthetic", "synthetic | files | openni2 | genicam",
                           {"synthetic", "files", "openni2", "genicam"}),
-      {"scene", "three-parts", "synthetic: scene preset (" + joined(scene_preset_names()) + ")"},
-      {"profile", "pm806", "synthetic: camera profile (" + joined(camera_profile_names()) + ")"},
+      {"scene", "three-parts", "synthetic: scene preset (" + joined(sim::scene_preset_names()) + ")"},
+      {"profile", "pm806", "synthetic: camera profile (" + joined(sim::camera_profile_names()) + ")"},
       {"seed", "", "synthetic: noise seed (default: the scene's)", false, runtime::ParamType::Integer},
       {"noise-scale", "1", "synthetic: multiplies the profile's depth noise, dropout and mixed-pixel rate (0: clean)",
        false, runtime::ParamType::Number, 0},
@@ -168,18 +168,18 @@ BridgeOptions options_from(const runtime::Node& node) {
   o.frame_id = node.param("frame-id");
   try {
     // Let segment()'s own checks speak for the segmentation parameters before anything runs.
-    segment(cv::Mat(), Intrinsics{}, s);
+    segment(cv::Mat(), camera::Intrinsics{}, s);
   } catch (const std::invalid_argument& e) {
     throw runtime::ConfigError(e.what());
   }
   return o;
 }
 
-std::unique_ptr<DepthSource> source_from(const runtime::Node& node) {
+std::unique_ptr<camera::DepthSource> source_from(const runtime::Node& node) {
   const std::string kind = node.param("source");
   if (kind == "synthetic") {
-    SceneSpec spec = scene_preset(node.param("scene"));
-    CameraProfile prof = camera_profile(node.param("profile"));
+    sim::SceneSpec spec = sim::scene_preset(node.param("scene"));
+    sim::CameraProfile prof = sim::camera_profile(node.param("profile"));
     const double k = node.param_double("noise-scale");
     if (!(k >= 0)) throw runtime::ConfigError("--noise-scale must be >= 0");
     prof.noise_a *= k;
@@ -188,12 +188,12 @@ std::unique_ptr<DepthSource> source_from(const runtime::Node& node) {
     prof.flying_pixel_prob = std::min(1.0, prof.flying_pixel_prob * k);
     if (!node.param("seed").empty()) spec.seed = static_cast<std::uint64_t>(node.param_int("seed"));
     if (const std::string truth = node.param("write-truth"); !truth.empty()) {
-      write_truth(spec, prof, render(spec, prof, 0), 0, truth);
+      sim::write_truth(spec, prof, sim::render(spec, prof, 0), 0, truth);
       logf(Level::Info, "wrote the ground truth of scene '%s' to %s", spec.name.c_str(), truth.c_str());
     }
     // In job mode frames are rendered when asked for; otherwise at the processing rate.
     const double rate = node.param("trigger") == "job" ? 0.0 : node.param_double("rate");
-    return std::make_unique<SyntheticSource>(std::move(spec), prof, rate);
+    return std::make_unique<sim::SyntheticSource>(std::move(spec), prof, rate);
   }
   if (kind == "files") {
     const std::string path = node.param("files");
@@ -253,7 +253,7 @@ void fill_plate_cloud(const Segmentation& s, plate_cloud_t& m) {
   m.num_parts = static_cast<std::int16_t>(ok ? s.num_parts : 0);
 }
 
-Bridge::Bridge(runtime::Node& node, std::unique_ptr<DepthSource> source, BridgeOptions options)
+Bridge::Bridge(runtime::Node& node, std::unique_ptr<camera::DepthSource> source, BridgeOptions options)
     : node_(node), source_(std::move(source)), opt_(std::move(options)) {
   if (opt_.job_trigger) {
     node_.subscribe<hullgrind::job_request_t>(channels::kJobRequest,
@@ -328,14 +328,14 @@ void Bridge::run() {
             jobs_.empty())
           continue;
       }
-      std::optional<DepthFrame> frame = source_->grab(opt_.grab_timeout);
+      std::optional<camera::DepthFrame> frame = source_->grab(opt_.grab_timeout);
       count_skipped();
       if (!frame) continue;
       if (!opt_.job_trigger && opt_.rate > 0 && last_processed_ != Clock::time_point{} &&
           Clock::now() - last_processed_ < std::chrono::duration<double>(0.95 / opt_.rate))
         continue;  // a device faster than --rate: take the next one in time
       process(*frame);
-    } catch (const SourceError& e) {
+    } catch (const camera::SourceError& e) {
       // Say which source, unless the backend's message already starts with it.
       const std::string what = e.what(), who = source_->describe();
       fail(what.rfind(who, 0) == 0 ? what : who + ": " + what);
@@ -356,7 +356,7 @@ void Bridge::count_skipped() {
          (long long)skipped);
 }
 
-void Bridge::process(DepthFrame& frame) {
+void Bridge::process(camera::DepthFrame& frame) {
   const auto t0 = Clock::now();
   if (const std::string why = frame_defect(frame.depth, frame.intrinsics); !why.empty()) {
     ++corrupt_;
@@ -402,7 +402,7 @@ void Bridge::process(DepthFrame& frame) {
   publish_depth(frame);
 }
 
-void Bridge::publish_depth(const DepthFrame& frame) {
+void Bridge::publish_depth(const camera::DepthFrame& frame) {
   if (!(opt_.depth_rate > 0)) return;
   const auto now = Clock::now();
   if (last_depth_ != Clock::time_point{} && now - last_depth_ < std::chrono::duration<double>(1.0 / opt_.depth_rate))
@@ -411,7 +411,7 @@ void Bridge::publish_depth(const DepthFrame& frame) {
   // Every k-th pixel of every k-th row, no interpolation (a mean of table and plate depths is no depth):
   // new pixel j is old pixel k j, so fx' = fx / k and cx' = cx / k.
   const int k = opt_.depth_decimation;
-  const Intrinsics& in = frame.intrinsics;
+  const camera::Intrinsics& in = frame.intrinsics;
   cv::Mat small((frame.depth.rows + k - 1) / k, (frame.depth.cols + k - 1) / k, CV_16UC1);
   for (int r = 0; r < small.rows; ++r) {
     const std::uint16_t* src = frame.depth.ptr<std::uint16_t>(r * k);
@@ -438,7 +438,7 @@ void Bridge::publish_depth(const DepthFrame& frame) {
 
 std::unique_ptr<Bridge> attach(runtime::Node& node) {
   BridgeOptions options = options_from(node);
-  std::unique_ptr<DepthSource> source = source_from(node);
+  std::unique_ptr<camera::DepthSource> source = source_from(node);
   logf(Level::Info, "source: %s; trigger: %s", source->describe().c_str(), options.job_trigger ? "job" : "continuous");
   auto bridge = std::make_unique<Bridge>(node, std::move(source), options);
   bridge->start();

@@ -41,14 +41,14 @@ struct BridgeOptions {
 // Reads the options from the node's parameters (see process_info()). Throws runtime::ConfigError.
 BridgeOptions options_from(const runtime::Node& node);
 // Builds the source named by --source. Throws runtime::ConfigError (bad values) or std::invalid_argument.
-std::unique_ptr<DepthSource> source_from(const runtime::Node& node);
+std::unique_ptr<camera::DepthSource> source_from(const runtime::Node& node);
 
 // plate_cloud_t from a segmentation (status, plane, points). Exposed for tests.
 void fill_plate_cloud(const Segmentation& s, hullgrind::plate_cloud_t& msg);
 
 class Bridge {
  public:
-  Bridge(runtime::Node& node, std::unique_ptr<DepthSource> source, BridgeOptions options);
+  Bridge(runtime::Node& node, std::unique_ptr<camera::DepthSource> source, BridgeOptions options);
   ~Bridge();  // stops the capture thread and closes the source
   void start();
   void stop();
@@ -61,11 +61,11 @@ class Bridge {
   bool sleep_for(double seconds);  // false when stopping
   void count_skipped();            // frames the source dropped -> heartbeat dropped, a bounded log
   void on_job(const std::string& job_id);
-  void process(DepthFrame& frame);
-  void publish_depth(const DepthFrame& frame);
+  void process(camera::DepthFrame& frame);
+  void publish_depth(const camera::DepthFrame& frame);
 
   runtime::Node& node_;
-  std::unique_ptr<DepthSource> source_;
+  std::unique_ptr<camera::DepthSource> source_;
   BridgeOptions opt_;
   std::thread thread_;
   std::atomic<bool> stop_{false};

@@ -64,7 +64,7 @@ void orient(Eigen::Vector3d& n, const Eigen::Vector3d& point_on_plane) {
 
 }  // namespace
 
-std::string frame_defect(const cv::Mat& depth, const Intrinsics& in) {
+std::string frame_defect(const cv::Mat& depth, const camera::Intrinsics& in) {
   if (in.width <= 0 || in.height <= 0 || !(in.fx > 0) || !(in.fy > 0) || !(in.depth_unit > 0) ||
       !std::isfinite(in.cx) || !std::isfinite(in.cy))
     return "bad intrinsics (" + std::to_string(in.width) + "x" + std::to_string(in.height) + ", fx " +
@@ -88,7 +88,7 @@ struct Rays {
   double unit = 0;  // metres per depth count
 };
 
-Rays pixel_rays(const Intrinsics& in, int W, int H) {
+Rays pixel_rays(const camera::Intrinsics& in, int W, int H) {
   Rays ray{std::vector<double>(W), std::vector<double>(H), in.depth_unit};
   for (int c = 0; c < W; ++c) ray.a[c] = (c - in.cx) / in.fx;
   for (int r = 0; r < H; ++r) ray.b[r] = (r - in.cy) / in.fy;
@@ -398,7 +398,7 @@ void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& 
 
 }  // namespace
 
-Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentParams& P) {
+Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const SegmentParams& P) {
   check(P);
   Segmentation out;
   auto fail = [&](SegmentStatus status, std::string why) {

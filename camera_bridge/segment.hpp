@@ -67,14 +67,14 @@ struct Segmentation {
 };
 
 // Empty when the frame is usable; otherwise why not (wrong size or type, no valid pixel, bad intrinsics).
-std::string frame_defect(const cv::Mat& depth, const Intrinsics& in);
+std::string frame_defect(const cv::Mat& depth, const camera::Intrinsics& in);
 
 // Throws std::invalid_argument on bad parameters; never throws on frame content (a defective frame gives
 // status BadFrame with the reason).
-Segmentation segment(const cv::Mat& depth, const Intrinsics& in, const SegmentParams& params);
+Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const SegmentParams& params);
 
 // Deprojection used by segment(): camera-frame point of pixel (col, row) at depth z (metres).
-inline Eigen::Vector3d deproject(const Intrinsics& in, double col, double row, double z) {
+inline Eigen::Vector3d deproject(const camera::Intrinsics& in, double col, double row, double z) {
   return {(col - in.cx) / in.fx * z, (row - in.cy) / in.fy * z, z};
 }
 

@@ -32,24 +32,25 @@ std::string lower_ext(const fs::path& p) {
 
 // ---- intrinsics files ----
 
-Intrinsics read_intrinsics(const std::string& path) {
+camera::Intrinsics read_intrinsics(const std::string& path) {
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw SourceError("cannot open intrinsics file '" + path + "': no such file");
+  if (!fs::is_regular_file(path, ec))
+    throw camera::SourceError("cannot open intrinsics file '" + path + "': no such file");
   cv::FileStorage fsr;
   try {
-    if (!fsr.open(path, cv::FileStorage::READ)) throw SourceError("cannot open intrinsics file '" + path + "'");
+    if (!fsr.open(path, cv::FileStorage::READ)) throw camera::SourceError("cannot open intrinsics file '" + path + "'");
   } catch (const cv::Exception& e) {
-    throw SourceError("intrinsics file '" + path + "' is not valid YAML/JSON/XML: " + e.what());
+    throw camera::SourceError("intrinsics file '" + path + "' is not valid YAML/JSON/XML: " + e.what());
   }
-  Intrinsics in;
+  camera::Intrinsics in;
   auto num = [&](const char* key, bool required, double fallback) {
     const cv::FileNode n = fsr[key];
     if (n.empty()) {
-      if (required) throw SourceError("intrinsics file '" + path + "': key '" + key + "' missing");
+      if (required) throw camera::SourceError("intrinsics file '" + path + "': key '" + key + "' missing");
       return fallback;
     }
     if (!n.isReal() && !n.isInt())
-      throw SourceError("intrinsics file '" + path + "': key '" + key + "' is not a number");
+      throw camera::SourceError("intrinsics file '" + path + "': key '" + key + "' is not a number");
     return static_cast<double>(n);
   };
   const double w = num("width", true, 0), h = num("height", true, 0);
@@ -59,15 +60,15 @@ Intrinsics read_intrinsics(const std::string& path) {
   in.cy = num("cy", true, 0);
   in.depth_unit = num("depth_unit", false, 0.001);
   if (!(w >= 1 && w <= 65535 && h >= 1 && h <= 65535 && w == std::floor(w) && h == std::floor(h)))
-    throw SourceError("intrinsics file '" + path + "': width/height must be whole numbers in 1..65535");
+    throw camera::SourceError("intrinsics file '" + path + "': width/height must be whole numbers in 1..65535");
   if (!(in.fx > 0 && in.fy > 0 && in.depth_unit > 0 && std::isfinite(in.cx) && std::isfinite(in.cy)))
-    throw SourceError("intrinsics file '" + path + "': fx, fy and depth_unit must be positive");
+    throw camera::SourceError("intrinsics file '" + path + "': fx, fy and depth_unit must be positive");
   in.width = static_cast<int>(w);
   in.height = static_cast<int>(h);
   return in;
 }
 
-void write_intrinsics(const Intrinsics& in, const std::string& path) {
+void write_intrinsics(const camera::Intrinsics& in, const std::string& path) {
   cv::FileStorage fsw(path, cv::FileStorage::WRITE);
   if (!fsw.isOpened()) throw std::runtime_error("cannot write intrinsics file '" + path + "'");
   fsw << "width" << in.width << "height" << in.height << "fx" << in.fx << "fy" << in.fy << "cx" << in.cx << "cy"
@@ -76,7 +77,7 @@ void write_intrinsics(const Intrinsics& in, const std::string& path) {
 
 // ---- clouds ----
 
-cv::Mat cloud_to_depth(const std::vector<double>& xyz, const Intrinsics& in) {
+cv::Mat cloud_to_depth(const std::vector<double>& xyz, const camera::Intrinsics& in) {
   cv::Mat depth = cv::Mat::zeros(in.height, in.width, CV_16UC1);
   for (std::size_t i = 0; i + 2 < xyz.size(); i += 3) {
     const double x = xyz[i], y = xyz[i + 1], z = xyz[i + 2];
@@ -96,7 +97,10 @@ bool can_read_clouds() { return HG_HAVE_OUTLINE_IO != 0; }
 // ---- files ----
 
 FilesSource::FilesSource(std::string path, std::string intrinsics_path, double rate, bool loop)
-    : path_(std::move(path)), intrinsics_path_(std::move(intrinsics_path)), loop_(loop), period_(period_of(rate)) {}
+    : path_(std::move(path)),
+      intrinsics_path_(std::move(intrinsics_path)),
+      loop_(loop),
+      period_(camera::period_of(rate)) {}
 
 std::string FilesSource::describe() const { return "files '" + path_ + "'"; }
 
@@ -113,25 +117,25 @@ void FilesSource::open() {
     for (const auto& e : fs::directory_iterator(path_, ec))
       if (e.is_regular_file() && lower_ext(e.path()) == ".png") files_.push_back(e.path().string());
     std::sort(files_.begin(), files_.end());
-    if (files_.empty()) throw SourceError("no .png files in '" + path_ + "'");
+    if (files_.empty()) throw camera::SourceError("no .png files in '" + path_ + "'");
   } else if (fs::is_regular_file(path_, ec)) {
     const std::string ext = lower_ext(path_);
     if (ext == ".pcd" || ext == ".ply") {
       if (!can_read_clouds())
-        throw SourceError("'" + path_ + "': this build has no .pcd/.ply reader (outline I/O library missing)");
+        throw camera::SourceError("'" + path_ + "': this build has no .pcd/.ply reader (outline I/O library missing)");
     } else if (ext != ".png") {
-      throw SourceError("'" + path_ + "': expected a directory of .png files, a .png, .pcd or .ply file");
+      throw camera::SourceError("'" + path_ + "': expected a directory of .png files, a .png, .pcd or .ply file");
     }
     files_.push_back(path_);
   } else {
-    throw SourceError("no such file or directory '" + path_ + "'");
+    throw camera::SourceError("no such file or directory '" + path_ + "'");
   }
   next_file_ = 0;
   open_ = true;
 }
 
-std::optional<DepthFrame> FilesSource::grab(std::chrono::milliseconds timeout) {
-  if (!open_) throw SourceError("files source is not open");
+std::optional<camera::DepthFrame> FilesSource::grab(std::chrono::milliseconds timeout) {
+  if (!open_) throw camera::SourceError("files source is not open");
   if (next_file_ >= files_.size()) {
     if (!loop_) {
       std::this_thread::sleep_for(std::min(timeout, std::chrono::milliseconds(100)));
@@ -139,9 +143,9 @@ std::optional<DepthFrame> FilesSource::grab(std::chrono::milliseconds timeout) {
     }
     next_file_ = 0;
   }
-  if (!wait_slot(next_, period_, timeout)) return std::nullopt;
+  if (!camera::wait_slot(next_, period_, timeout)) return std::nullopt;
   const std::string& file = files_[next_file_++];
-  DepthFrame f;
+  camera::DepthFrame f;
   f.seq = seq_++;
   f.utime = runtime::now_utime();
   f.intrinsics = intrinsics_;

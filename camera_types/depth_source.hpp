@@ -11,7 +11,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace hg::camera_bridge {
+namespace hg::camera {
 
 // Pinhole intrinsics of the depth image as delivered (pixels), and the depth scale.
 struct Intrinsics {
@@ -47,4 +47,4 @@ class DepthSource {
   virtual std::int64_t frames_skipped() const { return 0; }
 };
 
-}  // namespace hg::camera_bridge
+}  // namespace hg::camera

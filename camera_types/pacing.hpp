@@ -6,7 +6,7 @@
 #include <chrono>
 #include <thread>
 
-namespace hg::camera_bridge {
+namespace hg::camera {
 
 using PacingClock = std::chrono::steady_clock;
 
@@ -32,4 +32,4 @@ inline bool wait_slot(PacingClock::time_point& next, PacingClock::duration perio
   return true;
 }
 
-}  // namespace hg::camera_bridge
+}  // namespace hg::camera

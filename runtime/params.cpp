@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #ifndef HG_VERSION
 #define HG_VERSION "unknown"
@@ -51,6 +52,23 @@ const char* type_name(ParamType t) {
 
 bool is_builtin(const std::string& name) { return name == "config" || name == "help" || name == "version"; }
 
+// `text` broken at spaces so that no line goes past column `width`; the first line starts at column `first`,
+// the others are indented to column `indent`.
+std::string wrapped(const std::string& text, std::size_t first, std::size_t indent, std::size_t width) {
+  std::string out, line;
+  std::size_t column = first;
+  std::istringstream words(text);
+  for (std::string word; words >> word;) {
+    if (!line.empty() && column + line.size() + 1 + word.size() > width) {
+      out += line + "\n" + std::string(indent, ' ');
+      line.clear();
+      column = indent;
+    }
+    line += (line.empty() ? "" : " ") + word;
+  }
+  return out + line;
+}
+
 }  // namespace
 
 Param text_param(std::string name, std::string def, std::string help, std::vector<std::string> choices) {
@@ -73,6 +91,14 @@ Param moved_param(std::string name, std::string now) {
   Param p{std::move(name), "", ""};
   p.moved_to = std::move(now);
   return p;
+}
+
+void set_value_names(std::vector<Param>& params, const std::map<std::string, std::string>& value_names) {
+  for (const auto& [name, value_name] : value_names) {
+    auto p = std::find_if(params.begin(), params.end(), [&](const Param& q) { return q.name == name; });
+    if (p == params.end()) throw std::invalid_argument("set_value_names: no parameter '" + name + "'");
+    p->value_name = value_name;
+  }
 }
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
@@ -300,9 +326,13 @@ void Params::print_options(std::FILE* out) const {
   if (declared_.empty()) std::fprintf(out, "  (none)\n");
   for (const Param& p : declared_) {
     if (!p.moved_to.empty()) continue;
-    std::string left = "  " + (p.alias.empty() ? "" : p.alias + ", ") + "--" + p.name;
+    std::string value;
     if (!p.is_flag)
-      left += p.kind() == ParamType::Numbers ? " A,B,.." : p.kind() == ParamType::Flag ? " true|false" : " VALUE";
+      value = !p.value_name.empty()            ? " " + p.value_name
+              : p.kind() == ParamType::Numbers ? " A,B,.."
+              : p.kind() == ParamType::Flag    ? " true|false"
+                                               : " VALUE";
+    const std::string left = "  " + (p.alias.empty() ? "" : p.alias + value + ", ") + "--" + p.name + value;
     std::string extra;
     if (!p.choices.empty()) {
       for (const std::string& c : p.choices) extra += (extra.empty() ? " {" : "|") + c;
@@ -310,7 +340,9 @@ void Params::print_options(std::FILE* out) const {
     }
     if (const std::string r = range_text(p); !r.empty()) extra += " (" + r + ")";
     if (!p.default_value.empty()) extra += " [default: " + p.default_value + "]";
-    std::fprintf(out, "%-34s %s%s\n", left.c_str(), p.help.c_str(), extra.c_str());
+    // Help from column 35, wrapped at column 110 so that a long description stays readable.
+    const std::size_t first = std::max<std::size_t>(left.size(), 34) + 1;
+    std::fprintf(out, "%-34s %s\n", left.c_str(), wrapped(p.help + extra, first, 35, 110).c_str());
   }
 }
 

@@ -32,6 +32,7 @@ struct Param {
   // Not a parameter any more: where the value lives now (e.g. "config/cell.yaml key max-speed"). Given on
   // the command line or in a config file it is refused with this; --help and the docs do not list it.
   std::string moved_to{};
+  std::string value_name{};            // what --help shows for the value ("FILE"); empty: VALUE
 
   ParamType kind() const { return is_flag ? ParamType::Flag : type; }
 };
@@ -48,6 +49,9 @@ Param numbers_param(std::string name, std::string def, std::string help);
 Param flag_param(std::string name, std::string help);
 // A key that moved elsewhere (see Param::moved_to): refused naming where it lives now.
 Param moved_param(std::string name, std::string now);
+// Names the values --help shows ({"output", "FILE"}: --output FILE); throws std::invalid_argument for a
+// name that is not declared.
+void set_value_names(std::vector<Param>& params, const std::map<std::string, std::string>& value_names);
 
 // Levenshtein distance (for "did you mean").
 std::size_t edit_distance(const std::string& a, const std::string& b);

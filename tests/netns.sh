@@ -4,6 +4,9 @@
 # tests running side by side cannot hear each other. Needs root or unprivileged user namespaces.
 #   tests/netns.sh COMMAND [ARGS...]
 set -euo pipefail
+# --help / --version only as the first argument: later ones belong to COMMAND.
+source "$(dirname "${BASH_SOURCE[0]}")/../tools/version.sh"
+hg_answer netns.sh "$0" "${1:-}"
 if [[ $# -eq 0 ]]; then echo "usage: $0 COMMAND [ARGS...]" >&2; exit 2; fi
 
 if [[ "${HG_IN_NETNS:-}" != "1" ]]; then

@@ -27,7 +27,7 @@ struct ErrorGuard {
     if (!error) return;
     const std::string msg = what + ": " + error->message;
     g_clear_error(&error);
-    throw SourceError(msg);
+    throw camera::SourceError(msg);
   }
 };
 
@@ -77,7 +77,7 @@ struct GenicamSource::Impl {
   gulong lost_handler = 0;
   std::atomic<bool> lost{false};
   std::string device;
-  Intrinsics intrinsics;
+  camera::Intrinsics intrinsics;
   std::int64_t offset_counts = 0, invalid_raw = 0;
   double scale_mm = 1, offset_mm = 0, invalid_value = 0;  // Scan3d C coordinate
   guint payload = 0;
@@ -111,7 +111,7 @@ std::string GenicamSource::describe() const {
 }
 
 bool GenicamSource::is_open() const { return impl_->camera != nullptr; }
-const Intrinsics& GenicamSource::intrinsics() const { return impl_->intrinsics; }
+const camera::Intrinsics& GenicamSource::intrinsics() const { return impl_->intrinsics; }
 std::string GenicamSource::opened_device() const { return impl_->device; }
 
 namespace {
@@ -160,19 +160,20 @@ void GenicamSource::open() {
     std::string seen;
     m.camera = first_3d_camera(genicam_format_name(options_.format), m.device, seen);
     if (!m.camera)
-      throw SourceError(std::string("no GenICam 3-D camera (") + genicam_format_name(options_.format) +
-                        " with Scan3d features) found" +
-                        (seen.empty() ? std::string(", no devices at all") : "; devices seen: " + seen));
+      throw camera::SourceError(std::string("no GenICam 3-D camera (") + genicam_format_name(options_.format) +
+                                " with Scan3d features) found" +
+                                (seen.empty() ? std::string(", no devices at all") : "; devices seen: " + seen));
   } else {
     ErrorGuard e;
     m.camera = arv_camera_new(options_.device_id.c_str(), e.out());
     e.check("cannot open GenICam device '" + options_.device_id + "'");
-    if (!m.camera) throw SourceError("cannot open GenICam device '" + options_.device_id + "'");
+    if (!m.camera) throw camera::SourceError("cannot open GenICam device '" + options_.device_id + "'");
     m.device = options_.device_id;
     if (!is_3d_camera(m.camera, genicam_format_name(options_.format))) {
       close();
-      throw SourceError("GenICam device '" + options_.device_id + "' is not a 3-D camera: no PixelFormat " +
-                        genicam_format_name(options_.format) + " or no Scan3dCoordinateScale/Scan3dFocalLength");
+      throw camera::SourceError("GenICam device '" + options_.device_id + "' is not a 3-D camera: no PixelFormat " +
+                                genicam_format_name(options_.format) +
+                                " or no Scan3dCoordinateScale/Scan3dFocalLength");
     }
   }
   try {
@@ -197,18 +198,18 @@ void GenicamSource::configure() {
     const char* unit = arv_camera_get_string(cam, "Scan3dDistanceUnit", e.out());
     e.check("reading Scan3dDistanceUnit");
     if (!unit || std::strcmp(unit, "Millimeter") != 0)
-      throw SourceError(std::string("Scan3dDistanceUnit is '") + (unit ? unit : "") +
-                        "', only Millimeter is supported");
+      throw camera::SourceError(std::string("Scan3dDistanceUnit is '") + (unit ? unit : "") +
+                                "', only Millimeter is supported");
   }
   const double scale = get_float(cam, "Scan3dCoordinateScale");
   const double offset = has_feature(cam, "Scan3dCoordinateOffset") ? get_float(cam, "Scan3dCoordinateOffset") : 0.0;
   const double focal = get_float(cam, "Scan3dFocalLength");
   if (!(scale > 0) || !std::isfinite(scale))
-    throw SourceError("Scan3dCoordinateScale must be positive, is " + std::to_string(scale));
+    throw camera::SourceError("Scan3dCoordinateScale must be positive, is " + std::to_string(scale));
   if (!(focal > 0) || !std::isfinite(focal))
-    throw SourceError("Scan3dFocalLength must be positive, is " + std::to_string(focal));
-  if (!std::isfinite(offset)) throw SourceError("Scan3dCoordinateOffset is not finite");
-  Intrinsics& in = m.intrinsics;
+    throw camera::SourceError("Scan3dFocalLength must be positive, is " + std::to_string(focal));
+  if (!std::isfinite(offset)) throw camera::SourceError("Scan3dCoordinateOffset is not finite");
+  camera::Intrinsics& in = m.intrinsics;
   ErrorGuard e;
   in.width = static_cast<int>(arv_camera_get_integer(cam, "Width", e.out()));
   e.check("reading Width");
@@ -217,7 +218,7 @@ void GenicamSource::configure() {
   in.fx = in.fy = focal;
   // A missing principal point is the one thing we may not guess from the image centre silently.
   if (!has_feature(cam, "Scan3dPrincipalPointU") || !has_feature(cam, "Scan3dPrincipalPointV"))
-    throw SourceError("the camera has no Scan3dPrincipalPointU/V");
+    throw camera::SourceError("the camera has no Scan3dPrincipalPointU/V");
   in.cx = get_float(cam, "Scan3dPrincipalPointU");
   in.cy = get_float(cam, "Scan3dPrincipalPointV");
   m.scale_mm = scale;
@@ -244,11 +245,11 @@ void GenicamSource::start_stream() {
   m.payload = arv_camera_get_payload(m.camera, e.out());
   e.check("reading PayloadSize");
   if (m.payload < guint(m.intrinsics.width) * guint(m.intrinsics.height) * bytes_per_pixel())
-    throw SourceError("PayloadSize " + std::to_string(m.payload) + " is smaller than a " +
-                      genicam_format_name(options_.format) + " image");
+    throw camera::SourceError("PayloadSize " + std::to_string(m.payload) + " is smaller than a " +
+                              genicam_format_name(options_.format) + " image");
   m.stream = arv_camera_create_stream(m.camera, nullptr, nullptr, e.out());
   e.check("creating the stream");
-  if (!m.stream) throw SourceError("creating the stream failed");
+  if (!m.stream) throw camera::SourceError("creating the stream failed");
   // A socket buffer of a whole frame: a range image is MBs, the default UDP buffer drops packets.
   if (ARV_IS_GV_STREAM(m.stream)) g_object_set(m.stream, "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_AUTO, nullptr);
   for (int i = 0; i < kBuffers; ++i) arv_stream_push_buffer(m.stream, arv_buffer_new(m.payload, nullptr));
@@ -262,11 +263,11 @@ void GenicamSource::close() {
   if (impl_) impl_->release();
 }
 
-std::optional<DepthFrame> GenicamSource::grab(std::chrono::milliseconds timeout) {
+std::optional<camera::DepthFrame> GenicamSource::grab(std::chrono::milliseconds timeout) {
   Impl& m = *impl_;
-  if (!m.camera) throw SourceError("genicam source is not open");
+  if (!m.camera) throw camera::SourceError("genicam source is not open");
   const auto lost = [&] {
-    return SourceError("GenICam camera '" + m.device + "' lost (no answer on its control channel)");
+    return camera::SourceError("GenICam camera '" + m.device + "' lost (no answer on its control channel)");
   };
   if (m.lost) throw lost();
   if (options_.software_trigger) {
@@ -281,21 +282,21 @@ std::optional<DepthFrame> GenicamSource::grab(std::chrono::milliseconds timeout)
     if (m.lost) throw lost();
     return std::nullopt;
   }
-  std::optional<DepthFrame> frame = convert(static_cast<void*>(buf));
+  std::optional<camera::DepthFrame> frame = convert(static_cast<void*>(buf));
   arv_stream_push_buffer(m.stream, buf);
   return frame;
 }
 
 std::size_t GenicamSource::bytes_per_pixel() const { return options_.format == GenicamFormat::c16 ? 2 : 12; }
 
-std::optional<DepthFrame> GenicamSource::convert(void* arv_buffer) {
+std::optional<camera::DepthFrame> GenicamSource::convert(void* arv_buffer) {
   Impl& m = *impl_;
   ArvBuffer* buf = static_cast<ArvBuffer*>(arv_buffer);
   if (arv_buffer_get_status(buf) != ARV_BUFFER_STATUS_SUCCESS) {
     ++counters_.incomplete;
     return std::nullopt;
   }
-  const Intrinsics& in = m.intrinsics;
+  const camera::Intrinsics& in = m.intrinsics;
   const ArvPixelFormat want =
       options_.format == GenicamFormat::c16 ? ARV_PIXEL_FORMAT_COORD3D_C_16 : ARV_PIXEL_FORMAT_COORD3D_ABC_32F;
   size_t size = 0;
@@ -307,7 +308,7 @@ std::optional<DepthFrame> GenicamSource::convert(void* arv_buffer) {
     ++counters_.unusable;
     return std::nullopt;
   }
-  DepthFrame f;
+  camera::DepthFrame f;
   f.seq = m.seq++;
   f.utime = runtime::now_utime();
   f.intrinsics = in;

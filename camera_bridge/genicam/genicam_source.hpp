@@ -37,7 +37,7 @@ struct GenicamCounters {
   std::atomic<std::int64_t> out_of_range{0};  // pixels whose distance does not fit 16-bit counts (set to 0)
 };
 
-class GenicamSource : public DepthSource {
+class GenicamSource : public camera::DepthSource {
  public:
   explicit GenicamSource(GenicamOptions options);
   ~GenicamSource() override;
@@ -45,18 +45,18 @@ class GenicamSource : public DepthSource {
   void open() override;  // SourceError: no device, no 3-D camera, missing Scan3d feature, ...
   bool is_open() const override;
   // nullopt on a timeout or a skipped buffer; SourceError when the camera's control channel was lost.
-  std::optional<DepthFrame> grab(std::chrono::milliseconds timeout) override;
+  std::optional<camera::DepthFrame> grab(std::chrono::milliseconds timeout) override;
   void close() override;
   std::int64_t frames_skipped() const override { return counters_.incomplete + counters_.unusable; }
 
   const GenicamCounters& counters() const { return counters_; }
-  const Intrinsics& intrinsics() const;  // as read from the camera at open()
-  std::string opened_device() const;     // the id of the device open now ("" when closed)
+  const camera::Intrinsics& intrinsics() const;  // as read from the camera at open()
+  std::string opened_device() const;             // the id of the device open now ("" when closed)
 
  private:
-  void configure();                                     // pixel format, Scan3d -> intrinsics, trigger
-  void start_stream();                                  // buffers, lost-camera signal, AcquisitionStart
-  std::optional<DepthFrame> convert(void* arv_buffer);  // nullopt (and counted) for a buffer to skip
+  void configure();                                             // pixel format, Scan3d -> intrinsics, trigger
+  void start_stream();                                          // buffers, lost-camera signal, AcquisitionStart
+  std::optional<camera::DepthFrame> convert(void* arv_buffer);  // nullopt (and counted) for a buffer to skip
   std::size_t bytes_per_pixel() const;
   struct Impl;
   GenicamOptions options_;

@@ -30,7 +30,8 @@ void ensure_openni() {
   std::lock_guard lock(mutex);
   if (done) return;
   if (openni::OpenNI::initialize() != openni::STATUS_OK)
-    throw SourceError(std::string("openni2: OpenNI2 did not initialise: ") + openni::OpenNI::getExtendedError());
+    throw camera::SourceError(std::string("openni2: OpenNI2 did not initialise: ") +
+                              openni::OpenNI::getExtendedError());
   done = true;
 }
 
@@ -67,7 +68,7 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
   openni::Device device;
   openni::VideoStream stream;
   std::string device_uri;  // as OpenNI2 names the opened device
-  Intrinsics intrinsics;
+  camera::Intrinsics intrinsics;
   std::atomic<bool> lost{false};
   std::string lost_reason;
   std::int64_t frames_in_recording = 0;
@@ -92,7 +93,7 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
 
   [[noreturn]] void fail(const std::string& what) {
     const std::string detail = openni::OpenNI::getExtendedError();
-    throw SourceError("openni2 " + name() + ": " + what + (detail.empty() ? "" : " (" + detail + ")"));
+    throw camera::SourceError("openni2 " + name() + ": " + what + (detail.empty() ? "" : " (" + detail + ")"));
   }
 
   openni::VideoMode choose_mode() {
@@ -163,7 +164,7 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
   }
 
   void set_intrinsics(const openni::VideoMode& mode) {
-    Intrinsics in;
+    camera::Intrinsics in;
     in.width = mode.getResolutionX();
     in.height = mode.getResolutionY();
     in.depth_unit = unit_of(mode.getPixelFormat());
@@ -179,10 +180,10 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
     // The principal point: exact from our virtual device, else OpenNI2's assumption, the image centre.
     in.cx = in.width / 2.0;
     in.cy = in.height / 2.0;
-    if (stream.isPropertySupported(virtual_device::kStreamPropertyPrincipalPoint)) {
+    if (stream.isPropertySupported(sim::virtual_device::kStreamPropertyPrincipalPoint)) {
       double pp[2];
       int size = sizeof pp;
-      if (stream.getProperty(virtual_device::kStreamPropertyPrincipalPoint, pp, &size) == openni::STATUS_OK) {
+      if (stream.getProperty(sim::virtual_device::kStreamPropertyPrincipalPoint, pp, &size) == openni::STATUS_OK) {
         in.cx = pp[0];
         in.cy = pp[1];
       }
@@ -240,14 +241,15 @@ bool OpenNI2Source::end_of_recording() const { return impl_->at_end(); }
 std::int64_t OpenNI2Source::recorded_frames() const { return impl_->frames_in_recording; }
 std::int64_t OpenNI2Source::skipped_frames() const { return impl_->skipped; }
 
-std::optional<DepthFrame> OpenNI2Source::grab(std::chrono::milliseconds timeout) {
+std::optional<camera::DepthFrame> OpenNI2Source::grab(std::chrono::milliseconds timeout) {
   Impl& m = *impl_;
-  if (!m.open) throw SourceError("openni2 " + m.name() + ": grab() on a closed source");
+  if (!m.open) throw camera::SourceError("openni2 " + m.name() + ": grab() on a closed source");
   if (m.at_end()) return std::nullopt;
   const auto deadline = Clock::now() + timeout;
   openni::VideoFrameRef ref;
   for (;;) {
-    if (m.lost) throw SourceError("openni2 " + m.name() + ": device '" + m.device_uri + "' lost (disconnected)");
+    if (m.lost)
+      throw camera::SourceError("openni2 " + m.name() + ": device '" + m.device_uri + "' lost (disconnected)");
     // Wait in short slices so that a disconnection is noticed soon even with a long timeout.
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
     const int slice = int(std::clamp<std::int64_t>(left.count(), 0, 100));
@@ -261,7 +263,7 @@ std::optional<DepthFrame> OpenNI2Source::grab(std::chrono::milliseconds timeout)
         ++m.skipped;  // a frame whose data does not fit its own header: never read past it
         continue;
       }
-      DepthFrame f;
+      camera::DepthFrame f;
       f.seq = ref.getFrameIndex();
       f.intrinsics = m.intrinsics;
       cv::Mat(h, w, CV_16UC1, const_cast<void*>(ref.getData()), stride).copyTo(f.depth);
@@ -283,7 +285,7 @@ std::optional<DepthFrame> OpenNI2Source::grab(std::chrono::milliseconds timeout)
   }
 }
 
-std::unique_ptr<DepthSource> make_openni2_source(const OpenNI2Options& options) {
+std::unique_ptr<camera::DepthSource> make_openni2_source(const OpenNI2Options& options) {
   return std::make_unique<OpenNI2Source>(options);
 }
 

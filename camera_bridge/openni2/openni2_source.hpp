@@ -25,14 +25,14 @@ struct OpenNI2Options {
   enum class DepthUnit { any, mm, tenth_mm } depth_unit = DepthUnit::any;  // DEPTH_1_MM / DEPTH_100_UM
 };
 
-class OpenNI2Source : public DepthSource {
+class OpenNI2Source : public camera::DepthSource {
  public:
   explicit OpenNI2Source(OpenNI2Options options);
   ~OpenNI2Source() override;
   std::string describe() const override;
   void open() override;
   bool is_open() const override;
-  std::optional<DepthFrame> grab(std::chrono::milliseconds timeout) override;
+  std::optional<camera::DepthFrame> grab(std::chrono::milliseconds timeout) override;
   void close() override;
 
   bool is_recording() const;             // opened an .oni file
@@ -45,6 +45,6 @@ class OpenNI2Source : public DepthSource {
   std::unique_ptr<Impl> impl_;
 };
 
-std::unique_ptr<DepthSource> make_openni2_source(const OpenNI2Options& options);
+std::unique_ptr<camera::DepthSource> make_openni2_source(const OpenNI2Options& options);
 
 }  // namespace hg::camera_bridge

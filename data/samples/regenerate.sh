@@ -3,6 +3,8 @@
 # again with the same hg-gen reproduces the same bytes. Usage: data/samples/regenerate.sh [BUILD_DIR]
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
+source "$here/../../tools/version.sh"
+hg_answer regenerate.sh "$0" "$@"
 gen=${1:-$here/../../build}/bin/hg-gen
 [[ -x $gen ]] || { echo "regenerate.sh: $gen not built (cmake --build BUILD_DIR --target hg-gen)" >&2; exit 1; }
 

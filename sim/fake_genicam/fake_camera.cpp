@@ -11,7 +11,7 @@
 #define HG_GENICAM_XML ""
 #endif
 
-namespace hg::camera_bridge {
+namespace hg::sim {
 
 namespace {
 ArvGvFakeCamera* gv(void* p) { return static_cast<ArvGvFakeCamera*>(p); }
@@ -129,4 +129,4 @@ void FakeGenicamCamera::fill_abc32f_row(const std::uint16_t* depth, int row, flo
   }
 }
 
-}  // namespace hg::camera_bridge
+}  // namespace hg::sim

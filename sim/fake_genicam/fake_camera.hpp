@@ -13,7 +13,7 @@
 
 #include "sim/scene/scene.hpp"
 
-namespace hg::camera_bridge {
+namespace hg::sim {
 
 struct FakeGenicamOptions {
   std::string interface = "127.0.0.1";  // address or interface name Aravis binds the fake device to
@@ -66,4 +66,4 @@ constexpr std::uint32_t kScale = 0x400, kOffset = 0x408, kInvalid = 0x410, kFoca
 constexpr std::uint32_t kWidth = 0x100, kHeight = 0x104;
 }  // namespace fake_genicam_reg
 
-}  // namespace hg::camera_bridge
+}  // namespace hg::sim

@@ -14,7 +14,7 @@
 #include "sim/fake_genicam/fake_camera.hpp"
 #include "runtime/version.hpp"
 
-using namespace hg::camera_bridge;
+using namespace hg::sim;
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include "partgen/synth.hpp"
 #include "partgen/writers.hpp"
 
-namespace hg::camera_bridge {
+namespace hg::sim {
 
 namespace {
 
@@ -370,4 +370,4 @@ void write_truth(const SceneSpec& spec, const CameraProfile& prof, const Rendere
   partgen::write_json(j, path);
 }
 
-}  // namespace hg::camera_bridge
+}  // namespace hg::sim

@@ -22,7 +22,7 @@
 #include "camera_types/depth_source.hpp"
 #include "partgen/shapes.hpp"
 
-namespace hg::camera_bridge {
+namespace hg::sim {
 
 struct CameraProfile {
   std::string name;
@@ -33,7 +33,7 @@ struct CameraProfile {
   double noise_a = 0, noise_b = 0;        // depth noise sigma(z) = noise_a + noise_b * z^2 (metres, z in metres)
   double dropout = 0;                     // fraction of pixels with no data (count 0), at random
   double flying_pixel_prob = 0;           // chance that a pixel at a depth edge gets a mixed depth
-  Intrinsics intrinsics() const { return {width, height, fx, fy, cx, cy, depth_unit}; }
+  camera::Intrinsics intrinsics() const { return {width, height, fx, fy, cx, cy, depth_unit}; }
 };
 
 // "pm806": 1280x960, Percipio PM806-class (low density); "lsr-l": 2048x1536, Mech-Eye LSR-L-class (high
@@ -65,7 +65,7 @@ std::vector<std::string> scene_preset_names();
 
 struct RenderedFrame {
   cv::Mat depth;  // CV_16UC1, counts of intrinsics.depth_unit, 0 = no data
-  Intrinsics intrinsics;
+  camera::Intrinsics intrinsics;
   // CV_8UC1 ground truth per pixel: 0 = table, k + 1 = the pixel's centre ray first hits part k (its top
   // face or a side wall), before noise, dropout and flying pixels.
   cv::Mat truth_labels;
@@ -87,4 +87,4 @@ RenderedFrame render(const SceneSpec& spec, const CameraProfile& profile, std::u
 void write_truth(const SceneSpec& spec, const CameraProfile& profile, const RenderedFrame& frame,
                  std::uint64_t frame_index, const std::string& path);
 
-}  // namespace hg::camera_bridge
+}  // namespace hg::sim

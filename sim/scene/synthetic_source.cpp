@@ -3,19 +3,19 @@
 #include "camera_types/pacing.hpp"
 #include "runtime/node.hpp"
 
-namespace hg::camera_bridge {
+namespace hg::sim {
 
 SyntheticSource::SyntheticSource(SceneSpec spec, CameraProfile profile, double rate)
-    : spec_(std::move(spec)), profile_(std::move(profile)), period_(period_of(rate)) {}
+    : spec_(std::move(spec)), profile_(std::move(profile)), period_(camera::period_of(rate)) {}
 
 std::string SyntheticSource::describe() const {
   return "synthetic scene '" + spec_.name + "' with camera profile " + profile_.name;
 }
 
-std::optional<DepthFrame> SyntheticSource::grab(std::chrono::milliseconds timeout) {
-  if (!open_) throw SourceError("synthetic source is not open");
-  if (!wait_slot(next_, period_, timeout)) return std::nullopt;
-  DepthFrame f;
+std::optional<camera::DepthFrame> SyntheticSource::grab(std::chrono::milliseconds timeout) {
+  if (!open_) throw camera::SourceError("synthetic source is not open");
+  if (!camera::wait_slot(next_, period_, timeout)) return std::nullopt;
+  camera::DepthFrame f;
   f.seq = index_;
   RenderedFrame r = render(spec_, profile_, static_cast<std::uint64_t>(index_++));
   // Stamped when the frame exists, as a camera stamps its frames: the rendering stands in for the exposure
@@ -26,4 +26,4 @@ std::optional<DepthFrame> SyntheticSource::grab(std::chrono::milliseconds timeou
   return f;
 }
 
-}  // namespace hg::camera_bridge
+}  // namespace hg::sim

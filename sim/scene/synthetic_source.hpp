@@ -11,17 +11,17 @@
 #include "camera_types/depth_source.hpp"
 #include "sim/scene/scene.hpp"
 
-namespace hg::camera_bridge {
+namespace hg::sim {
 
 // Renders spec with profile; frames come at `rate` Hz (<= 0: as fast as they are asked for), frame index
 // 0, 1, 2, ... so a run is reproducible.
-class SyntheticSource : public DepthSource {
+class SyntheticSource : public camera::DepthSource {
  public:
   SyntheticSource(SceneSpec spec, CameraProfile profile, double rate);
   std::string describe() const override;
   void open() override { open_ = true; }
   bool is_open() const override { return open_; }
-  std::optional<DepthFrame> grab(std::chrono::milliseconds timeout) override;
+  std::optional<camera::DepthFrame> grab(std::chrono::milliseconds timeout) override;
   void close() override { open_ = false; }
   const SceneSpec& spec() const { return spec_; }
   const CameraProfile& profile() const { return profile_; }
@@ -35,4 +35,4 @@ class SyntheticSource : public DepthSource {
   bool open_ = false;
 };
 
-}  // namespace hg::camera_bridge
+}  // namespace hg::sim

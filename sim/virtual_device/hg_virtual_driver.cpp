@@ -25,7 +25,7 @@
 #include "sim/virtual_device/virtual_config.hpp"
 #include "sim/virtual_device/virtual_properties.hpp"
 
-namespace hg::camera_bridge::virtual_device {
+namespace hg::sim::virtual_device {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -112,7 +112,7 @@ class DepthStream : public oni::driver::StreamBase {
   }
 
   OniStatus getProperty(int id, void* data, int* size) override {
-    const Intrinsics& in = renderer_->intrinsics();
+    const camera::Intrinsics& in = renderer_->intrinsics();
     switch (id) {
       case ONI_STREAM_PROPERTY_VIDEO_MODE: return put(data, size, mode_);
       // OpenNI's pinhole model: tan(fov/2) = (resolution/2) / focal length.
@@ -191,7 +191,7 @@ class VirtualDevice : public oni::driver::DeviceBase {
  public:
   VirtualDevice(VirtualDriver& driver, DeviceEntry& entry, std::shared_ptr<const FrameRenderer> renderer)
       : driver_(driver), entry_(entry), renderer_(std::move(renderer)) {
-    const Intrinsics& in = renderer_->intrinsics();
+    const camera::Intrinsics& in = renderer_->intrinsics();
     const int fps = std::max(1, static_cast<int>(std::lround(entry.config.fps)));
     const OniPixelFormat native = pixel_format_for_unit(in.depth_unit);
     const OniPixelFormat other =
@@ -430,7 +430,7 @@ void DepthStream::run() {
   const double fps = device_.entry().config.fps;
   const auto period = std::chrono::duration<double>(1.0 / fps);
   const auto t0 = Clock::now();
-  const Intrinsics& in = renderer_->intrinsics();
+  const camera::Intrinsics& in = renderer_->intrinsics();
   for (std::uint64_t n = 1;; ++n) {
     {
       std::unique_lock lock(mutex_);
@@ -491,7 +491,7 @@ void DepthStream::run() {
 }
 
 }  // namespace
-}  // namespace hg::camera_bridge::virtual_device
+}  // namespace hg::sim::virtual_device
 
-using HgVirtualDriver = hg::camera_bridge::virtual_device::VirtualDriver;
+using HgVirtualDriver = hg::sim::virtual_device::VirtualDriver;
 ONI_EXPORT_DRIVER(HgVirtualDriver)

@@ -12,7 +12,7 @@
 #include "sim/scene/scene.hpp"
 #endif
 
-namespace hg::camera_bridge::virtual_device {
+namespace hg::sim::virtual_device {
 namespace {
 
 [[noreturn]] void fail(const std::string& uri, std::size_t offset, const std::string& what) {
@@ -134,7 +134,7 @@ FrameRenderer::FrameRenderer(const VirtualDeviceConfig& config) {
 }
 
 cv::Mat FrameRenderer::render(std::uint64_t frame_index) const {
-  return hg::camera_bridge::render(impl_->spec, impl_->profile, frame_index).depth;
+  return hg::sim::render(impl_->spec, impl_->profile, frame_index).depth;
 }
 #else
 // Stand-in until the scene renderer (hg_camera_scene) is built: a flat table 1.2 m below the camera with
@@ -159,4 +159,4 @@ cv::Mat FrameRenderer::render(std::uint64_t) const {
 }
 #endif
 
-}  // namespace hg::camera_bridge::virtual_device
+}  // namespace hg::sim::virtual_device

@@ -13,7 +13,7 @@
 
 #include "camera_types/depth_source.hpp"
 
-namespace hg::camera_bridge::virtual_device {
+namespace hg::sim::virtual_device {
 
 inline constexpr const char* kUriScheme = "hg-virtual://";
 
@@ -46,13 +46,13 @@ std::string announced_uri_from_environment();
 class FrameRenderer {
  public:
   explicit FrameRenderer(const VirtualDeviceConfig& config);  // throws std::invalid_argument (unknown names)
-  const Intrinsics& intrinsics() const { return intrinsics_; }
+  const camera::Intrinsics& intrinsics() const { return intrinsics_; }
   cv::Mat render(std::uint64_t frame_index) const;  // CV_16UC1
 
  private:
   struct Impl;
   std::shared_ptr<const Impl> impl_;
-  Intrinsics intrinsics_;
+  camera::Intrinsics intrinsics_;
 };
 
-}  // namespace hg::camera_bridge::virtual_device
+}  // namespace hg::sim::virtual_device

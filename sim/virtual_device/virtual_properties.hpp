@@ -3,9 +3,9 @@
 // the exact one, others assume the image centre.
 #pragma once
 
-namespace hg::camera_bridge::virtual_device {
+namespace hg::sim::virtual_device {
 
 // double[2] = {cx, cy} in pixels. Read-only. Value chosen in the vendor-private range ("HG" + 1).
 inline constexpr int kStreamPropertyPrincipalPoint = 0x48470001;
 
-}  // namespace hg::camera_bridge::virtual_device
+}  // namespace hg::sim::virtual_device

@@ -8,7 +8,7 @@
 #include "calibration/target.hpp"
 
 using namespace hg::calibration;
-namespace cb = hg::camera_bridge;
+namespace scene = hg::sim;
 
 TEST(CalibrationPlate, PoseInTheCameraMatchesTheRenderersTruth) {
   const Drawing drawing = calibration_plate_drawing();
@@ -32,8 +32,8 @@ TEST(CalibrationPlate, PoseInTheCameraMatchesTheRenderersTruth) {
 }
 
 TEST(CalibrationPlate, AnotherPartIsRefused) {
-  cb::SceneSpec spec = cb::scene_preset("plate-hole-slot");  // two cut-outs, neither of the drawing's
-  const cb::RenderedFrame f = cb::render(spec, cb::camera_profile("pm806"), 0);
+  scene::SceneSpec spec = scene::scene_preset("plate-hole-slot");  // two cut-outs, neither of the drawing's
+  const scene::RenderedFrame f = scene::render(spec, scene::camera_profile("pm806"), 0);
   try {
     detect_plate(f.depth, f.intrinsics, calibration_plate_drawing());
     ADD_FAILURE() << "accepted";

@@ -17,6 +17,7 @@
 #include "camera_bridge/segment.hpp"
 
 using namespace hg::camera_bridge;
+using namespace hg::sim;
 
 namespace {
 

@@ -12,6 +12,8 @@
 #include "camera_bridge/sources.hpp"
 
 using namespace hg::camera_bridge;
+using namespace hg::camera;
+using namespace hg::sim;
 namespace fs = std::filesystem;
 
 namespace {

@@ -22,6 +22,7 @@
 
 using namespace std::chrono_literals;
 using namespace hg::camera_bridge;
+using namespace hg::sim;
 using Clock = std::chrono::steady_clock;
 
 namespace {

@@ -33,6 +33,8 @@
 
 using namespace std::chrono_literals;
 using namespace hg::camera_bridge;
+using namespace hg::camera;
+using namespace hg::sim;
 using Clock = std::chrono::steady_clock;
 
 namespace {

@@ -72,7 +72,7 @@ def violation(src, dst):
     if a in EXEMPT or a == b:
         return None
     if a not in LAYER_OF:
-        return f"{a or src} is in no layer (add it to LAYERS in tests/lint/check_layers.py)"
+        return f"{a or src} is in no layer (add it to LAYERS in tests/layers/check_layers.py)"
     if b not in LAYER_OF:
         return f"{a} includes tests/ (only tests may)" if b in EXEMPT else f"{b} is in no layer"
     (la, na), (lb, nb) = LAYER_OF[a], LAYER_OF[b]
@@ -87,6 +87,11 @@ def check(root):
     files = [f.replace(os.sep, "/") for f in list_files(root)]
     known = set(files)
     problems = []
+    # Every folder with source files has a layer, even one that includes nothing of the tree yet.
+    unlayered = sorted({top_folder(f) for f in files if f.endswith(SOURCE_EXT)} - set(LAYER_OF) - EXEMPT)
+    for folder in unlayered:
+        problems.append(f"{folder or '(the top folder)'}/: source files in no layer (add the folder to LAYERS in "
+                        "tests/layers/check_layers.py)")
     for f in sorted(files):
         if not f.endswith(SOURCE_EXT) or top_folder(f) in EXEMPT:
             continue

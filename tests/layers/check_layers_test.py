@@ -74,6 +74,10 @@ class CheckLayers(unittest.TestCase):
         self.assert_fails({"newthing/a.cpp": '#include "runtime/node.hpp"\n'}, "newthing/a.cpp:1:",
                           "newthing is in no layer")
 
+    def test_a_folder_in_no_layer_fails_even_without_includes_of_the_tree(self):
+        self.assert_fails({"newthing/a.cpp": "#include <vector>\n", "newthing/b.hpp": "#pragma once\n"},
+                          "newthing/:", "source files in no layer")
+
     def test_a_quoted_include_that_names_no_file_fails(self):
         # An include root the checker does not know would otherwise hide the include from the check.
         out = self.assert_fails({"robot_bridge/bridge.cpp": '#include "somewhere/unknown.hpp"\n#include <unknown_system_header>\n'},

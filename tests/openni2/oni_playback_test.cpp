@@ -60,14 +60,14 @@ TEST(OpenNI2Oni, RecordedFromVirtualDevicePlaysBackEveryFrame) {
   ASSERT_TRUE(source.is_recording());
   const std::int64_t n = source.recorded_frames();
   ASSERT_GE(n, 5);  // the recorder saw every frame the device served, at least the 5 read
-  const CameraProfile profile = camera_profile("pm806");
+  const sim::CameraProfile profile = sim::camera_profile("pm806");
 
   // The recorder numbers its frames from 1; device frames it missed before its thread started shift them
   // by a constant, found on the first frame.
   std::optional<std::int64_t> shift;
   std::int64_t played = 0, first_utime = 0;
   while (!source.end_of_recording() && played < n + 5) {
-    std::optional<DepthFrame> f = source.grab(10s);
+    std::optional<camera::DepthFrame> f = source.grab(10s);
     ASSERT_TRUE(f) << "playback stalled after " << played << " of " << n << " frames";
     ++played;
     EXPECT_EQ(f->seq, played);
@@ -104,7 +104,7 @@ TEST(OpenNI2Oni, RecordedFromVirtualDevicePlaysBackEveryFrame) {
   OpenNI2Source looping(o);
   looping.open();
   cv::Mat first_depth;
-  std::optional<DepthFrame> f;
+  std::optional<camera::DepthFrame> f;
   for (std::int64_t i = 0; i <= n; ++i) {
     f = looping.grab(10s);
     ASSERT_TRUE(f) << "loop playback stalled at frame " << i;

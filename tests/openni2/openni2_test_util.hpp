@@ -17,9 +17,9 @@ namespace hg::camera_bridge::testing {
 
 inline cv::Mat expected_depth(const std::string& scene, const std::string& profile, std::optional<std::uint64_t> seed,
                               std::uint64_t frame_index) {
-  SceneSpec spec = scene_preset(scene);
+  sim::SceneSpec spec = sim::scene_preset(scene);
   if (seed) spec.seed = *seed;
-  return render(spec, camera_profile(profile), frame_index).depth;
+  return sim::render(spec, sim::camera_profile(profile), frame_index).depth;
 }
 
 inline std::int64_t differing_pixels(const cv::Mat& a, const cv::Mat& b) {

@@ -19,13 +19,13 @@ TEST(OpenNI2Source, DeliversTheVirtualDevicesFramesWithIntrinsics) {
   EXPECT_FALSE(source->is_open());
   source->open();
   ASSERT_TRUE(source->is_open());
-  const CameraProfile profile = camera_profile("lsr-l");
-  std::optional<DepthFrame> first;
+  const sim::CameraProfile profile = sim::camera_profile("lsr-l");
+  std::optional<camera::DepthFrame> first;
   for (int i = 0; i < 3; ++i) {
-    std::optional<DepthFrame> f;
+    std::optional<camera::DepthFrame> f;
     for (int attempt = 0; attempt < 10 && !f; ++attempt) f = source->grab(5s);
     ASSERT_TRUE(f) << "no frame";
-    const Intrinsics& in = f->intrinsics;
+    const camera::Intrinsics& in = f->intrinsics;
     EXPECT_EQ(in.width, profile.width);
     EXPECT_EQ(in.height, profile.height);
     EXPECT_NEAR(in.fx / profile.fx, 1.0, 1e-6);  // from the field of view
@@ -51,7 +51,7 @@ TEST(OpenNI2Source, EmptyUriOpensTheFirstDevice) {
   auto source = make_openni2_source({});
   source->open();
   EXPECT_NE(source->describe().find("first device"), std::string::npos) << source->describe();
-  std::optional<DepthFrame> f;
+  std::optional<camera::DepthFrame> f;
   for (int attempt = 0; attempt < 10 && !f; ++attempt) f = source->grab(5s);
   ASSERT_TRUE(f);
   EXPECT_FALSE(f->depth.empty());
@@ -60,14 +60,14 @@ TEST(OpenNI2Source, EmptyUriOpensTheFirstDevice) {
 
 TEST(OpenNI2Source, VideoModePreferenceIsHonouredOrRefused) {
   init_openni_from_private_folder();
-  const CameraProfile profile = camera_profile("pm806");
+  const sim::CameraProfile profile = sim::camera_profile("pm806");
   OpenNI2Options o;
   o.uri = "hg-virtual://demo?profile=pm806&fps=10";
   o.depth_unit = profile.depth_unit == 0.001 ? OpenNI2Options::DepthUnit::tenth_mm : OpenNI2Options::DepthUnit::mm;
   {
     OpenNI2Source source(o);
     source.open();
-    std::optional<DepthFrame> f;
+    std::optional<camera::DepthFrame> f;
     for (int attempt = 0; attempt < 10 && !f; ++attempt) f = source.grab(5s);
     ASSERT_TRUE(f);
     EXPECT_EQ(f->intrinsics.depth_unit, profile.depth_unit == 0.001 ? 0.0001 : 0.001);
@@ -77,7 +77,7 @@ TEST(OpenNI2Source, VideoModePreferenceIsHonouredOrRefused) {
   try {
     source.open();
     FAIL() << "expected SourceError";
-  } catch (const SourceError& e) {
+  } catch (const camera::SourceError& e) {
     EXPECT_NE(std::string(e.what()).find("device offers: 1280x960"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(source.is_open());
@@ -91,22 +91,22 @@ TEST(OpenNI2Source, MissingRecordingAndUnknownDeviceAreSourceErrors) {
   try {
     source->open();
     FAIL() << "expected SourceError";
-  } catch (const SourceError& e) {
+  } catch (const camera::SourceError& e) {
     EXPECT_NE(std::string(e.what()).find("does-not-exist.oni"), std::string::npos) << e.what();
   }
   o.uri = "hg-virtual://no-such-scene";
-  EXPECT_THROW(make_openni2_source(o)->open(), SourceError);
+  EXPECT_THROW(make_openni2_source(o)->open(), camera::SourceError);
   o.uri = "usb://nothing-here";
-  EXPECT_THROW(make_openni2_source(o)->open(), SourceError);
+  EXPECT_THROW(make_openni2_source(o)->open(), camera::SourceError);
 }
 
 // Grabs until the source throws; returns the frames delivered before (or -1 if it never threw).
-int frames_until_loss(DepthSource& source) {
+int frames_until_loss(camera::DepthSource& source) {
   int frames = 0;
   for (int attempt = 0; attempt < 100; ++attempt) {
     try {
       if (source.grab(2s)) ++frames;
-    } catch (const SourceError& e) {
+    } catch (const camera::SourceError& e) {
       EXPECT_NE(std::string(e.what()).find("lost"), std::string::npos) << e.what();
       return frames;
     }
@@ -122,10 +122,10 @@ TEST(OpenNI2Source, LostDeviceThrowsAndStaysLostWithoutReconnect) {
   source->open();
   const int frames = frames_until_loss(*source);
   EXPECT_GE(frames, 1);
-  EXPECT_LE(frames, 3);                            // the device serves exactly 3; a slow reader may see fewer
-  EXPECT_THROW(source->grab(100ms), SourceError);  // keeps saying so, no crash
+  EXPECT_LE(frames, 3);                                    // the device serves exactly 3; a slow reader may see fewer
+  EXPECT_THROW(source->grab(100ms), camera::SourceError);  // keeps saying so, no crash
   source->close();
-  EXPECT_THROW(source->open(), SourceError);  // never comes back: reconnect_after not given
+  EXPECT_THROW(source->open(), camera::SourceError);  // never comes back: reconnect_after not given
   EXPECT_FALSE(source->is_open());
 }
 
@@ -143,12 +143,12 @@ TEST(OpenNI2Source, LostDeviceReopensAfterReconnect) {
     try {
       source->open();
       reopened = true;
-    } catch (const SourceError&) {
+    } catch (const camera::SourceError&) {
       std::this_thread::sleep_for(100ms);
     }
   }
   ASSERT_TRUE(reopened);
-  std::optional<DepthFrame> f;
+  std::optional<camera::DepthFrame> f;
   for (int attempt = 0; attempt < 10 && !f; ++attempt) f = source->grab(5s);
   ASSERT_TRUE(f);
   // A new session counts from frame 1 again; its frames are still the renderer's.

@@ -10,9 +10,9 @@ namespace hg::camera_bridge {
 namespace {
 
 using namespace testing;
-using virtual_device::parse_virtual_uri;
-using virtual_device::to_uri;
-using virtual_device::VirtualDeviceConfig;
+using sim::virtual_device::parse_virtual_uri;
+using sim::virtual_device::to_uri;
+using sim::virtual_device::VirtualDeviceConfig;
 
 TEST(OpenNI2VirtualUri, ParsesEveryOption) {
   const auto c = parse_virtual_uri(
@@ -67,7 +67,7 @@ TEST(OpenNI2VirtualUri, BadUrisNameTheByte) {
 
 TEST(OpenNI2VirtualDevice, EnumeratedByOpenNI) {
   init_openni_from_private_folder();
-  const std::string announced = virtual_device::announced_uri_from_environment();
+  const std::string announced = sim::virtual_device::announced_uri_from_environment();
   openni::Array<openni::DeviceInfo> list;
   openni::OpenNI::enumerateDevices(&list);
   bool found = false;
@@ -87,7 +87,7 @@ TEST(OpenNI2VirtualDevice, StreamsTheRenderersFrames) {
   EXPECT_EQ(std::string(device.getDeviceInfo().getUri()), uri);
   openni::VideoStream stream;
   ASSERT_EQ(stream.create(device, openni::SENSOR_DEPTH), openni::STATUS_OK);
-  const CameraProfile profile = camera_profile("pm806");
+  const sim::CameraProfile profile = sim::camera_profile("pm806");
   const openni::VideoMode mode = stream.getVideoMode();
   EXPECT_EQ(mode.getResolutionX(), profile.width);
   EXPECT_EQ(mode.getResolutionY(), profile.height);
@@ -124,7 +124,7 @@ TEST(OpenNI2VirtualDevice, OtherDepthUnitIsRecountedFromTheSameFrame) {
   ASSERT_EQ(device.open(uri.c_str()), openni::STATUS_OK) << openni::OpenNI::getExtendedError();
   openni::VideoStream stream;
   ASSERT_EQ(stream.create(device, openni::SENSOR_DEPTH), openni::STATUS_OK);
-  const CameraProfile profile = camera_profile("pm806");
+  const sim::CameraProfile profile = sim::camera_profile("pm806");
   const bool native_mm = profile.depth_unit == 0.001;
   openni::VideoMode mode = stream.getVideoMode();
   mode.setPixelFormat(native_mm ? openni::PIXEL_FORMAT_DEPTH_100_UM : openni::PIXEL_FORMAT_DEPTH_1_MM);
@@ -150,7 +150,7 @@ TEST(OpenNI2VirtualDevice, OtherDepthUnitIsRecountedFromTheSameFrame) {
 TEST(OpenNI2VirtualDevice, FieldOfViewGivesTheProfilesFocalLengths) {
   init_openni_from_private_folder();
   for (const char* name : {"pm806", "lsr-l"}) {
-    const CameraProfile profile = camera_profile(name);
+    const sim::CameraProfile profile = sim::camera_profile(name);
     const std::string uri = std::string("hg-virtual://empty?profile=") + name;
     openni::Device device;
     ASSERT_EQ(device.open(uri.c_str()), openni::STATUS_OK) << openni::OpenNI::getExtendedError();

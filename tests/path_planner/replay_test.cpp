@@ -139,17 +139,18 @@ TEST(PathPlannerReplay, EveryPlannedPathPassesTheRobotBridgesCheck) {
 // the run's config; the robot starts at its sim-home, which is the planner's home.
 TEST(PathPlannerReplay, MakeRunSceneFramesPassTheRobotBridgesCheck) {
   namespace cb = hg::camera_bridge;
+  namespace sim = hg::sim;
   const rb::Limits limits = bridge_limits();
   // small_hole skip: some frames' noise opens a spurious pin hole in the outline (reported as a warning).
   const PlannerConfig cfg = planner_config({{"small-hole", "skip"}});
   PlannerConfig unlimited = cfg;
   unlimited.limits.max_accel = 1e12;
-  const cb::SceneSpec spec = cb::scene_preset("plate-hole-slot");
-  const cb::CameraProfile profile = cb::camera_profile("pm806");
+  const sim::SceneSpec spec = sim::scene_preset("plate-hole-slot");
+  const sim::CameraProfile profile = sim::camera_profile("pm806");
   int refused_unlimited = 0, frames = 0, lowered = 0;
   double slowest = 1e9;
   for (std::uint64_t k = 0; k < 20; ++k) {
-    const cb::RenderedFrame f = cb::render(spec, profile, k);
+    const sim::RenderedFrame f = sim::render(spec, profile, k);
     const cb::Segmentation seg = cb::segment(f.depth, f.intrinsics, cb::SegmentParams{});
     ASSERT_EQ(seg.status, cb::SegmentStatus::Ok) << seg.text;
     hullgrind::plate_cloud_t cloud;
@@ -193,11 +194,12 @@ namespace {
 // the ring it grinds. Returns the worst error per ring over the frames; checks that every ring was ground.
 std::vector<double> ground_truth_errors(const std::string& scene, const std::string& camera, int frames) {
   namespace cb = hg::camera_bridge;
-  const cb::SceneSpec spec = cb::scene_preset(scene);
-  const cb::CameraProfile profile = cb::camera_profile(camera);
+  namespace sim = hg::sim;
+  const sim::SceneSpec spec = sim::scene_preset(scene);
+  const sim::CameraProfile profile = sim::camera_profile(camera);
   std::vector<double> worst_all;
   for (int k = 0; k < frames; ++k) {
-    const cb::RenderedFrame f = cb::render(spec, profile, std::uint64_t(k));
+    const sim::RenderedFrame f = sim::render(spec, profile, std::uint64_t(k));
     EXPECT_EQ(f.part_polygons.size(), 1u) << scene;
     // The pixel pitch on the plate, as config/pipeline.toml gives it to the planner: plate top distance / fx.
     const double pitch = (std::abs(f.table_offset) - f.part_thickness[0]) / f.intrinsics.fx;

@@ -1,12 +1,16 @@
-// The shared runtime without sockets: config file, parameter precedence, command-line errors, and
-// decode-error counting, over LCM's in-process memq:// provider.
+// runtime::Node without sockets: parameter precedence, command-line errors, decode-error counting and
+// header sequence numbers, over LCM's in-process memq:// provider.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <unistd.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
 
 #include "hullgrind/job_request_t.hpp"
 #include "runtime/node.hpp"
+#include "tests/common/temp_file.hpp"
 
 namespace hr = hg::runtime;
 
@@ -34,49 +38,8 @@ struct Argv {
   char** argv() { return ptrs.data(); }
 };
 
-std::string temp_file(const std::string& content) {
-  char name[] = "/tmp/hg-config-XXXXXX.yaml";
-  int fd = mkstemps(name, 5);
-  EXPECT_GE(fd, 0);
-  EXPECT_EQ(write(fd, content.data(), content.size()), ssize_t(content.size()));
-  close(fd);
-  return name;
-}
-
-TEST(RuntimeConfig, NestedKeysAndTypes) {
-  auto c = hr::Config::from_string("robot:\n  speed: 0.25\n  name: ur10e\n  box: [1, 2.5, -3]\nn: 7\n");
-  EXPECT_EQ(c.get_double("robot.speed").value(), 0.25);
-  EXPECT_EQ(c.get_string("robot.name").value(), "ur10e");
-  EXPECT_EQ(c.get_double("n").value(), 7);
-  EXPECT_EQ(c.get_doubles("robot.box").value(), (std::vector<double>{1, 2.5, -3}));
-  EXPECT_FALSE(c.get_double("robot.missing").has_value());
-  EXPECT_FALSE(c.has("nothing.here"));
-  EXPECT_THROW(c.get_double("robot.name"), hr::ConfigError);
-  EXPECT_THROW(c.get_doubles("robot.speed"), hr::ConfigError);
-}
-
-TEST(RuntimeConfig, CommentsAreNotPartOfValues) {
-  auto c = hr::Config::from_string(
-      "# a config\nspeed: 0.25   # m/s\nname: \"a # b\"  # quoted hash stays\nlist: [1, 2] # two\n");
-  EXPECT_EQ(c.get_double("speed").value(), 0.25);
-  EXPECT_EQ(c.get_string("name").value(), "a # b");
-  EXPECT_EQ(c.get_doubles("list").value(), (std::vector<double>{1, 2}));
-}
-
-TEST(RuntimeConfig, BadFileNamesTheFile) {
-  try {
-    hr::Config::load("/nonexistent/hg.yaml");
-    FAIL() << "no error";
-  } catch (const hr::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/hg.yaml"), std::string::npos);
-  }
-  std::string bad = temp_file("robot: [1, 2\n  : : :\n");
-  EXPECT_THROW(hr::Config::load(bad), hr::ConfigError);
-  unlink(bad.c_str());
-}
-
 TEST(RuntimeNode, CommandLineBeatsConfigBeatsDefault) {
-  std::string cfg = temp_file("speed: 0.5\nmode: ds\n");
+  std::string cfg = hg::test::temp_yaml("speed: 0.5\nmode: ds\n");
   Argv a({"--lcm-url", "memq://", "--config", cfg, "--mode", "ordinary", "--dry-run"});
   hr::Node node(info(), a.argc(), a.argv());
   EXPECT_EQ(node.param("mode"), "ordinary");                                // command line
@@ -162,16 +125,6 @@ TEST(RuntimeNode, PublishFillsHeaderSequencePerChannel) {
   EXPECT_EQ(other.header.seq, 0);  // B counts on its own
   EXPECT_EQ(seqs, (std::vector<int64_t>{0, 1, 2}));
   EXPECT_EQ(node.counters().published.load(), 4);
-}
-
-TEST(RuntimeLog, RateLimiterHoldsBackAndReports) {
-  hr::RateLimiter limiter(2, std::chrono::hours(1));
-  uint64_t suppressed = 99;
-  EXPECT_TRUE(limiter.allow(suppressed));
-  EXPECT_EQ(suppressed, 0u);
-  EXPECT_TRUE(limiter.allow(suppressed));
-  EXPECT_FALSE(limiter.allow(suppressed));
-  EXPECT_FALSE(limiter.allow(suppressed));
 }
 
 }  // namespace

@@ -2,17 +2,25 @@
 // types (real booleans, lists), and errors that name the file, the key and the nearest known key.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <unistd.h>
 #include <vector>
 
 #include "runtime/node.hpp"
 #include "runtime/params.hpp"
+#include "tests/common/temp_file.hpp"
 
 namespace hr = hg::runtime;
 
 namespace {
+
+using hg::test::temp_yaml;
 
 std::vector<hr::Param> declared() {
   return {hr::number_param("tool-radius", "0.01", "tool radius, m", 0, 1, true),
@@ -22,15 +30,6 @@ std::vector<hr::Param> declared() {
           hr::flag_param("dry-run", "do nothing"),
           hr::Param{"edge-compensation", "true", "a flag that defaults to true", false, hr::ParamType::Flag},
           hr::text_param("frame", "robot_base", "frame name")};
-}
-
-std::string temp_yaml(const std::string& content) {
-  char name[] = "/tmp/hg-params-XXXXXX.yaml";
-  const int fd = mkstemps(name, 5);
-  EXPECT_GE(fd, 0);
-  EXPECT_EQ(write(fd, content.data(), content.size()), ssize_t(content.size()));
-  close(fd);
-  return name;
 }
 
 // Parses args (argv[0] added) and returns the ConfigError's message, or "" when parsing succeeded.
@@ -171,6 +170,48 @@ TEST(RuntimeParams, HelpAndVersionAnswerBeforeAnythingElse) {
   EXPECT_EQ(p.parse(3, version), hr::Params::Action::Version);
   const std::string md = p.markdown();
   for (const hr::Param& d : declared()) EXPECT_TRUE(contains(md, "| `" + d.name + "` |")) << d.name;
+}
+
+// --help from the declarations: every word of every help text (and its range and default) in order, no
+// line past column 110 however long the help, value names as declared, an alias beside its long form.
+TEST(RuntimeParams, HelpIsTheDeclarationsWrappedAt110Columns) {
+  std::string long_help;
+  std::mt19937 rng(3);
+  for (int i = 0; i < 90; ++i) long_help += std::string(1 + rng() % 12, char('a' + i % 26)) + " ";
+  std::vector<hr::Param> params = declared();
+  params.push_back(hr::text_param("output", "", long_help));
+  params.back().alias = "-o";
+  params.push_back(hr::number_param("radius", "2", "short help", 0));
+  hr::set_value_names(params, {{"output", "FILE"}, {"radius", "R"}});
+  EXPECT_THROW(hr::set_value_names(params, {{"no-such", "X"}}), std::invalid_argument);
+  char* buffer = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&buffer, &size);
+  hr::Params(params).print_options(out);
+  std::fclose(out);
+  const std::string text(buffer, size);
+  std::free(buffer);
+  std::istringstream lines(text);
+  std::vector<std::string> printed_words;
+  for (std::string line; std::getline(lines, line);) {
+    EXPECT_LE(line.size(), 110u) << line;
+    std::istringstream words(line);
+    for (std::string w; words >> w;) printed_words.push_back(w);
+  }
+  std::istringstream expected_words(long_help);
+  auto at = std::find(printed_words.begin(), printed_words.end(), "--output");
+  ASSERT_NE(at, printed_words.end()) << text;
+  EXPECT_EQ(*std::next(at), "FILE");
+  EXPECT_EQ(*std::prev(at, 2), "-o");  // "-o FILE, --output FILE"
+  EXPECT_EQ(*std::prev(at), "FILE,");
+  at += 2;
+  for (std::string w; expected_words >> w; ++at) {
+    ASSERT_NE(at, printed_words.end());
+    EXPECT_EQ(*at, w);
+  }
+  EXPECT_TRUE(contains(text, "--radius R ")) << text;
+  EXPECT_TRUE(contains(text, "short help (>= 0) [default: 2]\n")) << text;
+  EXPECT_TRUE(contains(text, "--small-hole VALUE ")) << text;  // no value name: VALUE
 }
 
 TEST(RuntimeParams, EditDistance) {

@@ -1,4 +1,4 @@
-"""Every program built into build/bin and every script in tools/ answers --help and --version: exit 0, something on
+"""Every program built into build/bin and every script of the tree answers --help and --version: exit 0, something on
 standard output (--version: the project's version, read here from CMakeLists.txt), and no file created —
 neither in the working directory, nor in $TMPDIR, nor in the source tree. Runs in its own network
 namespace (tests/netns.sh) in case a program opened a socket it should not."""
@@ -24,23 +24,29 @@ def programs():
     return [os.path.join(BIN, n) for n in sorted(names)]
 
 
+def is_script(path):
+    with open(path, "rb") as f:
+        return os.access(path, os.X_OK) and f.read(2) == b"#!"
+
+
 def scripts():
-    out = []
-    for folder, _, files in os.walk(os.path.join(SRC, "tools")):
-        for name in sorted(files):
-            path = os.path.join(folder, name)
-            with open(path, "rb") as f:
-                if os.access(path, os.X_OK) and f.read(2) == b"#!":
-                    out.append(path)
-    return sorted(out)
+    """Every executable script of the tree (tools/, tests/netns.sh, data/samples/regenerate.sh, .ci/run, ...):
+    the tracked files with a #! line (`git ls-files`); without git, those under tools/ and tests/."""
+    try:
+        listed = subprocess.run(["git", "-C", SRC, "ls-files", "-z"], check=True, capture_output=True).stdout
+        paths = [os.path.join(SRC, p) for p in listed.decode().split("\0") if p]
+    except (subprocess.CalledProcessError, FileNotFoundError):
+        paths = [os.path.join(d, n) for top in ("tools", "tests") for d, _, names in os.walk(os.path.join(SRC, top))
+                 for n in names]
+    return sorted(p for p in paths if os.path.isfile(p) and is_script(p))
 
 
 def tree_snapshot(root):
     """What a program or script could leave in the source tree: the top-level entries (out/, build-fuzz/, ...)
-    and everything under tools/ and docs/ (__pycache__, a screenshot), with modification times. Other test
-    folders are left out: tests running at the same time write there."""
+    and everything under tools/, docs/ and data/ (__pycache__, a screenshot, a sample), with modification
+    times. Other test folders are left out: tests running at the same time write there."""
     snap = {os.path.join(root, name): 0 for name in os.listdir(root)}
-    for top in ("tools", "docs"):
+    for top in ("tools", "docs", "data"):
         for folder, dirs, files in os.walk(os.path.join(root, top)):
             for name in dirs + files:
                 path = os.path.join(folder, name)

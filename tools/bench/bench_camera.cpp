@@ -17,6 +17,7 @@
 #include "runtime/version.hpp"
 
 using namespace hg::camera_bridge;
+using namespace hg::sim;
 
 int main(int argc, char** argv) {
   if (hg::runtime::answer_version(argc, argv, "hg-bench-camera")) return 0;

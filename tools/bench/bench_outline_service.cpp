@@ -17,6 +17,7 @@
 #include "runtime/version.hpp"
 
 namespace cb = hg::camera_bridge;
+namespace sim = hg::sim;
 
 int main(int argc, char** argv) {
   if (hg::runtime::answer_version(argc, argv, "hg-bench-outline-service")) return 0;
@@ -40,12 +41,12 @@ int main(int argc, char** argv) {
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
   };
-  const cb::SceneSpec spec = cb::scene_preset(scene);
+  const sim::SceneSpec spec = sim::scene_preset(scene);
   std::printf("scene %s, %d runs per row\n", scene.c_str(), runs);
   std::printf("%-6s %-9s %-8s %9s %9s %9s %8s\n", "camera", "image", "order", "points", "wall ms", "cpu ms", "loops");
-  for (const std::string& name : cb::camera_profile_names()) {
-    const cb::CameraProfile prof = cb::camera_profile(name);
-    const cb::RenderedFrame f = cb::render(spec, prof, 0);
+  for (const std::string& name : sim::camera_profile_names()) {
+    const sim::CameraProfile prof = sim::camera_profile(name);
+    const sim::RenderedFrame f = sim::render(spec, prof, 0);
     const cb::Segmentation s = cb::segment(f.depth, f.intrinsics, cb::SegmentParams{});
     hullgrind::plate_cloud_t cloud{};
     cloud.header.frame_id = "camera";

@@ -41,7 +41,7 @@ Eigen::Vector3d vec3(const json& j, const char* key) {
 
 json vec3_json(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
-camera_bridge::Intrinsics intrinsics_from(const json& in) {
+camera::Intrinsics intrinsics_from(const json& in) {
   return {in.at("width").get<int>(),        in.at("height").get<int>(), in.at("fx").get<double>(),
           in.at("fy").get<double>(),        in.at("cx").get<double>(),  in.at("cy").get<double>(),
           in.at("depth_unit").get<double>()};

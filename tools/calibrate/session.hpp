@@ -25,7 +25,7 @@ struct SessionView {
   std::string kind = "depth";  // "depth" | "cloud" | "outline"
   std::string file;            // relative to the session folder
   cv::Mat depth;               // CV_16UC1 (depth and cloud views)
-  camera_bridge::Intrinsics intrinsics;
+  camera::Intrinsics intrinsics;
   calibration::PlatePlane plane;                       // outline views
   std::vector<calibration::HoleLoop> loops;            // outline views: hole loops in plate-plane coordinates
   nlohmann::json outline_record;                       // outline views: the file's content, written back as read

@@ -16,13 +16,13 @@
 #include <string>
 #include <vector>
 #include "runtime/params.hpp"
-#include "runtime/version.hpp"
 
 using namespace hg::partgen;
 
 namespace {
 
-const char* kHelp = R"(hg-gen: synthetic hull-part point clouds as a top-down depth camera sees them.
+// What --help says before and after the options (the options themselves come from their declarations).
+constexpr const char* kUsageHead = R"(hg-gen: synthetic hull-part point clouds as a top-down depth camera sees them.
 
 Usage:
   hg-gen (--shape NAME | --preset NAME | --scene demo) [options] -o OUT
@@ -34,29 +34,13 @@ frame and units as the cloud, exact area and perimeter, pixel grid, noise settin
 Points are in metres in the table frame (x right, y up, z = plate thickness above the table), in
 SCAN-LINE order: pixel rows from the top (largest y) down, left to right within a row.
 
-Source (exactly one):
-  --shape NAME      one part of the catalogue (see --list), bounding-box centre at the origin
-  --preset NAME     a paper-sized cloud: low-1..6 (Table 1), high-1..6 (Table 4), down-1..6 (Table 6);
-                    sets shape, rotation and pitch (options below override)
-  --scene demo      four different parts on one table
-Options:
-  --scale S         multiply every length of the shape (default 1; --shape and --scene only)
-  --pitch M         pixel spacing on the table in metres (default 0.002 for --shape/--scene)
-  --rotate DEG      rotation of the part against the pixel grid (--shape, --preset)
-  --thickness M     plate thickness, 0.006..0.030 m (default: the shape's own)
-  --noise M         Gaussian in-plane noise sigma added to x and y, metres (default 0)
-  --depth-noise M   Gaussian noise sigma added to z, metres (default 0)
-  --dropout F       fraction of pixels lost at random, 0..1 (default 0)
-  --jagged          edge pixels kept with probability equal to the pixel's covered fraction
-  --seed N          random seed (default 1); the same seed and options give the same file
-  --format F        xyz (text "x y z" lines, 7 decimals), pcd (binary float32), pcd-ascii;
-                    default: from OUT's extension (.pcd -> pcd), else xyz; --all defaults to pcd
-  -o OUT            output cloud file
-  --all DIR         write every preset into DIR as <preset>.<ext> plus <preset>.<ext>.truth.json
-  --list            list shapes (with exact area and perimeter) and presets
-  --fit-presets     fit every preset's pitch to the paper's point count and print the table
-  --config FILE     a YAML file with any of these options as keys (the command line wins)
-  --help            this text; --help-markdown: the options as a table; --version
+Source: exactly one of --shape, --preset, --scene (or --all, --list, --fit-presets).
+Options (command line > --config FILE > default):
+)";
+
+constexpr const char* kUsageTail =
+    R"(  --config FILE                    a YAML file with any of these options as keys (the command line wins)
+  --help                           this text; --help-markdown: the options as a table; --version
 Exit status: 0 on success, 2 on bad usage or input, 1 when a file cannot be written.
 )";
 
@@ -68,46 +52,65 @@ struct Args {
   std::optional<std::string> shape, preset, scene, out, all, format;
   std::optional<double> scale, pitch, rotate, thickness;
   double noise = 0, depth_noise = 0, dropout = 0;
-  bool jagged = false, list = false, fit = false, help = false;
+  bool jagged = false, list = false, fit = false;
   std::uint64_t seed = 1;
 };
 
-// The options, declared once (runtime::Params: parsing, types and ranges, --help-markdown).
+// The options, declared once (runtime::Params: parsing, types and ranges, --help and --help-markdown).
 std::vector<hg::runtime::Param> gen_params() {
   using namespace hg::runtime;
   constexpr double inf = std::numeric_limits<double>::infinity();
   Param out = text_param("output", "", "output cloud file");
   out.alias = "-o";
-  return {
-      text_param("shape", "", "one part of the catalogue (see --list)"),
-      text_param("preset", "", "a paper-sized cloud: low-1..6, high-1..6, down-1..6"),
+  std::vector<Param> params = {
+      text_param("shape", "", "one part of the catalogue (see --list), bounding-box centre at the origin"),
+      text_param("preset", "",
+                 "a paper-sized cloud: low-1..6 (Table 1), high-1..6 (Table 4), down-1..6 (Table 6); sets shape, "
+                 "rotation and pitch (the options below override)"),
       text_param("scene", "", "four different parts on one table", {"demo"}),
-      number_param("scale", "", "multiply every length of the shape", 0, inf, true),
-      number_param("pitch", "", "pixel spacing on the table, m", 0, inf, true),
-      number_param("rotate", "", "rotation of the part against the pixel grid, deg"),
-      number_param("thickness", "", "plate thickness, m", 0.006, 0.030),
-      number_param("noise", "0", "Gaussian in-plane noise sigma, m", 0),
-      number_param("depth-noise", "0", "Gaussian depth noise sigma, m", 0),
+      number_param("scale", "", "multiply every length of the shape (default 1; --shape and --scene only)", 0, inf,
+                   true),
+      number_param("pitch", "", "pixel spacing on the table, m (default 0.002 for --shape/--scene)", 0, inf, true),
+      number_param("rotate", "", "rotation of the part against the pixel grid, deg (--shape, --preset)"),
+      number_param("thickness", "", "plate thickness, m (default: the shape's own)", 0.006, 0.030),
+      number_param("noise", "0", "Gaussian in-plane noise sigma added to x and y, m", 0),
+      number_param("depth-noise", "0", "Gaussian noise sigma added to z, m", 0),
       number_param("dropout", "0", "fraction of pixels lost at random", 0, 1),
       flag_param("jagged", "edge pixels kept with probability equal to the pixel's covered fraction"),
-      integer_param("seed", "1", "random seed", 0),
-      text_param("format", "", "xyz | pcd | pcd-ascii (default: from OUT's extension)", {"xyz", "pcd", "pcd-ascii"}),
+      integer_param("seed", "1", "random seed; the same seed and options give the same file", 0),
+      text_param("format", "",
+                 "xyz (text \"x y z\" lines, 7 decimals), pcd (binary float32), pcd-ascii; default: from OUT's "
+                 "extension (.pcd: pcd, else xyz); --all defaults to pcd",
+                 {"xyz", "pcd", "pcd-ascii"}),
       out,
-      text_param("all", "", "write every preset into this directory"),
-      flag_param("list", "list shapes and presets"),
-      flag_param("fit-presets", "fit every preset's pitch to the paper's point count")};
+      text_param("all", "", "write every preset into DIR as <preset>.<ext> plus <preset>.<ext>.truth.json"),
+      flag_param("list", "list shapes (with exact area and perimeter) and presets"),
+      flag_param("fit-presets", "fit every preset's pitch to the paper's point count and print the table")};
+  set_value_names(params, {{"shape", "NAME"},
+                           {"preset", "NAME"},
+                           {"scene", "NAME"},
+                           {"scale", "S"},
+                           {"pitch", "M"},
+                           {"rotate", "DEG"},
+                           {"thickness", "M"},
+                           {"noise", "M"},
+                           {"depth-noise", "M"},
+                           {"dropout", "F"},
+                           {"seed", "N"},
+                           {"format", "F"},
+                           {"output", "OUT"},
+                           {"all", "DIR"}});
+  return params;
 }
 
-Args parse(int argc, char** argv) {
-  hg::runtime::Params p(gen_params());
+void usage(std::FILE* f, const hg::runtime::Params& params) {
+  std::fputs(kUsageHead, f);
+  params.print_options(f);
+  std::fputs(kUsageTail, f);
+}
+
+Args args_from(const hg::runtime::Params& p) {
   Args a;
-  const auto action = p.parse(argc, argv);  // throws runtime::ConfigError naming the option
-  if (action == hg::runtime::Params::Action::HelpMarkdown) {
-    std::fputs(p.markdown().c_str(), stdout);
-    std::exit(0);
-  }
-  a.help = action != hg::runtime::Params::Action::Run;
-  if (a.help) return a;
   if (!p.positional().empty()) throw UsageError("unexpected argument '" + p.positional()[0] + "' (see --help)");
   auto text = [&](const char* name, std::optional<std::string>& to) {
     if (p.given(name)) to = p.text(name);
@@ -206,11 +209,14 @@ void fit_presets() {
 }
 
 int run(int argc, char** argv) {
-  const Args a = parse(argc, argv);
-  if (a.help || argc == 1) {
-    std::fputs(kHelp, a.help ? stdout : stderr);
-    return a.help ? 0 : 2;
+  hg::runtime::Params params(gen_params());
+  const auto action = params.parse(argc, argv);  // throws runtime::ConfigError naming the option
+  if (action != hg::runtime::Params::Action::Run) return hg::runtime::answer(action, "hg-gen", params, usage);
+  if (argc == 1) {
+    usage(stderr, params);
+    return 2;
   }
+  const Args a = args_from(params);
   if (a.list) {
     list();
     return 0;
@@ -266,7 +272,6 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-gen")) return 0;
   try {
     return run(argc, argv);
   } catch (const UsageError& e) {

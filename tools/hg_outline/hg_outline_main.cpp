@@ -18,7 +18,8 @@
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: hg-outline INPUT [options]
+// What --help says before and after the options (the options themselves come from their declarations).
+constexpr const char* kUsageHead = R"(usage: hg-outline INPUT [options]
 
 Finds the outline of a flat part (outer edges and cut-outs) in a point cloud: Delaunay triangulation
 (DSHI point location), alpha shape by circumradius, boundary loops with holes.
@@ -34,37 +35,13 @@ INPUT  .xyz .txt .csv  one point per line: x y [z] (blanks or commas; '#' commen
        indices (loops, --triangles) stay positions in the file. Error: fewer than 3 distinct finite
        points, or all of them collinear (in the plane or in space).
 
-options
-  --alpha-radius R      triangles with circumradius > R are outside (input units; R > 0)
-                        default: automatic, K x point spacing h (h = sqrt(2 x median Delaunay
-                        triangle area), which in-plane noise does not shrink)
-  --auto-factor K       the K of the automatic radius (K > 0; default: {K} for a regular cloud, rising
-                        to 2.1-2.8 as the cloud gets as irregular as a random point set, measured by
-                        median nearest-neighbour distance / h; docs/outline-auto-radius.md)
-  --alpha-mode M        global | local (default global): local gives each triangle its own radius,
-                        K x the spacing around its vertices, for clouds whose spacing varies (tilted
-                        camera); not with --alpha-radius
-  --min-hole-spacings M drop holes smaller in area than (M x h)^2 as dropout gaps (M >= 0; default
-                        {M}: a 3x3 gap of missing points is dropped; 0 keeps every hole)
-  --mode M              point location: ordinary | ds | dshi   (default dshi)
-  --order O             insertion order: brio | hilbert | as-is   (default brio: biased randomized
-                        rounds along a Hilbert curve; as-is inserts in file order, slow on scan-order
-                        grids; docs/outline-core-performance.md)
-  --threads N           threads (default 0: all cores): the cloud is split into vertical strips, one
-                        per thread, with loops identical to one thread's; one thread below 100 k
-                        points per strip, with --outer-only, --alpha-mode local or --mode other than
-                        dshi, and when the strips' checks find the split unsafe for the cloud;
-                        "threads" in the JSON and the summary line say how many ran
-  --outer-only          remove only big triangles connected to the outside (no holes)
-  -o FILE, --output FILE
-                        write the outline JSON to FILE (default: print it on stdout)
-  --svg FILE            write an SVG picture: points, outer loops blue, holes red
-  --png FILE            write a PNG picture of the same
-  --draw-triangles      also draw the Delaunay triangles in the SVG/PNG
-  --triangles FILE      write the Delaunay triangles, one "i j k" per line, 0-based indices into the
-                        points as read (a merged duplicate is its first occurrence)
-  --config FILE         a YAML file with any of these options as keys (the command line wins)
-  -h, --help            show this text; --help-markdown: the options as a table; --version
+options (command line > --config FILE > default); h is the point spacing, sqrt(2 x median Delaunay
+triangle area), which in-plane noise does not shrink:
+)";
+
+constexpr const char* kUsageTail =
+    R"(  --config FILE                    a YAML file with any of these options as keys (the command line wins)
+  -h, --help                       this text; --help-markdown: the options as a table; --version
 Long options that take a value also accept --option=VALUE.
 
 Every output file is written whole or not at all; on any error nothing is written.
@@ -81,26 +58,66 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The options, declared once (runtime::Params parses them and checks types and ranges; --help-markdown).
+std::string number_text(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+// The options, declared once (runtime::Params parses them, checks types and ranges, and prints --help and
+// --help-markdown from these declarations).
 std::vector<hg::runtime::Param> outline_params() {
   using namespace hg::runtime;
   constexpr double inf = std::numeric_limits<double>::infinity();
   Param output = text_param("output", "", "write the outline JSON to FILE (default: print it on stdout)");
   output.alias = "-o";
-  return {number_param("alpha-radius", "",
-                       "triangles with circumradius > R are outside (input units); default: automatic", 0, inf, true),
-          number_param("auto-factor", "", "the K of the automatic radius K x point spacing", 0, inf, true),
-          text_param("alpha-mode", "global", "one automatic radius, or one per triangle", {"global", "local"}),
-          number_param("min-hole-spacings", "", "drop holes smaller in area than (M x spacing)^2", 0),
-          text_param("mode", "dshi", "point location", {"ordinary", "ds", "dshi"}),
-          text_param("order", "brio", "insertion order", {"brio", "hilbert", "as-is"}),
-          flag_param("outer-only", "remove only big triangles connected to the outside (no holes)"),
-          integer_param("threads", "0", "threads (0: all cores)", 0, 1024),
-          output,
-          text_param("svg", "", "write an SVG picture"),
-          text_param("png", "", "write a PNG picture"),
-          flag_param("draw-triangles", "also draw the Delaunay triangles in the SVG/PNG"),
-          text_param("triangles", "", "write the Delaunay triangles, one \"i j k\" per line")};
+  std::vector<Param> params = {
+      number_param("alpha-radius", "",
+                   "triangles with circumradius > R are outside (input units); default: automatic, K x point "
+                   "spacing h",
+                   0, inf, true),
+      number_param("auto-factor", "",
+                   "the K of the automatic radius (default: " + number_text(hg::outline::kDefaultAutoFactor) +
+                       " for a regular cloud, rising to 2.1-2.8 as the cloud gets as irregular as a random point "
+                       "set, measured by median nearest-neighbour distance / h; docs/outline-auto-radius.md)",
+                   0, inf, true),
+      text_param("alpha-mode", "global",
+                 "global: one automatic radius; local: each triangle its own radius, K x the spacing around its "
+                 "vertices, for clouds whose spacing varies (tilted camera); not with --alpha-radius",
+                 {"global", "local"}),
+      number_param("min-hole-spacings", "",
+                   "drop holes smaller in area than (M x h)^2 as dropout gaps (default " +
+                       number_text(hg::outline::kDefaultMinHoleSpacings) +
+                       ": a 3x3 gap of missing points is dropped; 0 keeps every hole)",
+                   0),
+      text_param("mode", "dshi", "point location", {"ordinary", "ds", "dshi"}),
+      text_param("order", "brio",
+                 "insertion order: brio (biased randomized rounds along a Hilbert curve), hilbert, or as-is (file "
+                 "order, slow on scan-order grids; docs/outline-core-performance.md)",
+                 {"brio", "hilbert", "as-is"}),
+      flag_param("outer-only", "remove only big triangles connected to the outside (no holes)"),
+      integer_param("threads", "0",
+                    "threads (0: all cores): the cloud is split into vertical strips, one per thread, with loops "
+                    "identical to one thread's; one thread below 100 k points per strip, with --outer-only, "
+                    "--alpha-mode local or --mode other than dshi, and when the strips' checks find the split unsafe "
+                    "for the cloud; \"threads\" in the JSON and the summary line say how many ran",
+                    0, 1024),
+      output,
+      text_param("svg", "", "write an SVG picture: points, outer loops blue, holes red"),
+      text_param("png", "", "write a PNG picture of the same"),
+      flag_param("draw-triangles", "also draw the Delaunay triangles in the SVG/PNG"),
+      text_param("triangles", "",
+                 "write the Delaunay triangles, one \"i j k\" per line, 0-based indices into the points as read (a "
+                 "merged duplicate is its first occurrence)")};
+  set_value_names(params, {{"alpha-radius", "R"},
+                           {"auto-factor", "K"},
+                           {"min-hole-spacings", "M"},
+                           {"threads", "N"},
+                           {"output", "FILE"},
+                           {"svg", "FILE"},
+                           {"png", "FILE"},
+                           {"triangles", "FILE"}});
+  return params;
 }
 
 Args args_from(const hg::runtime::Params& p) {
@@ -129,14 +146,10 @@ Args args_from(const hg::runtime::Params& p) {
   return a;
 }
 
-void usage(std::FILE* f, const hg::runtime::Params&) {
-  std::string text = kUsage;
-  char k[32];
-  std::snprintf(k, sizeof k, "%g", hg::outline::kDefaultAutoFactor);
-  text.replace(text.find("{K}"), 3, k);
-  std::snprintf(k, sizeof k, "%g", hg::outline::kDefaultMinHoleSpacings);
-  text.replace(text.find("{M}"), 3, k);
-  std::fputs(text.c_str(), f);
+void usage(std::FILE* f, const hg::runtime::Params& params) {
+  std::fputs(kUsageHead, f);
+  params.print_options(f);
+  std::fputs(kUsageTail, f);
 }
 
 double ms_since(std::chrono::steady_clock::time_point t0) {

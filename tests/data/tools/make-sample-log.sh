@@ -5,6 +5,8 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../../.." && pwd)"
+source "$repo/tools/version.sh"
+hg_answer make-sample-log.sh "$0" "$@"
 if [[ "${HG_IN_NETNS:-}" != "1" ]]; then exec "$repo/tests/netns.sh" "$0" "$@"; fi
 bin="${HG_BUILD_DIR:-$repo/build}/bin"
 out="$here/samples-all-types.lcmlog"
