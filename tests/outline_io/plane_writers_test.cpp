@@ -50,8 +50,8 @@ Result two_loop_result() {
   r.alpha_radius = 1.5;
   r.mode = Mode::DS;
   r.order = Order::Hilbert;
-  r.triangles = 8;
-  r.search_cost = 42;
+  r.stats.triangles = 8;
+  r.stats.search_cost = 42;
   r.time = {1.0, 2.0, 3.0, 7.0};
   Loop outer;
   outer.points = {{0, 0}, {4, 0}, {4, 4}, {0, 4}};

@@ -22,8 +22,8 @@ struct Timing {
 
 // Counters of one triangulation (deterministic: the same on every run).
 struct OurStats {
-  std::uint64_t search_cost = 0, locate = 0, cavity_visits = 0, cavity_triangles = 0, incircle = 0, orient = 0;
-  std::size_t points_used = 0, triangles = 0, outer_loops = 0, holes = 0, boundary_edges = 0;
+  outline::TriangulationStats tri;  // as outline::Result holds them
+  std::size_t points_used = 0, outer_loops = 0, holes = 0, boundary_edges = 0;
   double area = 0;
 };
 

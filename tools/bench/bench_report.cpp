@@ -93,13 +93,13 @@ void search_cost_table(std::ostream& o, const Report& r, const std::string& set,
     const OurStats *ord = stats(c, key::ordinary), *ds = stats(c, key::ds), *dshi = stats(c, key::dshi);
     if (!dshi) continue;
     const PaperCost& p = paper[c.piece - 1];
-    const double o_ = ord ? ord->search_cost : NAN, d_ = ds ? ds->search_cost : NAN, h = dshi->search_cost;
+    const double o_ = ord ? ord->tri.search_cost : NAN, d_ = ds ? ds->tri.search_cost : NAN, h = dshi->tri.search_cost;
     const double n = static_cast<double>(dshi->points_used);
     o << "| " << c.piece << " | " << big(c.points) << " (" << big(c.paper_points) << ") | " << big(o_) << " | "
       << big(d_) << " | " << fmt("%.2f %%", 100 * d_ / o_) << " | " << big(h) << " | " << fmt("%.2f %%", 100 * h / d_)
       << " | " << fmt("%.3f ‰", 1000 * h / o_) << " | " << fmt("%.2f ‰", 1000 * p.dshi / p.ordinary) << " | "
-      << fmt("%.3f ‰", 1000 * dshi->locate / o_) << " | " << fmt("%.1f", d_ / n) << " / " << fmt("%.2f", h / n)
-      << " |\n";
+      << fmt("%.3f ‰", 1000 * dshi->tri.search_cost_locate / o_) << " | " << fmt("%.1f", d_ / n) << " / "
+      << fmt("%.2f", h / n) << " |\n";
   }
 }
 
@@ -198,10 +198,10 @@ void work_table(std::ostream& o, const Report& r) {
       const OurStats* s = stats(c, k);
       if (!s) continue;
       const double n = static_cast<double>(s->points_used);
-      o << "| " << c.preset << " | " << big(c.points) << " | " << k << " | " << fmt("%.2f", s->locate / n) << " | "
-        << fmt("%.2f", s->cavity_visits / n) << " | " << fmt("%.2f", s->incircle / n) << " | "
-        << fmt("%.2f", s->cavity_triangles / n) << " | " << fmt("%.2f", s->search_cost / n) << " | " << ms(med(c, k))
-        << " |\n";
+      o << "| " << c.preset << " | " << big(c.points) << " | " << k << " | "
+        << fmt("%.2f", s->tri.search_cost_locate / n) << " | " << fmt("%.2f", s->tri.search_cost_cavity / n) << " | "
+        << fmt("%.2f", s->tri.incircle_tests / n) << " | " << fmt("%.2f", s->tri.cavity_triangles / n) << " | "
+        << fmt("%.2f", s->tri.search_cost / n) << " | " << ms(med(c, k)) << " |\n";
     }
   }
 }
@@ -280,10 +280,10 @@ void targets_table(std::ostream& o, const Report& r) {
       const OurStats *ord = stats(c, key::ordinary), *dshi = stats(c, key::dshi);
       if (ord && dshi) {
         const PaperCost& p = (set == "low" ? kTable2 : kTable7)[c.piece - 1];
-        const double ours = 1000.0 * dshi->search_cost / ord->search_cost, paper = 1000 * p.dshi / p.ordinary;
+        const double ours = 1000.0 * dshi->tri.search_cost / ord->tri.search_cost, paper = 1000 * p.dshi / p.ordinary;
         o << "| DSHI/ordinary ≤ paper's ‰ | " << c.preset << " | " << fmt("%.3f ‰", ours) << " | "
           << fmt("%.3f ‰", paper) << " | " << verdict(ours, paper) << " |\n";
-        const double locate_only = 1000.0 * dshi->locate / ord->search_cost;
+        const double locate_only = 1000.0 * dshi->tri.search_cost_locate / ord->tri.search_cost;
         o << "| DSHI/ordinary ≤ paper's ‰, point location only | " << c.preset << " | " << fmt("%.3f ‰", locate_only)
           << " | " << fmt("%.3f ‰", paper) << " | " << verdict(locate_only, paper) << " |\n";
       }
@@ -393,7 +393,7 @@ void write_plot(const Report& r, const std::string& path) {
     std::vector<cv::Point2d> v;
     for (const auto& c : r.clouds)
       if (const OurStats* s = stats(c, k))
-        v.emplace_back(static_cast<double>(c.points), static_cast<double>(s->search_cost) / s->points_used);
+        v.emplace_back(static_cast<double>(c.points), static_cast<double>(s->tri.search_cost) / s->points_used);
     if (!v.empty()) visits.emplace_back(k, v);
   }
   panel(img, {0, 0, 800, 720}, "Outline time (median ms, one thread) vs points", "ms", times);

@@ -264,14 +264,8 @@ std::vector<std::uint32_t> banded_order(const BenchCloud& c, int B) {
 
 OurStats stats_of(const outline::Result& r) {
   OurStats s;
-  s.search_cost = r.search_cost;
-  s.locate = r.search_cost_locate;
-  s.cavity_visits = r.search_cost_cavity;
-  s.cavity_triangles = r.cavity_triangles;
-  s.incircle = r.incircle_tests;
-  s.orient = r.orient_tests;
+  s.tri = r.stats;
   s.points_used = r.points_used;
-  s.triangles = r.triangles;
   for (const auto& l : r.loops) {
     (l.hole ? s.holes : s.outer_loops) += 1;
     s.boundary_edges += l.points.size();
@@ -287,16 +281,10 @@ outline::Result outline_with_order(std::span<const Vec2> pts, double R,
   outline::Result res;
   outline::Triangulation T = outline::triangulate(pts, outline::Mode::DSHI, outline::Order::AsIs, make_order());
   res.points_used = T.inserted;
-  res.search_cost = T.stats.search_cost();
-  res.search_cost_locate = T.stats.locate_visits;
-  res.search_cost_cavity = T.stats.cavity_visits;
-  res.cavity_triangles = T.stats.cavity_triangles;
-  res.incircle_tests = T.stats.incircle_tests;
-  res.orient_tests = T.stats.orient_tests;
+  res.stats = outline::triangulation_stats(T);
   res.nn_spacing_median = outline::median_nn_spacing(T);
   const auto inside = outline::classify_alpha(T, R, false);
   res.loops = outline::extract_loops(T, inside, pts);
-  for (std::size_t t = 0; t < T.slots(); ++t) res.triangles += !T.is_ghost(t);
   return res;
 }
 
