@@ -75,6 +75,8 @@ nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar,
   j["order"] = to_string(r.order);
   j["triangles"] = r.stats.triangles;
   j["search_cost"] = r.stats.search_cost;
+  j["search_cost_locate"] = r.stats.search_cost_locate;
+  j["search_cost_cavity"] = r.stats.search_cost_cavity;
   j["incircle_tests"] = r.stats.incircle_tests;
   j["orient_tests"] = r.stats.orient_tests;
   j["time_ms"] = {
