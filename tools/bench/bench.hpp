@@ -56,7 +56,7 @@ struct MemoryResult {
 };
 
 struct Report {
-  std::string command, date, machine, compiler, cgal_version, pcl_version, cloud_options;
+  std::string command, date, machine, compiler, cgal_version, delaunator_version, pcl_version, cloud_options;
   std::string load_start, load_end;
   int runs = 0, slow_runs = 0, slow_runs_high = 0, ordinary_runs = 0, band_rows = 0;
   std::vector<CloudResult> clouds;
@@ -80,6 +80,7 @@ inline const std::string dshi_brio_shuf = "dshi brio (shuffled)";
 inline const std::string dshi_band = "dshi banded";  // experiment: bands of rows, column order
 inline const std::string cgal_dt = "CGAL DT + loops";
 inline const std::string cgal_alpha = "CGAL Alpha_shape_2";
+inline const std::string delaunator = "delaunator + loops";
 inline const std::string pcl = "PCL ConcaveHull";
 }  // namespace key
 

@@ -77,6 +77,13 @@ const OurStats* stats(const CloudResult& c, const std::string& k) {
   const Method* m = c.find(k);
   return m && !m->is_peer && !m->time.empty() ? &m->stats : nullptr;
 }
+// A peer's median time, or "not built" when the peer was not compiled in ("–": built, not run here).
+std::string peer_ms(const Report& r, const CloudResult& c, const std::string& k) {
+  const double v = med(c, k);
+  if (!std::isnan(v)) return ms(v);
+  const std::string& why = k == key::delaunator ? r.delaunator_version : k == key::pcl ? r.pcl_version : r.cgal_version;
+  return why.rfind("not", 0) == 0 ? "not built" : "–";
+}
 std::string set_of(const CloudResult& c) { return c.preset.substr(0, c.preset.find('-')); }
 
 std::string verdict(double value, double limit) {
@@ -104,17 +111,18 @@ void search_cost_table(std::ostream& o, const Report& r, const std::string& set,
 }
 
 void small_time_table(std::ostream& o, const Report& r, const std::string& set, const PaperTime* paper) {
-  o << "| piece | points | DSHI | DS | ordinary | CGAL DT + loops | DSHI / CGAL DT | CGAL Alpha_shape_2 | PCL "
-       "ConcaveHull | DSHI hilbert (shuffled) | paper: DSHI / PCL / ordinary |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  o << "| piece | points | DSHI | DS | ordinary | CGAL DT + loops | DSHI / CGAL DT | delaunator + loops | DSHI / "
+       "delaunator | CGAL Alpha_shape_2 | PCL ConcaveHull | DSHI hilbert (shuffled) | paper: DSHI / PCL / ordinary |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& c : r.clouds) {
     if (set_of(c) != set) continue;
     const PaperTime& p = paper[c.piece - 1];
-    const double d = med(c, key::dshi), cg = med(c, key::cgal_dt);
+    const double d = med(c, key::dshi), cg = med(c, key::cgal_dt), dl = med(c, key::delaunator);
     o << "| " << c.piece << " | " << big(c.points) << " | " << ms(d) << " | " << ms(med(c, key::ds)) << " | "
-      << ms(med(c, key::ordinary)) << " | " << ms(cg) << " | " << fmt("%.2f", d / cg) << " | "
-      << ms(med(c, key::cgal_alpha)) << " | " << ms(med(c, key::pcl)) << " | " << ms(med(c, key::dshi_hilbert_shuf))
-      << " | " << ms(p.dshi) << " / " << ms(p.pcl) << " / " << ms(p.ordinary) << " |\n";
+      << ms(med(c, key::ordinary)) << " | " << peer_ms(r, c, key::cgal_dt) << " | " << fmt("%.2f", d / cg) << " | "
+      << peer_ms(r, c, key::delaunator) << " | " << fmt("%.2f", d / dl) << " | " << peer_ms(r, c, key::cgal_alpha)
+      << " | " << peer_ms(r, c, key::pcl) << " | " << ms(med(c, key::dshi_hilbert_shuf)) << " | " << ms(p.dshi) << " / "
+      << ms(p.pcl) << " / " << ms(p.ordinary) << " |\n";
   }
 }
 
@@ -139,7 +147,8 @@ void header_section(std::ostream& o, const Report& r) {
     << "- R: the product's automatic radius (k × the point spacing h = sqrt(2 × median Delaunay triangle area), k = 1.7 on regular clouds rising toward the largest empty circle of a random set on irregular ones; docs/outline-auto-radius.md), then the "
        "same R for every method and peer (CGAL Alpha_shape_2: alpha = R², REGULARIZED; PCL: setAlpha(R), "
        "which PCL compares with the circumradius)\n"
-    << "- Peers: CGAL " << r.cgal_version << ", PCL " << r.pcl_version << "\n\n";
+    << "- Peers: CGAL " << r.cgal_version << ", delaunator-cpp " << r.delaunator_version << ", PCL " << r.pcl_version
+    << "\n\n";
 
   o << "Method names: `dshi` = directive search + heritable initial, points inserted in scan order as the camera "
        "gives them (the paper's method); `dshi hilbert (shuffled)` = the cloud shuffled at random, then "
@@ -148,7 +157,8 @@ void header_section(std::ostream& o, const Report& r) {
     << r.band_rows
     << " rows swept column by column (order computed inside the timed region from the pixel rows/columns); "
        "`CGAL DT + loops` = `Delaunay_triangulation_2` (Epick, range insertion with CGAL's spatial sort) + a "
-       "squared-circumradius pass + chaining the free edges into loops.\n\n";
+       "squared-circumradius pass + chaining the free edges into loops; `delaunator + loops` = delaunator-cpp's "
+       "`Delaunator` + the same pass (its own `circumradius`) and the same loop chaining.\n\n";
 }
 
 // The search cost (Tables 2, 7) and time (Tables 3, 8) tables of the low and down-sampled clouds.
@@ -170,17 +180,18 @@ void paper_tables(std::ostream& o, const Report& r) {
 void high_density_table(std::ostream& o, const Report& r) {
   o << "\n## High-density clouds (paper Table 4 sizes; Table 5 times): time (ms)\n\n"
        "| piece | points | DSHI scan | hilbert (shuffled) | hilbert/scan | brio (shuffled) | banded | CGAL DT + loops | "
-       "DSHI / CGAL DT | CGAL Alpha_shape_2 | PCL ConcaveHull | DSHI / PCL | paper: DSHI / PCL |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "DSHI / CGAL DT | delaunator + loops | CGAL Alpha_shape_2 | PCL ConcaveHull | DSHI / PCL | paper: DSHI / PCL |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& c : r.clouds) {
     if (set_of(c) != "high") continue;
     const PaperTime& p = kTable5[c.piece - 1];
     const double d = med(c, key::dshi), hs = med(c, key::dshi_hilbert_shuf), cg = med(c, key::cgal_dt),
                  pc = med(c, key::pcl);
     o << "| " << c.piece << " | " << big(c.points) << " | " << ms(d) << " | " << ms(hs) << " | " << fmt("%.2f", hs / d)
-      << " | " << ms(med(c, key::dshi_brio_shuf)) << " | " << ms(med(c, key::dshi_band)) << " | " << ms(cg) << " | "
-      << fmt("%.2f", d / cg) << " | " << ms(med(c, key::cgal_alpha)) << " | " << ms(pc) << " | "
-      << fmt("1/%.0f", pc / d) << " | " << ms(p.dshi) << " / " << ms(p.pcl) << " |\n";
+      << " | " << ms(med(c, key::dshi_brio_shuf)) << " | " << ms(med(c, key::dshi_band)) << " | "
+      << peer_ms(r, c, key::cgal_dt) << " | " << fmt("%.2f", d / cg) << " | " << peer_ms(r, c, key::delaunator) << " | "
+      << peer_ms(r, c, key::cgal_alpha) << " | " << peer_ms(r, c, key::pcl) << " | " << fmt("1/%.0f", pc / d) << " | "
+      << ms(p.dshi) << " / " << ms(p.pcl) << " |\n";
   }
 }
 
@@ -213,19 +224,22 @@ void same_outline_table(std::ostream& o, const Report& r) {
        "grids are full of cocircular quadruples, where the Delaunay triangulation is not unique, so a few "
        "edges may differ. Alpha_shape_2 counts REGULAR edges; PCL counts the vertices of its polygons. "
        "Loops: outer + holes (PCL: polygons).\n\n"
-       "| cloud | R (mm) | ours: edges, loops, area m² | CGAL DT: edges, loops, area m² | Alpha_shape_2 edges | PCL: vertices, polygons |\n"
-       "|---|---|---|---|---|---|\n";
+       "| cloud | R (mm) | ours: edges, loops, area m² | CGAL DT: edges, loops, area m² | delaunator: edges, loops, "
+       "area m² | Alpha_shape_2 edges | PCL: vertices, polygons |\n"
+       "|---|---|---|---|---|---|---|\n";
   for (const auto& c : r.clouds) {
     const OurStats* s = stats(c, key::dshi);
     if (!s) continue;
     o << "| " << c.preset << " | " << fmt("%.3f", c.alpha_radius * 1000) << " | " << s->boundary_edges << ", "
       << s->outer_loops << "+" << s->holes << ", " << fmt("%.6f", s->area) << " | ";
-    if (const Method* m = c.find(key::cgal_dt); m && !m->time.empty())
-      o << m->peer.boundary_edges << ", " << m->peer.outer_loops << "+" << m->peer.holes << ", "
-        << fmt("%.6f", m->peer.area);
-    else
-      o << "–";
-    o << " | ";
+    for (const std::string& k : {key::cgal_dt, key::delaunator}) {
+      if (const Method* m = c.find(k); m && !m->time.empty())
+        o << m->peer.boundary_edges << ", " << m->peer.outer_loops << "+" << m->peer.holes << ", "
+          << fmt("%.6f", m->peer.area);
+      else
+        o << "–";
+      o << " | ";
+    }
     if (const Method* m = c.find(key::cgal_alpha); m && !m->time.empty()) o << m->peer.boundary_edges;
     else
       o << "–";
@@ -381,7 +395,7 @@ void write_plot(const Report& r, const std::string& path) {
   cv::Mat img(720, 1600, CV_8UC3, cv::Scalar(255, 255, 255));
   std::vector<std::pair<std::string, std::vector<cv::Point2d>>> times, visits;
   for (const std::string& k : {key::dshi, key::dshi_hilbert_shuf, key::dshi_brio_shuf, key::dshi_band, key::ds,
-                               key::ordinary, key::cgal_dt, key::cgal_alpha, key::pcl}) {
+                               key::ordinary, key::cgal_dt, key::delaunator, key::cgal_alpha, key::pcl}) {
     std::vector<cv::Point2d> t;
     for (const auto& c : r.clouds)
       if (const Method* m = c.find(k); m && !m->time.empty())

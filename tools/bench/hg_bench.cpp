@@ -50,6 +50,12 @@ constexpr bool kHaveCgal =
 #else
     false;
 #endif
+constexpr bool kHaveDelaunator =
+#ifdef HG_BENCH_DELAUNATOR
+    true;
+#else
+    false;
+#endif
 constexpr bool kHavePcl =
 #ifdef HG_BENCH_PCL
     true;
@@ -66,7 +72,7 @@ struct Args {
   double dropout = 0;
   std::uint64_t seed = 7;
   int band_rows = 8;
-  bool cgal = true, alpha_shape = true, pcl = true, memory = true;
+  bool cgal = true, alpha_shape = true, delaunator = true, pcl = true, memory = true;
   std::string memory_preset = "high-4";
   std::string md, png, include, tmp = "/tmp";
 };
@@ -75,13 +81,16 @@ struct Args {
   std::fprintf(code ? stderr : stdout,
                "usage: hg-bench [--sets low,down,high] [--only PRESET,...] [--runs N] [--slow-runs N]\n"
                "                [--slow-runs-high N] [--ordinary-runs N] [--noise F] [--no-jagged] [--dropout F]\n"
-               "                [--seed N] [--band-rows B] [--no-cgal] [--no-alpha-shape] [--no-pcl] [--no-memory]\n"
+               "                [--seed N] [--band-rows B] [--no-cgal] [--no-alpha-shape] [--no-delaunator]\n"
+               "                [--no-pcl] [--no-memory]\n"
                "                [--memory-preset NAME] [--md FILE] [--png FILE] [--include FILE] [--tmp DIR]\n"
                "  --noise F: in-plane Gaussian noise, sigma = F x pitch (default 0.05); --no-jagged: pixel-centre\n"
                "  rule at the edges (default: jagged edges, like a camera). Clouds come from hg_partgen's presets\n"
                "  (low-*: paper Table 1, down-*: Table 6, high-*: Table 4), in scan-line order.\n"
-               "  ordinary (O(n^2)) and ds run on low and down only, as in the paper. Peers: CGAL %s, PCL %s.\n",
-               kHaveCgal ? "built in" : "not built", kHavePcl ? "built in" : "not built");
+               "  ordinary (O(n^2)) and ds run on low and down only, as in the paper. Peers: CGAL %s, delaunator %s,\n"
+               "  PCL %s.\n",
+               kHaveCgal ? "built in" : "not built", kHaveDelaunator ? "built in" : "not built",
+               kHavePcl ? "built in" : "not built");
   std::exit(code);
 }
 
@@ -148,6 +157,8 @@ Args parse_args(int argc, char** argv) {
       a.cgal = false;
     else if (opt == "--no-alpha-shape")
       a.alpha_shape = false;
+    else if (opt == "--no-delaunator")
+      a.delaunator = false;
     else if (opt == "--no-pcl")
       a.pcl = false;
     else if (opt == "--no-memory")
@@ -170,6 +181,7 @@ Args parse_args(int argc, char** argv) {
   a.cgal = a.cgal && kHaveCgal;
   a.alpha_shape = a.alpha_shape && a.cgal;
   a.pcl = a.pcl && kHavePcl;
+  a.delaunator = a.delaunator && kHaveDelaunator;
   return a;
 }
 
@@ -345,6 +357,9 @@ std::vector<Job> bench_jobs(const BenchCloud& c, const Args& a, double R, bool s
 #ifdef HG_BENCH_CGAL
   if (a.cgal) jobs.push_back({key::cgal_dt, a.runs, true, peer(&cgal_dt_loops)});
   if (a.alpha_shape && slow > 0) jobs.push_back({key::cgal_alpha, slow, true, peer(&cgal_alpha_shape)});
+#endif
+#ifdef HG_BENCH_DELAUNATOR
+  if (a.delaunator) jobs.push_back({key::delaunator, a.runs, true, peer(&delaunator_dt_loops)});
 #endif
 #ifdef HG_BENCH_PCL
   if (a.pcl && slow > 0) jobs.push_back({key::pcl, slow, true, peer(&pcl_concave_hull)});
@@ -556,6 +571,8 @@ Report report_header(int argc, char** argv, const Args& a) {
     report.cloud_options = buf;
   }
   report.cgal_version = a.cgal ? "built in" : (kHaveCgal ? "disabled" : "not installed at configure time");
+  report.delaunator_version =
+      a.delaunator ? "built in" : (kHaveDelaunator ? "disabled" : "not built (no delaunator.hpp at configure time)");
   report.pcl_version = a.pcl ? "built in" : (kHavePcl ? "disabled" : "not installed at configure time");
   if (!a.include.empty()) {
     std::ifstream f(a.include);
