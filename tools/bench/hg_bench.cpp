@@ -36,7 +36,7 @@
 #include "partgen/synth.hpp"
 #include "partgen/writers.hpp"
 #include "peers.hpp"
-#include "runtime/version.hpp"
+#include "runtime/params.hpp"
 
 namespace hg::bench {
 namespace {
@@ -77,21 +77,22 @@ struct Args {
   std::string md, png, include, tmp = "/tmp";
 };
 
-[[noreturn]] void usage(int code) {
-  std::fprintf(code ? stderr : stdout,
-               "usage: hg-bench [--sets low,down,high] [--only PRESET,...] [--runs N] [--slow-runs N]\n"
-               "                [--slow-runs-high N] [--ordinary-runs N] [--noise F] [--no-jagged] [--dropout F]\n"
-               "                [--seed N] [--band-rows B] [--no-cgal] [--no-alpha-shape] [--no-delaunator]\n"
-               "                [--no-pcl] [--no-memory]\n"
-               "                [--memory-preset NAME] [--md FILE] [--png FILE] [--include FILE] [--tmp DIR]\n"
-               "  --noise F: in-plane Gaussian noise, sigma = F x pitch (default 0.05); --no-jagged: pixel-centre\n"
-               "  rule at the edges (default: jagged edges, like a camera). Clouds come from hg_partgen's presets\n"
-               "  (low-*: paper Table 1, down-*: Table 6, high-*: Table 4), in scan-line order.\n"
-               "  ordinary (O(n^2)) and ds run on low and down only, as in the paper. Peers: CGAL %s, delaunator %s,\n"
-               "  PCL %s.\n",
+void usage(std::FILE* f, const runtime::Params& params) {
+  std::fprintf(f,
+               "usage: hg-bench [options]\n"
+               "Reproduces the paper's Tables 2, 3, 7, 8 (search cost and time per point-location mode) on generated\n"
+               "clouds of the paper's sizes, times our insertion orders, and runs the peers built in on the same\n"
+               "points with the same R, all in one run; writes a markdown report (and a PNG plot). Clouds come from\n"
+               "hg_partgen's presets (low-*: paper Table 1, down-*: Table 6, high-*: Table 4), in scan-line order;\n"
+               "ordinary (O(n^2)) and ds run on low and down only, as in the paper.\n"
+               "Peers: CGAL %s, delaunator-cpp %s, PCL %s.\n\n"
+               "options (command line > --config FILE > default):\n",
                kHaveCgal ? "built in" : "not built", kHaveDelaunator ? "built in" : "not built",
                kHavePcl ? "built in" : "not built");
-  std::exit(code);
+  params.print_options(f);
+  std::fprintf(f,
+               "  --config FILE                      YAML config file (keys as the options above, without --)\n"
+               "  --help, --help-markdown, --version this text, the options as a Markdown table, the version\n");
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -102,86 +103,57 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
-Args parse_args(int argc, char** argv) {
+// The options, declared once (runtime::Params checks types and ranges; --help-markdown lists them).
+std::vector<runtime::Param> bench_params() {
+  using namespace runtime;
+  return {text_param("sets", "low,down,high", "the preset sets to run, comma-separated: low, down, high"),
+          text_param("only", "", "preset names, comma-separated (e.g. high-4); overrides --sets"),
+          integer_param("runs", "5", "timed runs per method", 1, 1000),
+          integer_param("slow-runs", "3", "runs of CGAL Alpha_shape_2 and PCL on low and down", 0, 1000),
+          integer_param("slow-runs-high", "1", "runs of CGAL Alpha_shape_2 and PCL on high", 0, 1000),
+          integer_param("ordinary-runs", "3", "runs of the O(n^2) ordinary mode", 0, 1000),
+          number_param("noise", "0.05", "in-plane Gaussian noise, sigma = F x pitch", 0, 10),
+          flag_param("no-jagged", "pixel-centre rule at the edges (default: jagged edges, like a camera)"),
+          number_param("dropout", "0", "fraction of pixels lost at random", 0, 0.9),
+          integer_param("seed", "7", "random seed of the clouds and of the shuffle", 0, 1e15),
+          integer_param("band-rows", "8", "rows per band of the banded-order experiment", 1, 4096),
+          flag_param("no-cgal", "leave out the CGAL peers"),
+          flag_param("no-alpha-shape", "leave out CGAL Alpha_shape_2"),
+          flag_param("no-delaunator", "leave out the delaunator-cpp peer"),
+          flag_param("no-pcl", "leave out PCL ConcaveHull"),
+          flag_param("no-memory", "skip the peak-memory measurement of whole processes"),
+          text_param("memory-preset", "high-4", "the preset whose cloud the memory measurement uses"),
+          text_param("md", "", "write the markdown report here (default: standard output)"),
+          text_param("png", "", "write the PNG plot here"),
+          text_param("include", "", "a markdown file appended to the report (a profile, by hand)"),
+          text_param("tmp", "/tmp", "directory for the memory measurement's cloud file")};
+}
+
+Args args_from(const runtime::Params& p) {
+  if (!p.positional().empty()) throw p.error("sets", "unexpected argument '" + p.positional()[0] + "'");
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string opt = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "hg-bench: %s needs a value\n", opt.c_str());
-        usage(2);
-      }
-      return argv[++i];
-    };
-    auto number = [&](double lo, double hi) {
-      const std::string v = value();
-      char* end = nullptr;
-      const double d = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end || !(d >= lo && d <= hi)) {
-        std::fprintf(stderr, "hg-bench: %s: '%s' is not a number in [%g, %g]\n", opt.c_str(), v.c_str(), lo, hi);
-        std::exit(2);
-      }
-      return d;
-    };
-    if (opt == "--help" || opt == "-h") usage(0);
-    else if (opt == "--sets") {
-      a.sets.clear();
-      for (const auto& s : split(value())) {
-        if (s != "low" && s != "down" && s != "high") {
-          std::fprintf(stderr, "hg-bench: --sets: unknown set '%s' (low, down, high)\n", s.c_str());
-          std::exit(2);
-        }
-        a.sets.insert(s);
-      }
-    } else if (opt == "--only")
-      a.only = split(value());
-    else if (opt == "--runs")
-      a.runs = static_cast<int>(number(1, 1000));
-    else if (opt == "--slow-runs")
-      a.slow_runs = static_cast<int>(number(0, 1000));
-    else if (opt == "--slow-runs-high")
-      a.slow_runs_high = static_cast<int>(number(0, 1000));
-    else if (opt == "--ordinary-runs")
-      a.ordinary_runs = static_cast<int>(number(0, 1000));
-    else if (opt == "--noise")
-      a.noise = number(0, 10);
-    else if (opt == "--no-jagged")
-      a.jagged = false;
-    else if (opt == "--dropout")
-      a.dropout = number(0, 0.9);
-    else if (opt == "--seed")
-      a.seed = static_cast<std::uint64_t>(number(0, 1e15));
-    else if (opt == "--band-rows")
-      a.band_rows = static_cast<int>(number(1, 4096));
-    else if (opt == "--no-cgal")
-      a.cgal = false;
-    else if (opt == "--no-alpha-shape")
-      a.alpha_shape = false;
-    else if (opt == "--no-delaunator")
-      a.delaunator = false;
-    else if (opt == "--no-pcl")
-      a.pcl = false;
-    else if (opt == "--no-memory")
-      a.memory = false;
-    else if (opt == "--memory-preset")
-      a.memory_preset = value();
-    else if (opt == "--md")
-      a.md = value();
-    else if (opt == "--png")
-      a.png = value();
-    else if (opt == "--include")
-      a.include = value();
-    else if (opt == "--tmp")
-      a.tmp = value();
-    else {
-      std::fprintf(stderr, "hg-bench: unknown option '%s'\n", opt.c_str());
-      usage(2);
-    }
+  a.sets.clear();
+  for (const auto& s : split(p.text("sets"))) {
+    if (s != "low" && s != "down" && s != "high") throw p.error("sets", "unknown set '" + s + "' (low, down, high)");
+    a.sets.insert(s);
   }
-  a.cgal = a.cgal && kHaveCgal;
-  a.alpha_shape = a.alpha_shape && a.cgal;
-  a.pcl = a.pcl && kHavePcl;
-  a.delaunator = a.delaunator && kHaveDelaunator;
+  a.only = split(p.text("only"));
+  a.runs = static_cast<int>(p.integer("runs"));
+  a.slow_runs = static_cast<int>(p.integer("slow-runs"));
+  a.slow_runs_high = static_cast<int>(p.integer("slow-runs-high"));
+  a.ordinary_runs = static_cast<int>(p.integer("ordinary-runs"));
+  a.noise = p.number("noise");
+  a.jagged = !p.flag("no-jagged");
+  a.dropout = p.number("dropout");
+  a.seed = static_cast<std::uint64_t>(p.integer("seed"));
+  a.band_rows = static_cast<int>(p.integer("band-rows"));
+  a.cgal = !p.flag("no-cgal") && kHaveCgal;
+  a.alpha_shape = !p.flag("no-alpha-shape") && a.cgal;
+  a.delaunator = !p.flag("no-delaunator") && kHaveDelaunator;
+  a.pcl = !p.flag("no-pcl") && kHavePcl;
+  a.memory = !p.flag("no-memory");
+  a.memory_preset = p.text("memory-preset");
+  a.md = p.text("md"), a.png = p.text("png"), a.include = p.text("include"), a.tmp = p.text("tmp");
   return a;
 }
 
@@ -589,7 +561,6 @@ Report report_header(int argc, char** argv, const Args& a) {
 }  // namespace hg::bench
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-bench")) return 0;
   using namespace hg::bench;
   if (argc == 4 && std::string(argv[1]).rfind("--child-", 0) == 0) {
     try {
@@ -599,7 +570,16 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  const Args a = parse_args(argc, argv);
+  Args a;
+  try {
+    hg::runtime::Params params(bench_params());
+    const auto action = params.parse(argc, argv);
+    if (action != hg::runtime::Params::Action::Run) return hg::runtime::answer(action, "hg-bench", params, usage);
+    a = args_from(params);
+  } catch (const std::exception& e) {  // runtime::ConfigError
+    std::fprintf(stderr, "hg-bench: %s\n(hg-bench --help shows the options)\n", e.what());
+    return 2;
+  }
   Report report;
   try {
     report = report_header(argc, argv, a);
