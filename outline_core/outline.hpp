@@ -59,6 +59,7 @@ struct Options {
   Order order = Order::Brio;    // docs/outline-core-performance.md: scan order makes long thin fans
   bool outer_only = false;      // paper's BFS from outside only: big triangles inside are kept (no holes)
   bool keep_triangles = false;  // fill Result::triangles
+  int threads = 1;              // 0: all cores; 1: one thread
 };
 
 // The triangulation's counters: exact, the same on every run of the same points and options.

@@ -131,7 +131,7 @@ void header_section(std::ostream& o, const Report& r) {
   o << "# Outline core benchmark: the paper's tables, our insertion orders, CGAL and PCL\n\n"
     << "Written by `hg-bench` (tools/bench/). All figures below come from ONE run of one process: times are "
        "medians of repeated runs of the whole outline (triangulation + circumradius classification + loops; "
-       "reading the file excluded), single thread, Release; methods are run round-robin so load bursts "
+       "reading the file excluded), one thread unless a column says otherwise, Release; methods are run round-robin so load bursts "
        "spread over all of them. Search costs and per-insertion counts are exact counters (the same on every "
        "run).\n\n"
     << "- Command: `" << r.command << "`\n"
@@ -150,7 +150,10 @@ void header_section(std::ostream& o, const Report& r) {
     << "- Peers: CGAL " << r.cgal_version << ", delaunator-cpp " << r.delaunator_version << ", PCL " << r.pcl_version
     << "\n\n";
 
-  o << "Method names: `dshi` = directive search + heritable initial, points inserted in scan order as the camera "
+  o << "Method names: `dshi brio, 1 thread` / `dshi brio, N threads` = hg-outline's defaults (BRIO order) on the "
+       "scan-order cloud with `Options::threads` = 1 / N (N = "
+    << r.threads
+    << "); `dshi` = directive search + heritable initial, points inserted in scan order as the camera "
        "gives them (the paper's method); `dshi hilbert (shuffled)` = the cloud shuffled at random, then "
        "`--order hilbert`; `dshi brio (shuffled)` = the same with BRIO rounds; `dshi banded` = an experiment: "
        "bands of "
@@ -159,6 +162,43 @@ void header_section(std::ostream& o, const Report& r) {
        "`CGAL DT + loops` = `Delaunay_triangulation_2` (Epick, range insertion with CGAL's spatial sort) + a "
        "squared-circumradius pass + chaining the free edges into loops; `delaunator + loops` = delaunator-cpp's "
        "`Delaunator` + the same pass (its own `circumradius`) and the same loop chaining.\n\n";
+}
+
+// Ours (hg-outline's defaults) on one and on N threads beside the Delaunay peers, every cloud of the run.
+void side_by_side_table(std::ostream& o, const Report& r) {
+  const std::string n = std::to_string(r.threads);
+  o << "## Side by side: ours on 1 and " << n << " threads, CGAL DT + loops, delaunator + loops\n\n"
+    << "Ours: hg-outline's defaults (DSHI, BRIO order) on the scan-order cloud, `Options::threads` = 1 and " << n
+    << "; the peers on the same points with the same R. Medians of one run (ms).\n\n"
+    << "| cloud | points | ours 1 thread | ours " << n << " threads | " << n
+    << "t / 1t | CGAL DT + loops | delaunator + loops | 1t / CGAL | " << n << "t / CGAL | 1t / delaunator | " << n
+    << "t / delaunator |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& c : r.clouds) {
+    const double t1 = med(c, key::ours_1t), tn = med(c, key::ours_nt), cg = med(c, key::cgal_dt),
+                 dl = med(c, key::delaunator);
+    o << "| " << c.preset << " | " << big(c.points) << " | " << ms(t1) << " | " << ms(tn) << " | "
+      << fmt("%.2f", tn / t1) << " | " << peer_ms(r, c, key::cgal_dt) << " | " << peer_ms(r, c, key::delaunator)
+      << " | " << fmt("%.2f", t1 / cg) << " | " << fmt("%.2f", tn / cg) << " | " << fmt("%.2f", t1 / dl) << " | "
+      << fmt("%.2f", tn / dl) << " |\n";
+  }
+}
+
+// The issue-13 targets (ours against CGAL measured in the same run), with their verdicts.
+void threads_targets_table(std::ostream& o, const Report& r) {
+  const std::string n = std::to_string(r.threads);
+  o << "\n## Targets (issue 13)\n\n| target | cloud | measured | limit | verdict |\n|---|---|---|---|---|\n";
+  for (const auto& c : r.clouds) {
+    const double t1 = med(c, key::ours_1t), tn = med(c, key::ours_nt), cg = med(c, key::cgal_dt);
+    const bool high = set_of(c) == "high";
+    const double k = high ? 0.30 : 0.5;
+    o << "| 1 thread ≤ " << fmt("%.2f", k) << " × CGAL DT + loops | " << c.preset << " | " << ms(t1)
+      << " ms = " << fmt("%.2f", t1 / cg) << " × | " << ms(k * cg) << " ms | " << verdict(t1, k * cg) << " |\n";
+    if (!high) continue;
+    o << "| " << n << " threads ≤ 0.6 × 1 thread | " << c.preset << " | " << ms(tn) << " ms = " << fmt("%.2f", tn / t1)
+      << " × | " << ms(0.6 * t1) << " ms | " << verdict(tn, 0.6 * t1) << " |\n";
+    o << "| " << n << " threads ≤ 0.20 × CGAL DT + loops | " << c.preset << " | " << ms(tn)
+      << " ms = " << fmt("%.2f", tn / cg) << " × | " << ms(0.2 * cg) << " ms | " << verdict(tn, 0.2 * cg) << " |\n";
+  }
 }
 
 // The search cost (Tables 2, 7) and time (Tables 3, 8) tables of the low and down-sampled clouds.
@@ -315,6 +355,9 @@ void write_markdown(const Report& r, const std::string& path) {
   std::ofstream o(path);
   if (!o) throw std::runtime_error("cannot write " + path);
   header_section(o, r);
+  side_by_side_table(o, r);
+  threads_targets_table(o, r);
+  o << "\n";
   paper_tables(o, r);
   high_density_table(o, r);
   work_table(o, r);
@@ -394,8 +437,9 @@ void panel(cv::Mat& img, cv::Rect box, const std::string& title, const std::stri
 void write_plot(const Report& r, const std::string& path) {
   cv::Mat img(720, 1600, CV_8UC3, cv::Scalar(255, 255, 255));
   std::vector<std::pair<std::string, std::vector<cv::Point2d>>> times, visits;
-  for (const std::string& k : {key::dshi, key::dshi_hilbert_shuf, key::dshi_brio_shuf, key::dshi_band, key::ds,
-                               key::ordinary, key::cgal_dt, key::delaunator, key::cgal_alpha, key::pcl}) {
+  for (const std::string& k :
+       {key::ours_1t, key::ours_nt, key::dshi, key::dshi_hilbert_shuf, key::dshi_brio_shuf, key::dshi_band, key::ds,
+        key::ordinary, key::cgal_dt, key::delaunator, key::cgal_alpha, key::pcl}) {
     std::vector<cv::Point2d> t;
     for (const auto& c : r.clouds)
       if (const Method* m = c.find(k); m && !m->time.empty())

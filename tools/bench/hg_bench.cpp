@@ -72,6 +72,7 @@ struct Args {
   double dropout = 0;
   std::uint64_t seed = 7;
   int band_rows = 8;
+  int threads = 2;  // of the multi-thread column (Options::threads)
   bool cgal = true, alpha_shape = true, delaunator = true, pcl = true, memory = true;
   std::string memory_preset = "high-4";
   std::string md, png, include, tmp = "/tmp";
@@ -106,27 +107,29 @@ std::vector<std::string> split(const std::string& s) {
 // The options, declared once (runtime::Params checks types and ranges; --help-markdown lists them).
 std::vector<runtime::Param> bench_params() {
   using namespace runtime;
-  return {text_param("sets", "low,down,high", "the preset sets to run, comma-separated: low, down, high"),
-          text_param("only", "", "preset names, comma-separated (e.g. high-4); overrides --sets"),
-          integer_param("runs", "5", "timed runs per method", 1, 1000),
-          integer_param("slow-runs", "3", "runs of CGAL Alpha_shape_2 and PCL on low and down", 0, 1000),
-          integer_param("slow-runs-high", "1", "runs of CGAL Alpha_shape_2 and PCL on high", 0, 1000),
-          integer_param("ordinary-runs", "3", "runs of the O(n^2) ordinary mode", 0, 1000),
-          number_param("noise", "0.05", "in-plane Gaussian noise, sigma = F x pitch", 0, 10),
-          flag_param("no-jagged", "pixel-centre rule at the edges (default: jagged edges, like a camera)"),
-          number_param("dropout", "0", "fraction of pixels lost at random", 0, 0.9),
-          integer_param("seed", "7", "random seed of the clouds and of the shuffle", 0, 1e15),
-          integer_param("band-rows", "8", "rows per band of the banded-order experiment", 1, 4096),
-          flag_param("no-cgal", "leave out the CGAL peers"),
-          flag_param("no-alpha-shape", "leave out CGAL Alpha_shape_2"),
-          flag_param("no-delaunator", "leave out the delaunator-cpp peer"),
-          flag_param("no-pcl", "leave out PCL ConcaveHull"),
-          flag_param("no-memory", "skip the peak-memory measurement of whole processes"),
-          text_param("memory-preset", "high-4", "the preset whose cloud the memory measurement uses"),
-          text_param("md", "", "write the markdown report here (default: standard output)"),
-          text_param("png", "", "write the PNG plot here"),
-          text_param("include", "", "a markdown file appended to the report (a profile, by hand)"),
-          text_param("tmp", "/tmp", "directory for the memory measurement's cloud file")};
+  return {
+      text_param("sets", "low,down,high", "the preset sets to run, comma-separated: low, down, high"),
+      text_param("only", "", "preset names, comma-separated (e.g. high-4); overrides --sets"),
+      integer_param("runs", "5", "timed runs per method", 1, 1000),
+      integer_param("slow-runs", "3", "runs of CGAL Alpha_shape_2 and PCL on low and down", 0, 1000),
+      integer_param("slow-runs-high", "1", "runs of CGAL Alpha_shape_2 and PCL on high", 0, 1000),
+      integer_param("ordinary-runs", "3", "runs of the O(n^2) ordinary mode", 0, 1000),
+      number_param("noise", "0.05", "in-plane Gaussian noise, sigma = F x pitch", 0, 10),
+      flag_param("no-jagged", "pixel-centre rule at the edges (default: jagged edges, like a camera)"),
+      number_param("dropout", "0", "fraction of pixels lost at random", 0, 0.9),
+      integer_param("seed", "7", "random seed of the clouds and of the shuffle", 0, 1e15),
+      integer_param("band-rows", "8", "rows per band of the banded-order experiment", 1, 4096),
+      integer_param("threads", "2", "threads of our multi-thread column (one thread is always measured too)", 2, 256),
+      flag_param("no-cgal", "leave out the CGAL peers"),
+      flag_param("no-alpha-shape", "leave out CGAL Alpha_shape_2"),
+      flag_param("no-delaunator", "leave out the delaunator-cpp peer"),
+      flag_param("no-pcl", "leave out PCL ConcaveHull"),
+      flag_param("no-memory", "skip the peak-memory measurement of whole processes"),
+      text_param("memory-preset", "high-4", "the preset whose cloud the memory measurement uses"),
+      text_param("md", "", "write the markdown report here (default: standard output)"),
+      text_param("png", "", "write the PNG plot here"),
+      text_param("include", "", "a markdown file appended to the report (a profile, by hand)"),
+      text_param("tmp", "/tmp", "directory for the memory measurement's cloud file")};
 }
 
 Args args_from(const runtime::Params& p) {
@@ -147,6 +150,7 @@ Args args_from(const runtime::Params& p) {
   a.dropout = p.number("dropout");
   a.seed = static_cast<std::uint64_t>(p.integer("seed"));
   a.band_rows = static_cast<int>(p.integer("band-rows"));
+  a.threads = static_cast<int>(p.integer("threads"));
   a.cgal = !p.flag("no-cgal") && kHaveCgal;
   a.alpha_shape = !p.flag("no-alpha-shape") && a.cgal;
   a.delaunator = !p.flag("no-delaunator") && kHaveDelaunator;
@@ -286,12 +290,13 @@ double now_ms_since(Clock::time_point t0) {
 // The methods timed on cloud c, all with the same radius R: our orders and modes (DS, as-is on the
 // shuffled cloud and ordinary only on the small clouds) and the peers that are built and asked for.
 std::vector<Job> bench_jobs(const BenchCloud& c, const Args& a, double R, bool small) {
-  auto ours = [&](std::span<const Vec2> pts, outline::Mode mode, outline::Order order) {
-    return [pts, mode, order, R](Method& m) {
+  auto ours = [&](std::span<const Vec2> pts, outline::Mode mode, outline::Order order, int threads = 1) {
+    return [pts, mode, order, R, threads](Method& m) {
       outline::Options o;
       o.alpha_radius = R;
       o.mode = mode;
       o.order = order;
+      o.threads = threads;
       o.min_hole_spacings = 0;  // the raw alpha shape, comparable edge for edge with the peers'
       const auto t0 = Clock::now();
       const outline::Result r = outline::compute_outline(pts, o);
@@ -302,6 +307,8 @@ std::vector<Job> bench_jobs(const BenchCloud& c, const Args& a, double R, bool s
   std::vector<Job> jobs;
   using outline::Mode;
   using outline::Order;
+  jobs.push_back({key::ours_1t, a.runs, false, ours(c.scan, Mode::DSHI, Order::Brio, 1)});
+  jobs.push_back({key::ours_nt, a.runs, false, ours(c.scan, Mode::DSHI, Order::Brio, a.threads)});
   jobs.push_back({key::dshi, a.runs, false, ours(c.scan, Mode::DSHI, Order::AsIs)});
   jobs.push_back({key::dshi_hilbert_scan, a.runs, false, ours(c.scan, Mode::DSHI, Order::Hilbert)});
   jobs.push_back({key::dshi_hilbert_shuf, a.runs, false, ours(c.shuffled, Mode::DSHI, Order::Hilbert)});
@@ -534,6 +541,7 @@ Report report_header(int argc, char** argv, const Args& a) {
   report.slow_runs_high = a.slow_runs_high;
   report.ordinary_runs = a.ordinary_runs;
   report.band_rows = a.band_rows;
+  report.threads = a.threads;
   {
     char buf[256];
     std::snprintf(
