@@ -15,8 +15,8 @@ Result result_of(const hullgrind::outline_t& o) {
   r.alpha_radius = o.alpha_radius;
   r.mode = parse_mode(o.mode.empty() ? "dshi" : o.mode);
   r.order = parse_order(o.order.empty() ? "as-is" : o.order);
-  r.triangles = std::size_t(o.triangles);
-  r.search_cost = std::uint64_t(o.search_cost);
+  r.stats.triangles = std::size_t(o.triangles);
+  r.stats.search_cost = std::uint64_t(o.search_cost);
   r.time = {o.time_triangulate * 1e3, o.time_alpha * 1e3, o.time_loops * 1e3, o.compute_time * 1e3};
   for (const auto& l : o.loops) {
     Loop loop;

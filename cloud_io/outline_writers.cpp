@@ -74,10 +74,12 @@ nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar,
   j["mode"] = to_string(r.mode);
   j["order"] = to_string(r.order);
   j["threads"] = r.threads_used;  // strips computed in parallel (1: the one-thread path ran)
-  j["triangles"] = r.triangles;
-  j["search_cost"] = r.search_cost;
-  j["incircle_tests"] = r.incircle_tests;
-  j["orient_tests"] = r.orient_tests;
+  j["triangles"] = r.stats.triangles;
+  j["search_cost"] = r.stats.search_cost;
+  j["search_cost_locate"] = r.stats.search_cost_locate;
+  j["search_cost_cavity"] = r.stats.search_cost_cavity;
+  j["incircle_tests"] = r.stats.incircle_tests;
+  j["orient_tests"] = r.stats.orient_tests;
   j["time_ms"] = {
       {"read", info.read_ms},     {"project", info.project_ms}, {"triangulate", r.time.triangulate_ms},
       {"alpha", r.time.alpha_ms}, {"loops", r.time.loops_ms},   {"total", info.project_ms + r.time.total_ms}};

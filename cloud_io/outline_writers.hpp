@@ -30,10 +30,11 @@ struct RunInfo {
 };
 
 // Keys: frame (RunInfo::frame), points_read, points_used, duplicates_merged, alpha_radius, mode, order, triangles,
-// search_cost, time_ms {read, triangulate, alpha, loops, total}, loops [{hole, area, perimeter, points}], plus input,
-// alpha_automatic, alpha_mode, spacing, nn_spacing_median, holes_dropped, incircle_tests, orient_tests,
-// time_ms.project; for 3-D input also plane {origin, normal, u, v, rms_distance, max_distance} and per loop points_3d.
-// time_ms.total is everything after reading: projection + compute_outline.
+// search_cost = search_cost_locate (point location) + search_cost_cavity (cavity search), time_ms {read, triangulate,
+// alpha, loops, total}, loops [{hole, area, perimeter, points}], plus input, alpha_automatic, alpha_mode, spacing,
+// nn_spacing_median, holes_dropped, incircle_tests, orient_tests, time_ms.project; for 3-D input also plane {origin,
+// normal, u, v, rms_distance, max_distance} and per loop points_3d. time_ms.total is everything after reading:
+// projection + compute_outline.
 nlohmann::ordered_json outline_json(const Result& result, const PlanarPoints& planar, const RunInfo& info);
 
 // One triangle per line "i j k", 0-based indices into the points as read.

@@ -31,6 +31,29 @@ AlphaMode parse_alpha_mode(const std::string& s) {
   throw OutlineError("unknown alpha mode '" + s + "' (expected global or local)");
 }
 
+TriangulationStats triangulation_stats(const Triangulation& T) {
+  TriangulationStats s;
+  s.search_cost = T.stats.search_cost();
+  s.search_cost_locate = T.stats.locate_visits;
+  s.search_cost_cavity = T.stats.cavity_visits;
+  s.cavity_triangles = T.stats.cavity_triangles;
+  s.incircle_tests = T.stats.incircle_tests;
+  s.orient_tests = T.stats.orient_tests;
+  // Finite triangles = all slots minus the ghost ones, one per hull edge: counted by turning around the
+  // vertex at infinity. Its half-edges are g -> x; the next one around it is the twin of the half-edge
+  // ending at the ghost in the same triangle.
+  std::uint32_t h0 = 0;
+  while (T.tri[h0] != T.ghost) ++h0;  // a half-edge leaving the ghost (usually within the first slots)
+  std::size_t hull = 0;
+  std::uint32_t h = h0;
+  do {
+    ++hull;
+    h = T.twin[Triangulation::prev(h)];
+  } while (h != h0);
+  s.triangles = T.slots() - hull;
+  return s;
+}
+
 namespace {
 
 void check_options(const Options& options) {
@@ -142,12 +165,7 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   res.points_skipped = T.skipped;
   res.points_used = T.inserted;
   res.duplicates_merged = T.duplicates;
-  res.search_cost = T.stats.search_cost();
-  res.search_cost_locate = T.stats.locate_visits;
-  res.search_cost_cavity = T.stats.cavity_visits;
-  res.cavity_triangles = T.stats.cavity_triangles;
-  res.incircle_tests = T.stats.incircle_tests;
-  res.orient_tests = T.stats.orient_tests;
+  res.stats = triangulation_stats(T);
   std::vector<float> local;  // per-vertex spacing, local mode only
   const std::vector<std::uint8_t> inside = classify_by_options(T, options, res, local);
   const auto t2 = Clock::now();
@@ -156,24 +174,9 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
   res.holes_dropped = drop_small_holes(res.loops, &T, local, res.spacing, options.min_hole_spacings);
   if (options.keep_triangles) {
     const std::size_t slots = T.slots();
-    for (std::size_t t = 0; t < slots; ++t) {
-      if (T.is_ghost(t)) continue;
-      ++res.triangles;
-      res.delaunay_triangles.push_back({T.ids[T.tri[3 * t]], T.ids[T.tri[3 * t + 1]], T.ids[T.tri[3 * t + 2]]});
-    }
-  } else {
-    // Finite triangles = all slots minus the ghost ones, one per hull edge: counted by turning around the
-    // vertex at infinity (no pass over the 3 M triangles). Its half-edges are g -> x; the next one
-    // around it is the twin of the half-edge ending at the ghost in the same triangle.
-    std::uint32_t h0 = 0;
-    while (T.tri[h0] != T.ghost) ++h0;  // a half-edge leaving the ghost (usually within the first slots)
-    std::size_t hull = 0;
-    std::uint32_t h = h0;
-    do {
-      ++hull;
-      h = T.twin[Triangulation::prev(h)];
-    } while (h != h0);
-    res.triangles = T.slots() - hull;
+    for (std::size_t t = 0; t < slots; ++t)
+      if (!T.is_ghost(t))
+        res.delaunay_triangles.push_back({T.ids[T.tri[3 * t]], T.ids[T.tri[3 * t + 1]], T.ids[T.tri[3 * t + 2]]});
   }
   const auto t3 = Clock::now();
   res.time.triangulate_ms = ms(t0, t1);

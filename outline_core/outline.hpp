@@ -68,6 +68,21 @@ struct Options {
   std::size_t min_points_per_thread = 100'000;  // below this per strip a second thread does not pay
 };
 
+// The triangulation's counters: exact, the same on every run of the same points and options.
+struct TriangulationStats {
+  std::size_t triangles = 0;             // finite Delaunay triangles
+  std::uint64_t search_cost = 0;         // triangles visited: point location + cavity search (the paper's measure)
+  std::uint64_t search_cost_locate = 0;  // part of search_cost: point location (walk, or Ordinary's full scan)
+  std::uint64_t search_cost_cavity = 0;  // part of search_cost: neighbours tested by the cavity search
+  std::uint64_t cavity_triangles = 0;    // triangles deleted over all insertions (mean cavity size x points)
+  std::uint64_t incircle_tests = 0;
+  std::uint64_t orient_tests = 0;
+};
+
+struct Triangulation;
+// The counters of T (its finite triangles counted around the vertex at infinity: no pass over them all).
+TriangulationStats triangulation_stats(const Triangulation& T);
+
 struct Timings {
   double triangulate_ms = 0, alpha_ms = 0, loops_ms = 0, total_ms = 0;
 };
@@ -85,13 +100,7 @@ struct Result {
   std::size_t holes_dropped = 0;  // holes below Options::min_hole_spacings, not in `loops`
   Mode mode = Mode::DSHI;
   Order order = Order::AsIs;
-  std::size_t triangles = 0;             // finite Delaunay triangles
-  std::uint64_t search_cost = 0;         // triangles visited: point location + cavity search (the paper's measure)
-  std::uint64_t search_cost_locate = 0;  // part of search_cost: point location (walk, or Ordinary's full scan)
-  std::uint64_t search_cost_cavity = 0;  // part of search_cost: neighbours tested by the cavity search
-  std::uint64_t cavity_triangles = 0;    // triangles deleted over all insertions (mean cavity size x points)
-  std::uint64_t incircle_tests = 0;
-  std::uint64_t orient_tests = 0;
+  TriangulationStats stats;
   std::vector<Loop> loops;  // outer loops first, then holes
   // Final Delaunay triangles (only with Options::keep_triangles), counter-clockwise, indices into the
   // input as given; a merged duplicate is referred to by its first occurrence.

@@ -461,7 +461,7 @@ bool merge_surveys(std::vector<Strip>& strips, const Options& options, double ma
   survey.triangles = 2 * survey.distinct - 2 - survey.hull;
   if (options.keep_triangles && survey.trusted != survey.triangles) return false;
   res.points_used = survey.distinct;
-  res.triangles = survey.triangles;
+  res.stats.triangles = survey.triangles;
   res.nn_spacing_median = median_distance(nn2);
   res.spacing = merged_spacing(strips, survey.triangles);
   if (!(res.spacing > 0)) return false;
@@ -483,12 +483,12 @@ void strip_edges(Strip& s, double R) {
 }
 
 void add_stats(const Triangulation& T, Result& res) {
-  res.search_cost += T.stats.search_cost();
-  res.search_cost_locate += T.stats.locate_visits;
-  res.search_cost_cavity += T.stats.cavity_visits;
-  res.cavity_triangles += T.stats.cavity_triangles;
-  res.incircle_tests += T.stats.incircle_tests;
-  res.orient_tests += T.stats.orient_tests;
+  res.stats.search_cost += T.stats.search_cost();
+  res.stats.search_cost_locate += T.stats.locate_visits;
+  res.stats.search_cost_cavity += T.stats.cavity_visits;
+  res.stats.cavity_triangles += T.stats.cavity_triangles;
+  res.stats.incircle_tests += T.stats.incircle_tests;
+  res.stats.orient_tests += T.stats.orient_tests;
 }
 
 }  // namespace

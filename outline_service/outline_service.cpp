@@ -110,8 +110,8 @@ bool put_result(const outline::Result& r, hullgrind::outline_t& out) {
   out.time_triangulate = r.time.triangulate_ms * 1e-3;
   out.time_alpha = r.time.alpha_ms * 1e-3;
   out.time_loops = r.time.loops_ms * 1e-3;
-  out.triangles = int32_t(r.triangles);
-  out.search_cost = int64_t(r.search_cost);
+  out.triangles = int32_t(r.stats.triangles);
+  out.search_cost = int64_t(r.stats.search_cost);
   bool any_outer = false;
   for (const outline::Loop& l : r.loops) {
     hullgrind::outline_loop_t m;

@@ -254,7 +254,7 @@ TEST(OutlineAlpha, LoopsAreExactlyTheFreeEdgesOfAnExactClassification) {
         loops_seen += r.loops.size();
         // The kept Delaunay triangles are the triangulation's, in input indices.
         EXPECT_EQ(r.delaunay_triangles.size(), T.finite_count());
-        EXPECT_EQ(r.triangles, T.finite_count());
+        EXPECT_EQ(r.stats.triangles, T.finite_count());
       }
   }
   EXPECT_GT(pinches, 0u) << "the clouds should exercise pinch vertices";

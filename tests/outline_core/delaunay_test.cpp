@@ -314,18 +314,19 @@ TEST(OutlineDelaunay, ResultReportsTheSearchCounters) {
   // The default options: DSHI, BRIO order.
   const Triangulation T = triangulate(pts, Mode::DSHI, Order::Brio);
   const Result r = compute_outline(pts);
-  EXPECT_EQ(r.search_cost, r.search_cost_locate + r.search_cost_cavity);
-  EXPECT_EQ(r.search_cost_locate, T.stats.locate_visits);
-  EXPECT_EQ(r.search_cost_cavity, T.stats.cavity_visits);
-  EXPECT_EQ(r.cavity_triangles, T.stats.cavity_triangles);
-  EXPECT_EQ(r.incircle_tests, T.stats.incircle_tests);
+  const TriangulationStats& s = r.stats;
+  EXPECT_EQ(s.search_cost, s.search_cost_locate + s.search_cost_cavity);
+  EXPECT_EQ(s.search_cost_locate, T.stats.locate_visits);
+  EXPECT_EQ(s.search_cost_cavity, T.stats.cavity_visits);
+  EXPECT_EQ(s.cavity_triangles, T.stats.cavity_triangles);
+  EXPECT_EQ(s.incircle_tests, T.stats.incircle_tests);
   // Every insertion deletes at least one triangle and locates with at least one visit.
-  EXPECT_GE(r.cavity_triangles, pts.size() - 3);
-  EXPECT_GE(r.search_cost_locate, pts.size() - 3);
+  EXPECT_GE(s.cavity_triangles, pts.size() - 3);
+  EXPECT_GE(s.search_cost_locate, pts.size() - 3);
   // Each cavity triangle but the located one, and each triangle across the cavity's boundary, was tested.
-  EXPECT_GE(r.search_cost_cavity, r.cavity_triangles - (pts.size() - 3));
+  EXPECT_GE(s.search_cost_cavity, s.cavity_triangles - (pts.size() - 3));
   EXPECT_EQ(r.mode, Mode::DSHI);
   EXPECT_EQ(r.order, Order::Brio);
-  EXPECT_EQ(r.triangles, T.finite_count());
+  EXPECT_EQ(r.stats.triangles, T.finite_count());
   EXPECT_GE(r.time.total_ms, r.time.triangulate_ms);
 }

@@ -248,3 +248,103 @@ TEST(OutlinePredicates, CircumradiusComparisonIsExact) {
     }
   }
 }
+
+namespace {
+
+// The rational sign of r^2 - R^2 (r the circumradius of a, b, c; not collinear).
+int circumradius_sign_q(Vec2 a, Vec2 b, Vec2 c, double R) {
+  const mpq_class r2 = circumradius2_q(exact(a), exact(b), exact(c)), R2 = mpq_class(R) * mpq_class(R);
+  return r2 > R2 ? 1 : (r2 < R2 ? -1 : 0);
+}
+
+// Both the filtered comparison and the exact fallback called directly must give the rational sign, for R
+// the rounded circumradius and its neighbours (r^2 - R^2 tiny, of either sign) and for R far from it.
+void expect_circumradius(const Vec2 (&p)[3], std::uint64_t seed, int it, int& ties) {
+  const double R = std::sqrt(circumradius2_q(exact(p[0]), exact(p[1]), exact(p[2])).get_d());
+  for (double cand : {std::nextafter(R, 0.0), R, std::nextafter(R, 1e300), R * 0.75, R * 1.5}) {
+    const int want = circumradius_sign_q(p[0], p[1], p[2], cand);
+    ASSERT_EQ(pred::circumradius_vs(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, cand), want)
+        << "seed " << seed << " it " << it;
+    ASSERT_EQ(pred::circumradius_vs_exact(p[0].x, p[0].y, p[1].x, p[1].y, p[2].x, p[2].y, cand), want)
+        << "seed " << seed << " it " << it;
+    ties += want == 0;
+  }
+}
+
+}  // namespace
+
+TEST(OutlinePredicates, CircumradiusFullPrecisionFarFromOriginManySeeds) {
+  // Full-precision points anywhere from 1e-15 to 1e15 from the origin at every scale: most coordinate
+  // differences are not doubles, so the exact fallback works on two-component differences.
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    FullPrecision r(400 + seed);
+    int ties = 0;
+    for (int it = 0; it < 300; ++it) {
+      const double s = r.scale(), ox = r() * r.scale(), oy = r() * r.scale();
+      const Vec2 p[3] = {{ox + s * r(), oy + s * r()}, {ox + s * r(), oy + s * r()}, {ox + s * r(), oy + s * r()}};
+      if (orient_sign_q(p[0], p[1], p[2]) == 0) continue;
+      expect_circumradius(p, seed, it, ties);
+    }
+  }
+}
+
+TEST(OutlinePredicates, PredicatesOnExactManyBitDifferencesManySeeds) {
+  // Full-precision points in [1, 2)^2: every coordinate difference is an exact double (Sterbenz) of up
+  // to 52 bits, too many for the integer path, so the exact fallbacks take their one-component expansion
+  // paths. Near-degenerate by construction: rounded onto a circle (incircle), onto a line (orient), and
+  // R = the rounded circumradius (circumradius_vs).
+  int inside = 0, outside = 0, collinear = 0, decided = 0;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    std::mt19937_64 rng(500 + seed);
+    std::uniform_real_distribution<double> u(0, 1), ang(0, 2 * M_PI);
+    std::uniform_int_distribution<int> k(-2, 2);
+    int ties = 0;
+    for (int it = 0; it < 1000; ++it) {
+      const double cx = 1.5 + 0.1 * (u(rng) - 0.5), cy = 1.5 + 0.1 * (u(rng) - 0.5), rad = 0.05 + 0.3 * u(rng);
+      Vec2 p[4];
+      for (auto& q : p) q = {cx + rad * std::cos(ang(rng)), cy + rad * std::sin(ang(rng))};
+      p[3] = {nudge(p[3].x, k(rng)), nudge(p[3].y, k(rng))};
+      const int o = orient_sign_q(p[0], p[1], p[2]);
+      if (o == 0) continue;
+      if (o < 0) std::swap(p[1], p[2]);
+      const int want = incircle_sign_q(p[0], p[1], p[2], p[3]);
+      expect_incircle(p, want, seed, it);
+      (want > 0 ? inside : outside) += want != 0;
+      // Near-collinear: on the line through two of the points, rounded (and nudged on odd iterations);
+      // every third line horizontal, where the rounded point is exactly on it.
+      const Vec2 a = p[0], b = it % 3 ? p[1] : Vec2{p[1].x, p[0].y};
+      const double t = u(rng) * 1.5 - 0.25;
+      Vec2 m{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+      if (it % 2) m = {nudge(m.x, k(rng)), nudge(m.y, k(rng))};
+      const int want_o = orient_sign_q(a, b, m);
+      expect_orient(a, b, m, want_o, seed, it);
+      (want_o == 0 ? collinear : decided) += 1;
+      const Vec2 tri[3] = {p[0], p[1], p[2]};
+      expect_circumradius(tri, seed, it, ties);
+    }
+  }
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(outside, 1000);
+  EXPECT_GT(collinear, 1000);
+  EXPECT_GT(decided, 1000);
+}
+
+TEST(OutlinePredicates, CircumradiusOnFewBitPointsExactTies) {
+  // Right triangles on a 2^-24 grid (float32 camera data): the circumradius is half the hypotenuse, and
+  // for a hypotenuse of even integer length in grid units (Pythagorean triples scaled) R = half of it is a
+  // tie the comparison must call exactly 0; one ulp either side decides.
+  const int triples[][3] = {{3, 4, 5}, {5, 12, 13}, {8, 15, 17}, {7, 24, 25}, {20, 21, 29}};
+  std::mt19937_64 rng(23);
+  std::uniform_int_distribution<int> origin(-(1 << 22), 1 << 22), mult(1, 1000);
+  for (int it = 0; it < 2000; ++it) {
+    const auto& t = triples[it % 5];
+    const double unit = 0x1p-24, ox = origin(rng) * unit, oy = origin(rng) * unit, m = 2 * mult(rng);
+    const Vec2 a{ox, oy}, b{ox + m * t[0] * unit, oy}, c{ox, oy + m * t[1] * unit};
+    const double R = m * t[2] * unit / 2;                 // exact: an integer times a power of two
+    ASSERT_EQ(circumradius_sign_q(a, b, c, R), 0) << it;  // the construction is a tie
+    EXPECT_EQ(pred::circumradius_vs(a.x, a.y, b.x, b.y, c.x, c.y, R), 0) << it;
+    EXPECT_EQ(pred::circumradius_vs_exact(a.x, a.y, b.x, b.y, c.x, c.y, R), 0) << it;
+    EXPECT_EQ(pred::circumradius_vs(a.x, a.y, b.x, b.y, c.x, c.y, std::nextafter(R, 0.0)), 1) << it;
+    EXPECT_EQ(pred::circumradius_vs(a.x, a.y, c.x, c.y, b.x, b.y, std::nextafter(R, 1.0)), -1) << it;
+  }
+}

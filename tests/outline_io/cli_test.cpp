@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -319,4 +320,61 @@ TEST_F(OutlineIoCli, CollinearInSpaceAndTooFewFinitePointsAreErrors) {
   EXPECT_NE(f.err.find("few.xyz: need at least 3 distinct points, got 2 finite points (2 non-finite skipped)"),
             std::string::npos)
       << f.err;
+}
+
+namespace {
+
+// A jittered grid of w x h points (spacing 1, noise up to 0.3 of it), full-precision doubles written with
+// 17 significant digits, in scan-line order.
+void write_jittered_grid(const fs::path& path, int w, int h, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  std::ofstream f(path);
+  f.precision(17);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) f << 1000.125 + x + jitter(rng) << ' ' << -2000.5 + y + jitter(rng) << '\n';
+}
+
+}  // namespace
+
+TEST_F(OutlineIoCli, JsonSplitsTheSearchCostIntoPointLocationAndCavitySearch) {
+  // search_cost = search_cost_locate + search_cost_cavity. Ordinary tests every live triangle for each
+  // point: with the ghost triangles of the hull, m inserted points have 2m - 2 of them (Euler), so n
+  // points cost sum_{m=3}^{n-1} (2m - 2) = n (n - 3) exactly. DSHI's walk from the previous insertion's
+  // triangle visits a few triangles per point: with BRIO rounds as many on 19 200 points as on 1 200; in
+  // scan order (as-is) a few more as the rows get longer, still a tiny fraction of ordinary's n - 3.
+  for (unsigned seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE(seed);
+    write_jittered_grid(dir / "small.xyz", 40, 30, seed);
+    write_jittered_grid(dir / "large.xyz", 160, 120, seed);
+    auto stats = [&](const std::string& file, const std::string& options) {
+      const CliRun r = run("'" + (dir / file).string() + "' " + options);
+      EXPECT_EQ(r.code, 0) << r.err;
+      return nlohmann::json::parse(r.out);
+    };
+    for (const nlohmann::json& j : {stats("small.xyz", "--mode ordinary"), stats("small.xyz", "--mode dshi"),
+                                    stats("large.xyz", "--mode dshi --order as-is")}) {
+      ASSERT_TRUE(j.contains("search_cost_locate") && j.contains("search_cost_cavity")) << j.dump();
+      EXPECT_EQ(j["search_cost"].get<std::uint64_t>(),
+                j["search_cost_locate"].get<std::uint64_t>() + j["search_cost_cavity"].get<std::uint64_t>());
+    }
+    const nlohmann::json ord = stats("small.xyz", "--mode ordinary");
+    const std::uint64_t n = ord["points_used"];
+    ASSERT_EQ(n, 40u * 30u);
+    EXPECT_EQ(ord["search_cost_locate"].get<std::uint64_t>(), n * (n - 3));
+    for (const char* order : {"brio", "as-is"}) {
+      const nlohmann::json small = stats("small.xyz", std::string("--mode dshi --order ") + order);
+      const nlohmann::json large = stats("large.xyz", std::string("--mode dshi --order ") + order);
+      const double per_small = small["search_cost_locate"].get<double>() / small["points_used"].get<double>();
+      const double per_large = large["search_cost_locate"].get<double>() / large["points_used"].get<double>();
+      SCOPED_TRACE(order);
+      EXPECT_GE(per_small, 1.0);  // at least the triangle found
+      EXPECT_LT(per_small, 16.0);
+      EXPECT_LT(per_large, 16.0);
+      if (std::string(order) == "brio") {
+        EXPECT_LT(per_large, 1.25 * per_small) << "DSHI's walk must not grow with the number of points";
+      }
+      EXPECT_GT(small["search_cost_cavity"].get<std::uint64_t>(), 0u);
+    }
+  }
 }

@@ -50,8 +50,10 @@ Result two_loop_result() {
   r.alpha_radius = 1.5;
   r.mode = Mode::DS;
   r.order = Order::Hilbert;
-  r.triangles = 8;
-  r.search_cost = 42;
+  r.stats.triangles = 8;
+  r.stats.search_cost = 42;
+  r.stats.search_cost_locate = 30;
+  r.stats.search_cost_cavity = 12;
   r.time = {1.0, 2.0, 3.0, 7.0};
   Loop outer;
   outer.points = {{0, 0}, {4, 0}, {4, 4}, {0, 4}};
@@ -178,6 +180,8 @@ TEST(OutlineIoJson, HasTheKeysAndValues) {
   EXPECT_EQ(j["order"], "hilbert");
   EXPECT_EQ(j["triangles"], 8);
   EXPECT_EQ(j["search_cost"], 42);
+  EXPECT_EQ(j["search_cost_locate"], 30);
+  EXPECT_EQ(j["search_cost_cavity"], 12);
   EXPECT_EQ(j["time_ms"]["read"], 5.5);
   EXPECT_EQ(j["time_ms"]["triangulate"], 1.0);
   EXPECT_EQ(j["time_ms"]["alpha"], 2.0);

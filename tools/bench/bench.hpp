@@ -22,8 +22,8 @@ struct Timing {
 
 // Counters of one triangulation (deterministic: the same on every run).
 struct OurStats {
-  std::uint64_t search_cost = 0, locate = 0, cavity_visits = 0, cavity_triangles = 0, incircle = 0, orient = 0;
-  std::size_t points_used = 0, triangles = 0, outer_loops = 0, holes = 0, boundary_edges = 0;
+  outline::TriangulationStats tri;  // as outline::Result holds them
+  std::size_t points_used = 0, outer_loops = 0, holes = 0, boundary_edges = 0;
   double area = 0;
 };
 
@@ -56,9 +56,9 @@ struct MemoryResult {
 };
 
 struct Report {
-  std::string command, date, machine, compiler, cgal_version, pcl_version, cloud_options;
+  std::string command, date, machine, compiler, cgal_version, delaunator_version, pcl_version, cloud_options;
   std::string load_start, load_end;
-  int runs = 0, slow_runs = 0, slow_runs_high = 0, ordinary_runs = 0, band_rows = 0;
+  int runs = 0, slow_runs = 0, slow_runs_high = 0, ordinary_runs = 0, band_rows = 0, threads = 2;
   std::vector<CloudResult> clouds;
   std::vector<MemoryResult> memory;
   std::string memory_cloud;
@@ -78,8 +78,12 @@ inline const std::string dshi_asis_shuf = "dshi as-is (shuffled)";
 inline const std::string dshi_hilbert_shuf = "dshi hilbert (shuffled)";
 inline const std::string dshi_brio_shuf = "dshi brio (shuffled)";
 inline const std::string dshi_band = "dshi banded";  // experiment: bands of rows, column order
+// hg-outline's defaults (BRIO order) on the scan-order cloud, one thread and Report::threads threads.
+inline const std::string ours_1t = "dshi brio, 1 thread";
+inline const std::string ours_nt = "dshi brio, N threads";
 inline const std::string cgal_dt = "CGAL DT + loops";
 inline const std::string cgal_alpha = "CGAL Alpha_shape_2";
+inline const std::string delaunator = "delaunator + loops";
 inline const std::string pcl = "PCL ConcaveHull";
 }  // namespace key
 

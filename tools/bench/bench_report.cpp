@@ -77,6 +77,13 @@ const OurStats* stats(const CloudResult& c, const std::string& k) {
   const Method* m = c.find(k);
   return m && !m->is_peer && !m->time.empty() ? &m->stats : nullptr;
 }
+// A peer's median time, or "not built" when the peer was not compiled in ("–": built, not run here).
+std::string peer_ms(const Report& r, const CloudResult& c, const std::string& k) {
+  const double v = med(c, k);
+  if (!std::isnan(v)) return ms(v);
+  const std::string& why = k == key::delaunator ? r.delaunator_version : k == key::pcl ? r.pcl_version : r.cgal_version;
+  return why.rfind("not", 0) == 0 ? "not built" : "–";
+}
 std::string set_of(const CloudResult& c) { return c.preset.substr(0, c.preset.find('-')); }
 
 std::string verdict(double value, double limit) {
@@ -93,28 +100,29 @@ void search_cost_table(std::ostream& o, const Report& r, const std::string& set,
     const OurStats *ord = stats(c, key::ordinary), *ds = stats(c, key::ds), *dshi = stats(c, key::dshi);
     if (!dshi) continue;
     const PaperCost& p = paper[c.piece - 1];
-    const double o_ = ord ? ord->search_cost : NAN, d_ = ds ? ds->search_cost : NAN, h = dshi->search_cost;
+    const double o_ = ord ? ord->tri.search_cost : NAN, d_ = ds ? ds->tri.search_cost : NAN, h = dshi->tri.search_cost;
     const double n = static_cast<double>(dshi->points_used);
     o << "| " << c.piece << " | " << big(c.points) << " (" << big(c.paper_points) << ") | " << big(o_) << " | "
       << big(d_) << " | " << fmt("%.2f %%", 100 * d_ / o_) << " | " << big(h) << " | " << fmt("%.2f %%", 100 * h / d_)
       << " | " << fmt("%.3f ‰", 1000 * h / o_) << " | " << fmt("%.2f ‰", 1000 * p.dshi / p.ordinary) << " | "
-      << fmt("%.3f ‰", 1000 * dshi->locate / o_) << " | " << fmt("%.1f", d_ / n) << " / " << fmt("%.2f", h / n)
-      << " |\n";
+      << fmt("%.3f ‰", 1000 * dshi->tri.search_cost_locate / o_) << " | " << fmt("%.1f", d_ / n) << " / "
+      << fmt("%.2f", h / n) << " |\n";
   }
 }
 
 void small_time_table(std::ostream& o, const Report& r, const std::string& set, const PaperTime* paper) {
-  o << "| piece | points | DSHI | DS | ordinary | CGAL DT + loops | DSHI / CGAL DT | CGAL Alpha_shape_2 | PCL "
-       "ConcaveHull | DSHI hilbert (shuffled) | paper: DSHI / PCL / ordinary |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  o << "| piece | points | DSHI | DS | ordinary | CGAL DT + loops | DSHI / CGAL DT | delaunator + loops | DSHI / "
+       "delaunator | CGAL Alpha_shape_2 | PCL ConcaveHull | DSHI hilbert (shuffled) | paper: DSHI / PCL / ordinary |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& c : r.clouds) {
     if (set_of(c) != set) continue;
     const PaperTime& p = paper[c.piece - 1];
-    const double d = med(c, key::dshi), cg = med(c, key::cgal_dt);
+    const double d = med(c, key::dshi), cg = med(c, key::cgal_dt), dl = med(c, key::delaunator);
     o << "| " << c.piece << " | " << big(c.points) << " | " << ms(d) << " | " << ms(med(c, key::ds)) << " | "
-      << ms(med(c, key::ordinary)) << " | " << ms(cg) << " | " << fmt("%.2f", d / cg) << " | "
-      << ms(med(c, key::cgal_alpha)) << " | " << ms(med(c, key::pcl)) << " | " << ms(med(c, key::dshi_hilbert_shuf))
-      << " | " << ms(p.dshi) << " / " << ms(p.pcl) << " / " << ms(p.ordinary) << " |\n";
+      << ms(med(c, key::ordinary)) << " | " << peer_ms(r, c, key::cgal_dt) << " | " << fmt("%.2f", d / cg) << " | "
+      << peer_ms(r, c, key::delaunator) << " | " << fmt("%.2f", d / dl) << " | " << peer_ms(r, c, key::cgal_alpha)
+      << " | " << peer_ms(r, c, key::pcl) << " | " << ms(med(c, key::dshi_hilbert_shuf)) << " | " << ms(p.dshi) << " / "
+      << ms(p.pcl) << " / " << ms(p.ordinary) << " |\n";
   }
 }
 
@@ -123,7 +131,7 @@ void header_section(std::ostream& o, const Report& r) {
   o << "# Outline core benchmark: the paper's tables, our insertion orders, CGAL and PCL\n\n"
     << "Written by `hg-bench` (tools/bench/). All figures below come from ONE run of one process: times are "
        "medians of repeated runs of the whole outline (triangulation + circumradius classification + loops; "
-       "reading the file excluded), single thread, Release; methods are run round-robin so load bursts "
+       "reading the file excluded), one thread unless a column says otherwise, Release; methods are run round-robin so load bursts "
        "spread over all of them. Search costs and per-insertion counts are exact counters (the same on every "
        "run).\n\n"
     << "- Command: `" << r.command << "`\n"
@@ -139,16 +147,58 @@ void header_section(std::ostream& o, const Report& r) {
     << "- R: the product's automatic radius (k × the point spacing h = sqrt(2 × median Delaunay triangle area), k = 1.7 on regular clouds rising toward the largest empty circle of a random set on irregular ones; docs/outline-auto-radius.md), then the "
        "same R for every method and peer (CGAL Alpha_shape_2: alpha = R², REGULARIZED; PCL: setAlpha(R), "
        "which PCL compares with the circumradius)\n"
-    << "- Peers: CGAL " << r.cgal_version << ", PCL " << r.pcl_version << "\n\n";
+    << "- Peers: CGAL " << r.cgal_version << ", delaunator-cpp " << r.delaunator_version << ", PCL " << r.pcl_version
+    << "\n\n";
 
-  o << "Method names: `dshi` = directive search + heritable initial, points inserted in scan order as the camera "
+  o << "Method names: `dshi brio, 1 thread` / `dshi brio, N threads` = hg-outline's defaults (BRIO order) on the "
+       "scan-order cloud with `Options::threads` = 1 / N (N = "
+    << r.threads
+    << "); `dshi` = directive search + heritable initial, points inserted in scan order as the camera "
        "gives them (the paper's method); `dshi hilbert (shuffled)` = the cloud shuffled at random, then "
        "`--order hilbert`; `dshi brio (shuffled)` = the same with BRIO rounds; `dshi banded` = an experiment: "
        "bands of "
     << r.band_rows
     << " rows swept column by column (order computed inside the timed region from the pixel rows/columns); "
        "`CGAL DT + loops` = `Delaunay_triangulation_2` (Epick, range insertion with CGAL's spatial sort) + a "
-       "squared-circumradius pass + chaining the free edges into loops.\n\n";
+       "squared-circumradius pass + chaining the free edges into loops; `delaunator + loops` = delaunator-cpp's "
+       "`Delaunator` + the same pass (its own `circumradius`) and the same loop chaining.\n\n";
+}
+
+// Ours (hg-outline's defaults) on one and on N threads beside the Delaunay peers, every cloud of the run.
+void side_by_side_table(std::ostream& o, const Report& r) {
+  const std::string n = std::to_string(r.threads);
+  o << "## Side by side: ours on 1 and " << n << " threads, CGAL DT + loops, delaunator + loops\n\n"
+    << "Ours: hg-outline's defaults (DSHI, BRIO order) on the scan-order cloud, `Options::threads` = 1 and " << n
+    << "; the peers on the same points with the same R. Medians of one run (ms).\n\n"
+    << "| cloud | points | ours 1 thread | ours " << n << " threads | " << n
+    << "t / 1t | CGAL DT + loops | delaunator + loops | 1t / CGAL | " << n << "t / CGAL | 1t / delaunator | " << n
+    << "t / delaunator |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& c : r.clouds) {
+    const double t1 = med(c, key::ours_1t), tn = med(c, key::ours_nt), cg = med(c, key::cgal_dt),
+                 dl = med(c, key::delaunator);
+    o << "| " << c.preset << " | " << big(c.points) << " | " << ms(t1) << " | " << ms(tn) << " | "
+      << fmt("%.2f", tn / t1) << " | " << peer_ms(r, c, key::cgal_dt) << " | " << peer_ms(r, c, key::delaunator)
+      << " | " << fmt("%.2f", t1 / cg) << " | " << fmt("%.2f", tn / cg) << " | " << fmt("%.2f", t1 / dl) << " | "
+      << fmt("%.2f", tn / dl) << " |\n";
+  }
+}
+
+// The issue-13 targets (ours against CGAL measured in the same run), with their verdicts.
+void threads_targets_table(std::ostream& o, const Report& r) {
+  const std::string n = std::to_string(r.threads);
+  o << "\n## Targets (issue 13)\n\n| target | cloud | measured | limit | verdict |\n|---|---|---|---|---|\n";
+  for (const auto& c : r.clouds) {
+    const double t1 = med(c, key::ours_1t), tn = med(c, key::ours_nt), cg = med(c, key::cgal_dt);
+    const bool high = set_of(c) == "high";
+    const double k = high ? 0.30 : 0.5;
+    o << "| 1 thread ≤ " << fmt("%.2f", k) << " × CGAL DT + loops | " << c.preset << " | " << ms(t1)
+      << " ms = " << fmt("%.2f", t1 / cg) << " × | " << ms(k * cg) << " ms | " << verdict(t1, k * cg) << " |\n";
+    if (!high) continue;
+    o << "| " << n << " threads ≤ 0.6 × 1 thread | " << c.preset << " | " << ms(tn) << " ms = " << fmt("%.2f", tn / t1)
+      << " × | " << ms(0.6 * t1) << " ms | " << verdict(tn, 0.6 * t1) << " |\n";
+    o << "| " << n << " threads ≤ 0.20 × CGAL DT + loops | " << c.preset << " | " << ms(tn)
+      << " ms = " << fmt("%.2f", tn / cg) << " × | " << ms(0.2 * cg) << " ms | " << verdict(tn, 0.2 * cg) << " |\n";
+  }
 }
 
 // The search cost (Tables 2, 7) and time (Tables 3, 8) tables of the low and down-sampled clouds.
@@ -170,17 +220,18 @@ void paper_tables(std::ostream& o, const Report& r) {
 void high_density_table(std::ostream& o, const Report& r) {
   o << "\n## High-density clouds (paper Table 4 sizes; Table 5 times): time (ms)\n\n"
        "| piece | points | DSHI scan | hilbert (shuffled) | hilbert/scan | brio (shuffled) | banded | CGAL DT + loops | "
-       "DSHI / CGAL DT | CGAL Alpha_shape_2 | PCL ConcaveHull | DSHI / PCL | paper: DSHI / PCL |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "DSHI / CGAL DT | delaunator + loops | CGAL Alpha_shape_2 | PCL ConcaveHull | DSHI / PCL | paper: DSHI / PCL |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& c : r.clouds) {
     if (set_of(c) != "high") continue;
     const PaperTime& p = kTable5[c.piece - 1];
     const double d = med(c, key::dshi), hs = med(c, key::dshi_hilbert_shuf), cg = med(c, key::cgal_dt),
                  pc = med(c, key::pcl);
     o << "| " << c.piece << " | " << big(c.points) << " | " << ms(d) << " | " << ms(hs) << " | " << fmt("%.2f", hs / d)
-      << " | " << ms(med(c, key::dshi_brio_shuf)) << " | " << ms(med(c, key::dshi_band)) << " | " << ms(cg) << " | "
-      << fmt("%.2f", d / cg) << " | " << ms(med(c, key::cgal_alpha)) << " | " << ms(pc) << " | "
-      << fmt("1/%.0f", pc / d) << " | " << ms(p.dshi) << " / " << ms(p.pcl) << " |\n";
+      << " | " << ms(med(c, key::dshi_brio_shuf)) << " | " << ms(med(c, key::dshi_band)) << " | "
+      << peer_ms(r, c, key::cgal_dt) << " | " << fmt("%.2f", d / cg) << " | " << peer_ms(r, c, key::delaunator) << " | "
+      << peer_ms(r, c, key::cgal_alpha) << " | " << peer_ms(r, c, key::pcl) << " | " << fmt("1/%.0f", pc / d) << " | "
+      << ms(p.dshi) << " / " << ms(p.pcl) << " |\n";
   }
 }
 
@@ -198,10 +249,10 @@ void work_table(std::ostream& o, const Report& r) {
       const OurStats* s = stats(c, k);
       if (!s) continue;
       const double n = static_cast<double>(s->points_used);
-      o << "| " << c.preset << " | " << big(c.points) << " | " << k << " | " << fmt("%.2f", s->locate / n) << " | "
-        << fmt("%.2f", s->cavity_visits / n) << " | " << fmt("%.2f", s->incircle / n) << " | "
-        << fmt("%.2f", s->cavity_triangles / n) << " | " << fmt("%.2f", s->search_cost / n) << " | " << ms(med(c, k))
-        << " |\n";
+      o << "| " << c.preset << " | " << big(c.points) << " | " << k << " | "
+        << fmt("%.2f", s->tri.search_cost_locate / n) << " | " << fmt("%.2f", s->tri.search_cost_cavity / n) << " | "
+        << fmt("%.2f", s->tri.incircle_tests / n) << " | " << fmt("%.2f", s->tri.cavity_triangles / n) << " | "
+        << fmt("%.2f", s->tri.search_cost / n) << " | " << ms(med(c, k)) << " |\n";
     }
   }
 }
@@ -213,19 +264,22 @@ void same_outline_table(std::ostream& o, const Report& r) {
        "grids are full of cocircular quadruples, where the Delaunay triangulation is not unique, so a few "
        "edges may differ. Alpha_shape_2 counts REGULAR edges; PCL counts the vertices of its polygons. "
        "Loops: outer + holes (PCL: polygons).\n\n"
-       "| cloud | R (mm) | ours: edges, loops, area m² | CGAL DT: edges, loops, area m² | Alpha_shape_2 edges | PCL: vertices, polygons |\n"
-       "|---|---|---|---|---|---|\n";
+       "| cloud | R (mm) | ours: edges, loops, area m² | CGAL DT: edges, loops, area m² | delaunator: edges, loops, "
+       "area m² | Alpha_shape_2 edges | PCL: vertices, polygons |\n"
+       "|---|---|---|---|---|---|---|\n";
   for (const auto& c : r.clouds) {
     const OurStats* s = stats(c, key::dshi);
     if (!s) continue;
     o << "| " << c.preset << " | " << fmt("%.3f", c.alpha_radius * 1000) << " | " << s->boundary_edges << ", "
       << s->outer_loops << "+" << s->holes << ", " << fmt("%.6f", s->area) << " | ";
-    if (const Method* m = c.find(key::cgal_dt); m && !m->time.empty())
-      o << m->peer.boundary_edges << ", " << m->peer.outer_loops << "+" << m->peer.holes << ", "
-        << fmt("%.6f", m->peer.area);
-    else
-      o << "–";
-    o << " | ";
+    for (const std::string& k : {key::cgal_dt, key::delaunator}) {
+      if (const Method* m = c.find(k); m && !m->time.empty())
+        o << m->peer.boundary_edges << ", " << m->peer.outer_loops << "+" << m->peer.holes << ", "
+          << fmt("%.6f", m->peer.area);
+      else
+        o << "–";
+      o << " | ";
+    }
     if (const Method* m = c.find(key::cgal_alpha); m && !m->time.empty()) o << m->peer.boundary_edges;
     else
       o << "–";
@@ -280,10 +334,10 @@ void targets_table(std::ostream& o, const Report& r) {
       const OurStats *ord = stats(c, key::ordinary), *dshi = stats(c, key::dshi);
       if (ord && dshi) {
         const PaperCost& p = (set == "low" ? kTable2 : kTable7)[c.piece - 1];
-        const double ours = 1000.0 * dshi->search_cost / ord->search_cost, paper = 1000 * p.dshi / p.ordinary;
+        const double ours = 1000.0 * dshi->tri.search_cost / ord->tri.search_cost, paper = 1000 * p.dshi / p.ordinary;
         o << "| DSHI/ordinary ≤ paper's ‰ | " << c.preset << " | " << fmt("%.3f ‰", ours) << " | "
           << fmt("%.3f ‰", paper) << " | " << verdict(ours, paper) << " |\n";
-        const double locate_only = 1000.0 * dshi->locate / ord->search_cost;
+        const double locate_only = 1000.0 * dshi->tri.search_cost_locate / ord->tri.search_cost;
         o << "| DSHI/ordinary ≤ paper's ‰, point location only | " << c.preset << " | " << fmt("%.3f ‰", locate_only)
           << " | " << fmt("%.3f ‰", paper) << " | " << verdict(locate_only, paper) << " |\n";
       }
@@ -301,6 +355,9 @@ void write_markdown(const Report& r, const std::string& path) {
   std::ofstream o(path);
   if (!o) throw std::runtime_error("cannot write " + path);
   header_section(o, r);
+  side_by_side_table(o, r);
+  threads_targets_table(o, r);
+  o << "\n";
   paper_tables(o, r);
   high_density_table(o, r);
   work_table(o, r);
@@ -380,8 +437,9 @@ void panel(cv::Mat& img, cv::Rect box, const std::string& title, const std::stri
 void write_plot(const Report& r, const std::string& path) {
   cv::Mat img(720, 1600, CV_8UC3, cv::Scalar(255, 255, 255));
   std::vector<std::pair<std::string, std::vector<cv::Point2d>>> times, visits;
-  for (const std::string& k : {key::dshi, key::dshi_hilbert_shuf, key::dshi_brio_shuf, key::dshi_band, key::ds,
-                               key::ordinary, key::cgal_dt, key::cgal_alpha, key::pcl}) {
+  for (const std::string& k :
+       {key::ours_1t, key::ours_nt, key::dshi, key::dshi_hilbert_shuf, key::dshi_brio_shuf, key::dshi_band, key::ds,
+        key::ordinary, key::cgal_dt, key::delaunator, key::cgal_alpha, key::pcl}) {
     std::vector<cv::Point2d> t;
     for (const auto& c : r.clouds)
       if (const Method* m = c.find(k); m && !m->time.empty())
@@ -393,7 +451,7 @@ void write_plot(const Report& r, const std::string& path) {
     std::vector<cv::Point2d> v;
     for (const auto& c : r.clouds)
       if (const OurStats* s = stats(c, k))
-        v.emplace_back(static_cast<double>(c.points), static_cast<double>(s->search_cost) / s->points_used);
+        v.emplace_back(static_cast<double>(c.points), static_cast<double>(s->tri.search_cost) / s->points_used);
     if (!v.empty()) visits.emplace_back(k, v);
   }
   panel(img, {0, 0, 800, 720}, "Outline time (median ms, one thread) vs points", "ms", times);

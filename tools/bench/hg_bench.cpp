@@ -36,7 +36,7 @@
 #include "partgen/synth.hpp"
 #include "partgen/writers.hpp"
 #include "peers.hpp"
-#include "runtime/version.hpp"
+#include "runtime/params.hpp"
 
 namespace hg::bench {
 namespace {
@@ -46,6 +46,12 @@ using Clock = std::chrono::steady_clock;
 
 constexpr bool kHaveCgal =
 #ifdef HG_BENCH_CGAL
+    true;
+#else
+    false;
+#endif
+constexpr bool kHaveDelaunator =
+#ifdef HG_BENCH_DELAUNATOR
     true;
 #else
     false;
@@ -66,23 +72,28 @@ struct Args {
   double dropout = 0;
   std::uint64_t seed = 7;
   int band_rows = 8;
-  bool cgal = true, alpha_shape = true, pcl = true, memory = true;
+  int threads = 2;  // of the multi-thread column (Options::threads)
+  bool cgal = true, alpha_shape = true, delaunator = true, pcl = true, memory = true;
   std::string memory_preset = "high-4";
   std::string md, png, include, tmp = "/tmp";
 };
 
-[[noreturn]] void usage(int code) {
-  std::fprintf(code ? stderr : stdout,
-               "usage: hg-bench [--sets low,down,high] [--only PRESET,...] [--runs N] [--slow-runs N]\n"
-               "                [--slow-runs-high N] [--ordinary-runs N] [--noise F] [--no-jagged] [--dropout F]\n"
-               "                [--seed N] [--band-rows B] [--no-cgal] [--no-alpha-shape] [--no-pcl] [--no-memory]\n"
-               "                [--memory-preset NAME] [--md FILE] [--png FILE] [--include FILE] [--tmp DIR]\n"
-               "  --noise F: in-plane Gaussian noise, sigma = F x pitch (default 0.05); --no-jagged: pixel-centre\n"
-               "  rule at the edges (default: jagged edges, like a camera). Clouds come from hg_partgen's presets\n"
-               "  (low-*: paper Table 1, down-*: Table 6, high-*: Table 4), in scan-line order.\n"
-               "  ordinary (O(n^2)) and ds run on low and down only, as in the paper. Peers: CGAL %s, PCL %s.\n",
-               kHaveCgal ? "built in" : "not built", kHavePcl ? "built in" : "not built");
-  std::exit(code);
+void usage(std::FILE* f, const runtime::Params& params) {
+  std::fprintf(f,
+               "usage: hg-bench [options]\n"
+               "Reproduces the paper's Tables 2, 3, 7, 8 (search cost and time per point-location mode) on generated\n"
+               "clouds of the paper's sizes, times our insertion orders, and runs the peers built in on the same\n"
+               "points with the same R, all in one run; writes a markdown report (and a PNG plot). Clouds come from\n"
+               "hg_partgen's presets (low-*: paper Table 1, down-*: Table 6, high-*: Table 4), in scan-line order;\n"
+               "ordinary (O(n^2)) and ds run on low and down only, as in the paper.\n"
+               "Peers: CGAL %s, delaunator-cpp %s, PCL %s.\n\n"
+               "options (command line > --config FILE > default):\n",
+               kHaveCgal ? "built in" : "not built", kHaveDelaunator ? "built in" : "not built",
+               kHavePcl ? "built in" : "not built");
+  params.print_options(f);
+  std::fprintf(f,
+               "  --config FILE                      YAML config file (keys as the options above, without --)\n"
+               "  --help, --help-markdown, --version this text, the options as a Markdown table, the version\n");
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -93,83 +104,60 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
-Args parse_args(int argc, char** argv) {
+// The options, declared once (runtime::Params checks types and ranges; --help-markdown lists them).
+std::vector<runtime::Param> bench_params() {
+  using namespace runtime;
+  return {
+      text_param("sets", "low,down,high", "the preset sets to run, comma-separated: low, down, high"),
+      text_param("only", "", "preset names, comma-separated (e.g. high-4); overrides --sets"),
+      integer_param("runs", "5", "timed runs per method", 1, 1000),
+      integer_param("slow-runs", "3", "runs of CGAL Alpha_shape_2 and PCL on low and down", 0, 1000),
+      integer_param("slow-runs-high", "1", "runs of CGAL Alpha_shape_2 and PCL on high", 0, 1000),
+      integer_param("ordinary-runs", "3", "runs of the O(n^2) ordinary mode", 0, 1000),
+      number_param("noise", "0.05", "in-plane Gaussian noise, sigma = F x pitch", 0, 10),
+      flag_param("no-jagged", "pixel-centre rule at the edges (default: jagged edges, like a camera)"),
+      number_param("dropout", "0", "fraction of pixels lost at random", 0, 0.9),
+      integer_param("seed", "7", "random seed of the clouds and of the shuffle", 0, 1e15),
+      integer_param("band-rows", "8", "rows per band of the banded-order experiment", 1, 4096),
+      integer_param("threads", "2", "threads of our multi-thread column (one thread is always measured too)", 2, 256),
+      flag_param("no-cgal", "leave out the CGAL peers"),
+      flag_param("no-alpha-shape", "leave out CGAL Alpha_shape_2"),
+      flag_param("no-delaunator", "leave out the delaunator-cpp peer"),
+      flag_param("no-pcl", "leave out PCL ConcaveHull"),
+      flag_param("no-memory", "skip the peak-memory measurement of whole processes"),
+      text_param("memory-preset", "high-4", "the preset whose cloud the memory measurement uses"),
+      text_param("md", "", "write the markdown report here (default: standard output)"),
+      text_param("png", "", "write the PNG plot here"),
+      text_param("include", "", "a markdown file appended to the report (a profile, by hand)"),
+      text_param("tmp", "/tmp", "directory for the memory measurement's cloud file")};
+}
+
+Args args_from(const runtime::Params& p) {
+  if (!p.positional().empty()) throw p.error("sets", "unexpected argument '" + p.positional()[0] + "'");
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    const std::string opt = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "hg-bench: %s needs a value\n", opt.c_str());
-        usage(2);
-      }
-      return argv[++i];
-    };
-    auto number = [&](double lo, double hi) {
-      const std::string v = value();
-      char* end = nullptr;
-      const double d = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end || !(d >= lo && d <= hi)) {
-        std::fprintf(stderr, "hg-bench: %s: '%s' is not a number in [%g, %g]\n", opt.c_str(), v.c_str(), lo, hi);
-        std::exit(2);
-      }
-      return d;
-    };
-    if (opt == "--help" || opt == "-h") usage(0);
-    else if (opt == "--sets") {
-      a.sets.clear();
-      for (const auto& s : split(value())) {
-        if (s != "low" && s != "down" && s != "high") {
-          std::fprintf(stderr, "hg-bench: --sets: unknown set '%s' (low, down, high)\n", s.c_str());
-          std::exit(2);
-        }
-        a.sets.insert(s);
-      }
-    } else if (opt == "--only")
-      a.only = split(value());
-    else if (opt == "--runs")
-      a.runs = static_cast<int>(number(1, 1000));
-    else if (opt == "--slow-runs")
-      a.slow_runs = static_cast<int>(number(0, 1000));
-    else if (opt == "--slow-runs-high")
-      a.slow_runs_high = static_cast<int>(number(0, 1000));
-    else if (opt == "--ordinary-runs")
-      a.ordinary_runs = static_cast<int>(number(0, 1000));
-    else if (opt == "--noise")
-      a.noise = number(0, 10);
-    else if (opt == "--no-jagged")
-      a.jagged = false;
-    else if (opt == "--dropout")
-      a.dropout = number(0, 0.9);
-    else if (opt == "--seed")
-      a.seed = static_cast<std::uint64_t>(number(0, 1e15));
-    else if (opt == "--band-rows")
-      a.band_rows = static_cast<int>(number(1, 4096));
-    else if (opt == "--no-cgal")
-      a.cgal = false;
-    else if (opt == "--no-alpha-shape")
-      a.alpha_shape = false;
-    else if (opt == "--no-pcl")
-      a.pcl = false;
-    else if (opt == "--no-memory")
-      a.memory = false;
-    else if (opt == "--memory-preset")
-      a.memory_preset = value();
-    else if (opt == "--md")
-      a.md = value();
-    else if (opt == "--png")
-      a.png = value();
-    else if (opt == "--include")
-      a.include = value();
-    else if (opt == "--tmp")
-      a.tmp = value();
-    else {
-      std::fprintf(stderr, "hg-bench: unknown option '%s'\n", opt.c_str());
-      usage(2);
-    }
+  a.sets.clear();
+  for (const auto& s : split(p.text("sets"))) {
+    if (s != "low" && s != "down" && s != "high") throw p.error("sets", "unknown set '" + s + "' (low, down, high)");
+    a.sets.insert(s);
   }
-  a.cgal = a.cgal && kHaveCgal;
-  a.alpha_shape = a.alpha_shape && a.cgal;
-  a.pcl = a.pcl && kHavePcl;
+  a.only = split(p.text("only"));
+  a.runs = static_cast<int>(p.integer("runs"));
+  a.slow_runs = static_cast<int>(p.integer("slow-runs"));
+  a.slow_runs_high = static_cast<int>(p.integer("slow-runs-high"));
+  a.ordinary_runs = static_cast<int>(p.integer("ordinary-runs"));
+  a.noise = p.number("noise");
+  a.jagged = !p.flag("no-jagged");
+  a.dropout = p.number("dropout");
+  a.seed = static_cast<std::uint64_t>(p.integer("seed"));
+  a.band_rows = static_cast<int>(p.integer("band-rows"));
+  a.threads = static_cast<int>(p.integer("threads"));
+  a.cgal = !p.flag("no-cgal") && kHaveCgal;
+  a.alpha_shape = !p.flag("no-alpha-shape") && a.cgal;
+  a.delaunator = !p.flag("no-delaunator") && kHaveDelaunator;
+  a.pcl = !p.flag("no-pcl") && kHavePcl;
+  a.memory = !p.flag("no-memory");
+  a.memory_preset = p.text("memory-preset");
+  a.md = p.text("md"), a.png = p.text("png"), a.include = p.text("include"), a.tmp = p.text("tmp");
   return a;
 }
 
@@ -264,14 +252,8 @@ std::vector<std::uint32_t> banded_order(const BenchCloud& c, int B) {
 
 OurStats stats_of(const outline::Result& r) {
   OurStats s;
-  s.search_cost = r.search_cost;
-  s.locate = r.search_cost_locate;
-  s.cavity_visits = r.search_cost_cavity;
-  s.cavity_triangles = r.cavity_triangles;
-  s.incircle = r.incircle_tests;
-  s.orient = r.orient_tests;
+  s.tri = r.stats;
   s.points_used = r.points_used;
-  s.triangles = r.triangles;
   for (const auto& l : r.loops) {
     (l.hole ? s.holes : s.outer_loops) += 1;
     s.boundary_edges += l.points.size();
@@ -287,16 +269,10 @@ outline::Result outline_with_order(std::span<const Vec2> pts, double R,
   outline::Result res;
   outline::Triangulation T = outline::triangulate(pts, outline::Mode::DSHI, outline::Order::AsIs, make_order());
   res.points_used = T.inserted;
-  res.search_cost = T.stats.search_cost();
-  res.search_cost_locate = T.stats.locate_visits;
-  res.search_cost_cavity = T.stats.cavity_visits;
-  res.cavity_triangles = T.stats.cavity_triangles;
-  res.incircle_tests = T.stats.incircle_tests;
-  res.orient_tests = T.stats.orient_tests;
+  res.stats = outline::triangulation_stats(T);
   res.nn_spacing_median = outline::median_nn_spacing(T);
   const auto inside = outline::classify_alpha(T, R, false);
   res.loops = outline::extract_loops(T, inside, pts);
-  for (std::size_t t = 0; t < T.slots(); ++t) res.triangles += !T.is_ghost(t);
   return res;
 }
 
@@ -314,12 +290,13 @@ double now_ms_since(Clock::time_point t0) {
 // The methods timed on cloud c, all with the same radius R: our orders and modes (DS, as-is on the
 // shuffled cloud and ordinary only on the small clouds) and the peers that are built and asked for.
 std::vector<Job> bench_jobs(const BenchCloud& c, const Args& a, double R, bool small) {
-  auto ours = [&](std::span<const Vec2> pts, outline::Mode mode, outline::Order order) {
-    return [pts, mode, order, R](Method& m) {
+  auto ours = [&](std::span<const Vec2> pts, outline::Mode mode, outline::Order order, int threads = 1) {
+    return [pts, mode, order, R, threads](Method& m) {
       outline::Options o;
       o.alpha_radius = R;
       o.mode = mode;
       o.order = order;
+      o.threads = threads;
       o.min_hole_spacings = 0;  // the raw alpha shape, comparable edge for edge with the peers'
       const auto t0 = Clock::now();
       const outline::Result r = outline::compute_outline(pts, o);
@@ -330,6 +307,8 @@ std::vector<Job> bench_jobs(const BenchCloud& c, const Args& a, double R, bool s
   std::vector<Job> jobs;
   using outline::Mode;
   using outline::Order;
+  jobs.push_back({key::ours_1t, a.runs, false, ours(c.scan, Mode::DSHI, Order::Brio, 1)});
+  jobs.push_back({key::ours_nt, a.runs, false, ours(c.scan, Mode::DSHI, Order::Brio, a.threads)});
   jobs.push_back({key::dshi, a.runs, false, ours(c.scan, Mode::DSHI, Order::AsIs)});
   jobs.push_back({key::dshi_hilbert_scan, a.runs, false, ours(c.scan, Mode::DSHI, Order::Hilbert)});
   jobs.push_back({key::dshi_hilbert_shuf, a.runs, false, ours(c.shuffled, Mode::DSHI, Order::Hilbert)});
@@ -357,6 +336,9 @@ std::vector<Job> bench_jobs(const BenchCloud& c, const Args& a, double R, bool s
 #ifdef HG_BENCH_CGAL
   if (a.cgal) jobs.push_back({key::cgal_dt, a.runs, true, peer(&cgal_dt_loops)});
   if (a.alpha_shape && slow > 0) jobs.push_back({key::cgal_alpha, slow, true, peer(&cgal_alpha_shape)});
+#endif
+#ifdef HG_BENCH_DELAUNATOR
+  if (a.delaunator) jobs.push_back({key::delaunator, a.runs, true, peer(&delaunator_dt_loops)});
 #endif
 #ifdef HG_BENCH_PCL
   if (a.pcl && slow > 0) jobs.push_back({key::pcl, slow, true, peer(&pcl_concave_hull)});
@@ -559,6 +541,7 @@ Report report_header(int argc, char** argv, const Args& a) {
   report.slow_runs_high = a.slow_runs_high;
   report.ordinary_runs = a.ordinary_runs;
   report.band_rows = a.band_rows;
+  report.threads = a.threads;
   {
     char buf[256];
     std::snprintf(
@@ -568,6 +551,8 @@ Report report_header(int argc, char** argv, const Args& a) {
     report.cloud_options = buf;
   }
   report.cgal_version = a.cgal ? "built in" : (kHaveCgal ? "disabled" : "not installed at configure time");
+  report.delaunator_version =
+      a.delaunator ? "built in" : (kHaveDelaunator ? "disabled" : "not built (no delaunator.hpp at configure time)");
   report.pcl_version = a.pcl ? "built in" : (kHavePcl ? "disabled" : "not installed at configure time");
   if (!a.include.empty()) {
     std::ifstream f(a.include);
@@ -584,7 +569,6 @@ Report report_header(int argc, char** argv, const Args& a) {
 }  // namespace hg::bench
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-bench")) return 0;
   using namespace hg::bench;
   if (argc == 4 && std::string(argv[1]).rfind("--child-", 0) == 0) {
     try {
@@ -594,7 +578,16 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  const Args a = parse_args(argc, argv);
+  Args a;
+  try {
+    hg::runtime::Params params(bench_params());
+    const auto action = params.parse(argc, argv);
+    if (action != hg::runtime::Params::Action::Run) return hg::runtime::answer(action, "hg-bench", params, usage);
+    a = args_from(params);
+  } catch (const std::exception& e) {  // runtime::ConfigError
+    std::fprintf(stderr, "hg-bench: %s\n(hg-bench --help shows the options)\n", e.what());
+    return 2;
+  }
   Report report;
   try {
     report = report_header(argc, argv, a);

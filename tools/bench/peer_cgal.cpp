@@ -25,7 +25,6 @@ using Dt = CGAL::Delaunay_triangulation_2<K, Tds>;
 }  // namespace
 
 PeerOutline cgal_dt_loops(std::span<const outline::Vec2> points, double R) {
-  PeerOutline out;
   std::vector<std::pair<K::Point_2, std::uint32_t>> input;
   input.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
@@ -36,16 +35,16 @@ PeerOutline cgal_dt_loops(std::span<const outline::Vec2> points, double R) {
   // Circumradius pass (the same rule as ours: r <= R is inside; inexact constructions, as a user would).
   const double R2 = R * R;
   const auto squared_radius = K().compute_squared_radius_2_object();
+  std::size_t triangles = 0;
   for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f) {
     f->info() = squared_radius(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()) <= R2;
-    ++out.triangles;
+    ++triangles;
   }
   for (auto f = dt.all_face_handles().begin(); f != dt.all_face_handles().end(); ++f)
     if (dt.is_infinite(*f)) (*f)->info() = 0;
 
   // Free half-edges (inside face on the left, outside or infinite on the right), a -> b counter-clockwise
-  // around the inside; chained through a per-vertex list of outgoing edges (pinches: any unused one).
-  const std::size_t n = points.size();
+  // around the inside.
   std::vector<std::uint32_t> edge_from, edge_to;
   for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f) {
     if (!f->info()) continue;
@@ -55,32 +54,8 @@ PeerOutline cgal_dt_loops(std::span<const outline::Vec2> points, double R) {
         edge_to.push_back(f->vertex(Dt::cw(i))->info());
       }
   }
-  const std::size_t m = edge_from.size();
-  out.boundary_edges = m;
-  std::vector<std::uint32_t> head(n, UINT32_MAX), next_out(m, UINT32_MAX);
-  for (std::uint32_t e = 0; e < m; ++e) {
-    next_out[e] = head[edge_from[e]];
-    head[edge_from[e]] = e;
-  }
-  std::vector<std::uint8_t> used(m, 0);
-  for (std::uint32_t e0 = 0; e0 < m; ++e0) {
-    if (used[e0]) continue;
-    double twice_area = 0;
-    std::uint32_t e = e0;
-    while (e != UINT32_MAX && !used[e]) {
-      used[e] = 1;
-      const outline::Vec2 &a = points[edge_from[e]], &b = points[edge_to[e]];
-      twice_area += a.x * b.y - a.y * b.x;
-      // Next: an unused outgoing edge of the end vertex (pop used ones off the list).
-      std::uint32_t& h = head[edge_to[e]];
-      while (h != UINT32_MAX && used[h]) h = next_out[h];
-      e = h;
-    }
-    if (twice_area > 0) ++out.outer_loops;
-    else
-      ++out.holes;
-    out.area += twice_area / 2;
-  }
+  PeerOutline out = free_edge_loops(points, edge_from, edge_to);
+  out.triangles = triangles;
   return out;
 }
 

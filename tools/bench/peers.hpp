@@ -1,9 +1,12 @@
-// The peers hg-bench compares against, each behind a plain interface so the main program needs neither
-// CGAL's nor PCL's headers (they are optional: HG_BENCH_CGAL / HG_BENCH_PCL say which were built in).
+// The peers hg-bench compares against, each behind a plain interface so the main program needs none of
+// CGAL's, delaunator-cpp's or PCL's headers (they are optional: HG_BENCH_CGAL / HG_BENCH_DELAUNATOR /
+// HG_BENCH_PCL say which were built in).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
+#include <vector>
 
 #include "outline_core/outline.hpp"
 
@@ -20,6 +23,13 @@ struct PeerOutline {
 // CGAL Delaunay_triangulation_2 (Epick, range insertion with CGAL's spatial sort) + a circumradius pass
 // (a face is inside when its squared circumradius <= R^2) + chaining the free edges into loops.
 PeerOutline cgal_dt_loops(std::span<const outline::Vec2> points, double R);
+// delaunator-cpp (github delfrrr/delaunator-cpp, header-only) + the same circumradius pass and loops.
+PeerOutline delaunator_dt_loops(std::span<const outline::Vec2> points, double R);
+// The loops of the free half-edges edge_from[e] -> edge_to[e] (inside on their left; indices into
+// points), chained through the outgoing edges of each vertex (a pinch: any unused one); the Delaunay peers
+// share it. Fills boundary_edges, outer_loops, holes, area.
+PeerOutline free_edge_loops(std::span<const outline::Vec2> points, const std::vector<std::uint32_t>& edge_from,
+                            const std::vector<std::uint32_t>& edge_to);
 // CGAL Alpha_shape_2 in REGULARIZED mode with alpha = R^2; counts the REGULAR edges.
 PeerOutline cgal_alpha_shape(std::span<const outline::Vec2> points, double R);
 // PCL ConcaveHull, dimension 2, setAlpha(R) (PCL keeps a Delaunay triangle when its circumradius <= alpha).

@@ -44,6 +44,9 @@ constexpr const char* kUsageTail =
   -h, --help                       this text; --help-markdown: the options as a table; --version
 Long options that take a value also accept --option=VALUE.
 
+The JSON holds the loops and the run's figures; search_cost (triangles visited, the paper's measure) is
+search_cost_locate (point location: the walk, or ordinary's test of every triangle) + search_cost_cavity
+(the cavity search); incircle_tests, orient_tests; time_ms per stage.
 Every output file is written whole or not at all; on any error nothing is written.
 exit status: 0 done, 1 input or processing error (message names the file and line/byte), 2 bad options
 )";

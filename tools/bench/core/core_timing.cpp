@@ -85,8 +85,8 @@ int main(int argc, char** argv) {
     }
     const double n = static_cast<double>(r.points_used);
     std::printf("%-13s %9.1f %9.1f %8.1f %8.1f %9zu | %7.2f %7.2f %7.2f %7.2f\n", c.name, median(tot), median(tri),
-                median(alp), median(lop), r.loops.size(), r.cavity_triangles / n, r.incircle_tests / n,
-                r.orient_tests / n, r.search_cost_locate / n);
+                median(alp), median(lop), r.loops.size(), r.stats.cavity_triangles / n, r.stats.incircle_tests / n,
+                r.stats.orient_tests / n, r.stats.search_cost_locate / n);
   }
   return 0;
 }
