@@ -33,7 +33,7 @@ void expect_same(const Result& one, const Result& many, const std::string& what)
   EXPECT_EQ(one.alpha_radius, many.alpha_radius) << what;
   EXPECT_EQ(one.spacing, many.spacing) << what;
   EXPECT_EQ(one.nn_spacing_median, many.nn_spacing_median) << what;
-  EXPECT_EQ(one.triangles, many.triangles) << what;
+  EXPECT_EQ(one.stats.triangles, many.stats.triangles) << what;
   EXPECT_EQ(one.points_used, many.points_used) << what;
   EXPECT_EQ(one.points_skipped, many.points_skipped) << what;
   EXPECT_EQ(one.duplicates_merged, many.duplicates_merged) << what;
@@ -148,7 +148,7 @@ TEST(OutlineThreads, OwnedTrianglesAreExactlyDelaunayForAllPoints) {
         const Result many = run(pts, threads, true);
         const std::string what = "kind " + std::to_string(kind) + " seed " + std::to_string(seed);
         EXPECT_EQ(many.threads_used, threads) << what;
-        EXPECT_EQ(many.delaunay_triangles.size(), many.triangles) << what;
+        EXPECT_EQ(many.delaunay_triangles.size(), many.stats.triangles) << what;
         EXPECT_EQ(check_triangulation(pts, many.delaunay_triangles), "") << what;
       }
     }
