@@ -32,7 +32,7 @@ struct Param {
   // Not a parameter any more: where the value lives now (e.g. "config/cell.yaml key max-speed"). Given on
   // the command line or in a config file it is refused with this; --help and the docs do not list it.
   std::string moved_to{};
-  std::string value_name{};            // what --help shows for the value ("FILE"); empty: VALUE
+  std::string value_name{};  // what --help shows for the value ("FILE"); empty: VALUE
 
   ParamType kind() const { return is_flag ? ParamType::Flag : type; }
 };
