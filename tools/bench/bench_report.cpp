@@ -345,8 +345,8 @@ void targets_table(std::ostream& o, const Report& r) {
   }
   for (const auto& m : r.memory)
     if (m.what.rfind("hg-outline (", 0) == 0)
-      o << "| peak memory ≤ 150 MB | " << r.memory_cloud << " | " << fmt("%.0f MB", m.max_rss_kb / 1024.0)
-        << " | 150 MB | " << verdict(m.max_rss_kb / 1024.0, 150) << " |\n";
+      o << "| peak memory, 1 thread ≤ 140 MB (issue 13; issue 3: 150 MB) | " << r.memory_cloud << " | "
+        << fmt("%.0f MB", m.max_rss_kb / 1024.0) << " | 140 MB | " << verdict(m.max_rss_kb / 1024.0, 140) << " |\n";
 }
 
 }  // namespace

@@ -478,8 +478,8 @@ std::vector<MemoryResult> measure_memory(const Args& a, Report& report) {
   double R = 0;
 #ifdef HG_OUTLINE_EXE
   const std::string json = dir + "/outline.json";
-  MemoryResult ours =
-      run_child("hg-outline (whole process: read, plane, outline, write JSON)", {HG_OUTLINE_EXE, pcd, "-o", json}, dir);
+  MemoryResult ours = run_child("hg-outline (whole process, 1 thread: read, plane, outline, write JSON)",
+                                {HG_OUTLINE_EXE, pcd, "--threads", "1", "-o", json}, dir);
   try {
     std::ifstream f(json);
     const auto j = nlohmann::json::parse(f);
@@ -492,9 +492,11 @@ std::vector<MemoryResult> measure_memory(const Args& a, Report& report) {
     ours.note += std::string(" (JSON not readable: ") + e.what() + ")";
   }
   out.push_back(ours);
-  MemoryResult hilbert =
-      run_child("hg-outline --order hilbert", {HG_OUTLINE_EXE, pcd, "--order", "hilbert", "-o", json}, dir);
-  out.push_back(hilbert);
+  // The default, all cores: each strip holds its own triangulation arrays.
+  out.push_back(
+      run_child("hg-outline --threads 0 (all cores)", {HG_OUTLINE_EXE, pcd, "--threads", "0", "-o", json}, dir));
+  out.push_back(run_child("hg-outline --threads 1 --order hilbert",
+                          {HG_OUTLINE_EXE, pcd, "--threads", "1", "--order", "hilbert", "-o", json}, dir));
 #endif
   if (R <= 0) R = 1.7 * p.pitch;
   char rbuf[64];
