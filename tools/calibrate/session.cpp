@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "camera_bridge/sources.hpp"
+#include "cell/cell.hpp"
 #include "cloud_io/cloud_io.hpp"
 
 namespace hg::calibrate {
@@ -25,9 +26,8 @@ Eigen::Isometry3d from_row_major(const std::vector<double>& v, const std::string
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c) t.matrix()(r, c) = v[4 * r + c];
-  const Eigen::Matrix3d R = t.linear();
-  if ((R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6)
-    throw std::runtime_error(where + ": rotation part is not orthonormal");
+  if (!cell::is_rotation(t.linear()))
+    throw std::runtime_error(where + ": rotation part is not a rotation (orthonormal, determinant +1)");
   return t;
 }
 
