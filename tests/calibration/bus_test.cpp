@@ -12,6 +12,7 @@
 
 #include "calibration/geometry.hpp"
 #include "calibration/target.hpp"
+#include "tests/common/cell_file.hpp"
 #include "tests/common/child_process.hpp"
 
 namespace fs = std::filesystem;
@@ -131,8 +132,11 @@ TEST(HgCalibrateBus, EyeInHandCaptureTakesTheRobotPose) {
           &err),
       1);
   EXPECT_NE(err.find("no HG_PLATE_CLOUD within 1"), std::string::npos) << err;
-  auto robot = start({kBin + "/hg-robot-bridge", "--driver", "sim", "--sim-home", "0.52,-0.11,0.74",
-                      "--sim-home-orientation", "0,0.6,0.8,0", "--state-file", (d / "robot.state").string()},
+  // The sim robot at rest where the test put it: the home of its cell file, turned by --sim-home-orientation.
+  const std::string cell = hg::test::write_test_cell(
+      (d / "robot_cell.yaml").string(), [](hg::cell::Cell& c) { c.home = Eigen::Vector3d(0.52, -0.11, 0.74); });
+  auto robot = start({kBin + "/hg-robot-bridge", "--driver", "sim", "--cell", cell, "--sim-home-orientation",
+                      "0,0.6,0.8,0", "--state-file", (d / "robot.state").string()},
                      d / "robot.log");
   auto camera = start({kBin + "/hg-camera-bridge", "--source", "files", "--files",
                        (d / "png" / "view_000.png").string(), "--trigger", "job"},
