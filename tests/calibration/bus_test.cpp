@@ -12,6 +12,7 @@
 
 #include "calibration/geometry.hpp"
 #include "calibration/target.hpp"
+#include "tests/calibration/calibrate_cli.hpp"
 #include "tests/common/cell_file.hpp"
 #include "tests/common/child_process.hpp"
 
@@ -22,29 +23,11 @@ namespace {
 
 const std::string kBin = HG_BIN_DIR;
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("hg_calibrate_bus_" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
+fs::path scratch(const std::string& name) { return hg::test::scratch_dir("hg_calibrate_bus", name); }
 int run(const std::string& cmd, std::string* err = nullptr) {
-  const std::string log = (fs::temp_directory_path() / ("hg_calibrate_bus_err_" + std::to_string(::getpid()))).string();
-  const int status = std::system((cmd + " 2>" + log + " >/dev/null").c_str());
-  if (err) {
-    std::ifstream f(log);
-    *err = std::string((std::istreambuf_iterator<char>(f)), {});
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return hg::test::run_command("hg_calibrate_bus", cmd, err);
 }
-
-Eigen::Isometry3d row_major(const json& v) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) t.matrix()(r, c) = v.at(4 * r + c).get<double>();
-  return t;
-}
+Eigen::Isometry3d row_major(const json& v) { return hg::test::row_major_4x4(v); }
 
 hg::test::ChildProcess start(const std::vector<std::string>& argv, const fs::path& log) {
   return hg::test::ChildProcess(argv, hg::test::ChildOptions().stderr_to(log.string()));

@@ -14,6 +14,7 @@
 
 #include "calibration/geometry.hpp"
 #include "cell/cell.hpp"
+#include "tests/calibration/calibrate_cli.hpp"
 #include "tests/common/cell_file.hpp"
 #include "tests/common/child_process.hpp"
 
@@ -24,31 +25,11 @@ namespace {
 
 const std::string kBin = HG_BIN_DIR;
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("hg_calibrate_tool_" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-// Runs a command line; returns its exit status, stderr in *err.
+fs::path scratch(const std::string& name) { return hg::test::scratch_dir("hg_calibrate_tool", name); }
 int run(const std::string& cmd, std::string* err = nullptr) {
-  const std::string log =
-      (fs::temp_directory_path() / ("hg_calibrate_tool_err_" + std::to_string(::getpid()))).string();
-  const int status = std::system((cmd + " 2>" + log + " >/dev/null").c_str());
-  if (err) {
-    std::ifstream f(log);
-    *err = std::string((std::istreambuf_iterator<char>(f)), {});
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return hg::test::run_command("hg_calibrate_tool", cmd, err);
 }
-
-Eigen::Isometry3d row_major(const json& v) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) t.matrix()(r, c) = v.at(4 * r + c).get<double>();
-  return t;
-}
+Eigen::Isometry3d row_major(const json& v) { return hg::test::row_major_4x4(v); }
 
 }  // namespace
 
