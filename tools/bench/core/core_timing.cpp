@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
     Options o;
     o.mode = mode;
     o.order = c.order;
+    o.threads = 1;  // the one-thread core, as outline-core-performance.md measures it
     for (int k = 0; k < runs; ++k) {
       r = compute_outline(c.shuffled ? shuf : scan, o);
       tot.push_back(r.time.total_ms);
