@@ -2,6 +2,8 @@
 
 #include <charconv>
 
+#include "runtime/config.hpp"
+
 namespace hg::cell {
 namespace {
 
@@ -34,7 +36,10 @@ LoadedCell load_cell(const std::string& file) {
   }
 }
 
-LoadedCell load_cell(const runtime::Params& params) { return load_cell(params.text("cell")); }
+LoadedCell load_cell(const runtime::Params& params) {
+  // The default cell file is found from any working directory (next to the executable, or HG_CONFIG_DIR).
+  return load_cell(params.given("cell") ? params.text("cell") : runtime::default_file(params.text("cell")));
+}
 
 motion::Limits limits_of(const Cell& c) {
   motion::Limits l;

@@ -44,7 +44,11 @@ std::vector<hg::runtime::Param> hg_plan_params() {
   std::vector<hg::runtime::Param> params = planner_params();
   hg::runtime::Param output = hg::runtime::text_param("output", "", "write the path here (default: standard output)");
   output.alias = "-o";
-  params.insert(params.begin(), {output, hg::runtime::text_param("job-id", "hg-plan", "job id written into the path")});
+  params.insert(params.begin(),
+                {output, hg::runtime::text_param("job-id", "hg-plan", "job id written into the path"),
+                 hg::runtime::flag_param("check-config",
+                                         "read the configuration and the cell file, plan nothing: exit 0 "
+                                         "when they are good (tools/run.sh checks a cell with it)")});
   return params;
 }
 
@@ -87,6 +91,11 @@ int main(int argc, char** argv) {
   try {
     const hg::runtime::Params::Action action = params.parse(argc, argv);
     if (action != hg::runtime::Params::Action::Run) return hg::runtime::answer(action, "hg-plan", params, usage);
+    if (params.flag("check-config")) {
+      cfg = config_from(lookup_from(params));
+      std::fprintf(stderr, "hg-plan: the configuration and cell file %s are good\n", cfg.cell_file.c_str());
+      return 0;
+    }
     if (params.positional().size() != 1)
       throw hg::runtime::ConfigError("command line: give one OUTLINE.json (see --help)");
     input = params.positional()[0];

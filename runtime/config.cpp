@@ -1,6 +1,8 @@
 #include "runtime/config.hpp"
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -138,6 +140,21 @@ std::optional<std::vector<double>> Config::get_doubles(const std::string& key) c
     out.push_back(v);
   }
   return out;
+}
+
+std::string default_file(const std::string& tree_path) {
+  namespace fs = std::filesystem;
+  const std::string prefix = "config/";
+  if (tree_path.compare(0, prefix.size(), prefix) != 0) return tree_path;
+  const std::string rest = tree_path.substr(prefix.size());
+  if (const char* dir = std::getenv("HG_CONFIG_DIR"); dir && *dir) return (fs::path(dir) / rest).string();
+  std::error_code ec;
+  const fs::path exe_dir = fs::read_symlink("/proc/self/exe", ec).parent_path();
+  if (ec) return tree_path;
+  for (const fs::path& dir :
+       {exe_dir.parent_path().parent_path() / "config", exe_dir.parent_path() / "share/hullgrind/config"})
+    if (fs::exists(dir / rest, ec)) return (dir / rest).string();
+  return tree_path;
 }
 
 }  // namespace hg::runtime

@@ -45,4 +45,11 @@ class Config {
   std::string source_;
 };
 
+// A default file of the tree ("config/cell.yaml", "config/path_planner.yaml") as every program finds it,
+// whatever its working directory: $HG_CONFIG_DIR/cell.yaml when HG_CONFIG_DIR is set; else next to the
+// executable, EXE_DIR/../../config/cell.yaml (the build tree: build/bin) or
+// EXE_DIR/../share/hullgrind/config/cell.yaml (an install), the first that exists; else as given (relative to
+// the working directory, so the message names the file the program looked for). Not for a file a user named.
+std::string default_file(const std::string& tree_path);
+
 }  // namespace hg::runtime

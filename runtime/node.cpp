@@ -53,16 +53,20 @@ Node::Node(ProcessInfo info, int argc, char** argv) : info_(std::move(info)) {
   parse(argc, argv);
   install_signal_handlers();
   lcm_url_ = with_receive_buffer(lcm_url_);
-  lcm_ = std::make_unique<lcm::LCM>(lcm_url_);
-  if (!lcm_->good()) {
-    logf(Level::Error,
-         "cannot open LCM at '%s' (for udpm: is there a multicast route? "
-         "`ip route add 224.0.0.0/4 dev lo`)",
-         lcm_url_.c_str());
-    std::exit(1);
-  }
-  logf(Level::Info, "started, pid %d, LCM %s%s%s", int(getpid()), lcm_url_.c_str(), config().empty() ? "" : ", config ",
-       config().empty() ? "" : config().source().c_str());
+}
+
+lcm::LCM& Node::open_lcm() {
+  std::call_once(lcm_once_, [this] {
+    lcm_ = std::make_unique<lcm::LCM>(lcm_url_);
+    if (!lcm_->good()) {
+      logf(Level::Error,
+           "cannot open LCM at '%s' (for udpm: is there a multicast route? "
+           "`ip route add 224.0.0.0/4 dev lo`)",
+           lcm_url_.c_str());
+      std::exit(1);
+    }
+  });
+  return *lcm_;
 }
 
 Node::~Node() = default;
@@ -104,7 +108,7 @@ void Node::parse(int argc, char** argv) {
 void Node::add_handler(const std::string& channel,
                        std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn) {
   handlers_.push_back(std::make_unique<Handler>(Handler{std::move(fn)}));
-  lcm::Subscription* sub = lcm_->subscribe(channel, &Handler::on, handlers_.back().get());
+  lcm::Subscription* sub = open_lcm().subscribe(channel, &Handler::on, handlers_.back().get());
   if (!sub) return;
   if (queue_capacity_ > 0) {
     sub->setQueueCapacity(queue_capacity_);
@@ -176,20 +180,23 @@ void Node::publish_heartbeat() {
   hb.dropped = counters_.dropped;
   hb.decode_errors = counters_.decode_errors;
   hb.last_latency = last_latency_;
-  lcm_->publish(channels::kHeartbeat, &hb);
+  open_lcm().publish(channels::kHeartbeat, &hb);
 }
 
 void Node::stop() { on_signal(0); }
 
 int Node::run() {
   using clock = std::chrono::steady_clock;
+  open_lcm();
+  logf(Level::Info, "started, pid %d, LCM %s%s%s", int(getpid()), lcm_url_.c_str(), config().empty() ? "" : ", config ",
+       config().empty() ? "" : config().source().c_str());
   {
     std::lock_guard lock(state_mutex_);
     if (state_ == hullgrind::heartbeat_t::STATE_STARTING) state_ = hullgrind::heartbeat_t::STATE_OK;
   }
   publish_heartbeat();
   auto next_heartbeat = clock::now() + std::chrono::seconds(1);
-  pollfd fds[2] = {{lcm_->getFileno(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}};
+  pollfd fds[2] = {{open_lcm().getFileno(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}};
   while (!stop_requested_) {
     auto now = clock::now();
     auto wake = next_heartbeat;

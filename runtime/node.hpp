@@ -49,7 +49,9 @@ struct Delivery {
 };
 
 // Parses argv. --help / --help-markdown / --version print and exit 0; a bad command line or config prints
-// one line naming the command line or the file and the key, and exits 2.
+// one line naming the command line or the file and the key, and exits 2. LCM is opened on first use (a
+// subscription, a publication, the loop), so a process whose own checks refuse its configuration exits
+// before it has opened the bus or logged anything else (runtime/process.hpp).
 class Node {
  public:
   Node(ProcessInfo info, int argc, char** argv);
@@ -74,7 +76,7 @@ class Node {
   }  // "a,b,c" or a YAML list
   bool param_given(const std::string& name) const { return params_.given(name); }
 
-  lcm::LCM& lcm() { return *lcm_; }
+  lcm::LCM& lcm() { return open_lcm(); }
   Counters& counters() { return counters_; }
 
   // Subscribe with decoding: messages that do not decode exactly are counted and skipped.
@@ -121,6 +123,7 @@ class Node {
     void on(const lcm::ReceiveBuffer* rbuf, const std::string& channel) { fn(rbuf, channel); }
   };
   void publish_heartbeat();
+  lcm::LCM& open_lcm();  // opens LCM on first use (thread-safe); cannot open it: one line, exit 1
   void parse(int argc, char** argv);
   void print_usage(std::FILE* out) const;
   void add_handler(const std::string& channel, std::function<void(const lcm::ReceiveBuffer*, const std::string&)> fn);
@@ -130,6 +133,7 @@ class Node {
   Params params_;
   std::string lcm_url_;
   std::unique_ptr<lcm::LCM> lcm_;
+  std::once_flag lcm_once_;
   std::vector<std::unique_ptr<Handler>> handlers_;
   std::vector<Timer> timers_;
   Counters counters_;
@@ -175,7 +179,7 @@ bool Node::publish(const std::string& channel, T& msg) {
                   msg.header.utime;
                 })
     fill_header(channel, msg.header.seq, msg.header.utime);
-  if (lcm_->publish(channel, &msg) != 0) {
+  if (open_lcm().publish(channel, &msg) != 0) {
     logf(Level::Error, "publish on %s failed", channel.c_str());
     return false;
   }

@@ -1,5 +1,6 @@
 #include "runtime/process.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 namespace hg::runtime {
@@ -16,14 +17,14 @@ int run_attached(ProcessInfo info, int argc, char** argv, const std::function<st
   std::shared_ptr<void> process;
   try {
     process = attach(node);
-  } catch (const ConfigError& e) {
-    logf(Level::Error, "%s", parameter_error_text(node, e.what()).c_str());
+  } catch (const ConfigError& e) {  // one line, as a bad command line (Node::parse): the failure contract
+    std::fprintf(stderr, "%s: %s\n", node.name().c_str(), parameter_error_text(node, e.what()).c_str());
     return 2;
   } catch (const std::invalid_argument& e) {
-    logf(Level::Error, "%s", parameter_error_text(node, e.what()).c_str());
+    std::fprintf(stderr, "%s: %s\n", node.name().c_str(), parameter_error_text(node, e.what()).c_str());
     return 2;
   } catch (const std::exception& e) {
-    logf(Level::Error, "cannot start: %s", e.what());
+    std::fprintf(stderr, "%s: cannot start: %s\n", node.name().c_str(), e.what());
     return 1;
   }
   const int rc = node.run();

@@ -4,9 +4,12 @@
 // 1. builds the node from argv: --help / --version answer and exit 0; a bad command line or config file is
 //    one line naming it and the key, exit 2;
 // 2. attach(node) wires the process onto the node and returns what must live while the loop runs (or
-//    nothing). A bad parameter value found by the process's own checks (ConfigError, std::invalid_argument)
-//    is one log line naming the config file and the key, exit 2; any other failure to start is one log
-//    line, exit 1;
+//    nothing). A bad parameter value found by the process's own checks (ConfigError, std::invalid_argument:
+//    a bad config, cell or input file) is one line on stderr naming the file and the key, exit 2; any other
+//    failure to start is one line, exit 1. Either comes before LCM is opened or anything else is logged,
+//    as long as attach checks its configuration before it subscribes (Node opens LCM on first use).
+//    The failure contract of every program (docs/RUNNING.md): 0 success, 1 ran and failed, 2 bad command
+//    line, config, cell or input file, with exactly one line on stderr;
 // 3. runs the loop until SIGINT/SIGTERM; the attached object is destroyed after it (its destructor stops
 //    the process's threads); returns the loop's exit code.
 #pragma once

@@ -9,16 +9,25 @@
 # and the job's record in out/jobs/ (kept across runs; tools/hg-jobs). Prints the timings of each stage and the
 # job's final state; exits non-zero if the job did not end DONE.
 #
+# The output folder (--out DIR, else $OUT, else out/) is everything a run writes: the pipeline file names it
+# ${OUT} and tools/supervisor expands it, so two runs with two output folders share nothing. A bad pipeline
+# or cell file is refused (exit 2, one line) before anything in the output folder is touched; a second run on
+# an output folder whose supervisor still runs is refused (exit 3) with that supervisor's pid. Every process
+# this script starts dies with it, even when it is killed with SIGKILL (setpriv --pdeathsig; the supervisor's
+# processes die with the supervisor).
+#
 # Every run has its own HG_RUN_ID: the simulated robot of a run that was stopped mid-job reports that job
 # ABORTED (interrupted) and starts clean; a real robot (--driver ur) keeps its FAULT until RESET.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
 hg_answer_version run "$@"
+CALLER=$PWD  # relative --out, --pipeline and --cell are relative to where run.sh was started
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 BIN=${BIN:-$ROOT/build/bin}
 OUT=${OUT:-$ROOT/out}
 PIPELINE=$ROOT/config/pipeline.toml
+CELL=''
 JOB_ID=demo-$(date +%Y%m%d-%H%M%S)
 TIMEOUT=120
 EXTRA=()
@@ -28,7 +37,10 @@ usage() {
 usage: tools/run.sh [options]
 Runs the whole hullgrind pipeline once, in its own network namespace, and writes $OUT/.
 
+  --out DIR          the output folder, \${OUT} of the pipeline file [\$OUT, else out/]
   --pipeline FILE    pipeline file for tools/supervisor [config/pipeline.toml]
+  --cell FILE        the cell file of the planner and the robot bridge, \${CELL} of the pipeline file
+                     [config/cell-sim.yaml]
   --camera KIND      openni2: the virtual OpenNI2 device (config/pipeline.toml); genicam: a fake GigE
                      Vision 3-D camera on loopback read through Aravis (config/pipeline-genicam.toml)
   --job-id ID        job id of the request [demo-DATE]
@@ -36,6 +48,8 @@ Runs the whole hullgrind pipeline once, in its own network namespace, and writes
   --offline          no processes: hg-outline on the bundled sample cloud (data/samples/), checked
                      against its ground truth (out/outline.json, outline.png)
   -h, --help         this text
+Exit status: 0 the job ended DONE; 1 it did not, or the pipeline failed; 2 a bad command line, pipeline or
+cell file (nothing in the output folder touched); 3 another supervisor runs on the output folder.
 Other inputs: edit the camera process in the pipeline file: --source openni2 with --uri of a real
 device or an .oni file, --source files --files DIR, and the robot with --driver ur (docs/RUNNING.md).
 USAGE
@@ -60,9 +74,13 @@ sys.exit(0 if len(outer) == len(truth["parts"]) and len(holes) == want_holes els
 PY
 }
 
+absolute() { [[ $1 == /* ]] && echo "$1" || echo "$CALLER/$1"; }
+need_value() { [[ $# -ge 2 && -n $2 ]] || { echo "run.sh: $1 needs a value (see --help)" >&2; exit 2; }; }
 while [[ $# -gt 0 ]]; do
   case "$1" in
-    --pipeline) PIPELINE=$(realpath "$2"); shift 2 ;;
+    --out) need_value "$@"; OUT=$(absolute "$2"); shift 2 ;;
+    --pipeline) need_value "$@"; PIPELINE=$(absolute "$2"); shift 2 ;;
+    --cell) need_value "$@"; CELL=$(absolute "$2"); shift 2 ;;
     --camera)
       case "$2" in
         openni2) PIPELINE=$ROOT/config/pipeline.toml ;;
@@ -70,24 +88,58 @@ while [[ $# -gt 0 ]]; do
         *) echo "run.sh: --camera must be openni2 or genicam, not '$2'" >&2; exit 2 ;;
       esac
       shift 2 ;;
-    --job-id) JOB_ID=$2; shift 2 ;;
-    --timeout) TIMEOUT=$2; shift 2 ;;
+    --job-id) need_value "$@"; JOB_ID=$2; shift 2 ;;
+    --timeout) need_value "$@"; TIMEOUT=$2; shift 2 ;;
     --offline) offline; exit $? ;;
     -h|--help) usage; exit 0 ;;
     *) echo "run.sh: unknown option $1" >&2; usage >&2; exit 2 ;;
   esac
 done
 
+[[ $OUT == /* ]] || OUT=$CALLER/$OUT
+[[ $TIMEOUT =~ ^[0-9]+$ ]] || { echo "run.sh: --timeout must be a whole number of seconds, not '$TIMEOUT'" >&2; exit 2; }
 # This run, for the simulated robot's state file (robot_bridge: a state file of another run is stale).
 export HG_RUN_ID=${HG_RUN_ID:-run-$(date -u +%Y%m%dT%H%M%S)-$$}
 
 # Everything below runs in a private network namespace: LCM and DDS stay on this machine by construction.
 if [[ "${HG_IN_NETNS:-}" != "1" ]]; then
-  exec "$ROOT/tests/netns.sh" "$0" --pipeline "$PIPELINE" --job-id "$JOB_ID" --timeout "$TIMEOUT"
+  exec "$ROOT/tests/netns.sh" "$0" --out "$OUT" --pipeline "$PIPELINE" ${CELL:+--cell "$CELL"} --job-id "$JOB_ID" \
+    --timeout "$TIMEOUT"
 fi
 
-rm -rf "$OUT/logs" "$OUT/supervisor" "$OUT/run.lcmlog" "$OUT/outline.json" "$OUT/path.json" "$OUT/overview.png" "$OUT/summary.json"
+# First every check, then the output folder: a bad pipeline or cell file leaves the last run's results alone.
+sets=()
+[[ -z $CELL ]] || sets=(--set "CELL=$CELL")
+checked=$("$ROOT/tools/supervisor" check --out "$OUT" "${sets[@]}" "$PIPELINE" 2>&1) || { echo "run.sh: $checked" >&2; exit 2; }
+# The planner's command line (cell and configuration resolved), for the cell check and for hg-overview.
+mapfile -t planner_args < <(python3 -c '
+import json, os, sys
+for p in json.load(sys.stdin)["process"]:
+    if os.path.basename(p["command"][0]) == "hg-path-planner":
+        cmd = p["command"]
+        for i, a in enumerate(cmd[1:]):
+            print(os.path.join(p["cwd"], a) if i > 0 and cmd[i] in ("--config", "--cell") else a)
+        break' <<<"$checked")
+planner_file() {  # the value of the planner's option $1 (--cell, --config), empty without it
+  local i
+  for ((i = 0; i + 1 < ${#planner_args[@]}; i++)); do [[ ${planner_args[i]} != "$1" ]] || { echo "${planner_args[i + 1]}"; return; }; done
+}
+if [[ -n $(planner_file --cell) ]]; then
+  config=$(planner_file --config)
+  cell_check=$("$BIN/hg-plan" --check-config ${config:+--config "$config"} --cell "$(planner_file --cell)" 2>&1) ||
+    { echo "run.sh: $cell_check" >&2; exit 2; }
+fi
+if [[ -e "$OUT/supervisor.lock" ]] && ! flock -n "$OUT/supervisor.lock" true; then
+  echo "run.sh: another supervisor (pid $(head -c 20 "$OUT/supervisor.lock" | tr -d '\n')) runs on output folder $OUT" >&2
+  exit 3
+fi
+
+# The supervisor's socket (in $OUT/supervisor) is its own: it removes a stale one and refuses a live one.
+rm -rf "$OUT/logs" "$OUT/run.lcmlog" "$OUT/outline.json" "$OUT/path.json" "$OUT/overview.png" "$OUT/summary.json"
 mkdir -p "$OUT"
+# Each child gets a parent-death signal: a run.sh killed even by SIGKILL takes everything it started with it.
+# (setpriv execs the command: it keeps the pid that $! names.)
+with_pdeathsig=(setpriv --pdeathsig)
 pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
@@ -98,7 +150,7 @@ t0=$(date +%s.%N)
 stamp() { printf '[%6.1f s] %s\n' "$(awk -v a="$(date +%s.%N)" -v b="$t0" 'BEGIN { print a - b }')" "$*"; }
 
 stamp "recording the bus to $OUT/run.lcmlog"
-"$ROOT/tools/record" "$OUT/run.lcmlog" >"$OUT/record.name" &
+"${with_pdeathsig[@]}" TERM -- "$ROOT/tools/record" "$OUT/run.lcmlog" >"$OUT/record.name" &
 pids+=("$!")
 for _ in $(seq 1 200); do [[ -s "$OUT/record.name" ]] && break; sleep 0.1; done
 [[ -s "$OUT/record.name" ]] || { echo "run.sh: tools/record did not start" >&2; exit 1; }
@@ -109,29 +161,29 @@ if [[ ! -f "$OUT/dds-security/governance.p7s" ]]; then
   "$ROOT/tools/make-dds-security.sh" "$OUT/dds-security" >/dev/null
 fi
 stamp "starting the pipeline ($PIPELINE) under tools/supervisor"
-"$ROOT/tools/supervisor" run "$PIPELINE" >"$OUT/supervisor.out" 2>"$OUT/supervisor.log" &
+"${with_pdeathsig[@]}" TERM -- "$ROOT/tools/supervisor" run --out "$OUT" "${sets[@]}" "$PIPELINE" >"$OUT/supervisor.out" 2>"$OUT/supervisor.log" &
 sup=$!
 pids=("$sup" "${pids[@]}")  # stop the supervisor first, the recorder last
 ready=0
 for _ in $(seq 1 120); do
   sleep 0.5
   kill -0 "$sup" 2>/dev/null || { cat "$OUT/supervisor.log" >&2; echo "run.sh: the supervisor stopped" >&2; exit 1; }
-  if "$ROOT/tools/supervisor" status-json --run-dir "$OUT/supervisor" 2>/dev/null |
+  if "$ROOT/tools/supervisor" status-json --out "$OUT" 2>/dev/null |
      python3 -c 'import json,sys; st=json.load(sys.stdin)["processes"]; sys.exit(0 if st and all(p["state"]=="running" for p in st) else 1)' 2>/dev/null; then
     ready=1; break
   fi
 done
-[[ $ready == 1 ]] || { "$ROOT/tools/supervisor" status --run-dir "$OUT/supervisor" >&2 || true; echo "run.sh: the pipeline did not come up" >&2; exit 1; }
-"$ROOT/tools/supervisor" status --run-dir "$OUT/supervisor"
+[[ $ready == 1 ]] || { "$ROOT/tools/supervisor" status --out "$OUT" >&2 || true; echo "run.sh: the pipeline did not come up" >&2; exit 1; }
+"$ROOT/tools/supervisor" status --out "$OUT"
 
 # Watch the job's statuses, then ask for the job.
-"$BIN/hg-lcm-dump" --channels '^HG_JOB_STATUS$' --type job_status_t >"$OUT/job_status.jsonl" 2>"$OUT/job_status.err" &
+"${with_pdeathsig[@]}" KILL -- "$BIN/hg-lcm-dump" --channels '^HG_JOB_STATUS$' --type job_status_t >"$OUT/job_status.jsonl" 2>"$OUT/job_status.err" &
 pids+=("$!")
 for _ in $(seq 1 100); do grep -q listening "$OUT/job_status.err" 2>/dev/null && break; sleep 0.1; done
 stamp "job request $JOB_ID"
 "$BIN/hg-lcm-send" job --job-id "$JOB_ID" --part-id demo-plate >/dev/null
 # Follows the statuses until the job ends: DONE from the robot, or FAILED/ABORTED/REFUSED from anyone.
-python3 - "$OUT/job_status.jsonl" "$JOB_ID" "$TIMEOUT" "$t0" <<'PY' || true
+"${with_pdeathsig[@]}" KILL -- python3 - "$OUT/job_status.jsonl" "$JOB_ID" "$TIMEOUT" "$t0" <<'PY' || true
 import json, sys, time
 path, job, timeout, t0 = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
 names = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED"]
@@ -174,28 +226,14 @@ PY
 
 stamp "stopping the pipeline"
 kill -TERM "$sup"; wait "$sup" || true
-"$ROOT/tools/supervisor" status --run-dir "$OUT/supervisor" 2>/dev/null || true
+"$ROOT/tools/supervisor" status --out "$OUT" 2>/dev/null || true
 cleanup
 trap - EXIT
 cp "$OUT/supervisor.out" "$OUT/logs/status.txt" 2>/dev/null || true
 
 echo "== results"
 rc=0
-# The picture needs the calibration the planner ran with: its command line from the pipeline file.
-mapfile -t planner_args < <(python3 - "$PIPELINE" <<'PY'
-import os, sys, tomllib
-path = sys.argv[1]
-with open(path, "rb") as f:
-    pipeline = tomllib.load(f)
-for p in pipeline.get("process", []):
-    cmd = p["command"]
-    if os.path.basename(cmd[0]) == "hg-path-planner":
-        cwd = p.get("cwd", os.path.dirname(path))  # the supervisor runs a process there
-        for i, a in enumerate(cmd[1:]):
-            print(os.path.join(cwd, a) if i > 0 and cmd[i] in ("--config", "--cell") else a)
-        break
-PY
-)
+# The picture needs the calibration the planner ran with: its command line from the pipeline file (above).
 "$BIN/hg-overview" "$OUT/run.lcmlog" --out "$OUT" --job-id "$JOB_ID" --planner-config "$ROOT/config/path_planner.yaml" \
   --planner-args "${planner_args[@]}" || rc=$?
 echo "bus recorded in $OUT/run.lcmlog; process logs in $OUT/logs/; the job's record: tools/hg-jobs --dir $OUT/jobs show $JOB_ID"

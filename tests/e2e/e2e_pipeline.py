@@ -8,6 +8,7 @@ hangs. Runs inside a network namespace of its own (tests/netns.sh; CTest does th
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -119,8 +120,12 @@ class Pipeline:
 
     # ---- pipeline file ----
     def _rewrite_arg(self, arg):
-        """Paths of the shipped file are relative to config/: ../build/ is the build under test, ../out/
-        this run's directory, other existing files are config/ files."""
+        """Paths of the shipped file are relative to config/: ../build/ is the build under test, ${OUT} (the
+        supervisor's output folder) this run's directory, other existing files are config/ files; a
+        placeholder with a default (${CELL:-cell-sim.yaml}) takes its default."""
+        arg = re.sub(r"\$\{[A-Za-z_][A-Za-z0-9_]*:-([^}]*)\}", r"\1", arg)
+        if arg.startswith("${OUT}/"):
+            return os.path.join(self.dir, arg[len("${OUT}/"):])
         if arg.startswith("../build/"):
             return os.path.join(BUILD, arg[len("../build/"):])
         if arg.startswith("../out/"):

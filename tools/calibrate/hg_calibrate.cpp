@@ -12,6 +12,7 @@
 #include "calibration/sim.hpp"
 #include "calibration/target.hpp"
 #include "cell/cell.hpp"
+#include "runtime/config.hpp"
 #include "runtime/lcm_url.hpp"
 #include "runtime/params.hpp"
 #include "tools/calibrate/bus_capture.hpp"
@@ -95,7 +96,8 @@ Args args_from(const runtime::Params& p) {
                                                       : "command line: one MODE, not '" + p.positional()[1] + "' too");
   Args a;
   a.mode = p.positional()[0];
-  a.session = p.text("session"), a.cell = p.text("cell"), a.report = p.text("report");
+  a.session = p.text("session"), a.cell = p.given("cell") ? p.text("cell") : hg::runtime::default_file(p.text("cell")),
+  a.report = p.text("report");
   a.sim_mode = p.text("mode"), a.profile = p.text("profile"), a.lcm_url = p.text("lcm-url"), a.hole = p.text("hole");
   a.dry_run = p.flag("dry-run"), a.move = p.flag("move"), a.from_bus = p.flag("from-bus");
   a.trigger = p.flag("trigger"), a.local_outline = p.flag("local-outline");

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cloud_io/outline_writers.hpp"
+#include "runtime/config.hpp"
 #include "path_planner/io.hpp"
 #include "runtime/path_file.hpp"
 #include "tools/overview/overview.hpp"
@@ -80,7 +81,7 @@ void print_summary(const hg::overview::JobTrace& job, const nlohmann::ordered_js
 
 int main(int argc, char** argv) {
   if (hg::runtime::answer_version(argc, argv, "hg-overview")) return 0;
-  std::string log_path, out_dir, job_id, planner_config = "config/path_planner.yaml";
+  std::string log_path, out_dir, job_id, planner_config = hg::runtime::default_file("config/path_planner.yaml");
   std::map<std::string, std::string> planner_cli;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -106,13 +107,13 @@ int main(int argc, char** argv) {
     } else if (a.rfind("--", 0) == 0 && is_planner_param(a.substr(2)))
       planner_cli[a.substr(2)] = value();
     else if (!a.empty() && a[0] == '-') {
-      std::fprintf(stderr, "hg-overview: unknown option %s\n%s", a.c_str(), kUsage);
+      std::fprintf(stderr, "hg-overview: command line: unknown option %s (see --help)\n", a.c_str());
       return 2;
     } else
       log_path = a;
   }
   if (log_path.empty() || out_dir.empty()) {
-    std::fputs(kUsage, stderr);
+    std::fprintf(stderr, "hg-overview: command line: give LOG.lcmlog and --out DIR (see --help)\n");
     return 2;
   }
   try {
