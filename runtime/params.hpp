@@ -104,6 +104,12 @@ class Params {
   Config config_;
 };
 
+// The failure contract of every program and tool (docs/RUNNING.md): 0 success; kExitFailed, it ran and failed;
+// kExitBadInput, a bad command line, config, cell or input file. A failure is exactly one line on stderr
+// naming the file (and line) or the key.
+inline constexpr int kExitFailed = 1;
+inline constexpr int kExitBadInput = 2;
+
 // The version every executable prints for --version.
 const char* version();
 

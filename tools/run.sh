@@ -92,7 +92,7 @@ while [[ $# -gt 0 ]]; do
     --timeout) need_value "$@"; TIMEOUT=$2; shift 2 ;;
     --offline) offline; exit $? ;;
     -h|--help) usage; exit 0 ;;
-    *) echo "run.sh: unknown option $1" >&2; usage >&2; exit 2 ;;
+    *) echo "run.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
 

@@ -35,8 +35,8 @@ std::set<std::string> non_loopback_interfaces() {
   return names;
 }
 
-int usage(bool ok) {
-  std::fprintf(ok ? stdout : stderr,
+int usage() {
+  std::fprintf(stdout,
                "usage: hg-fake-genicam [--scene NAME] [--profile pm806|lsr-l] [--seed N] [--noise-scale K]\n"
                "                       [--serial S] [--scale-mm MM] [--offset-mm MM] [--rate HZ] [--xml FILE]\n"
                "A fake GigE Vision 3-D camera on 127.0.0.1 (Aravis's fake camera with hullgrind's GenICam XML)\n"
@@ -45,7 +45,12 @@ int usage(bool ok) {
                "nothing but lo (tests/netns.sh): it answers discovery broadcasts.\n"
                "Defaults: --scene plate-hole-slot --profile pm806 --serial HG3D-0001 --scale-mm 0.05\n"
                "--offset-mm 400 --rate 5 --noise-scale 1 (frame n is the rendering at index n).\n");
-  return ok ? 0 : 2;
+  return 0;
+}
+
+int refuse(const std::string& what) {  // one line (the failure contract of every program, docs/RUNNING.md)
+  std::fprintf(stderr, "hg-fake-genicam: command line: %s (see --help)\n", what.c_str());
+  return 2;
 }
 
 }  // namespace
@@ -60,8 +65,9 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
-    if (a == "--help" || a == "-h") return usage(true);
-    if (!has) return usage(false);
+    if (a == "--help" || a == "-h") return usage();
+    if (a.rfind("--", 0) != 0) return refuse("unknown argument " + a);
+    if (!has) return refuse(a + " needs a value");
     const std::string v = argv[++i];
     if (a == "--scene") scene = v;
     else if (a == "--profile")
@@ -81,7 +87,7 @@ int main(int argc, char** argv) {
     else if (a == "--xml")
       o.xml_path = v;
     else
-      return usage(false);
+      return refuse("unknown option " + a);
   }
   if (const auto others = non_loopback_interfaces(); !others.empty()) {
     std::fprintf(stderr,

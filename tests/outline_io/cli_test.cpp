@@ -193,15 +193,15 @@ TEST_F(OutlineIoCli, CorruptFileFailsNamesTheFileAndWritesNothing) {
   // Same for a text file with a bad number, and for a file that does not exist.
   std::ofstream(dir / "bad.xyz") << "0 0\n1 0\n0 one\n";
   r = run("'" + (dir / "bad.xyz").string() + "' -o '" + out("o.json") + "'");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, 2);  // a bad input file (docs/RUNNING.md, the failure contract)
   EXPECT_NE(r.err.find((dir / "bad.xyz").string() + ": line 3: bad number 'one'"), std::string::npos) << r.err;
   r = run("'" + (dir / "missing.ply").string() + "'");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("missing.ply"), std::string::npos) << r.err;
   // Collinear points are rejected by the core: the message names the file too.
   std::ofstream(dir / "line.xyz") << "0 0\n1 1\n2 2\n3 3\n";
   r = run("'" + (dir / "line.xyz").string() + "' -o '" + out("o.json") + "'");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find((dir / "line.xyz").string()), std::string::npos) << r.err;
   EXPECT_TRUE(fs::is_empty(dir / "out"));
 }
@@ -302,13 +302,13 @@ TEST_F(OutlineIoCli, NoReturnPixelsAreSkippedAndCountedInJsonAndSummary) {
 }
 
 TEST_F(OutlineIoCli, CollinearInSpaceAndTooFewFinitePointsAreErrors) {
-  // A 3-D cloud on one line in space fails like the collinear 2-D cloud: exit 1, the same message.
+  // A 3-D cloud on one line in space fails like the collinear 2-D cloud: exit 2 (a bad input file), the same message.
   std::ofstream(dir / "line3d.xyz") << "0 0 0\n1 2 3\n2 4 6\n3 6 9\n";
   std::ofstream(dir / "line2d.xyz") << "0 0\n1 2\n2 4\n3 6\n";
   const CliRun r3 = run("'" + (dir / "line3d.xyz").string() + "' -o '" + out("o.json") + "'");
   const CliRun r2 = run("'" + (dir / "line2d.xyz").string() + "' -o '" + out("o.json") + "'");
-  EXPECT_EQ(r3.code, 1);
-  EXPECT_EQ(r2.code, 1);
+  EXPECT_EQ(r3.code, 2);
+  EXPECT_EQ(r2.code, 2);
   const std::string msg = ": all 4 distinct points are collinear\n";
   EXPECT_EQ(r3.err, "hg-outline: error: " + (dir / "line3d.xyz").string() + msg);
   EXPECT_EQ(r2.err, "hg-outline: error: " + (dir / "line2d.xyz").string() + msg);
@@ -316,7 +316,7 @@ TEST_F(OutlineIoCli, CollinearInSpaceAndTooFewFinitePointsAreErrors) {
   // Fewer than 3 finite points.
   std::ofstream(dir / "few.xyz") << "0 0 1\nnan 0 1\n1 1 1\n0 inf 1\n";
   const CliRun f = run("'" + (dir / "few.xyz").string() + "'");
-  EXPECT_EQ(f.code, 1);
+  EXPECT_EQ(f.code, 2);
   EXPECT_NE(f.err.find("few.xyz: need at least 3 distinct points, got 2 finite points (2 non-finite skipped)"),
             std::string::npos)
       << f.err;

@@ -178,7 +178,7 @@ class TestLifecycle(SupervisorCase):
         second = subprocess.run([sys.executable, SUPERVISOR, "run", path], stdout=subprocess.PIPE,
                                 stderr=subprocess.PIPE, text=True, timeout=30)
         self.assertEqual(second.returncode, 3)
-        self.assertIn("another supervisor already runs with run directory", second.stderr)
+        self.assertIn("another supervisor (pid %d) runs on output folder %s" % (sup.pid, self.run_dir), second.stderr)
         self.stop(sup)
         bad = os.path.join(self.dir, "bad.toml")
         with open(bad, "w") as f:
@@ -225,6 +225,135 @@ class TestPipelineFile(SupervisorCase):
         self.assertIn("unknown key 'log_max_byte' (nearest known: 'log_max_bytes')", err)
         err = self.run_bad('[[process]]\nname = "x"\ncommand = ["/bin/true"]\nrestarts = "always"\n')
         self.assertIn("process 0: unknown key 'restarts' (nearest known: 'restart')", err)
+
+
+def children_of(pid):
+    """The pids of every descendant of `pid` (from /proc), so that none is missed."""
+    found, todo = [], [pid]
+    while todo:
+        p = todo.pop()
+        try:
+            tasks = os.listdir("/proc/%d/task" % p)
+        except FileNotFoundError:
+            continue
+        for t in tasks:
+            try:
+                with open("/proc/%d/task/%s/children" % (p, t)) as f:
+                    kids = [int(k) for k in f.read().split()]
+            except FileNotFoundError:
+                kids = []
+            found += kids
+            todo += kids
+    return found
+
+
+def alive(pid):
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            return f.read().split(")")[-1].split()[0] != "Z"  # a zombie is gone, only not reaped yet
+    except FileNotFoundError:
+        return False
+
+
+class TestOutputFolder(SupervisorCase):
+    """One supervisor per output folder (--out / $OUT, ${OUT} in the pipeline file), and no process outlives
+    the supervisor that started it, even when it is killed with SIGKILL."""
+
+    def out_pipeline(self, processes, **sup):
+        sup.setdefault("run_dir", "${OUT}/supervisor")
+        sup.setdefault("log_dir", "${OUT}/logs")
+        return self.pipeline(processes, **sup)
+
+    def start_out(self, path, out, *extra):
+        p = subprocess.Popen([sys.executable, SUPERVISOR, "run", "--out", out] + list(extra) + [path],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.procs.append(p)
+        return p
+
+    def test_placeholders_expand_and_an_unset_one_is_refused(self):
+        out = os.path.join(self.dir, "o1")
+        marker = os.path.join("${OUT}", "marker")
+        path = self.out_pipeline([{"name": "w", "command": ["/bin/sh", "-c", 'echo "$0 ${X:-}" > "$1"; sleep 30',
+                                                           "${WHO:-nobody}", marker]}])
+        sup = self.start_out(path, out, "--set", "WHO=someone")
+        self.run_dir = os.path.join(out, "supervisor")
+        self.wait_for(lambda st: st["w"]["state"] == "running")
+        deadline = time.monotonic() + 10
+        while not os.path.exists(os.path.join(out, "marker")) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        with open(os.path.join(out, "marker")) as f:
+            self.assertEqual(f.read().strip(), "someone")
+        self.assertTrue(os.path.exists(os.path.join(out, "logs", "w.log")))
+        self.stop(sup)
+        # Without --out and $OUT: refused, one line naming the file and the key, nothing created.
+        env = {k: v for k, v in os.environ.items() if k != "OUT"}
+        r = subprocess.run([sys.executable, SUPERVISOR, "run", path], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           text=True, timeout=30, env=env, cwd=self.dir)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertEqual(len(r.stderr.splitlines()), 1, r.stderr)
+        self.assertIn("pipeline file '%s': [supervisor] key 'run_dir': ${OUT} is not set" % path, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "out")))
+        # check prints the expanded pipeline and starts nothing.
+        r = subprocess.run([sys.executable, SUPERVISOR, "check", "--out", out, path], stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True, timeout=30)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        checked = json.loads(r.stdout)
+        self.assertEqual(checked["process"][0]["command"][-1], os.path.join(out, "marker"))
+        self.assertEqual(checked["process"][0]["command"][-2], "nobody")
+
+    def test_second_supervisor_on_one_output_folder_is_refused_with_the_first_pid(self):
+        out = os.path.join(self.dir, "shared")
+        self.run_dir = os.path.join(out, "supervisor")
+        first = self.start_out(self.out_pipeline([{"name": "s", "command": ["/bin/sh", "-c", "sleep 30"]}]), out)
+        self.wait_for(lambda st: st["s"]["state"] == "running")
+        # Another pipeline file, another run directory: the output folder alone decides.
+        other = self.pipeline([{"name": "s", "command": ["/bin/sh", "-c", "sleep 30"]}],
+                              run_dir=os.path.join(self.dir, "elsewhere"), log_dir=os.path.join(self.dir, "elsewhere-logs"))
+        r = subprocess.run([sys.executable, SUPERVISOR, "run", "--out", out, other], stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True, timeout=30)
+        self.assertEqual(r.returncode, 3, r.stderr)
+        self.assertIn("another supervisor (pid %d) runs on output folder %s" % (first.pid, out), r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "elsewhere-logs")), "the refused one touched nothing")
+        # A second output folder runs side by side.
+        out2 = os.path.join(self.dir, "second")
+        second = self.start_out(self.out_pipeline([{"name": "s", "command": ["/bin/sh", "-c", "sleep 30"]}]), out2)
+        self.wait_for(lambda st: st["s"]["state"] == "running", what="the second folder's supervisor")
+        self.run_dir = os.path.join(out2, "supervisor")
+        self.wait_for(lambda st: st["s"]["state"] == "running", what="the second folder's supervisor")
+        self.stop(second)
+        # The lock dies with its holder, even by SIGKILL: a new supervisor starts on the folder at once.
+        first.kill()
+        first.wait()
+        self.run_dir = os.path.join(out, "supervisor")
+        third = self.start_out(self.out_pipeline([{"name": "s", "command": ["/bin/sh", "-c", "sleep 30"]}]), out)
+        self.wait_for(lambda st: st["s"]["state"] == "running", what="a supervisor after a SIGKILLed one")
+        self.stop(third)
+
+    def test_no_process_outlives_a_sigkilled_supervisor(self):
+        """SIGKILL at a random moment (while processes start, restart or run), several seeds: every process
+        the supervisor started (the pipeline processes, which ignore SIGTERM here, and its bus helpers) is gone
+        within 5 s."""
+        import random
+        procs = [{"name": "p%d" % i, "command": ["/bin/sh", "-c", "trap '' TERM; exec sleep 1000"],
+                  "wait_heartbeat": False} for i in range(3)]
+        procs.append({"name": "flaky", "command": ["/bin/sh", "-c", "sleep 0.3; exit 1"], "backoff_initial": 0.1})
+        for seed in range(6):
+            with self.subTest(seed=seed):
+                rng = random.Random(seed)
+                out = os.path.join(self.dir, "kill-%d" % seed)
+                sup = self.start_out(self.out_pipeline(procs, heartbeat_watch=True), out)
+                deadline = time.monotonic() + 20
+                while not children_of(sup.pid) and time.monotonic() < deadline:
+                    time.sleep(0.02)
+                time.sleep(rng.uniform(0.0, 2.5))  # from its first child on: starting, restarting, running
+                kids = children_of(sup.pid)
+                sup.kill()
+                sup.wait()
+                self.assertTrue(kids, "the supervisor had started something")
+                deadline = time.monotonic() + 5
+                while any(alive(k) for k in kids) and time.monotonic() < deadline:
+                    time.sleep(0.05)
+                self.assertEqual([k for k in kids if alive(k)], [], "processes left 5 s after SIGKILL")
 
 
 class TestBus(SupervisorCase):

@@ -12,6 +12,7 @@
 #include <opencv2/core.hpp>
 
 #include "camera_bridge/camera_bridge.hpp"
+#include "runtime/params.hpp"
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 #include "runtime/version.hpp"
@@ -31,16 +32,25 @@ int main(int argc, char** argv) {
       scene = argv[++i];
     else if (a == "--all-parts")
       all_parts = true;
-    else {
+    else if (a == "--help" || a == "-h") {
       std::printf(
           "usage: hg-bench-camera [--frames N] [--scene NAME] [--all-parts]\n"
           "Times depth frame -> encoded plate_cloud_t per camera profile (one thread, median of N).\n");
-      return a == "--help" ? 0 : 2;
+      return 0;
+    } else {
+      std::fprintf(stderr, "hg-bench-camera: command line: unknown option %s (see --help)\n", a.c_str());
+      return hg::runtime::kExitBadInput;
     }
   }
   if (frames < 1) frames = 1;
   cv::setNumThreads(1);  // one thread, as the target says
-  const SceneSpec spec = scene_preset(scene);
+  SceneSpec spec;
+  try {
+    spec = scene_preset(scene);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hg-bench-camera: command line: --scene: %s\n", e.what());
+    return hg::runtime::kExitBadInput;
+  }
   SegmentParams params;
   params.all_parts = all_parts;
   std::printf("scene %s, %s, %d frames per profile, OpenCV threads %d\n", scene.c_str(),

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "camera_bridge/camera_bridge.hpp"
+#include "runtime/params.hpp"
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 #include "outline_service/outline_service.hpp"
@@ -28,12 +29,15 @@ int main(int argc, char** argv) {
     if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
     else if (a == "--scene" && i + 1 < argc)
       scene = argv[++i];
-    else {
+    else if (a == "--help" || a == "-h") {
       std::printf(
           "usage: hg-bench-outline-service [--runs N] [--scene NAME]\n"
           "Times plate cloud -> outline_t + part_pose_t (the outline service's work) per camera profile\n"
           "and insertion order: one thread, median of N, clouds from the renderer + segmentation.\n");
-      return a == "--help" ? 0 : 2;
+      return 0;
+    } else {
+      std::fprintf(stderr, "hg-bench-outline-service: command line: unknown option %s (see --help)\n", a.c_str());
+      return hg::runtime::kExitBadInput;
     }
   }
   auto cpu_now = [] {
@@ -41,7 +45,13 @@ int main(int argc, char** argv) {
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
   };
-  const sim::SceneSpec spec = sim::scene_preset(scene);
+  sim::SceneSpec spec;
+  try {
+    spec = sim::scene_preset(scene);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hg-bench-outline-service: command line: --scene: %s\n", e.what());
+    return hg::runtime::kExitBadInput;
+  }
   std::printf("scene %s, %d runs per row\n", scene.c_str(), runs);
   std::printf("%-6s %-9s %-8s %9s %9s %9s %8s\n", "camera", "image", "order", "points", "wall ms", "cpu ms", "loops");
   for (const std::string& name : sim::camera_profile_names()) {

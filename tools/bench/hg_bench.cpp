@@ -587,7 +587,7 @@ int main(int argc, char** argv) {
     if (action != hg::runtime::Params::Action::Run) return hg::runtime::answer(action, "hg-bench", params, usage);
     a = args_from(params);
   } catch (const std::exception& e) {  // runtime::ConfigError
-    std::fprintf(stderr, "hg-bench: %s\n(hg-bench --help shows the options)\n", e.what());
+    std::fprintf(stderr, "hg-bench: %s (see --help)\n", e.what());
     return 2;
   }
   Report report;

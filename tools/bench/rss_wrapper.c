@@ -18,8 +18,8 @@ int main(int argc, char** argv) {
       "Runs COMMAND (a path) and writes \"maxrss_kb wall_ms exit_status\" to OUTFILE (hg-bench's memory figures).\n";
   if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) return fputs(usage, stdout), 0;
   if (argc == 2 && !strcmp(argv[1], "--version")) return printf("hg-bench-rss %s\n", HG_VERSION), 0;
-  if (argc < 3) {
-    fputs(usage, stderr);
+  if (argc < 3) {  /* one line (the failure contract of every program, docs/RUNNING.md) */
+    fprintf(stderr, "hg-bench-rss: command line: give OUTFILE COMMAND [ARGS...] (see --help)\n");
     return 2;
   }
   struct timespec t0, t1;

@@ -460,7 +460,7 @@ int main(int argc, char** argv) {
       });
     a = args_from(params);
   } catch (const std::exception& e) {  // runtime::ConfigError
-    std::fprintf(stderr, "hg-calibrate: %s\n(hg-calibrate --help shows the options)\n", e.what());
+    std::fprintf(stderr, "hg-calibrate: %s (see --help)\n", e.what());
     return 2;
   }
   try {

@@ -27,11 +27,14 @@ int main(int argc, char** argv) {
       frames = std::atoi(argv[++i]);
     else if (a == "--out" && i + 1 < argc)
       out = argv[++i];
-    else {
-      std::fprintf(a == "--help" ? stdout : stderr,
-                   "usage: hg-camera-render --out DIR [--scene NAME] [--profile pm806|lsr-l] [--frames N]\n"
-                   "Writes DIR/depth_NNNNNN.png (16-bit), DIR/intrinsics.yaml and DIR/truth.json.\n");
-      return a == "--help" ? 0 : 2;
+    else if (a == "--help" || a == "-h") {
+      std::printf(
+          "usage: hg-camera-render --out DIR [--scene NAME] [--profile pm806|lsr-l] [--frames N]\n"
+          "Writes DIR/depth_NNNNNN.png (16-bit), DIR/intrinsics.yaml and DIR/truth.json.\n");
+      return 0;
+    } else {
+      std::fprintf(stderr, "hg-camera-render: command line: unknown option %s (see --help)\n", a.c_str());
+      return 2;
     }
   }
   if (out.empty() || frames < 1) {

@@ -48,7 +48,8 @@ The JSON holds the loops and the run's figures; search_cost (triangles visited, 
 search_cost_locate (point location: the walk, or ordinary's test of every triangle) + search_cost_cavity
 (the cavity search); incircle_tests, orient_tests; time_ms per stage.
 Every output file is written whole or not at all; on any error nothing is written.
-exit status: 0 done, 1 input or processing error (message names the file and line/byte), 2 bad options
+exit status: 0 done, 1 processing failed (out of memory, an output not written), 2 a bad option or input file
+(one line naming the file and line/byte)
 )";
 
 struct Args {
@@ -184,8 +185,8 @@ int main(int argc, char** argv) {
     if (action != hg::runtime::Params::Action::Run) return hg::runtime::answer(action, "hg-outline", params, usage);
     args = args_from(params);
   } catch (const std::exception& e) {  // UsageError, runtime::ConfigError
-    std::fprintf(stderr, "hg-outline: %s\n(hg-outline --help shows the options)\n", e.what());
-    return 2;
+    std::fprintf(stderr, "hg-outline: %s (see --help)\n", e.what());
+    return hg::runtime::kExitBadInput;
   }
 
   try {
@@ -239,12 +240,13 @@ int main(int argc, char** argv) {
     return 0;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "hg-outline: error: %s: out of memory\n", args.input.c_str());
-  } catch (const io::ReadError& e) {  // names the file itself
+  } catch (const io::ReadError& e) {  // a bad input file: names the file itself
     std::fprintf(stderr, "hg-outline: error: %s\n", e.what());
+    return hg::runtime::kExitBadInput;
   } catch (const io::WriteError& e) {  // names the output file
     std::fprintf(stderr, "hg-outline: error: %s\n", e.what());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hg-outline: error: %s: %s\n", args.input.c_str(), e.what());
   }
-  return 1;
+  return hg::runtime::kExitFailed;
 }

@@ -38,25 +38,30 @@ int main(int argc, char** argv) {
       "Times the outline core's stages on a point-cloud file per insertion order (docs/BENCHMARKS.md).\n";
   for (int i = 1; i < argc; ++i)
     if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) return std::fputs(usage, stdout), 0;
-  if (argc < 2) return std::fputs(usage, stderr), 2;
+  if (argc < 2 || argv[1][0] == '-') {  // one line (the failure contract, docs/RUNNING.md)
+    std::fprintf(stderr, "hg-core-timing: command line: %s%s (see --help)\n",
+                 argc < 2 ? "give FILE" : "unknown option ", argc < 2 ? "" : argv[1]);
+    return 2;
+  }
   std::string file = argv[1], only;
   int runs = 5;
   Mode mode = Mode::DSHI;
-  for (int i = 2; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc)
-      only = argv[++i];
-    else if (!std::strcmp(argv[i], "--mode") && i + 1 < argc)
-      mode = parse_mode(argv[++i]);
-    else {
-      std::fprintf(stderr, "hg-core-timing: unknown argument '%s'\n", argv[i]);
-      return 2;
-    }
-  }
   std::vector<Vec2> scan, shuf;
-  {
+  try {
+    for (int i = 2; i < argc; ++i) {
+      if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
+      else if (!std::strcmp(argv[i], "--only") && i + 1 < argc)
+        only = argv[++i];
+      else if (!std::strcmp(argv[i], "--mode") && i + 1 < argc)
+        mode = parse_mode(argv[++i]);
+      else
+        throw OutlineError(std::string("command line: unknown argument '") + argv[i] + "'");
+    }
     io::Cloud cloud = io::read_cloud_file(file);
     scan = io::to_plane(cloud, file).points;
+  } catch (const std::exception& e) {  // a bad command line or input file (ReadError names the file)
+    std::fprintf(stderr, "hg-core-timing: %s\n", e.what());
+    return 2;
   }
   shuf = scan;
   std::mt19937_64 rng(12345);

@@ -165,8 +165,8 @@ int main(int argc, char** argv) {
       boundary = true;
     else if (!std::strcmp(argv[i], "--tilted") && i + 1 < argc)
       tilted_points = std::atof(argv[++i]);
-    else {
-      std::fputs(usage, stderr);
+    else {  // one line (the failure contract of every program, docs/RUNNING.md)
+      std::fprintf(stderr, "hg-radius-table: command line: unknown option %s (see --help)\n", argv[i]);
       return 2;
     }
   }
