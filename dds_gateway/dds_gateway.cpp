@@ -59,6 +59,9 @@ Options options_from(const runtime::Node& node) {
   o.security.permissions_ca = node.param("dds-security-permissions-ca");
   o.security.governance = node.param("dds-security-governance");
   o.security.permissions = node.param("dds-security-permissions");
+  // A security file that is named but cannot be read is a bad configuration (exit 2), found before DDS starts.
+  if (o.security.any())
+    if (const std::string p = o.security.problem(); !p.empty()) throw runtime::ConfigError("dds-security: " + p);
   return o;
 }
 

@@ -228,19 +228,23 @@ void ProcessDeleter::operator()(Process* p) const { delete p; }
 ProcessHandle attach(runtime::Node& node) { return ProcessHandle(new Process(node)); }
 
 int export_script(const runtime::Params& params, const std::string& path_file, const std::string& out_file) {
+  // The configuration first, then the input (a bad cell is named even when the path file is bad too).
+  const cell::LoadedCell cell = cell::load_cell(params);
+  const ScriptOptions script = script_from(params, cell);
   const Path path = read_path_json(path_file);
   if (path.size() == 0) throw std::invalid_argument(path_file + ": no waypoints");
   // Offline the robot's pose is unknown: check from the first waypoint.
   const Pose start{path.position[0], path.orientation[0]};
-  const cell::LoadedCell cell = cell::load_cell(params);
-  const ScriptOptions script = script_from(params, cell);
   if (std::string why = check_path(path, start, cell::limits_of(cell.cell)); !why.empty()) {
     logf(Level::Error, "%s: refused: %s", path_file.c_str(), why.c_str());
     return 1;
   }
   std::ofstream out(out_file, std::ios::trunc);
   out << make_script(path, script);
-  if (!out) throw std::runtime_error("cannot write " + out_file);
+  if (!out) {  // it ran and failed (exit 1), not a bad input
+    logf(Level::Error, "cannot write %s", out_file.c_str());
+    return 1;
+  }
   logf(Level::Info, "wrote %s: %zu waypoints of job %s", out_file.c_str(), path.size(), path.job_id.c_str());
   return 0;
 }

@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
     else
       return refuse("unknown option " + a);
   }
+  if (!o.xml_path.empty() && !std::ifstream(o.xml_path)) return refuse("--xml '" + o.xml_path + "': cannot open");
   if (const auto others = non_loopback_interfaces(); !others.empty()) {
     std::fprintf(stderr,
                  "hg-fake-genicam: refusing to run: this network namespace has %s besides lo "

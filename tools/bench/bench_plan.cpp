@@ -65,7 +65,11 @@ int main(int argc, char** argv) {
   if (argc > 1 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"))) return std::fputs(usage, stdout), 0;
   const long want = argc > 1 ? std::atol(argv[1]) : 10000;
   const int runs = argc > 2 ? std::atoi(argv[2]) : 21;
-  if (want < 100 || runs < 1) {  // one line (the failure contract of every program, docs/RUNNING.md)
+  if (argc > 1 && argv[1][0] == '-') {  // one line (the failure contract of every program, docs/RUNNING.md)
+    std::fprintf(stderr, "hg-plan-bench: command line: unknown option %s (see --help)\n", argv[1]);
+    return 2;
+  }
+  if (want < 100 || runs < 1) {
     std::fprintf(stderr, "hg-plan-bench: command line: give vertices >= 100 and runs >= 1 (see --help)\n");
     return 2;
   }

@@ -19,7 +19,10 @@ int main(int argc, char** argv) {
   if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) return fputs(usage, stdout), 0;
   if (argc == 2 && !strcmp(argv[1], "--version")) return printf("hg-bench-rss %s\n", HG_VERSION), 0;
   if (argc < 3) {  /* one line (the failure contract of every program, docs/RUNNING.md) */
-    fprintf(stderr, "hg-bench-rss: command line: give OUTFILE COMMAND [ARGS...] (see --help)\n");
+    if (argc == 2 && argv[1][0] == '-')
+      fprintf(stderr, "hg-bench-rss: command line: unknown option %s (see --help)\n", argv[1]);
+    else
+      fprintf(stderr, "hg-bench-rss: command line: give OUTFILE COMMAND [ARGS...] (see --help)\n");
     return 2;
   }
   struct timespec t0, t1;

@@ -232,8 +232,8 @@ int eye_in_hand(const Args& a) {
 
 // Predicted hole centres in the base frame from the cell's calibration; against the truth when simulated.
 int verify(const Args& a) {
+  const cell::Cell c = cell::read_cell(a.cell);  // the configuration first, then the input
   const calibrate::Session s = calibrate::read_session(a.session);
-  const cell::Cell c = cell::read_cell(a.cell);
   const calibration::Drawing d = calibration::calibration_plate_drawing();
   json truth;
   if (std::ifstream t(a.session + "/truth.json"); t) truth = json::parse(t);
@@ -474,8 +474,14 @@ int main(int argc, char** argv) {
                  "hg-calibrate: unknown mode '%s' (eye-to-hand, eye-in-hand, verify, capture, touch, simulate)\n",
                  a.mode.c_str());
     return 2;
+  } catch (const runtime::ConfigError& e) {  // a bad session or input file (the failure contract: exit 2)
+    std::fprintf(stderr, "hg-calibrate: %s\n", e.what());
+    return runtime::kExitBadInput;
+  } catch (const cell::CellError& e) {  // a bad cell file
+    std::fprintf(stderr, "hg-calibrate: cell file %s\n", e.what());
+    return runtime::kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hg-calibrate: refused: %s\n", e.what());
-    return 1;
+    return runtime::kExitFailed;
   }
 }

@@ -9,6 +9,7 @@
 #include "camera_bridge/sources.hpp"
 #include "cell/cell.hpp"
 #include "cloud_io/cloud_io.hpp"
+#include "runtime/config.hpp"
 
 namespace hg::calibrate {
 
@@ -58,7 +59,7 @@ void read_view_data(const std::string& dir, const json& v, SessionView& sv, std:
   if (sv.kind == "outline") {
     if (!load) return;
     std::ifstream f(path);
-    if (!f) throw std::runtime_error(sv.file + ": cannot open");
+    if (!f) throw runtime::ConfigError(sv.file + ": cannot open");  // a bad input file: exit 2
     read_outline_json(json::parse(f), sv, path);
     return;
   }
@@ -132,7 +133,7 @@ void read_outline_json(const json& j, SessionView& v, const std::string& where) 
 Session read_session(const std::string& dir, bool load_data) {
   const std::string path = dir + "/session.json";
   std::ifstream f(path);
-  if (!f) throw std::runtime_error(path + ": cannot open");
+  if (!f) throw runtime::ConfigError(path + ": cannot open");  // a bad input file: exit 2
   json j;
   try {
     j = json::parse(f);
