@@ -137,6 +137,7 @@ fi
 # The supervisor's socket (in $OUT/supervisor) is its own: it removes a stale one and refuses a live one.
 rm -rf "$OUT/logs" "$OUT/run.lcmlog" "$OUT/outline.json" "$OUT/path.json" "$OUT/overview.png" "$OUT/summary.json"
 mkdir -p "$OUT"
+printf '%s\n' "$checked" >"$OUT/pipeline.json"  # what this run started: every command line, placeholders expanded
 # Each child gets a parent-death signal: a run.sh killed even by SIGKILL takes everything it started with it.
 # (setpriv execs the command: it keeps the pid that $! names.)
 with_pdeathsig=(setpriv --pdeathsig)

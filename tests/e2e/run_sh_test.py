@@ -106,7 +106,7 @@ class RunShRefusesBadFiles(Case):
         self.refused(["--pipeline", os.path.join(self.dir, "missing.toml")], ["missing.toml"])
         unset = os.path.join(self.dir, "unset.toml")
         with open(unset, "w") as f:
-            f.write(text.replace("${OUT}/jobs", "${JOBS}/jobs", 1))
+            f.write(text.replace("${OUT}/jobs", "${JOBS}/jobs"))
         self.refused(["--pipeline", unset], [unset, "${JOBS} is not set"])
 
     def test_bad_cell_files(self):
@@ -145,9 +145,21 @@ class RunShOutputFolders(Case):
                 with open(os.path.join(out, "summary.json")) as f:
                     self.assertEqual(json.load(f)["final_state"], "DONE")
                 self.assertEqual(os.listdir(os.path.join(out, "jobs")), ["side-%d" % i])  # only its own job
-                for name in ("robot.state", "dds-security/governance.p7s", "logs/planner.log", "run.lcmlog",
-                             "overview.png", "supervisor.lock"):
+                for name in ("dds-security/governance.p7s", "logs/planner.log", "logs/robot.log", "run.lcmlog",
+                             "overview.png", "supervisor.lock", "pipeline.json"):
                     self.assertTrue(os.path.exists(os.path.join(out, name)), name)
+                # Every file a process of the run was given lies in the tree (programs, configs) or in its own
+                # output folder: none in the tree's out/, none in the other run's folder.
+                with open(os.path.join(out, "pipeline.json")) as f:
+                    pipeline = json.load(f)
+                paths = [a for p in pipeline["process"] for a in p["command"] if a.startswith("/")]
+                paths += [pipeline["supervisor"]["run_dir"], pipeline["supervisor"]["log_dir"]]
+                self.assertIn(os.path.join(out, "robot.state"), paths)
+                self.assertIn(os.path.join(out, "jobs"), paths)
+                for path in paths:
+                    inside = path.startswith(out + "/") or (path.startswith(SRC + "/") and
+                                                            not path.startswith(os.path.join(SRC, "out") + "/"))
+                    self.assertTrue(inside, path)
 
     def test_sigkill_of_run_sh_leaves_no_process(self):
         for seed in range(3):
