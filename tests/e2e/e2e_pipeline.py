@@ -87,11 +87,16 @@ def scene_truth(scene, profile, path):
         return json.load(f)
 
 
+def with_defaults(arg):
+    """A pipeline file's argument with every ${NAME:-DEFAULT} placeholder at its default (${CELL:-cell-sim.yaml})."""
+    return re.sub(r"\$\{[A-Za-z_][A-Za-z0-9_]*:-([^}]*)\}", r"\1", arg)
+
+
 def process_command(name):
-    """The command of one process in the shipped pipeline file, as written there."""
+    """The command of one process in the shipped pipeline file, as written there (placeholders at their defaults)."""
     for p in shipped_pipeline()["process"]:
         if p["name"] == name:
-            return list(p["command"])
+            return [with_defaults(a) for a in p["command"]]
     raise KeyError(name)
 
 
@@ -123,7 +128,7 @@ class Pipeline:
         """Paths of the shipped file are relative to config/: ../build/ is the build under test, ${OUT} (the
         supervisor's output folder) this run's directory, other existing files are config/ files; a
         placeholder with a default (${CELL:-cell-sim.yaml}) takes its default."""
-        arg = re.sub(r"\$\{[A-Za-z_][A-Za-z0-9_]*:-([^}]*)\}", r"\1", arg)
+        arg = with_defaults(arg)
         if arg.startswith("${OUT}/"):
             return os.path.join(self.dir, arg[len("${OUT}/"):])
         if arg.startswith("../build/"):

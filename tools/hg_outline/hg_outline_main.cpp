@@ -243,6 +243,9 @@ int main(int argc, char** argv) {
   } catch (const io::ReadError& e) {  // a bad input file: names the file itself
     std::fprintf(stderr, "hg-outline: error: %s\n", e.what());
     return hg::runtime::kExitBadInput;
+  } catch (const hg::outline::OutlineError& e) {  // the input's points cannot be outlined (collinear, too few)
+    std::fprintf(stderr, "hg-outline: error: %s: %s\n", args.input.c_str(), e.what());
+    return hg::runtime::kExitBadInput;
   } catch (const io::WriteError& e) {  // names the output file
     std::fprintf(stderr, "hg-outline: error: %s\n", e.what());
   } catch (const std::exception& e) {
