@@ -46,6 +46,8 @@ double median_distance(std::span<const float> squared);
 class AreaHistogram {
  public:
   AreaHistogram();
+  // The bucket of an area (its float's top 20 bits); false for a non-finite area.
+  static bool bucket_of(double area, std::uint32_t& bucket);
   void add(double area);  // non-finite areas are not counted
   void merge(const AreaHistogram& other);
   std::size_t count() const { return used_; }
@@ -78,6 +80,14 @@ struct TriangleScan {
   std::vector<std::uint8_t> rclass;  // per triangle slot; 0 for the ghost triangles
 };
 TriangleScan scan_triangles(const Triangulation& T);
+// The same; the median is read off an AreaHistogram from `histogram_from` triangle slots on, below
+// that by selecting among the areas' buckets (select_rank): the same bucket either way (for tests).
+TriangleScan scan_triangles(const Triangulation& T, std::size_t histogram_from);
+
+// The element of rank `rank` (< keys.size()) of `keys` sorted increasingly, as std::nth_element would
+// place it; reorders `keys`. Radix selection, 8 bits per pass: a 2 KB histogram on the stack, no
+// allocation, so a small cloud's median costs microseconds.
+std::uint32_t select_rank(std::vector<std::uint32_t>& keys, std::size_t rank);
 
 // Per vertex (by vertex id) the local spacing sqrt(2 x A_v): A_v is the median, over v and its Delaunay
 // neighbours, of each one's median incident triangle area (a median of medians, so a vertex on the rim
