@@ -504,7 +504,7 @@ void triangulate_impl(Triangulation& T, std::span<const Vec2> points, Mode mode,
                        (T.skipped ? " (" + std::to_string(T.skipped) + " non-finite skipped)" : std::string()));
   check_range(points, s);
   // Positions of the finite points in the input; none needed when all are finite (the usual case).
-  const std::vector<std::uint32_t> finite =
+  std::vector<std::uint32_t> finite =
       given_subset ? std::move(subset) : (T.skipped ? finite_indices(points) : std::vector<std::uint32_t>{});
   const bool given_order = !custom.empty();
   if (given_order) {
@@ -523,6 +523,7 @@ void triangulate_impl(Triangulation& T, std::span<const Vec2> points, Mode mode,
     const Box tb{s.box.minx - o.x, s.box.maxx - o.x, s.box.miny - o.y, s.box.maxy - o.y};
     T.ids = order_translated(points, finite, o, tb, order);
   }
+  std::vector<std::uint32_t>().swap(finite);  // T.ids has them all now (a subset's 4 bytes a point)
   for (Vec2 origin : {T.origin, Vec2{0, 0}}) {
     T.origin = origin;
     if (translate_exactly(points, T)) {
