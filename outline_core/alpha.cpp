@@ -175,11 +175,6 @@ std::uint8_t r2_class(double q) {
   return static_cast<std::uint8_t>(std::clamp(c, 1L, 254L));
 }
 
-struct TriangleMeasure {
-  double area;
-  std::uint8_t rclass;
-};
-
 // Twice the signed area with `c` as the pivot, as orient2d computes it.
 inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) {
   return (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x);
@@ -210,6 +205,17 @@ inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) {
 
 double triangle_area(const Vec2& a, const Vec2& b, const Vec2& c) { return measure(a, b, c, 0).area; }
 
+TriangleMeasure measure_triangle(const Vec2& a, const Vec2& b, const Vec2& c, double scale2) {
+  return measure(a, b, c, scale2);
+}
+
+double class_scale(const Triangulation& T) {
+  // The box of the inserted vertices is that of all (a merged duplicate has its representative's coordinates).
+  const double scale2 =
+      (T.xy_max.x - T.xy_min.x) * (T.xy_max.y - T.xy_min.y) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
+  return std::isnormal(scale2) ? scale2 : 0;  // 0: no classes, every decision exact
+}
+
 double random_cloud_factor(std::size_t points) {
   const double target = std::log(2.0 * std::max<std::size_t>(points, 1));  // T - ln(1 + T) = ln(2n)
   double t = target + 1;
@@ -229,10 +235,7 @@ TriangleScan scan_triangles(const Triangulation& T) { return scan_triangles(T, k
 
 TriangleScan scan_triangles(const Triangulation& T, std::size_t histogram_from) {
   TriangleScan scan;
-  // The box of the inserted vertices is that of all (a merged duplicate has its representative's coordinates).
-  scan.scale2 =
-      (T.xy_max.x - T.xy_min.x) * (T.xy_max.y - T.xy_min.y) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
-  if (!std::isnormal(scan.scale2)) scan.scale2 = 0;  // no classes: every decision exact
+  scan.scale2 = class_scale(T);
   const std::size_t slots = T.slots();
   scan.rclass.assign(slots, kGhostClass);
   // The median area's bucket: from the buckets of all areas (small clouds), or from the 2 MB histogram.

@@ -80,6 +80,15 @@ struct TriangleScan {
   std::vector<std::uint8_t> rclass;  // per triangle slot; 0 for the ghost triangles
 };
 TriangleScan scan_triangles(const Triangulation& T);
+// One triangle's figures of that pass, for callers that make their own TriangleScan in a pass of theirs
+// (the threaded outline's strips): the area (triangle_area) and the class of r^2 / scale2, scale2 being
+// class_scale(T) (the bounding-box area per point), for a finite counter-clockwise triangle.
+struct TriangleMeasure {
+  double area;
+  std::uint8_t rclass;
+};
+TriangleMeasure measure_triangle(const Vec2& a, const Vec2& b, const Vec2& c, double scale2);
+double class_scale(const Triangulation& T);
 // The same; the median is read off an AreaHistogram from `histogram_from` triangle slots on, below
 // that by selecting among the areas' buckets (select_rank): the same bucket either way (for tests).
 TriangleScan scan_triangles(const Triangulation& T, std::size_t histogram_from);

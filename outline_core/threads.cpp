@@ -51,6 +51,7 @@ struct Strip {
   bool ok = true;
   // What the survey found (before the radius is known).
   AreaHistogram areas;       // owned trusted triangles
+  TriangleScan scan;         // circumradius classes of T's triangles (its spacing unused)
   std::size_t distinct = 0;  // owned distinct vertices
   // Their squared nearest-neighbour distances (T.nn2) by the top 16 bits of the float (the first pass
   // of the merged radix median; the vertices are read again for the second).
@@ -175,20 +176,25 @@ bool deep_inside(const Vec2& a, const Vec2& b, const Vec2& c, double lo, double 
 }
 
 // The strip's counted triangles: the trusted ones' areas (and ids), the untrusted ones for
-// check_untrusted, and the frontier edges.
+// check_untrusted, and the frontier edges; and every triangle's circumradius class for the alpha pass
+// (the strip's TriangleScan, made here so that the triangles are measured once).
 void count_triangles(Strip& s, const Split& split, bool keep) {
   const Triangulation& T = s.T;
   auto at = [&](std::uint32_t v) { return Vec2{T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y}; };  // exact
   const double zlo = split.zone_lo(s.index), zhi = split.zone_hi(s.index), deep = split.margin / 2;
   const bool left_open = std::isinf(s.lo), right_open = std::isinf(s.hi);
-  std::vector<std::uint8_t> counted(T.slots(), 0);  // 1: trusted here, 2: untrusted (checked later)
+  s.scan.scale2 = class_scale(T);
+  s.scan.rclass.assign(T.slots(), 0);           // 0: a ghost triangle's class
+  std::vector<bool> trusted(T.slots(), false);  // counted here and proven (untrusted ones are checked later)
   for (std::size_t t = 0; t < T.slots(); ++t) {
     if (T.is_ghost(t)) continue;
     const std::uint32_t* v = &T.tri[3 * t];
     const Vec2 a = at(v[0]), b = at(v[1]), c = at(v[2]);
+    const TriangleMeasure m = measure_triangle(a, b, c, s.scan.scale2);
+    s.scan.rclass[t] = m.rclass;
     if (deep_inside(a, b, c, s.lo, s.hi, deep)) {
-      counted[t] = 1;
-      s.areas.add(triangle_area(a, b, c));
+      trusted[t] = true;
+      s.areas.add(m.area);
       if (keep) s.kept.push_back({T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]});
       continue;
     }
@@ -200,15 +206,14 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
     if ((sl < 0 || sh >= 0) && reporter_of(a, b, c, k, split) != static_cast<long>(s.index)) continue;
     if (!disk_inside(k, zlo, zhi)) {
       s.untrusted.push_back({a, b, c, {T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]}});
-      counted[t] = 2;
       continue;
     }
-    counted[t] = 1;
-    s.areas.add(triangle_area(a, b, c));
+    trusted[t] = true;
+    s.areas.add(m.area);
     if (keep) s.kept.push_back({T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]});
   }
   for (std::uint32_t h = 0; h < T.tri.size(); ++h)
-    if (counted[h / 3] == 1 && counted[T.twin[h] / 3] != 1) {
+    if (trusted[h / 3] && !trusted[T.twin[h] / 3]) {
       const std::uint32_t u = T.tri[h], w = T.tri[Triangulation::next(h)];
       s.frontier.push_back({{T.ids[u], at(u)}, {T.ids[w], at(w)}});
     }
@@ -556,7 +561,8 @@ bool merge_surveys(std::vector<Strip>& strips, const Options& options, const Spl
 // The strip's inside triangles and its free edges with an owned tail, as input indices.
 void strip_edges(Strip& s, double R) {
   const Triangulation& T = s.T;
-  const std::vector<std::uint8_t> inside = classify_alpha(T, R, false, scan_triangles(T));
+  const std::vector<std::uint8_t> inside = classify_alpha(T, R, false, s.scan);
+  std::vector<std::uint8_t>().swap(s.scan.rclass);
   s.edges = free_edges(T, inside, {}, [&](std::uint32_t v) { return s.owns_x(s.at(v).x); });
 }
 
