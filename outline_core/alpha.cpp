@@ -127,7 +127,7 @@ double median_distance(std::span<const float> squared) {
   return std::sqrt(static_cast<double>(d2));
 }
 
-AreaHistogram::AreaHistogram() : hist_(1u << 19, 0) {}
+AreaHistogram::AreaHistogram() = default;
 
 bool AreaHistogram::bucket_of(double area, std::uint32_t& bucket) {
   if (!float_key(static_cast<float>(area), bucket)) return false;
@@ -138,11 +138,15 @@ bool AreaHistogram::bucket_of(double area, std::uint32_t& bucket) {
 void AreaHistogram::add(double area) {
   std::uint32_t b;
   if (!bucket_of(area, b)) return;
+  if (hist_.empty()) [[unlikely]]
+    hist_.assign(kBuckets, 0);
   ++hist_[b];
   ++used_;
 }
 
 void AreaHistogram::merge(const AreaHistogram& other) {
+  if (other.hist_.empty()) return;
+  if (hist_.empty()) hist_.assign(kBuckets, 0);
   for (std::size_t b = 0; b < hist_.size(); ++b) hist_[b] += other.hist_[b];
   used_ += other.used_;
 }

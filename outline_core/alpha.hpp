@@ -56,7 +56,8 @@ class AreaHistogram {
   double spacing() const { return used_ ? spacing_of(bucket_at(used_ / 2)) : 0; }
 
  private:
-  std::vector<std::uint32_t> hist_;
+  static constexpr std::size_t kBuckets = std::size_t{1} << 19;
+  std::vector<std::uint32_t> hist_;  // allocated by the first add or merge (none at the threads' peak)
   std::size_t used_ = 0;
 };
 // The area of a finite triangle as the spacing counts it: the same value for every rotation and
