@@ -188,8 +188,10 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
   const double zlo = split.zone_lo(s.index), zhi = split.zone_hi(s.index), deep = split.margin / 2;
   const bool left_open = std::isinf(s.lo), right_open = std::isinf(s.hi);
   s.scan.scale2 = class_scale(T);
-  s.scan.rclass.assign(T.slots(), 0);           // 0: a ghost triangle's class
-  std::vector<bool> trusted(T.slots(), false);  // counted here and proven (untrusted ones are checked later)
+  s.scan.rclass.assign(T.slots(), 0);  // 0: a ghost triangle's class
+  // Counted here and proven (untrusted ones are checked later). Bytes, not bits: the frontier pass below
+  // reads two per half-edge, and nn2 and vrep are gone by now, so the bytes fit under the strips' peak.
+  std::vector<std::uint8_t> trusted(T.slots(), 0);
   for (std::size_t t = 0; t < T.slots(); ++t) {
     if (T.is_ghost(t)) continue;
     const std::uint32_t* v = &T.tri[3 * t];
@@ -197,7 +199,7 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
     const TriangleMeasure m = measure_triangle(a, b, c, s.scan.scale2);
     s.scan.rclass[t] = m.rclass;
     if (deep_inside(a, b, c, s.lo, s.hi, deep)) {
-      trusted[t] = true;
+      trusted[t] = 1;
       s.areas.add(m.area);
       if (keep) s.kept.push_back({T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]});
       continue;
@@ -212,7 +214,7 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
       s.untrusted.push_back({a, b, c, {T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]}});
       continue;
     }
-    trusted[t] = true;
+    trusted[t] = 1;
     s.areas.add(m.area);
     if (keep) s.kept.push_back({T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]});
   }
