@@ -633,6 +633,18 @@ void restore_points(const std::vector<Strip>& strips, std::size_t count, std::ve
     for (std::uint32_t v = 0; v < s.T.xy.size(); ++v) points[s.T.ids[v]] = s.at(v);
 }
 
+// The box of the finite points, and their count.
+static Box finite_box(std::span<const Vec2> points, std::size_t& finite) {
+  double minx = std::numeric_limits<double>::infinity(), maxx = -minx, miny = minx, maxy = -minx;
+  finite = 0;
+  for (const Vec2& p : points)
+    if (std::isfinite(p.x) && std::isfinite(p.y)) {
+      ++finite;
+      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
+    }
+  return {minx, maxx, miny, maxy};
+}
+
 bool run_threaded(std::span<const Vec2> points, const Options& options, int nstrips, Result& res,
                   StripSurvey* survey_out) {
   return run_threaded(points, nullptr, options, nstrips, res, survey_out);
@@ -642,13 +654,9 @@ bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const 
                   Result& res, StripSurvey* survey_out) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  double minx = std::numeric_limits<double>::infinity(), maxx = -minx, miny = minx, maxy = -minx;
   std::size_t finite = 0;
-  for (const Vec2& p : points)
-    if (std::isfinite(p.x) && std::isfinite(p.y)) {
-      ++finite;
-      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
-    }
+  const Box box = finite_box(points, finite);
+  const double minx = box.minx, maxx = box.maxx, miny = box.miny, maxy = box.maxy;
   const double margin = kMarginUnits * std::sqrt((maxx - minx) * (maxy - miny) / static_cast<double>(finite));
   const std::vector<double> bounds = strip_boundaries(points, nstrips, minx, maxx);
   if (bounds.empty() || !std::isfinite(margin) || !(margin > 0)) return false;
