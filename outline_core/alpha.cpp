@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <string>
 
 #include "predicates.hpp"
@@ -50,6 +51,20 @@ float radix_median(std::size_t count, Key key) {
   return f;
 }
 
+// A float's bits as an unsigned integer of the same order (for non-negative floats; -0.0f as +0.0f);
+// false for a non-finite value (not counted by the medians).
+inline bool float_key(float f, std::uint32_t& k) {
+  if (!std::isfinite(f)) return false;
+  std::memcpy(&k, &f, 4);
+  k &= 0x7fffffffu;
+  return true;
+}
+
+// Below this many values a median copies their keys and selects (select_rank: a 2 KB histogram on the stack); from
+// it on, the fixed-size histograms (256 KB radix_median, 2 MB AreaHistogram) cost less than the copy.
+// A fresh histogram's pages are faulted in on first touch, which is what a small cloud cannot afford.
+constexpr std::size_t kCopyMedianBelow = 1u << 16;
+
 // Median of a small buffer (the upper middle for an even count, as radix_median).
 float small_median(std::vector<float>& v) {
   if (v.empty()) return std::numeric_limits<float>::infinity();
@@ -60,11 +75,48 @@ float small_median(std::vector<float>& v) {
 }  // namespace
 
 double median_nn_spacing(const Triangulation& T) {
-  const float d2 = radix_median(T.nn2.size(), [&](std::size_t v, float& f) {
-    f = T.nn2[v];
-    return T.vrep[v] == v;
-  });
+  float d2 = 0;
+  if (T.nn2.size() < kCopyMedianBelow) {
+    std::vector<std::uint32_t> keys;
+    keys.reserve(T.nn2.size());
+    for (std::size_t v = 0; v < T.nn2.size(); ++v) {
+      std::uint32_t k;
+      if (T.vrep[v] == v && float_key(T.nn2[v], k)) keys.push_back(k);
+    }
+    if (!keys.empty()) {
+      const std::uint32_t bits = select_rank(keys, keys.size() / 2);
+      std::memcpy(&d2, &bits, 4);
+    }
+  } else {
+    d2 = radix_median(T.nn2.size(), [&](std::size_t v, float& f) {
+      f = T.nn2[v];
+      return T.vrep[v] == v;
+    });
+  }
   return std::sqrt(static_cast<double>(d2));
+}
+
+std::uint32_t select_rank(std::vector<std::uint32_t>& keys, std::size_t rank) {
+  std::size_t n = keys.size();
+  if (n <= 64) {
+    std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(rank), keys.end());
+    return keys[rank];
+  }
+  // Most significant digit first: the keys sharing the element's digits so far are compacted to the front.
+  std::uint32_t result = 0;
+  for (int shift = 24; shift >= 0; shift -= 8) {
+    std::size_t hist[256] = {};
+    for (std::size_t i = 0; i < n; ++i) ++hist[(keys[i] >> shift) & 0xffu];
+    std::uint32_t d = 0;
+    while (rank >= hist[d]) rank -= hist[d++];
+    result |= d << shift;
+    if (hist[d] == n) continue;  // all keys share this digit: nothing to drop
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (((keys[i] >> shift) & 0xffu) == d) keys[m++] = keys[i];
+    n = m;
+  }
+  return result;
 }
 
 double median_distance(std::span<const float> squared) {
@@ -75,18 +127,26 @@ double median_distance(std::span<const float> squared) {
   return std::sqrt(static_cast<double>(d2));
 }
 
-AreaHistogram::AreaHistogram() : hist_(1u << 19, 0) {}
+AreaHistogram::AreaHistogram() = default;
+
+bool AreaHistogram::bucket_of(double area, std::uint32_t& bucket) {
+  if (!float_key(static_cast<float>(area), bucket)) return false;
+  bucket >>= 12;
+  return true;
+}
 
 void AreaHistogram::add(double area) {
-  const float a = static_cast<float>(area);
-  if (!std::isfinite(a)) return;
-  std::uint32_t k;
-  std::memcpy(&k, &a, 4);
-  ++hist_[(k & 0x7fffffffu) >> 12];
+  std::uint32_t b;
+  if (!bucket_of(area, b)) return;
+  if (hist_.empty()) [[unlikely]]
+    hist_.assign(kBuckets, 0);
+  ++hist_[b];
   ++used_;
 }
 
 void AreaHistogram::merge(const AreaHistogram& other) {
+  if (other.hist_.empty()) return;
+  if (hist_.empty()) hist_.assign(kBuckets, 0);
   for (std::size_t b = 0; b < hist_.size(); ++b) hist_[b] += other.hist_[b];
   used_ += other.used_;
 }
@@ -119,11 +179,6 @@ std::uint8_t r2_class(double q) {
   return static_cast<std::uint8_t>(std::clamp(c, 1L, 254L));
 }
 
-struct TriangleMeasure {
-  double area;
-  std::uint8_t rclass;
-};
-
 // Twice the signed area with `c` as the pivot, as orient2d computes it.
 inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) {
   return (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x);
@@ -154,6 +209,17 @@ inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) {
 
 double triangle_area(const Vec2& a, const Vec2& b, const Vec2& c) { return measure(a, b, c, 0).area; }
 
+TriangleMeasure measure_triangle(const Vec2& a, const Vec2& b, const Vec2& c, double scale2) {
+  return measure(a, b, c, scale2);
+}
+
+double class_scale(const Triangulation& T) {
+  // The box of the inserted vertices is that of all (a merged duplicate has its representative's coordinates).
+  const double scale2 =
+      (T.xy_max.x - T.xy_min.x) * (T.xy_max.y - T.xy_min.y) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
+  return std::isnormal(scale2) ? scale2 : 0;  // 0: no classes, every decision exact
+}
+
 double random_cloud_factor(std::size_t points) {
   const double target = std::log(2.0 * std::max<std::size_t>(points, 1));  // T - ln(1 + T) = ln(2n)
   double t = target + 1;
@@ -169,15 +235,20 @@ double automatic_factor(double q, std::size_t points) {
 
 double median_triangle_spacing(const Triangulation& T) { return scan_triangles(T).spacing; }
 
-TriangleScan scan_triangles(const Triangulation& T) {
+TriangleScan scan_triangles(const Triangulation& T) { return scan_triangles(T, kCopyMedianBelow); }
+
+TriangleScan scan_triangles(const Triangulation& T, std::size_t histogram_from) {
   TriangleScan scan;
-  // The box of the inserted vertices is that of all (a merged duplicate has its representative's coordinates).
-  scan.scale2 =
-      (T.xy_max.x - T.xy_min.x) * (T.xy_max.y - T.xy_min.y) / static_cast<double>(std::max<std::size_t>(T.inserted, 1));
-  if (!std::isnormal(scan.scale2)) scan.scale2 = 0;  // no classes: every decision exact
+  scan.scale2 = class_scale(T);
   const std::size_t slots = T.slots();
   scan.rclass.assign(slots, kGhostClass);
-  AreaHistogram median;
+  // The median area's bucket: from the buckets of all areas (small clouds), or from the 2 MB histogram.
+  const bool histogram = slots >= histogram_from;
+  std::vector<std::uint32_t> buckets;
+  std::optional<AreaHistogram> median;
+  if (histogram) median.emplace();
+  else
+    buckets.reserve(slots);
   // The three vertices of a triangle are scattered over the coordinate array: fetching those of a few
   // triangles ahead overlaps the cache misses that otherwise dominate this pass.
   constexpr std::size_t kAhead = 8;
@@ -189,10 +260,16 @@ TriangleScan scan_triangles(const Triangulation& T) {
       }
     if (T.is_ghost(t)) continue;
     const TriangleMeasure m = measure(T.xy[T.tri[3 * t]], T.xy[T.tri[3 * t + 1]], T.xy[T.tri[3 * t + 2]], scan.scale2);
-    median.add(m.area);
+    if (histogram) {
+      median->add(m.area);
+    } else if (std::uint32_t b; AreaHistogram::bucket_of(m.area, b)) {
+      buckets.push_back(b);
+    }
     scan.rclass[t] = m.rclass;
   }
-  scan.spacing = median.spacing();
+  if (histogram) scan.spacing = median->spacing();
+  else if (!buckets.empty())
+    scan.spacing = AreaHistogram::spacing_of(select_rank(buckets, buckets.size() / 2));
   return scan;
 }
 

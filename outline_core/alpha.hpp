@@ -46,6 +46,8 @@ double median_distance(std::span<const float> squared);
 class AreaHistogram {
  public:
   AreaHistogram();
+  // The bucket of an area (its float's top 20 bits); false for a non-finite area.
+  static bool bucket_of(double area, std::uint32_t& bucket);
   void add(double area);  // non-finite areas are not counted
   void merge(const AreaHistogram& other);
   std::size_t count() const { return used_; }
@@ -54,7 +56,8 @@ class AreaHistogram {
   double spacing() const { return used_ ? spacing_of(bucket_at(used_ / 2)) : 0; }
 
  private:
-  std::vector<std::uint32_t> hist_;
+  static constexpr std::size_t kBuckets = std::size_t{1} << 19;
+  std::vector<std::uint32_t> hist_;  // allocated by the first add or merge (none at the threads' peak)
   std::size_t used_ = 0;
 };
 // The area of a finite triangle as the spacing counts it: the same value for every rotation and
@@ -78,6 +81,23 @@ struct TriangleScan {
   std::vector<std::uint8_t> rclass;  // per triangle slot; 0 for the ghost triangles
 };
 TriangleScan scan_triangles(const Triangulation& T);
+// One triangle's figures of that pass, for callers that make their own TriangleScan in a pass of theirs
+// (the threaded outline's strips): the area (triangle_area) and the class of r^2 / scale2, scale2 being
+// class_scale(T) (the bounding-box area per point), for a finite counter-clockwise triangle.
+struct TriangleMeasure {
+  double area;
+  std::uint8_t rclass;
+};
+TriangleMeasure measure_triangle(const Vec2& a, const Vec2& b, const Vec2& c, double scale2);
+double class_scale(const Triangulation& T);
+// The same; the median is read off an AreaHistogram from `histogram_from` triangle slots on, below
+// that by selecting among the areas' buckets (select_rank): the same bucket either way (for tests).
+TriangleScan scan_triangles(const Triangulation& T, std::size_t histogram_from);
+
+// The element of rank `rank` (< keys.size()) of `keys` sorted increasingly, as std::nth_element would
+// place it; reorders `keys`. Radix selection, 8 bits per pass: a 2 KB histogram on the stack, no
+// allocation, so a small cloud's median costs microseconds.
+std::uint32_t select_rank(std::vector<std::uint32_t>& keys, std::size_t rank);
 
 // Per vertex (by vertex id) the local spacing sqrt(2 x A_v): A_v is the median, over v and its Delaunay
 // neighbours, of each one's median incident triangle area (a median of medians, so a vertex on the rim

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -472,23 +473,39 @@ bool translate_exactly(std::span<const Vec2> points, Triangulation& T) {
   return true;
 }
 
-// The triangulation of the finite points; `release`, when given, is the vector `points` views: it is
-// emptied (memory returned) once the translated copy exists (every point is xy + origin exactly).
-Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom,
-                               std::vector<Vec2>* release) {
+InputSummary summarize_subset(std::span<const Vec2> points, std::span<const std::uint32_t> subset) {
+  InputSummary s;
+  for (std::uint32_t i : subset) {
+    const Vec2& p = points[i];
+    ++s.finite;
+    s.box.minx = std::min(s.box.minx, p.x), s.box.maxx = std::max(s.box.maxx, p.x);
+    s.box.miny = std::min(s.box.miny, p.y), s.box.maxy = std::max(s.box.maxy, p.y);
+    s.sx += p.x, s.sy += p.y;
+    s.tiny |= (std::fabs(p.x) < 0x1p-118 && p.x != 0) || (std::fabs(p.y) < 0x1p-118 && p.y != 0);
+  }
+  return s;
+}
+
+// The triangulation of the finite points (of points[subset[k]] when a subset is given) into T; `translated`,
+// when given, runs once the translated copy exists (every point is xy + origin exactly, and `points` is
+// not read again: the caller may release it there). T keeps what was built if a later step throws.
+void triangulate_impl(Triangulation& T, std::span<const Vec2> points, Mode mode, Order order,
+                      std::vector<std::uint32_t> custom, std::vector<std::uint32_t> subset,
+                      const std::function<void()>& translated) {
   const std::size_t n_in = points.size();
   if (n_in > 500'000'000) throw OutlineError("too many points: " + std::to_string(n_in));
   if (!custom.empty() && custom.size() != n_in) throw OutlineError("custom insertion order has the wrong size");
-  const InputSummary s = summarize(points);
-  Triangulation T;
-  T.skipped = n_in - s.finite;
+  const bool given_subset = !subset.empty();
+  const InputSummary s = given_subset ? summarize_subset(points, subset) : summarize(points);
+  T.skipped = given_subset ? 0 : n_in - s.finite;
   const std::size_t n = s.finite;
   if (n < 3)
     throw OutlineError("need at least 3 distinct points, got " + std::to_string(n) + " finite points" +
                        (T.skipped ? " (" + std::to_string(T.skipped) + " non-finite skipped)" : std::string()));
   check_range(points, s);
   // Positions of the finite points in the input; none needed when all are finite (the usual case).
-  const std::vector<std::uint32_t> finite = T.skipped ? finite_indices(points) : std::vector<std::uint32_t>{};
+  std::vector<std::uint32_t> finite =
+      given_subset ? std::move(subset) : (T.skipped ? finite_indices(points) : std::vector<std::uint32_t>{});
   const bool given_order = !custom.empty();
   if (given_order) {
     std::erase_if(custom, [&](std::uint32_t i) { return i >= n_in || !is_finite(points[i]); });
@@ -506,6 +523,7 @@ Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order or
     const Box tb{s.box.minx - o.x, s.box.maxx - o.x, s.box.miny - o.y, s.box.maxy - o.y};
     T.ids = order_translated(points, finite, o, tb, order);
   }
+  std::vector<std::uint32_t>().swap(finite);  // T.ids has them all now (a subset's 4 bytes a point)
   for (Vec2 origin : {T.origin, Vec2{0, 0}}) {
     T.origin = origin;
     if (translate_exactly(points, T)) {
@@ -514,22 +532,31 @@ Triangulation triangulate_impl(std::span<const Vec2> points, Mode mode, Order or
       break;
     }
   }
-  if (release) std::vector<Vec2>().swap(*release);
+  if (translated) translated();
   T.ghost = static_cast<std::uint32_t>(n);
   T.vrep.resize(n);
   for (std::size_t v = 0; v < n; ++v) T.vrep[v] = static_cast<std::uint32_t>(v);
   Builder(T, mode).run(n);
-  return T;
 }
 
 }  // namespace
 
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom) {
-  return triangulate_impl(points, mode, order, std::move(custom), nullptr);
+  Triangulation T;
+  triangulate_impl(T, points, mode, order, std::move(custom), {}, {});
+  return T;
 }
 
 Triangulation triangulate_releasing(std::vector<Vec2>& points, Mode mode, Order order) {
-  return triangulate_impl(points, mode, order, {}, &points);
+  Triangulation T;
+  triangulate_impl(T, points, mode, order, {}, {}, [&] { std::vector<Vec2>().swap(points); });
+  return T;
+}
+
+void triangulate_subset(Triangulation& T, std::span<const Vec2> points, std::vector<std::uint32_t> subset, Mode mode,
+                        Order order, const std::function<void()>& translated) {
+  if (subset.empty()) throw OutlineError("need at least 3 distinct points, got 0 finite points");
+  triangulate_impl(T, points, mode, order, {}, std::move(subset), translated);
 }
 
 }  // namespace hg::outline

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -78,6 +79,12 @@ Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order);
 // copy, from which every finite point is recovered exactly (points[ids[v]] == xy[v] + origin).
 // Saves one copy of the cloud at the peak (25 MB for 1.59 M points).
 Triangulation triangulate_releasing(std::vector<Vec2>& points, Mode mode, Order order);
+// The triangulation of the points points[subset[k]] (finite, distinct indices; ids then index `points`)
+// into T. `translated`, when given, runs once T holds the translated copy: `points` is not read after it,
+// so the caller may release it there. If a later step throws, T keeps xy and ids (every point of the
+// subset is still there: points[ids[v]] == xy[v] + origin). For the strips of the threaded outline.
+void triangulate_subset(Triangulation& T, std::span<const Vec2> points, std::vector<std::uint32_t> subset, Mode mode,
+                        Order order, const std::function<void()>& translated);
 // Same with an explicit insertion order (a permutation of 0..n-1, non-finite points dropped from it; for
 // experiments and benchmarks).
 Triangulation triangulate(std::span<const Vec2> points, Mode mode, Order order, std::vector<std::uint32_t> custom);

@@ -127,12 +127,12 @@ std::vector<std::uint8_t> classify_by_options(const Triangulation& T, const Opti
 }
 
 // The pipeline on several strips when the options and the size call for it and the split's checks
-// pass (threads.hpp); false (res untouched) when the one-thread path is to run.
-bool run_on_strips(std::span<const Vec2> points, const Options& options, Result& res) {
+// pass (threads.hpp); false (res untouched, `owned` as it was) when the one-thread path is to run.
+bool run_on_strips(std::span<const Vec2> points, std::vector<Vec2>* owned, const Options& options, Result& res) {
   const int strips = strips_for(options, points.size());
   if (strips < 2) return false;
   Result r;
-  if (!run_threaded(points, options, strips, r)) return false;
+  if (!run_threaded(points, owned, options, strips, r)) return false;
   r.holes_dropped = drop_small_holes(r.loops, nullptr, {}, r.spacing, options.min_hole_spacings);
   res = std::move(r);
   return true;
@@ -149,11 +149,12 @@ Result run_outline(std::span<const Vec2> points, std::vector<Vec2>* owned, const
 
   const auto t0 = Clock::now();
   Result res;
-  if (run_on_strips(points, options, res)) {
+  if (run_on_strips(points, owned, options, res)) {
     res.time.total_ms = ms(t0, Clock::now());
     res.time.loops_ms = res.time.total_ms - res.time.triangulate_ms - res.time.alpha_ms;
     return res;
   }
+  if (owned) points = *owned;  // the strips may have released it and put it back (same points, new memory)
   res.points_read = points.size();
   res.mode = options.mode;
   res.order = options.order;

@@ -35,5 +35,10 @@ struct StripSurvey {
 // given, receives the split's figures.
 bool run_threaded(std::span<const Vec2> points, const Options& options, int strips, Result& res,
                   StripSurvey* survey = nullptr);
+// The same; `owned`, when given, is the vector `points` views: it is emptied (its memory returned) once
+// every strip holds its zone's points, and filled again with the same points (non-finite ones as NaN)
+// if the run then returns false.
+bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const Options& options, int strips,
+                  Result& res, StripSurvey* survey = nullptr);
 
 }  // namespace hg::outline

@@ -405,3 +405,53 @@ TEST(OutlineAlpha, CircumradiusClassesGiveTheSameDecisionsAsThePredicateAlone) {
       }
   }
 }
+
+TEST(OutlineAlpha, RadixSelectionEqualsNthElement) {
+  // select_rank against std::nth_element on keys with many ties, narrow and full 32-bit ranges, every size
+  // from a handful (the nth_element path) to tens of thousands.
+  for (std::uint64_t seed = 1; seed <= 60; ++seed) {
+    std::mt19937_64 rng(seed);
+    const std::size_t n = 1 + rng() % (seed < 30 ? 200 : 40000);
+    const std::uint32_t mask = seed % 3 == 0 ? 0xffffffffu : (seed % 3 == 1 ? 0x3ffu : 0x7ff00fffu);
+    std::vector<std::uint32_t> keys(n);
+    for (auto& k : keys) k = static_cast<std::uint32_t>(rng()) & mask;
+    for (std::size_t rank : {std::size_t{0}, n / 2, n - 1, static_cast<std::size_t>(rng() % n)}) {
+      std::vector<std::uint32_t> a = keys, b = keys;
+      std::nth_element(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(rank), b.end());
+      EXPECT_EQ(select_rank(a, rank), b[rank]) << "seed " << seed << " n " << n << " rank " << rank;
+    }
+  }
+}
+
+TEST(OutlineAlpha, MedianSpacingIsTheSameBySelectionAndByHistogram) {
+  // The spacing is the bucket of the median triangle area whichever way it is found (the small clouds'
+  // selection, the large ones' 2 MB histogram), and equals the bucket of the median of the areas computed
+  // here independently (triangle_area, sorted). Clouds with exact ties (grids), noise and random sets.
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    std::vector<Vec2> c = seed % 3 == 0   ? grid_cloud(30 + static_cast<int>(seed), 25)
+                          : seed % 3 == 1 ? grid_cloud(40, 30, 2.0, {3, -7}, 0.2, seed)
+                                          : random_cloud(1000 + 300 * seed, seed, 50);
+    const Triangulation T = triangulate(c, Mode::DSHI, Order::Brio);
+    std::vector<double> areas;
+    for (std::size_t t = 0; t < T.slots(); ++t)
+      if (!T.is_ghost(t))
+        areas.push_back(triangle_area(T.xy[T.tri[3 * t]], T.xy[T.tri[3 * t + 1]], T.xy[T.tri[3 * t + 2]]));
+    std::sort(areas.begin(), areas.end());
+    std::uint32_t expected_bucket = 0;
+    ASSERT_TRUE(AreaHistogram::bucket_of(areas[areas.size() / 2], expected_bucket));
+    const double expected = AreaHistogram::spacing_of(expected_bucket);
+    EXPECT_EQ(scan_triangles(T, 0).spacing, expected) << "seed " << seed;              // histogram
+    EXPECT_EQ(scan_triangles(T, T.slots() + 1).spacing, expected) << "seed " << seed;  // selection
+    EXPECT_EQ(scan_triangles(T, 0).rclass, scan_triangles(T, T.slots() + 1).rclass) << "seed " << seed;
+    // The nearest-neighbour median: selection (median_nn_spacing on a small cloud), the 256 KB radix
+    // histogram (median_distance) and a sort agree exactly.
+    std::vector<float> nn2;
+    for (std::size_t v = 0; v < T.nn2.size(); ++v)
+      if (T.vrep[v] == v) nn2.push_back(T.nn2[v]);
+    std::vector<float> sorted = nn2;
+    std::sort(sorted.begin(), sorted.end());
+    const double nn = std::sqrt(static_cast<double>(sorted[sorted.size() / 2]));
+    EXPECT_EQ(median_nn_spacing(T), nn) << "seed " << seed;
+    EXPECT_EQ(median_distance(nn2), nn) << "seed " << seed;
+  }
+}

@@ -177,6 +177,52 @@ TEST(OutlineThreads, UnsafeMarginFallsBackToOneThread) {
   }
 }
 
+TEST(OutlineThreads, ConsumingThePointsGivesTheSameOutline) {
+  // compute_outline(std::vector&&) lets the strips release the points once they hold their copies; when
+  // the split then fails (a radius too wide for the margin) the points are restored for the one-thread
+  // path. Both ways the result equals one thread's on the points kept by the caller; with non-finite
+  // points in the cloud (restored as NaN: skipped, indices unchanged) too.
+  for (int kind = 0; kind < 5; ++kind)
+    for (std::uint64_t seed : {31u, 32u}) {
+      std::vector<Vec2> pts = cloud(kind, seed);
+      if (seed == 32) {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        pts[7] = {nan, 1}, pts[pts.size() / 2] = {2, std::numeric_limits<double>::infinity()};
+      }
+      Options o;
+      o.min_points_per_thread = 500;
+      Result probe;
+      StripSurvey survey;
+      ASSERT_TRUE(run_threaded(pts, o, 2, probe, &survey));
+      for (double radius : {0.0, 0.3 * survey.margin}) {
+        const std::string what =
+            "kind " + std::to_string(kind) + " seed " + std::to_string(seed) + (radius > 0 ? " fallback" : " split");
+        const Result one = run(pts, 1, false, radius);
+        Options c = o;
+        c.threads = 2;
+        c.alpha_radius = radius;
+        std::vector<Vec2> given = pts;
+        const Result many = compute_outline(std::move(given), c);
+        EXPECT_EQ(many.threads_used, radius > 0 ? 1 : 2) << what;
+        expect_same(one, many, what);
+      }
+      // run_threaded itself: the consumed vector is empty after a split that ran, as given after one
+      // that fell back.
+      std::vector<Vec2> given = pts;
+      Result r;
+      EXPECT_TRUE(run_threaded(pts, &given, o, 2, r));
+      EXPECT_TRUE(given.empty());
+      given = pts;
+      o.alpha_radius = 0.3 * survey.margin;
+      EXPECT_FALSE(run_threaded(pts, &given, o, 2, r));
+      ASSERT_EQ(given.size(), pts.size());
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        const bool finite = std::isfinite(pts[i].x) && std::isfinite(pts[i].y);
+        EXPECT_TRUE(finite ? given[i].x == pts[i].x && given[i].y == pts[i].y : std::isnan(given[i].x)) << i;
+      }
+    }
+}
+
 TEST(OutlineThreads, OneThreadWhereTheSplitDoesNotApply) {
   const std::vector<Vec2> pts = cloud(2, 5);
   Options o;

@@ -454,6 +454,9 @@ int child_main(const std::string& what, const std::string& file, double R) {
 #ifdef HG_BENCH_CGAL
   if (what == "--child-cgal-dt") return cgal_dt_loops(planar.points, R).boundary_edges > 0 ? 0 : 1;
 #endif
+#ifdef HG_BENCH_DELAUNATOR
+  if (what == "--child-delaunator") return delaunator_dt_loops(planar.points, R).boundary_edges > 0 ? 0 : 1;
+#endif
 #ifdef HG_BENCH_PCL
   if (what == "--child-pcl") return pcl_concave_hull(planar.points, R).boundary_edges > 0 ? 0 : 1;
 #endif
