@@ -121,7 +121,8 @@ double estimate_noise(const std::vector<Loop>& loops, const SmoothOptions& optio
 // possibly several rings when the offset splits a loop. Output canonical (material on the left).
 std::vector<Ring> offset_ring(const Ring& ring, bool hole, double distance, double arc_tolerance);
 
-// The diameter of the widest circle inside a hole's edge (bisection on the offset, to 10 um): a tool of
+// The diameter of the widest circle inside a hole's edge, within 0.04 mm (bisection on the offset, which
+// vanishes a little early): a tool of
 // that diameter or less fits. Infinite for an outer loop.
 double inscribed_width(const Ring& edge, bool hole, double arc_tolerance);
 

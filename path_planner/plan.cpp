@@ -152,7 +152,7 @@ double inscribed_width(const Ring& edge, bool hole, double arc_tolerance) {
   Vec2 lo = edge.front(), hi = edge.front();
   for (const Vec2& p : edge) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   double in = 0, out = 0.5 * (hi - lo).maxCoeff();  // the offset by `in` is not empty, by `out` it is
-  for (int i = 0; i < 30 && out - in > 1e-5; ++i) {
+  for (int i = 0; i < 40 && out - in > 1e-6; ++i) {
     const double mid = 0.5 * (in + out);
     (offset_ring(edge, true, mid, arc_tolerance).empty() ? out : in) = mid;
   }
