@@ -273,10 +273,7 @@ TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
         << out;
     EXPECT_NE(out.find("--outline-frame robot_base"), std::string::npos) << out;
 
-    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline-frame robot_base --pixel-pitch 0.002 --cell " + cell +
-                           " -o " + path,
-                       &out),
-              0)
+    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline-frame robot_base --cell " + cell + " -o " + path, &out), 0)
         << out;
     EXPECT_NE(out.find("camera-to-base applied: none (identity)"), std::string::npos) << out;
     ASSERT_EQ(run_tool("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml --cell " +
