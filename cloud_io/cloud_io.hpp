@@ -55,14 +55,15 @@ struct Plane {
 
 struct PlanarPoints {
   std::vector<Vec2> points;  // in input order
-  bool projected = false;    // true: 3-D input, points are (u, v) plane coordinates
+  bool projected = false;    // true: 3-D input, points are (u, v) plane coordinates (a flat cloud: x, y)
   Plane plane;               // meaningful when projected
   double rms_distance = 0;   // RMS distance of the input points from the plane (0 when not projected)
   double max_distance = 0;
 };
 
-// Planar input (no z, or every finite z equal) keeps x, y as they are; otherwise least-squares plane (PCA)
-// of the finite points, points given as plane coordinates about the centroid. A point with a non-finite
+// Planar input (no z, or every finite z equal) keeps x, y as they are (with every z equal to z0, projected is
+// true and the plane is z = z0 with the x, y axes: origin (0, 0, z0), u x, v y, normal z); otherwise least-squares
+// plane (PCA) of the finite points, points given as plane coordinates about the centroid. A point with a non-finite
 // coordinate becomes (NaN, NaN) (the core skips it). Throws ReadError (naming `name`) if the coordinates
 // are too large for the least-squares sums, OutlineError if the finite points are collinear in space
 // (the core's message for collinear 2-D input).

@@ -1,5 +1,6 @@
 #include "cloud_io/outline_message.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "cloud_io/outline_writers.hpp"
@@ -13,6 +14,10 @@ Result result_of(const hullgrind::outline_t& o) {
   r.points_used = std::size_t(o.points_used);
   r.duplicates_merged = std::size_t(o.duplicates_merged);
   r.alpha_radius = o.alpha_radius;
+  r.alpha_automatic = o.alpha_automatic;
+  r.alpha_mode = o.alpha_mode == "local" ? AlphaMode::Local : AlphaMode::Global;
+  r.spacing = o.point_spacing;
+  r.holes_dropped = std::size_t(std::max(0, o.holes_dropped));
   r.mode = parse_mode(o.mode.empty() ? "dshi" : o.mode);
   r.order = parse_order(o.order.empty() ? "as-is" : o.order);
   r.stats.triangles = std::size_t(o.triangles);
@@ -50,6 +55,16 @@ nlohmann::ordered_json outline_message_json(const hullgrind::outline_t& o, const
   nlohmann::ordered_json j = outline_json(result_of(o), planar, info);
   j["status"] = o.status;
   if (!o.error_text.empty()) j["error"] = o.error_text;
+  // What the outline service computed beyond hg-outline's keys (outline_t; docs/CHANNELS.md).
+  j["holes_dropped_area"] = o.holes_dropped_area;
+  j["fragments_dropped"] = o.fragments_dropped;
+  j["fragments_dropped_area"] = o.fragments_dropped_area;
+  j["edge_dropout_fraction"] = o.edge_dropout_fraction;
+  j["largest_edge_gap"] = o.largest_edge_gap;
+  j["quality"] = o.quality == hullgrind::outline_t::QUALITY_OK     ? "ok"
+                 : o.quality == hullgrind::outline_t::QUALITY_POOR ? "poor"
+                                                                   : "unknown";
+  if (!o.quality_text.empty()) j["quality_text"] = o.quality_text;
   return j;
 }
 

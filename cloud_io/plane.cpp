@@ -39,6 +39,16 @@ void refuse_collinear(const double* p, const std::vector<std::size_t>& finite) {
   throw OutlineError("all " + std::to_string(count) + " distinct points are collinear");
 }
 
+// A flat 3-D cloud (every z equal) lies on the plane z = that z, with the input's own x, y as its axes:
+// written as such, so that a planner places the outline at that height and not on a guessed plane.
+void set_flat_plane(double z, PlanarPoints& out) {
+  out.projected = true;
+  out.plane.origin = {0, 0, z};
+  out.plane.normal = {0, 0, 1};
+  out.plane.u = {1, 0, 0};
+  out.plane.v = {0, 1, 0};
+}
+
 }  // namespace
 
 PlanarPoints to_plane(const Cloud& cloud, const std::string& name) {
@@ -59,6 +69,7 @@ PlanarPoints to_plane(const Cloud& cloud, const std::string& name) {
   if (planar) {
     for (std::size_t i = 0; i < n; ++i)
       out.points[i] = finite_point(p + 3 * i) ? Vec2{p[3 * i], p[3 * i + 1]} : Vec2{kNaN, kNaN};
+    if (cloud.has_z && !finite.empty()) set_flat_plane(p[3 * finite[0] + 2], out);
     return out;
   }
   refuse_collinear(p, finite);

@@ -97,6 +97,8 @@ void start_outline(const hullgrind::plate_cloud_t& cloud, const outline::Options
   out.points_read = cloud.n;
   out.mode = outline::to_string(options.mode);
   out.order = outline::to_string(options.order);
+  out.alpha_mode = outline::to_string(options.alpha_mode);
+  out.alpha_automatic = !(options.alpha_radius > 0);
 }
 
 // The core's result into the outline message (statistics and loops); true when there is an outer loop.
@@ -112,6 +114,12 @@ bool put_result(const outline::Result& r, hullgrind::outline_t& out) {
   out.time_loops = r.time.loops_ms * 1e-3;
   out.triangles = int32_t(r.stats.triangles);
   out.search_cost = int64_t(r.stats.search_cost);
+  // What the planner needs to know about the cloud (it takes no pixel pitch from anyone else).
+  out.point_spacing = r.spacing;
+  out.alpha_mode = outline::to_string(r.alpha_mode);
+  out.alpha_automatic = r.alpha_automatic;
+  out.holes_dropped = int32_t(r.holes_dropped);
+  out.quality = hullgrind::outline_t::QUALITY_UNKNOWN;  // the edge's scan quality is not assessed yet
   bool any_outer = false;
   for (const outline::Loop& l : r.loops) {
     hullgrind::outline_loop_t m;

@@ -140,9 +140,11 @@ LoopCoverage edge_coverage(const Ring& edge, const std::vector<Segment2>& tool_p
   const SegmentGrid grid(tool_path, lo - Vec2::Constant(limit), hi + Vec2::Constant(limit), limit);
   const std::size_t N = samples.size();
   std::vector<std::uint8_t> reached(N);
+  std::vector<double> distance(N);
   std::size_t first_reached = N;
   for (std::size_t j = 0; j < N; ++j) {
-    reached[j] = grid.nearest(samples[j].p) <= limit;
+    distance[j] = grid.nearest(samples[j].p);
+    reached[j] = distance[j] <= limit;
     if (reached[j] && first_reached == N) first_reached = j;
   }
   // Stretches of unreached samples, from a reached one round the ring (or the whole ring).
@@ -160,6 +162,7 @@ LoopCoverage edge_coverage(const Ring& edge, const std::vector<Segment2>& tool_p
       const std::size_t i = (from + k) % N;
       st.length += (samples[i].ahead + samples[(i + N - 1) % N].ahead) / 2;
       st.points.push_back(samples[i].p);
+      st.depth = std::max(st.depth, distance[i] - reach);
       ++k;
     }
     st.from = st.points.front(), st.to = st.points.back();

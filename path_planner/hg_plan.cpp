@@ -23,7 +23,9 @@ void usage(std::FILE* f, const hg::runtime::Params& params) {
       "{\"job_id\", \"frame\", \"outline_seq\", \"tool_radius\", \"tilt\", \"flipped\", \"waypoints\": [{position,\n"
       "orientation [w, x, y, z], speed, kind, loop}], coverage {tolerance, unreached_length, loops [{loop, hole,\n"
       "length, reached_fraction, unreached [{start, length, concave, points}]}]}}) in the robot base frame, metres.\n"
-      "Loops without a plane (a 2-D outline) are placed on the plane given by plane-* below (camera frame).\n"
+      "Loops without a plane (a 2-D outline) are placed on the plane given by plane-* below in the camera frame,\n"
+      "and on z = 0 in the base frame (--outline-frame robot_base). The pixel pitch of the smoothing is the\n"
+      "outline's \"spacing\" (hg-outline writes it; --pixel-pitch overrides), else estimated from its loops.\n"
       "The cell file (--cell, docs/cell.md) gives the camera-to-base calibration, the tool, the limits the path\n"
       "is validated against and home; a --tool-radius, --chamfer-angle or speed that contradicts it is refused.\n"
       "Frames: the outline file's \"frame\" says which frame its plane is in: camera (the cell's camera-to-base\n"
@@ -64,13 +66,26 @@ OutlineInput read_input(const std::string& input, const PlannerConfig& cfg, cons
   return outline;
 }
 
+// An outline without a plane: in the camera frame it lies on the configured plane-* (the table as the camera
+// sees it); in the base frame its loops are that frame's own x, y (a flat cloud in robot base coordinates,
+// whose plane hg-outline does not write when there is no z), on z = 0 of that frame.
 void place_default_plane(OutlineInput& outline, const OutlineFrame& frame, const PlannerConfig& cfg) {
-  if (outline.plane_given || frame.used != cfg.base_frame) return;
-  // The default plane is a camera-frame plane: put it where the calibration says, in the base frame.
-  const Eigen::Isometry3d& T = cfg.camera_to_base;
-  outline.plane = {T * outline.plane.origin, T.linear() * outline.plane.u, T.linear() * outline.plane.v,
-                   T.linear() * outline.plane.normal};
-  std::fprintf(stderr, "hg-plan: the outline has no plane: the configured plane-* (camera frame) is used\n");
+  if (outline.plane_given) return;
+  if (frame.used != cfg.base_frame) {
+    std::fprintf(stderr, "hg-plan: the outline has no plane: the configured plane-* (camera frame) is used\n");
+    return;
+  }
+  outline.plane = Plane{};
+  std::fprintf(stderr, "hg-plan: the outline has no plane: its loops are x, y of %s, on z = 0\n",
+               cfg.base_frame.c_str());
+}
+
+const char* pitch_source_text(const std::string& source) {
+  if (source == "pixel-pitch") return "--pixel-pitch";
+  if (source == "outline") return "the outline's point spacing";
+  if (source == "staircase") return "estimated from the loops' pixel staircase";
+  if (source == "vertices") return "estimated from the loops' vertex spacing; no edge compensation";
+  return "none: a drawn polygon, not smoothed";
 }
 
 bool write_text(const std::string& output, const std::string& text) {
@@ -131,7 +146,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::fprintf(stderr,
-               "hg-plan: %zu waypoints, %d loops, %d speeds lowered at corners, pitch %.3f mm, planned in %.2f ms\n",
-               r.path.size(), r.loops_planned, r.slowed, r.pitch * 1e3, r.seconds * 1e3);
+               "hg-plan: %zu waypoints, %d loops, %d speeds lowered at corners, pitch %.3f mm (%s), planned in %.2f "
+               "ms\n",
+               r.path.size(), r.loops_planned, r.slowed, r.pitch * 1e3, pitch_source_text(r.pitch_source),
+               r.seconds * 1e3);
   return 0;
 }

@@ -46,7 +46,10 @@ std::vector<Param> planner_params() {
                    open),
       number_param("lead-angle", "1.5707963267948966", "sweep of the lead arcs, rad", 0, inf, open),
       number_param("z-offset", "0", "height of the grind points above the plate's top surface, m"),
-      number_param("pixel-pitch", "0", "pixel pitch of the outline, m; 0: estimated from the loops' staircase", 0),
+      number_param("pixel-pitch", "0",
+                   "pixel pitch of the outline, m; 0 (normal): the outline's point spacing, else estimated from its "
+                   "loops",
+                   0),
       number_param("smooth-window", "4", "residual windows of the smoothing fits are 2x this many vertices", 0, inf,
                    open),
       number_param(
@@ -205,6 +208,11 @@ OutlineInput read_outline_json(const std::string& text, const Plane& default_pla
                 vec(p["normal"], "plane.normal")};
     in.plane_given = true;
   }
+  if (j.contains("spacing")) {
+    if (!j["spacing"].is_number() || !(j["spacing"].get<double>() >= 0))
+      throw std::runtime_error("spacing: expected a number >= 0 (metres)");
+    in.point_spacing = j["spacing"].get<double>();
+  }
   const auto& loops = j["loops"];
   for (std::size_t k = 0; k < loops.size(); ++k) {
     const auto& jl = loops[k];
@@ -305,6 +313,7 @@ nlohmann::ordered_json coverage_json(const PlanResult& r) {
 OutlineInput from_lcm(const hullgrind::outline_t& m) {
   OutlineInput in;
   in.seq = m.header.seq;
+  in.point_spacing = std::isfinite(m.point_spacing) && m.point_spacing > 0 ? m.point_spacing : 0;
   in.plane = {Vec3(m.plane_origin[0], m.plane_origin[1], m.plane_origin[2]),
               Vec3(m.plane_u_axis[0], m.plane_u_axis[1], m.plane_u_axis[2]),
               Vec3(m.plane_v_axis[0], m.plane_v_axis[1], m.plane_v_axis[2]),

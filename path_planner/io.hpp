@@ -39,8 +39,9 @@ PlannerConfig config_from(const ParamLookup& lookup);
 PlannerConfig config_from(const ParamLookup& lookup, const cell::LoadedCell& cell);
 
 // Outline JSON as hg-outline writes it: {"loops": [{"hole", "points": [[x, y], ...]}, ...], "plane"?:
-// {"origin", "normal", "u", "v"}, "frame"?: the frame the plane is in}. Without a plane, default_plane is
-// used. Throws std::runtime_error naming the byte (parse errors) or the key, loop and point index.
+// {"origin", "normal", "u", "v"}, "frame"?: the frame the plane is in, "spacing"?: the point spacing, m}. Without a
+// plane, default_plane is used. Throws std::runtime_error naming the byte (parse errors) or the key, loop and point
+// index.
 OutlineInput read_outline_json(const std::string& text, const Plane& default_plane);
 
 // Which frame an outline file's plane is taken to be in, and the camera-to-base transform that follows:

@@ -123,6 +123,12 @@ class Planner {
                  (m.error_text.empty() ? std::string("(no reason given)") : m.error_text));
       return;
     }
+    if (m.quality == hullgrind::outline_t::QUALITY_POOR) {  // no plan on a guessed edge (issue 23)
+      status(req, hullgrind::job_status_t::STATE_NEEDS_RESCAN, 0,
+             "outline " + std::to_string(m.header.seq) + ": scan quality poor, rescan: " +
+                 (m.quality_text.empty() ? std::string("(no reason given)") : m.quality_text));
+      return;
+    }
     JobParams jp;
     jp.tool_radius = req.tool_radius;
     jp.chamfer_angle = req.chamfer_angle;

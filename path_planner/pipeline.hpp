@@ -46,6 +46,9 @@ struct OutlineInput {
   bool plane_given = false;  // an outline file had a plane (else: the configured default plane)
   std::vector<Loop> loops;
   std::int64_t seq = -1;  // outline header.seq, copied into the path
+  // The point spacing h the outline was computed from (outline_t.point_spacing, the "spacing" of hg-outline's
+  // JSON): the pixel pitch on the plate for a camera's grid. 0: not given (estimated from the loops).
+  double point_spacing = 0;
 };
 
 // ---- geometry helpers (polygon/polygon.hpp) ----
@@ -90,6 +93,19 @@ struct SmoothedRing {
 // steps), when most edges are such steps and most of those are within 2 % of the median (lattice steps);
 // 0 otherwise: a drawn polygon, or a noisy boundary (noise of a fraction of a pitch destroys the lattice).
 double estimate_pitch(const std::vector<Loop>& loops);
+// The spacing of a dense outline from its own vertices when the staircase is lost (noise): the lower
+// quartile of the edge lengths of the loops of 200 vertices and more (a pixel boundary's edges are one pitch
+// along an axis and longer on the diagonals); 0 for a drawn polygon (no such loop).
+double estimate_vertex_spacing(const std::vector<Loop>& loops);
+// The spacing the smoothing and the coverage use, and where it came from: the configured pixel-pitch, else
+// the outline's point spacing, else estimate_pitch, else estimate_vertex_spacing (0: none, a drawn polygon).
+// The last is no pixel lattice: the smoothing gets pitch 0 then (its unit from the vertices, no edge
+// compensation) and only the coverage tolerance uses it.
+struct Spacing {
+  double value = 0;
+  std::string source;  // "pixel-pitch", "outline", "staircase", "vertices" or "none"
+};
+Spacing choose_spacing(const OutlineInput& outline, const SmoothOptions& configured);
 // Corner-preserving de-noising (smooth.cpp): corners from a two-scale turning angle, the runs between them
 // as TLS line and circle pieces, corners at the intersections of the pieces beside them, edge compensation
 // by pitch/2 * max(|t_x|, |t_y|). pitch 0 (unknown): dense rings are fitted without edge compensation,
@@ -104,6 +120,11 @@ double estimate_noise(const std::vector<Loop>& loops, const SmoothOptions& optio
 // Outer loops grow by `distance`, holes shrink. Returns zero rings for a hole too small for the tool, and
 // possibly several rings when the offset splits a loop. Output canonical (material on the left).
 std::vector<Ring> offset_ring(const Ring& ring, bool hole, double distance, double arc_tolerance);
+
+// The diameter of the widest circle inside a hole's edge, within 0.04 mm (bisection on the offset, which
+// vanishes a little early): a tool of
+// that diameter or less fits. Infinite for an outer loop.
+double inscribed_width(const Ring& edge, bool hole, double arc_tolerance);
 
 // ---- 3. resample at a fixed step, keeping corners ----
 // Vertices whose turning angle exceeds corner_angle are kept exactly; every piece between them is divided
@@ -219,7 +240,8 @@ struct UnreachedStretch {
   double length = 0;  // m
   Vec2 from = Vec2::Zero(), to = Vec2::Zero();  // end points (plate frame)
   bool concave = false;                         // at a concave corner, or a concave bend tighter than the tool
-  std::vector<Vec2> points;                     // the edge samples in the stretch, in order (plate frame)
+  double depth = 0;  // the farthest sample's distance beyond the reach, m (infinite: more than one reach beyond)
+  std::vector<Vec2> points;  // the edge samples in the stretch, in order (plate frame)
 };
 struct LoopCoverage {
   int loop = 0;
@@ -281,8 +303,9 @@ struct PlanResult {
   std::string reason;  // why not, when !ok
   std::vector<std::string> warnings;
   std::vector<Waypoint> path;
-  JobParams params;  // as used
-  double pitch = 0;  // pixel pitch used by the smoothing
+  JobParams params;          // as used
+  double pitch = 0;          // pixel pitch used by the smoothing
+  std::string pitch_source;  // Spacing::source
   int loops_planned = 0;
   int slowed = 0;                      // waypoint speeds lowered for corners (limit_corner_speeds)
   std::vector<LoopCoverage> coverage;  // per outline loop (edge_coverage), when the path was made
@@ -301,6 +324,9 @@ PlanResult plan(OutlineInput outline, const JobParams& params, const PlannerConf
 // The first steps of plan(): normalize_up, make_canonical, the flip's mirror (in place on `outline`), the
 // pitch (set) and the smoothed ring of every loop: the edges the tool must grind, plate frame.
 std::vector<Ring> edges_to_grind(OutlineInput& outline, bool flipped, const PlannerConfig& config, double& pitch);
+// The coverage check's tolerance: the configured one plus half the spacing, since the edge is only known to
+// within half a pixel (a stretch of the estimated edge less than that beyond the tool is within its error).
+double coverage_tolerance(const PlannerConfig& config, double pitch);
 // edge_coverage of every loop's edge by the tool path (loop and hole filled in).
 std::vector<LoopCoverage> loops_coverage(const std::vector<Loop>& loops, const std::vector<Ring>& edges,
                                          const std::vector<Segment2>& tool_path, double reach, double tolerance);

@@ -52,13 +52,19 @@ std::vector<Ring> edges_to_grind(OutlineInput& in, bool flipped, const PlannerCo
   normalize_up(in, cfg.camera_to_base);
   make_canonical(in.loops);
   if (flipped) in.loops = mirror_for_flip(in.loops);
-  pitch = cfg.smooth.pitch > 0 ? cfg.smooth.pitch : estimate_pitch(in.loops);
+  const Spacing spacing = choose_spacing(in, cfg.smooth);
+  pitch = spacing.value;
+  // A spacing estimated from the vertices alone is no pixel lattice: the smoothing takes its unit from the
+  // vertices as well and moves no edge (the compensation needs the pitch of a known grid).
+  const double lattice = spacing.source == "vertices" ? 0 : pitch;
   SmoothOptions smooth = cfg.smooth;
   smooth.noise = estimate_noise(in.loops, smooth);
   std::vector<Ring> edges;
-  for (const Loop& l : in.loops) edges.push_back(smooth_ring(l.points, pitch, smooth).points);
+  for (const Loop& l : in.loops) edges.push_back(smooth_ring(l.points, lattice, smooth).points);
   return edges;
 }
+
+double coverage_tolerance(const PlannerConfig& cfg, double pitch) { return cfg.coverage_tolerance + 0.5 * pitch; }
 
 std::vector<LoopCoverage> loops_coverage(const std::vector<Loop>& loops, const std::vector<Ring>& edges,
                                          const std::vector<Segment2>& tool_path, double reach, double tolerance) {
@@ -78,8 +84,8 @@ PathCoverage path_coverage(OutlineInput in, const std::vector<Waypoint>& path, d
   double pitch = 0;
   const std::vector<Ring> edges = edges_to_grind(in, flipped, cfg, pitch);
   pc.plate_to_base = plate_to_base(in.plane, cfg.camera_to_base);
-  pc.loops =
-      loops_coverage(in.loops, edges, grind_segments(path, pc.plate_to_base), tool_radius, cfg.coverage_tolerance);
+  pc.loops = loops_coverage(in.loops, edges, grind_segments(path, pc.plate_to_base), tool_radius,
+                            coverage_tolerance(cfg, pitch));
   return pc;
 }
 
@@ -97,16 +103,26 @@ std::string describe_unreached(const LoopCoverage& c, const Eigen::Isometry3d& p
     std::snprintf(buf, sizeof buf, "(%.1f, %.1f, %.1f)", b.x() * 1e3, b.y() * 1e3, b.z() * 1e3);
     return std::string(buf);
   };
-  char buf[320];
+  double depth = 0;
+  for (const UnreachedStretch& s : c.unreached) depth = std::max(depth, s.depth);
+  char beyond[64];
+  if (std::isfinite(depth)) std::snprintf(beyond, sizeof beyond, "up to %.1f mm", depth * 1e3);
+  else
+    std::snprintf(beyond, sizeof beyond, "more than %.1f mm", (reach + tolerance) * 1e3);
+  // Rounded down, so that an edge with any stretch unreached never reads as 100.0 %.
+  const double percent = std::floor(1000 * c.reached_fraction()) / 10;
+  char buf[400];
   std::snprintf(buf, sizeof buf,
                 "%s %d: %.1f mm of its %.1f mm edge (%.1f %% reached) is farther than %.1f + %.1f mm from the tool "
-                "path, in %zu stretch%s; the longest %.1f mm from %s to %s mm (%s)",
-                c.hole ? "hole" : "outer loop", c.loop, c.unreached_length * 1e3, c.length * 1e3,
-                100 * c.reached_fraction(), reach * 1e3, tolerance * 1e3, c.unreached.size(),
-                c.unreached.size() == 1 ? "" : "es", longest->length * 1e3, where(longest->from).c_str(),
-                where(longest->to).c_str(), frame.c_str());
+                "path (%s beyond), in %zu stretch%s; the longest %.1f mm from %s to %s mm (%s)",
+                c.hole ? "hole" : "outer loop", c.loop, c.unreached_length * 1e3, c.length * 1e3, percent, reach * 1e3,
+                tolerance * 1e3, beyond, c.unreached.size(), c.unreached.size() == 1 ? "" : "es", longest->length * 1e3,
+                where(longest->from).c_str(), where(longest->to).c_str(), frame.c_str());
   std::string text = buf;
-  if (concave) text += "; at a concave corner or bend tighter than the tool";
+  if (concave) {
+    std::snprintf(buf, sizeof buf, "; at a concave corner or bend tighter than the tool's %.1f mm radius", reach * 1e3);
+    text += buf;
+  }
   return text;
 }
 
@@ -131,6 +147,35 @@ SequenceOptions sequence_options(const JobParams& P, const PlannerConfig& cfg) {
 
 }  // namespace
 
+double inscribed_width(const Ring& edge, bool hole, double arc_tolerance) {
+  if (!hole) return INFINITY;  // an outer loop's tool runs outside it
+  Vec2 lo = edge.front(), hi = edge.front();
+  for (const Vec2& p : edge) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  double in = 0, out = 0.5 * (hi - lo).maxCoeff();  // the offset by `in` is not empty, by `out` it is
+  for (int i = 0; i < 40 && out - in > 1e-6; ++i) {
+    const double mid = 0.5 * (in + out);
+    (offset_ring(edge, true, mid, arc_tolerance).empty() ? out : in) = mid;
+  }
+  return 2 * in;
+}
+
+namespace {
+
+std::string too_small_text(std::size_t k, bool hole, const Ring& edge, double tool_radius, double arc_tolerance) {
+  char buf[200];
+  if (!hole) {
+    std::snprintf(buf, sizeof buf, "outer loop %zu gives no path at a tool of radius %.1f mm", k, tool_radius * 1e3);
+    return buf;
+  }
+  std::snprintf(buf, sizeof buf,
+                "hole %zu is too small for the tool: the widest circle inside its edge is %.1f mm across, the tool "
+                "is %.1f mm (radius %.1f mm)",
+                k, inscribed_width(edge, true, arc_tolerance) * 1e3, 2 * tool_radius * 1e3, tool_radius * 1e3);
+  return buf;
+}
+
+}  // namespace
+
 PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig& cfg,
                 const std::optional<Vec3>& robot_position_base) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -148,13 +193,9 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   const JobParams& P = res.params;
   if (std::string why = check_outline(in); !why.empty()) return fail("bad outline: " + why);
 
+  res.pitch_source = choose_spacing(in, cfg.smooth).source;
+  // No spacing at all only for a drawn polygon (no loop of 200 vertices): it is left as it is.
   const std::vector<Ring> edges = edges_to_grind(in, P.flipped, cfg, res.pitch);
-  // No pitch: a drawn polygon (long edges) is left as it is; a dense but noisy boundary is fitted without
-  // edge compensation (its pixel lattice cannot be recovered; configure pixel_pitch for it).
-  bool dense = false;  // a boundary sampled like a pixel staircase (mean edge <= 1/200 of the loop)
-  for (const Loop& l : in.loops) dense |= l.points.size() >= 200;
-  if (!(res.pitch > 0) && dense && cfg.smooth.edge_compensation)
-    res.warnings.push_back("pixel pitch unknown (not a clean pixel staircase): no edge compensation; set pixel-pitch");
 
   std::vector<GrindLoop> grind;
   std::vector<std::size_t> skipped_warning(in.loops.size(), SIZE_MAX);
@@ -162,8 +203,7 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
     const Loop& l = in.loops[k];
     const std::vector<Ring> off = offset_ring(edges[k], l.hole, P.tool_radius, cfg.arc_tolerance);
     if (off.empty()) {
-      const std::string why = std::string(l.hole ? "hole" : "outer loop") + " " + std::to_string(k) +
-                              " is too small for a tool of radius " + std::to_string(P.tool_radius * 1000) + " mm";
+      const std::string why = too_small_text(k, l.hole, edges[k], P.tool_radius, cfg.arc_tolerance);
       if (cfg.small_hole == SmallHolePolicy::Fail || !l.hole) return fail("not grindable: " + why);
       skipped_warning[k] = res.warnings.size();
       res.warnings.push_back("skipped: " + why);
@@ -188,14 +228,14 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
     return fail("validation: " + why);
   // Coverage of every loop's edge by the path as published (skipped holes included: none of their edge is).
   res.plate_to_base = T;
-  res.coverage_tolerance = cfg.coverage_tolerance;
-  res.coverage = loops_coverage(in.loops, edges, grind_segments(res.path, T), P.tool_radius, cfg.coverage_tolerance);
+  res.coverage_tolerance = coverage_tolerance(cfg, res.pitch);
+  res.coverage = loops_coverage(in.loops, edges, grind_segments(res.path, T), P.tool_radius, res.coverage_tolerance);
   std::string unreached;
   for (std::size_t k = 0; k < in.loops.size(); ++k) {
     const LoopCoverage& c = res.coverage[k];
     res.unreached_length += c.unreached_length;
     if (!c.unreached.empty()) {
-      const std::string text = describe_unreached(c, T, P.tool_radius, cfg.coverage_tolerance, cfg.base_frame);
+      const std::string text = describe_unreached(c, T, P.tool_radius, res.coverage_tolerance, cfg.base_frame);
       if (skipped_warning[k] != SIZE_MAX) res.warnings[skipped_warning[k]] += ": " + text;
       else if (cfg.small_hole == SmallHolePolicy::Skip)
         res.warnings.push_back("not reached: " + text);

@@ -26,7 +26,8 @@
 // The steps are stages over one list of pieces (path_planner/smooth/stages.hpp), each in its own file:
 // smooth/context.cpp (scales from pitch and noise), smooth/noise.cpp (pitch and noise estimates),
 // smooth/fits.cpp (moments, lines, circles), smooth/corners.cpp (1 and 3), smooth/segment.cpp (2),
-// smooth/tangency.cpp, smooth/fillet.cpp (3b), smooth/emit.cpp (4).
+// smooth/tangency.cpp, smooth/fillet.cpp (3b), smooth/emit.cpp (4); smooth/fallback.cpp: a result that
+// strays from the outline (a shape too coarse for the fits) is replaced by a local smoothing.
 #include "path_planner/smooth/stages.hpp"
 
 namespace hg::path_planner {
@@ -40,7 +41,9 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   pieces = make_tangent(*c, std::move(pieces), corners.empty());
   pieces = fit_fillets(*c, std::move(pieces), !corners.empty());
   replace_corners(*c, pieces, corners);
-  return emit_ring(*c, pieces, corners);
+  SmoothedRing out = emit_ring(*c, pieces, corners);
+  if (strays_from(ring, out.points, 1.2 * c->unit)) return local_smoothing(*c, ring);
+  return out;
 }
 
 }  // namespace hg::path_planner

@@ -35,6 +35,27 @@ double estimate_pitch(const std::vector<Loop>& loops) {
   return median <= longest_loop / 200 ? median : 0;
 }
 
+double estimate_vertex_spacing(const std::vector<Loop>& loops) {
+  std::vector<double> lengths;
+  for (const Loop& l : loops) {
+    const std::size_t n = l.points.size();
+    if (n < 200) continue;
+    for (std::size_t i = 0; i < n; ++i) lengths.push_back((l.points[(i + 1) % n] - l.points[i]).norm());
+  }
+  if (lengths.empty()) return 0;
+  auto q = lengths.begin() + lengths.size() / 4;
+  std::nth_element(lengths.begin(), q, lengths.end());
+  return *q;
+}
+
+Spacing choose_spacing(const OutlineInput& in, const SmoothOptions& configured) {
+  if (configured.pitch > 0) return {configured.pitch, "pixel-pitch"};
+  if (in.point_spacing > 0 && std::isfinite(in.point_spacing)) return {in.point_spacing, "outline"};
+  if (const double p = estimate_pitch(in.loops); p > 0) return {p, "staircase"};
+  if (const double s = estimate_vertex_spacing(in.loops); s > 0) return {s, "vertices"};
+  return {0, "none"};
+}
+
 namespace smooth {
 
 int window_of(const SmoothOptions& o) { return std::max(5, int(std::lround(2 * o.window_pitches))); }

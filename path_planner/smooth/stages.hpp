@@ -89,4 +89,10 @@ void replace_corners(const SmoothContext& c, const Pieces& pieces, Corners& corn
 // The smoothed ring: corners, line end points, sampled arcs, all edge-compensated (smooth/emit.cpp).
 SmoothedRing emit_ring(const SmoothContext& c, const Pieces& pieces, const Corners& corners);
 
+// The safety net (smooth/fallback.cpp): true when three consecutive vertices of the outline lie farther than
+// `band` from the smoothed ring (or it has fewer than three points); then local_smoothing replaces it: a
+// Gaussian of 1.5 vertices along the outline with the same edge compensation, no corners.
+bool strays_from(const Ring& outline, const Ring& smoothed, double band);
+SmoothedRing local_smoothing(const SmoothContext& c, const Ring& ring);
+
 }  // namespace hg::path_planner::smooth

@@ -77,14 +77,9 @@ def write_truth(path):
 
 
 def planner_extra_args(truth):
-    """The pixel pitch on the plate from the camera's intrinsics and distance, as docs/path_planner.md says a
-    deployment configures it for noisy clouds (unknown, the planner skips edge compensation: the loops sit
-    half a pixel inside). Only if the shipped planner command does not set it already."""
-    if "--pixel-pitch" in E.process_command("planner"):
-        return []
-    cam = truth["camera"]
-    distance = cam["mount_height"] - max(p["thickness"] for p in truth["parts"])
-    return ["--pixel-pitch", "%.6g" % (distance / cam["fx"])]
+    """None: the pipeline runs as shipped, and the planner takes the pixel pitch on the plate from the outline
+    (outline_t.point_spacing, docs/path_planner.md); no test supplies it."""
+    return []
 
 
 class PipelineCase(unittest.TestCase):

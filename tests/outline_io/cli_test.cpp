@@ -86,7 +86,14 @@ TEST_F(OutlineIoCli, EveryFormatGivesTheSquareWithItsHole) {
     auto j = nlohmann::json::parse(read_all(out("o.json")));
     expect_square_with_hole(j);
     EXPECT_EQ(j["alpha_radius"], 1.5);
-    EXPECT_FALSE(j.contains("plane"));  // planar input (no z, or z all equal)
+    // Planar input: no z, no plane; every z equal, the plane z = that z with the input's axes.
+    if (j["input"]["has_z"].get<bool>()) {
+      ASSERT_TRUE(j.contains("plane"));
+      EXPECT_EQ(j["plane"]["normal"], nlohmann::json::parse("[0, 0, 1]"));
+      EXPECT_EQ(j["plane"]["u"], nlohmann::json::parse("[1, 0, 0]"));
+    } else {
+      EXPECT_FALSE(j.contains("plane"));
+    }
     // Planar input keeps the input's units and axes: the outer loop spans exactly [0, 20]^2.
     double minx = 1e9, maxx = -1e9, miny = 1e9, maxy = -1e9;
     for (auto& p : j["loops"][0]["points"]) {

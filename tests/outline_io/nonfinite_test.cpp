@@ -144,7 +144,8 @@ TEST(OutlineIoNonFinite, PlaneFitIgnoresNonFinitePoints) {
   EXPECT_LT(a.max_distance, 1e-9);
   // Planar input (every finite z equal) with NaN: x, y kept, NaN points NaN.
   const PlanarPoints p = to_plane(parse_text_cloud("0 0 5\n1 0 5\nnan 0 5\n0 1 nan\n1 1 5\n", "flat.xyz"));
-  EXPECT_FALSE(p.projected);
+  EXPECT_TRUE(p.projected);  // on the plane z = 5, with x, y as they are
+  EXPECT_EQ(p.plane.origin[2], 5.0);
   EXPECT_EQ(p.points[4].x, 1.0);
   EXPECT_TRUE(std::isnan(p.points[2].x) && std::isnan(p.points[3].x));
 }

@@ -134,7 +134,12 @@ TEST(OutlineIoPlane, PlanarInputKeepsItsCoordinates) {
   flat_z.has_z = true;
   for (int i = 0; i < 3; ++i) flat_z.xyz[3 * i + 2] = 812.5;
   PlanarPoints b = to_plane(flat_z);
-  EXPECT_FALSE(b.projected);
+  // A flat 3-D cloud is on its own plane z = 812.5 with the input's axes: the plane is written, x, y kept.
+  ASSERT_TRUE(b.projected);
+  EXPECT_EQ(b.plane.origin, (std::array<double, 3>{0, 0, 812.5}));
+  EXPECT_EQ(b.plane.normal, (std::array<double, 3>{0, 0, 1}));
+  EXPECT_EQ(b.plane.u, (std::array<double, 3>{1, 0, 0}));
+  EXPECT_EQ(b.plane.v, (std::array<double, 3>{0, 1, 0}));
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(a.points[i].x, no_z.xyz[3 * i]);
     EXPECT_EQ(a.points[i].y, no_z.xyz[3 * i + 1]);

@@ -17,6 +17,35 @@ using hg::outline::Vec2;
 
 namespace {
 
+// The message says what the outline knows about its cloud, so the planner needs no pixel pitch: the point
+// spacing of a regular grid is its pitch (sqrt(2 x median triangle area)), the mode, whether R was chosen
+// automatically (R = k x h) or given, and the dropout holes dropped.
+TEST(OutlineServiceCompute, MessageCarriesSpacingModeAndAutomaticRadius) {
+  for (double p : {0.0013, 0.004}) {
+    SCOPED_TRACE(p);
+    const auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, p);
+    hg::outline::Options automatic;
+    const auto a = os::compute(cloud, automatic);
+    ASSERT_EQ(a.outline.status, +hullgrind::outline_t::STATUS_OK) << a.outline.error_text;
+    EXPECT_NEAR(a.outline.point_spacing, p, 1e-3 * p);
+    EXPECT_TRUE(a.outline.alpha_automatic);
+    EXPECT_EQ(a.outline.alpha_mode, "global");
+    EXPECT_NEAR(a.outline.alpha_radius, 1.7 * p, 0.05 * p) << "R = k h, k = 1.7 for a regular grid";
+    EXPECT_EQ(a.outline.quality, +hullgrind::outline_t::QUALITY_UNKNOWN);
+    hg::outline::Options given;
+    given.alpha_radius = 2 * p;
+    const auto g = os::compute(cloud, given);
+    EXPECT_FALSE(g.outline.alpha_automatic);
+    EXPECT_EQ(g.outline.alpha_radius, 2 * p);
+    hg::outline::Options local;
+    local.alpha_mode = hg::outline::AlphaMode::Local;
+    const auto l = os::compute(cloud, local);
+    EXPECT_EQ(l.outline.alpha_mode, "local");
+    EXPECT_TRUE(l.outline.alpha_automatic);
+    EXPECT_NEAR(l.outline.point_spacing, p, 1e-3 * p);
+  }
+}
+
 TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
   const double p = 0.005;
   auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, p);

@@ -6,9 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <random>
+#include <set>
 #include <sstream>
 #include <sys/wait.h>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include "tests/common/cell_file.hpp"
@@ -270,10 +273,7 @@ TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
         << out;
     EXPECT_NE(out.find("--outline-frame robot_base"), std::string::npos) << out;
 
-    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline-frame robot_base --pixel-pitch 0.002 --cell " + cell +
-                           " -o " + path,
-                       &out),
-              0)
+    ASSERT_EQ(run_tool("hg-plan " + outline + " --outline-frame robot_base --cell " + cell + " -o " + path, &out), 0)
         << out;
     EXPECT_NE(out.find("camera-to-base applied: none (identity)"), std::string::npos) << out;
     ASSERT_EQ(run_tool("hg-robot-export --config " + std::string(HG_SOURCE_DIR) + "/config/robot_bridge.yaml --cell " +
@@ -304,4 +304,117 @@ TEST(PathPlannerCli, ChainOnAGenerated3dCloudInTheBaseFrame) {
     std::nth_element(errors.begin(), errors.begin() + long(errors.size() * 9 / 10), errors.end());
     EXPECT_LT(errors[errors.size() * 9 / 10], tolerance) << "90 % of the grind waypoints a tool radius from the edge";
   }
+}
+
+namespace {
+
+// Grind loops of a path file: the distinct loop indices of its grind waypoints.
+std::set<int> ground_loops(const nlohmann::json& path) {
+  std::set<int> loops;
+  for (const auto& w : path["waypoints"])
+    if (w["kind"] == "grind") loops.insert(w["loop"].get<int>());
+  return loops;
+}
+
+}  // namespace
+
+// Issue 23: a new user's chain with the shipped cell (10 mm tool) and no --pixel-pitch: hg-plan takes the
+// spacing from the outline ("spacing") and every loop of every bundled sample is ground, the 40 mm slots
+// (two tool diameters) included. Before, both samples failed (unreached stretches of their holes; demo-scene
+// called its 40 mm slot too small for the tool).
+TEST(PathPlannerCli, EveryBundledSamplePlansWithTheShippedCell) {
+  for (const std::string sample : {"plate-hole-slot-low", "demo-scene"}) {
+    SCOPED_TRACE(sample);
+    const std::string outline = tmp(sample + ".json"), path = tmp(sample + ".path.json");
+    std::string out;
+    ASSERT_EQ(
+        run_tool("hg-outline " + std::string(HG_SOURCE_DIR) + "/data/samples/" + sample + ".xyz -o " + outline, &out),
+        0)
+        << out;
+    ASSERT_EQ(run(outline + " --outline-frame robot_base -o " + path, &out), 0) << out;
+    EXPECT_NE(out.find("(the outline's point spacing)"), std::string::npos) << out;
+    EXPECT_EQ(out.find("warning"), std::string::npos) << out;
+    const nlohmann::json o = nlohmann::json::parse(slurp(outline));
+    const std::set<int> ground = ground_loops(nlohmann::json::parse(slurp(path)));
+    EXPECT_EQ(ground.size(), o["loops"].size()) << "every loop ground";
+  }
+}
+
+// Issue 23: a 300 x 200 mm plate with a D60 hole, tilted 20 deg about x and 10 deg about y, seen on a 2 mm
+// camera grid in the base frame with 0.2 mm in-plane and 0.5 mm depth noise, plans with the shipped cell
+// (before: "pixel pitch unknown ... at a concave corner or bend tighter than the tool"), and every grind
+// waypoint lies on the plate's plane.
+TEST(PathPlannerCli, NoisyTilted3dCloudPlansWithTheShippedCell) {
+  const double a = 20 * M_PI / 180, b = 10 * M_PI / 180, p = 0.002;
+  const Eigen::Vector3d n(std::sin(b) * std::cos(a), -std::sin(a), std::cos(b) * std::cos(a));
+  const Eigen::Vector3d ex(std::cos(b), 0, -std::sin(b)), ey = n.cross(ex);
+  const Eigen::Vector3d centre(0.5, 0, 0.2);
+  for (int seed : {1, 2, 3}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> in_plane(0, 0.0002), depth(0, 0.0005);
+    std::ofstream cloud(tmp("tilted.xyz"));
+    cloud.precision(9);
+    for (int i = -120; i <= 120; ++i)
+      for (int j = -120; j <= 120; ++j) {
+        const double X = i * p, Y = j * p, Z = -(n.x() * X + n.y() * Y) / n.z();
+        const Eigen::Vector3d q(X, Y, Z);
+        const double u = q.dot(ex), v = q.dot(ey);
+        if (std::abs(u) > 0.15 || std::abs(v) > 0.1 || u * u + v * v < 0.03 * 0.03) continue;
+        cloud << centre.x() + X + in_plane(rng) << ' ' << centre.y() + Y + in_plane(rng) << ' '
+              << centre.z() + Z + depth(rng) << '\n';
+      }
+    cloud.close();
+    std::string out;
+    ASSERT_EQ(run_tool("hg-outline " + tmp("tilted.xyz") + " -o " + tmp("tilted.json"), &out), 0) << out;
+    ASSERT_EQ(run(tmp("tilted.json") + " --outline-frame robot_base -o " + tmp("tilted.path.json"), &out), 0) << out;
+    const nlohmann::json path = nlohmann::json::parse(slurp(tmp("tilted.path.json")));
+    EXPECT_EQ(ground_loops(path).size(), 2u) << "the outer edge and the hole";
+    for (const auto& w : path["waypoints"]) {
+      if (w["kind"] != "grind") continue;
+      const Eigen::Vector3d q(w["position"][0], w["position"][1], w["position"][2]);
+      ASSERT_NEAR((q - centre).dot(n), 0, 1e-3) << "a grind waypoint off the plate's plane";
+    }
+  }
+}
+
+// Issue 23: a noise-free flat cloud (every z equal: the plate's top at 12 mm in robot base coordinates)
+// planned with --outline-frame robot_base lands on its own points: hg-outline writes its plane z = 12 mm, and
+// the grind waypoints are a tool radius from the true edge at that height (before: no plane, the camera's
+// default plane put the path 0.5 m off in x and 2 mm below). A 2-D outline (no z, no plane) in the base frame
+// is on that frame's z = 0.
+TEST(PathPlannerCli, FlatCloudInTheBaseFrameIsPlannedOnItsOwnPlane) {
+  std::string out;
+  ASSERT_EQ(run_tool("hg-gen --shape plate-hole-slot --pitch 0.002 -o " + tmp("flat.xyz"), &out), 0) << out;
+  ASSERT_EQ(run_tool("hg-outline " + tmp("flat.xyz") + " -o " + tmp("flat.json"), &out), 0) << out;
+  const nlohmann::json o = nlohmann::json::parse(slurp(tmp("flat.json")));
+  ASSERT_TRUE(o.contains("plane")) << "a flat 3-D cloud has its plane z = its z";
+  ASSERT_EQ(run(tmp("flat.json") + " --outline-frame robot_base -o " + tmp("flat.path.json"), &out), 0) << out;
+  const nlohmann::json truth = nlohmann::json::parse(slurp(tmp("flat.xyz") + ".truth.json"))["parts"][0];
+  const double top = truth["thickness"];
+  std::size_t grind = 0;
+  const nlohmann::json path = nlohmann::json::parse(slurp(tmp("flat.path.json")));
+  for (const auto& w : path["waypoints"]) {
+    if (w["kind"] != "grind") continue;
+    ++grind;
+    const double x = w["position"][0], y = w["position"][1], z = w["position"][2];
+    double d = ring_distance(x, y, truth["outer"]);
+    for (const auto& h : truth["holes"]) d = std::min(d, ring_distance(x, y, h));
+    ASSERT_NEAR(d, 0.01, 0.004) << "grind waypoint at (" << x << ", " << y << ")";
+    ASSERT_NEAR(z, top, 1e-9);
+  }
+  EXPECT_GT(grind, 300u);
+  // The same loops without plane and z: x, y of the base frame on z = 0 (the table top: the grind points
+  // 5 mm above it, --z-offset, to be above the table).
+  nlohmann::json two_d = o;
+  two_d.erase("plane");
+  write(tmp("flat2d.json"), two_d.dump());
+  ASSERT_EQ(
+      run(tmp("flat2d.json") + " --outline-frame robot_base --z-offset 0.005 -o " + tmp("flat2d.path.json"), &out), 0)
+      << out;
+  EXPECT_NE(out.find("its loops are x, y of robot_base, on z = 0"), std::string::npos) << out;
+  const nlohmann::json path2d = nlohmann::json::parse(slurp(tmp("flat2d.path.json")));
+  EXPECT_EQ(ground_loops(path2d).size(), 3u);
+  for (const auto& w : path2d["waypoints"])
+    if (w["kind"] == "grind") ASSERT_NEAR(w["position"][2].get<double>(), 0.005, 1e-9);
 }

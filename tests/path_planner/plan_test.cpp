@@ -82,6 +82,10 @@ TEST(PathPlannerPlan, HoleTooSmallFailsOrIsSkippedPerConfig) {
   PlanResult r = plan(in, JobParams{}, cfg, std::nullopt);
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("hole 1 is too small"), std::string::npos) << r.reason;
+  // The measured cause: the widest circle inside the 16 mm hole (a circle, drawn as 64 chords) against the tool.
+  EXPECT_NE(r.reason.find("the widest circle inside its edge is 16.0 mm across, the tool is 20.0 mm"),
+            std::string::npos)
+      << r.reason;
   cfg.small_hole = SmallHolePolicy::Skip;
   r = plan(in, JobParams{}, cfg, std::nullopt);
   ASSERT_TRUE(r.ok) << r.reason;
@@ -121,4 +125,38 @@ TEST(PathPlannerPlan, FlippedPathIsTheMirrorImage) {
       EXPECT_NEAR(ring_dist((Tinv * w.position).head<2>(), mirrored[w.loop].points), cfg.defaults.tool_radius, 2e-5);
     }
   }
+}
+
+// The inscribed width is the diameter of the widest circle inside a hole: a circle's diameter, a slot's width.
+TEST(PathPlannerPlan, InscribedWidthIsTheWidestCircleInside) {
+  for (double d : {0.012, 0.03, 0.1}) {
+    Ring circle;
+    for (int k = 0; k < 200; ++k)
+      circle.push_back(0.5 * d * Vec2(std::cos(-2 * kPi * k / 200), std::sin(-2 * kPi * k / 200)));
+    EXPECT_NEAR(inscribed_width(circle, true, 1e-7), d, 4e-5 + d * (1 - std::cos(kPi / 200)));
+  }
+  const Ring slot = rect(0, 0, 0.12, 0.04);  // a 120 x 40 rectangle: 40 mm wide
+  Ring cw(slot.rbegin(), slot.rend());
+  EXPECT_NEAR(inscribed_width(cw, true, 1e-7), 0.04, 4e-5);
+  EXPECT_TRUE(std::isinf(inscribed_width(slot, false, 1e-6)));
+}
+
+// A loop with any stretch unreached never reads "100.0 % reached" (the fraction is rounded down), and the
+// message gives how far beyond the tool's reach the edge lies and the tool's radius at a tight corner.
+TEST(PathPlannerPlan, UnreachedTextNeverSaysAHundredPercentAndGivesTheDepth) {
+  LoopCoverage c;
+  c.loop = 2;
+  c.hole = true;
+  c.length = 1.0;
+  UnreachedStretch s;
+  s.length = 1e-5;  // 0.001 % of the edge
+  s.depth = 0.0004;
+  s.concave = true;
+  c.unreached = {s};
+  c.unreached_length = s.length;
+  const std::string t = describe_unreached(c, Eigen::Isometry3d::Identity(), 0.01, 0.0002, "robot_base");
+  EXPECT_EQ(t.find("100.0 %"), std::string::npos) << t;
+  EXPECT_NE(t.find("(99.9 % reached)"), std::string::npos) << t;
+  EXPECT_NE(t.find("(up to 0.4 mm beyond)"), std::string::npos) << t;
+  EXPECT_NE(t.find("tighter than the tool's 10.0 mm radius"), std::string::npos) << t;
 }

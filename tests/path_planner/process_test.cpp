@@ -177,6 +177,20 @@ TEST_F(PathPlannerProcess, ErrorOutlineBadOutlineAndGarbageGiveErrorStatuses) {
   EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_FAILED);
   EXPECT_NE(s->message.find("too few points on the plate"), std::string::npos) << s->message;
 
+  // An outline whose scan quality is poor ends the job NEEDS_RESCAN with the reason, and no path (issue 23).
+  auto poor = plate_outline(3);
+  poor.quality = +hullgrind::outline_t::QUALITY_POOR;
+  poor.quality_text = "42 % of the edge in dropout or shadow";
+  lcm.publish("HG_OUTLINE", &poor);
+  r = start("job-poor");
+  lcm.publish("HG_JOB_REQUEST", &r);
+  s = final_status("job-poor");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_NEEDS_RESCAN) << s->message;
+  EXPECT_NE(s->message.find("scan quality poor, rescan: 42 % of the edge in dropout or shadow"), std::string::npos)
+      << s->message;
+  EXPECT_TRUE(bus.paths.empty()) << "no path on a poor scan";
+
   auto nan = plate_outline(2);
   nan.loops[1].u[2] = std::nan("");
   lcm.publish("HG_OUTLINE", &nan);
