@@ -37,7 +37,8 @@ Runs the whole hullgrind pipeline once, in its own network namespace, and writes
                      against its ground truth (out/outline.json, outline.png)
   -h, --help         this text
 Other inputs: edit the camera process in the pipeline file: --source openni2 with --uri of a real
-device or an .oni file, --source files --files DIR, and the robot with --driver ur (docs/RUNNING.md).
+device or an .oni file, --source files --files DIR (docs/cameras.md; every option of the camera bridge:
+docs/PARAMETERS.md#hg-camera-bridge), and the robot with --driver ur (docs/robot_bridge.md).
 USAGE
 }
 
