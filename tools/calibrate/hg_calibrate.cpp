@@ -137,6 +137,7 @@ void store(const Args& a, const std::string& method, const Eigen::Isometry3d* to
   if (to_base) c.calibration.camera_to_base = *to_base;
   c.calibration.camera_to_flange.reset();
   if (to_flange) c.calibration.camera_to_flange = *to_flange;
+  c.calibration.mounting = to_flange ? cell::Mounting::EyeInHand : cell::Mounting::EyeToHand;  // what was measured
   c.calibration.date = cell::utc_now_iso();
   c.calibration.method = method;
   c.calibration.rms_mm = rms * 1e3;
