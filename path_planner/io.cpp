@@ -330,7 +330,8 @@ OutlineInput from_lcm(const hullgrind::outline_t& m) {
 
 hullgrind::grind_path_t to_lcm(const PlanResult& r, const std::string& job_id, std::int64_t outline_seq,
                                const std::string& frame, std::int64_t utime) {
-  hullgrind::grind_path_t g;
+  hullgrind::grind_path_t g{};  // every count zero: a message that encodes (coverage, unreached are h1's)
+  g.revision = 1;
   g.header.utime = utime;
   g.header.frame_id = frame;
   g.job_id = job_id;
