@@ -180,6 +180,23 @@ HandEyeMethod solve_one(const std::vector<Eigen::Isometry3d>& f2b, const std::ve
 
 }  // namespace
 
+double fit_camera_height(Eigen::Isometry3d& camera_to_flange, const std::vector<Eigen::Isometry3d>& flange_to_base,
+                         const std::vector<std::vector<Eigen::Vector3d>>& centres_camera, double centre_height) {
+  const Eigen::Vector3d axis = camera_to_flange.linear() * Eigen::Vector3d::UnitZ();  // optical axis, flange frame
+  double num = 0, den = 0;  // least squares of the heights e + s a = 0 over every centre
+  for (std::size_t i = 0; i < flange_to_base.size() && i < centres_camera.size(); ++i) {
+    const double a = (flange_to_base[i].linear() * axis).z();  // height change per metre along the axis
+    for (const Eigen::Vector3d& c : centres_camera[i]) {
+      num += ((flange_to_base[i] * camera_to_flange * c).z() - centre_height) * a;
+      den += a * a;
+    }
+  }
+  if (!(den > 1e-6)) throw CalibrationError("hand-eye: no view looks down at the plate: its height cannot be fitted");
+  const double s = -num / den;
+  camera_to_flange.translation() += s * axis;
+  return s;
+}
+
 HandEyeResult solve_eye_in_hand(const std::vector<Eigen::Isometry3d>& flange_to_base,
                                 const std::vector<Eigen::Isometry3d>& target_to_camera, double min_rotation) {
   if (flange_to_base.size() != target_to_camera.size())

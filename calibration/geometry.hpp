@@ -63,6 +63,15 @@ HandEyeResult solve_eye_in_hand(const std::vector<Eigen::Isometry3d>& flange_to_
                                 const std::vector<Eigen::Isometry3d>& target_to_camera,
                                 double min_rotation = 5.0 * M_PI / 180);
 
+// Eye-in-hand with the target on the table: the hole centres' height in the base frame is known (the cell's
+// table-z + the plate's thickness). The hand-eye solve leaves the camera's distance along its optical axis
+// weakly determined (every view sees the plate from about the same side: the pm806 demo's views were 0.55-0.74
+// mm off along it); this moves camera_to_flange along the camera's optical axis by the least-squares amount
+// that puts every predicted centre (flange_to_base[i] x camera_to_flange x centres_camera[i][k]) at
+// centre_height. Returns the shift (m, along the axis). Throws CalibrationError when no view looks down.
+double fit_camera_height(Eigen::Isometry3d& camera_to_flange, const std::vector<Eigen::Isometry3d>& flange_to_base,
+                         const std::vector<std::vector<Eigen::Vector3d>>& centres_camera, double centre_height);
+
 // Rotation angle of a.inverse() * b, radians.
 double rotation_distance(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
 

@@ -11,6 +11,7 @@
 #include "hullgrind/depth_frame_t.hpp"
 #include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/job_request_t.hpp"
+#include "hullgrind/robot_status_t.hpp"
 #include "runtime/channels.hpp"
 
 #if HG_HAVE_OPENNI2
@@ -107,6 +108,8 @@ runtime::ProcessInfo process_info() {
       "skipped. A decimated PNG depth image goes to HG_DEPTH (depth_frame_t) at most --depth-rate per second.\n"
       "A device that is missing or lost sets the heartbeat to ERROR with the reason and is retried with\n"
       "back-off (--retry-min doubling up to --retry-max) until it comes back.\n"
+      "Eye-in-hand: every cloud carries the robot's flange pose at capture (plate_cloud_t flange_*), the latest\n"
+      "HG_ROBOT_STATUS if the robot was IDLE and heard within 1 s, else flange_valid false (docs/calibration.md).\n"
       "Plate-plane axes: normal towards the camera, u = camera x projected into the plane, v = normal x u.\n"
       "Sources: synthetic (scene renderer), files (16-bit PNG directory + intrinsics YAML";
   details += can_read_clouds() ? ", or one .pcd/.ply cloud)" : "; .pcd/.ply not in this build)";
@@ -253,8 +256,25 @@ void fill_plate_cloud(const Segmentation& s, plate_cloud_t& m) {
   m.num_parts = static_cast<std::int16_t>(ok ? s.num_parts : 0);
 }
 
+void fill_flange(const std::optional<FlangeReading>& r, std::int64_t now_utime, plate_cloud_t& m) {
+  m.flange_valid = r && r->mode == hullgrind::robot_status_t::MODE_IDLE &&
+                   std::abs(double(now_utime - r->recv_utime)) * 1e-6 <= kFlangeMaxAge;
+  for (int i = 0; i < 3; ++i) m.flange_position[i] = m.flange_valid ? r->position[i] : 0.0;
+  for (int i = 0; i < 4; ++i) m.flange_orientation[i] = m.flange_valid ? r->orientation[i] : (i == 0 ? 1.0 : 0.0);
+}
+
 Bridge::Bridge(runtime::Node& node, std::unique_ptr<camera::DepthSource> source, BridgeOptions options)
     : node_(node), source_(std::move(source)), opt_(std::move(options)) {
+  node_.subscribe<hullgrind::robot_status_t>(channels::kRobotStatus,
+                                             [this](const hullgrind::robot_status_t& m, const runtime::Delivery& d) {
+                                               FlangeReading r;
+                                               std::copy(m.tcp_position, m.tcp_position + 3, r.position);
+                                               std::copy(m.tcp_orientation, m.tcp_orientation + 4, r.orientation);
+                                               r.mode = m.mode;
+                                               r.recv_utime = d.recv_utime;
+                                               std::lock_guard lock(mutex_);
+                                               flange_ = r;
+                                             });
   if (opt_.job_trigger) {
     node_.subscribe<hullgrind::job_request_t>(channels::kJobRequest,
                                               [this](const hullgrind::job_request_t& m, const runtime::Delivery&) {
@@ -381,9 +401,10 @@ void Bridge::process(camera::DepthFrame& frame) {
   msg.source_frame_seq = frame.seq;
   fill_plate_cloud(s, msg);
   std::string job;
-  if (opt_.job_trigger) {
+  {
     std::lock_guard lock(mutex_);
-    if (!jobs_.empty()) {
+    fill_flange(flange_, runtime::now_utime(), msg);
+    if (opt_.job_trigger && !jobs_.empty()) {
       job = jobs_.front();
       jobs_.pop_front();
     }

@@ -13,6 +13,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -46,6 +47,21 @@ std::unique_ptr<camera::DepthSource> source_from(const runtime::Node& node);
 // plate_cloud_t from a segmentation (status, plane, points). Exposed for tests.
 void fill_plate_cloud(const Segmentation& s, hullgrind::plate_cloud_t& msg);
 
+// The robot's last report on HG_ROBOT_STATUS: for an eye-in-hand camera (on the flange), where the camera
+// was at capture. The carrying robot reports its flange as the TCP (as hg-calibrate reads it).
+struct FlangeReading {
+  double position[3] = {0, 0, 0};
+  double orientation[4] = {1, 0, 0, 0};  // w, x, y, z
+  std::int8_t mode = 0;                  // robot_status_t::MODE_*
+  std::int64_t recv_utime = 0;
+};
+constexpr double kFlangeMaxAge = 1.0;  // s: an older reading does not stand for the capture
+
+// The cloud's flange fields from the latest reading: valid only for a robot standing still (IDLE: not
+// RUNNING, no FAULT) heard within kFlangeMaxAge of now_utime; otherwise flange_valid false (and the planner of
+// an eye-in-hand cell refuses the outline).
+void fill_flange(const std::optional<FlangeReading>& r, std::int64_t now_utime, hullgrind::plate_cloud_t& msg);
+
 class Bridge {
  public:
   Bridge(runtime::Node& node, std::unique_ptr<camera::DepthSource> source, BridgeOptions options);
@@ -78,6 +94,7 @@ class Bridge {
   int corrupt_in_a_row_ = 0;
   std::int64_t skipped_seen_ = 0;  // source_->frames_skipped() already counted as dropped
   runtime::RateLimiter corrupt_log_{5, std::chrono::seconds(10)};
+  std::optional<FlangeReading> flange_;  // guarded by mutex_
 };
 
 // Wires the process onto a node (runtime::run_process): reads the parameters (throws runtime::ConfigError or

@@ -79,10 +79,20 @@ Eigen::Isometry3d transform(const YAML::Node& n, const std::string& where, const
   return t;
 }
 
+Mounting mounting(const YAML::Node& n, const std::string& where, const std::string& key) {
+  if (!n) return Mounting::EyeToHand;
+  const std::string m = text(n, where, key);
+  if (m == to_string(Mounting::EyeToHand)) return Mounting::EyeToHand;
+  if (m == to_string(Mounting::EyeInHand)) return Mounting::EyeInHand;
+  fail(where, key, "'" + m + "' is neither eye-to-hand nor eye-in-hand");
+}
+
 Calibration read_calibration(const YAML::Node& n, const std::string& where) {
   const std::string p = "calibration.";
-  only_keys(n, {"camera-to-base", "camera-to-flange", "date", "method", "rms-mm", "worst-mm", "features"}, where, p);
+  only_keys(n, {"mounting", "camera-to-base", "camera-to-flange", "date", "method", "rms-mm", "worst-mm", "features"},
+            where, p);
   Calibration c;
+  c.mounting = mounting(n["mounting"], where, p + "mounting");
   c.camera_to_base = transform(need(n, "camera-to-base", where, p), where, p + "camera-to-base");
   if (n["camera-to-flange"]) c.camera_to_flange = transform(n["camera-to-flange"], where, p + "camera-to-flange");
   c.date = text(need(n, "date", where, p), where, p + "date");
@@ -123,6 +133,8 @@ std::string stamp_for_file() {
 
 }  // namespace
 
+const char* to_string(Mounting m) { return m == Mounting::EyeInHand ? "eye-in-hand" : "eye-to-hand"; }
+
 std::string utc_now_iso() {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::tm tm{};
@@ -142,6 +154,8 @@ void validate(const Cell& c, const std::string& where) {
     fail(where, "calibration.camera-to-base", "rotation part is not a proper orthonormal matrix");
   if (c.calibration.camera_to_flange && !is_rotation(c.calibration.camera_to_flange->linear()))
     fail(where, "calibration.camera-to-flange", "rotation part is not a proper orthonormal matrix");
+  if (c.calibration.mounting == Mounting::EyeInHand && !c.calibration.camera_to_flange)
+    fail(where, "calibration.camera-to-flange", "missing: calibration.mounting eye-in-hand needs it");
   if (c.calibration.rms_mm < 0 || c.calibration.worst_mm < c.calibration.rms_mm)
     fail(where, "calibration.rms-mm", "residuals must satisfy 0 <= rms-mm <= worst-mm");
   for (int i = 0; i < 3; ++i)
@@ -194,6 +208,7 @@ std::string write_cell(const std::string& path, const Cell& c) {
       << YAML::Newline;
   YAML::Node root;
   YAML::Node cal;
+  cal["mounting"] = to_string(c.calibration.mounting);
   cal["camera-to-base"] = rows(c.calibration.camera_to_base);
   if (c.calibration.camera_to_flange) cal["camera-to-flange"] = rows(*c.calibration.camera_to_flange);
   cal["date"] = c.calibration.date;

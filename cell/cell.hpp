@@ -16,14 +16,22 @@ struct CellError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Where the camera is: fixed over the table (eye-to-hand: camera-to-base places every cloud) or on the
+// robot's flange (eye-in-hand: camera-to-base = base<-flange at capture x camera-to-flange).
+enum class Mounting { EyeToHand, EyeInHand };
+const char* to_string(Mounting m);  // "eye-to-hand" | "eye-in-hand", the cell file's words
+
 struct Calibration {
-  Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();  // p_base = T * p_camera
-  std::string date;                                                  // ISO 8601 UTC, when it was measured
+  Mounting mounting = Mounting::EyeToHand;  // key mounting; absent: eye-to-hand
+  // p_base = T * p_camera; eye-in-hand: not used for planning (the pose changes with the robot)
+  Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();
+  std::string date;     // ISO 8601 UTC, when it was measured
   std::string method;   // "eye-to-hand umeyama", "eye-in-hand tsai", "manual", ...
   double rms_mm = 0;    // RMS residual of the fit, mm
   double worst_mm = 0;  // largest residual, mm
   int features = 0;     // holes (eye-to-hand) or views (eye-in-hand) the fit used
-  // Eye-in-hand only: camera -> flange (p_flange = T * p_camera); key camera-to-flange, absent otherwise.
+  // Eye-in-hand: camera -> flange (p_flange = T * p_camera); key camera-to-flange, required by mounting
+  // eye-in-hand, kept but unused by eye-to-hand.
   std::optional<Eigen::Isometry3d> camera_to_flange;
 };
 

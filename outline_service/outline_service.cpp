@@ -1,5 +1,6 @@
 #include "outline_service/outline_service.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -93,6 +94,9 @@ void start_outline(const hullgrind::plate_cloud_t& cloud, const outline::Options
     out.plane_v_axis[i] = cloud.plane_v_axis[i];
   }
   out.thickness = cloud.thickness;
+  out.flange_valid = cloud.flange_valid;  // eye-in-hand: where the camera was when the cloud was captured
+  std::copy(cloud.flange_position, cloud.flange_position + 3, out.flange_position);
+  std::copy(cloud.flange_orientation, cloud.flange_orientation + 4, out.flange_orientation);
   out.num_loops = 0;
   out.points_read = cloud.n;
   out.mode = outline::to_string(options.mode);

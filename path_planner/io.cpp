@@ -170,6 +170,8 @@ PlannerConfig config_from(const ParamLookup& L, const cell::LoadedCell& cell) {
   c.resample_chord_error = P.number("resample-chord-error");
   c.small_hole = P.text("small-hole") == "skip" ? SmallHolePolicy::Skip : SmallHolePolicy::Fail;
   c.camera_to_base = cell.cell.calibration.camera_to_base;
+  if (cell.cell.calibration.mounting == cell::Mounting::EyeInHand)
+    c.camera_to_flange = cell.cell.calibration.camera_to_flange;
   c.default_plane = {vec3(P, "plane-origin"), vec3(P, "plane-u"), vec3(P, "plane-v"), vec3(P, "plane-normal")};
   c.base_frame = P.text("base-frame");
   c.home = cell.cell.home;
@@ -248,6 +250,11 @@ OutlineFrame resolve_outline_frame(const std::string& file_frame, const std::str
   }
   if (f.used == cfg.base_frame) {
     f.camera_to_base = Eigen::Isometry3d::Identity();
+  } else if (f.used == "camera" && cfg.camera_to_flange) {
+    throw ConfigError("the cell " + cfg.cell_file +
+                      " is eye-in-hand (calibration.mounting): an outline file holds no flange pose to place a "
+                      "camera-frame plane with; give the outline in " +
+                      cfg.base_frame + " (--outline-frame " + cfg.base_frame + ")");
   } else if (f.used == "camera") {
     f.camera_to_base = cfg.camera_to_base;
   } else {
@@ -332,7 +339,8 @@ OutlineInput from_lcm(const hullgrind::outline_t& m) {
 
 hullgrind::grind_path_t to_lcm(const PlanResult& r, const std::string& job_id, std::int64_t outline_seq,
                                const std::string& frame, std::int64_t utime) {
-  hullgrind::grind_path_t g;
+  hullgrind::grind_path_t g{};  // every count zero: a message that encodes (coverage, unreached are h1's)
+  g.revision = 1;
   g.header.utime = utime;
   g.header.frame_id = frame;
   g.job_id = job_id;

@@ -68,6 +68,10 @@ nlohmann::ordered_json coverage_json(const PlanResult& result);
 const char* kind_name(std::int8_t kind);
 
 OutlineInput from_lcm(const hullgrind::outline_t& msg);
+// The camera-to-base this outline is planned with, set in cfg: eye-to-hand (cfg.camera_to_flange empty) the
+// cell's, unchanged; eye-in-hand base<-flange at capture (the outline's flange fields) x camera-to-flange.
+// Returns why not (no valid flange pose, not a unit quaternion), empty when placed. mounting.cpp.
+std::string place_outline(const hullgrind::outline_t& msg, PlannerConfig& cfg);
 hullgrind::grind_path_t to_lcm(const PlanResult& result, const std::string& job_id, std::int64_t outline_seq,
                                const std::string& frame, std::int64_t utime);
 

@@ -138,9 +138,12 @@ class Planner {
     jp.safe_height = req.safe_height;
     jp.direction = Direction(req.direction);
     jp.flipped = req.flipped;
+    PlannerConfig cfg = cfg_;  // eye-in-hand: placed with this outline's flange pose
+    if (const std::string why = place_outline(m, cfg); !why.empty())
+      return status(req, hullgrind::job_status_t::STATE_FAILED, 0, why);
     PlanResult r;
     try {
-      r = plan(from_lcm(m), jp, cfg_, robot_);
+      r = plan(from_lcm(m), jp, cfg, robot_);
     } catch (const std::exception& e) {  // never let one job's input take the process down
       r.ok = false;
       r.reason = std::string("internal error: ") + e.what();

@@ -289,6 +289,8 @@ struct PlannerConfig {
   double resample_chord_error =
       1e-5;  // largest distance of a resampled chord from the offset ring, m (as arc_tolerance)
   Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();
+  // Eye-in-hand cells: camera -> flange; each outline is placed with its flange pose (place_outline).
+  std::optional<Eigen::Isometry3d> camera_to_flange;
   Plane default_plane;            // used when an outline file has no plane
   Vec3 home = Vec3(0.5, 0, 0.3);  // base frame; start reference when the robot's position is unknown
   std::string base_frame = "robot_base";

@@ -2,27 +2,42 @@
 # Installs the Debian 12 packages hullgrind needs to build, run and test. Idempotent: when everything
 # is present it only checks (a fraction of a second) and installs nothing.
 # Not root: prints the exact apt-get line to run and exits 1.
+#
+# usage: tools/install-deps.sh [--run]
+#   (no option)  everything: build, run and test (`make test`, CI)
+#   --run        only what `make run` needs: build the pipeline's programs and run them (no JDK, browser,
+#                clang, CGAL or lint tools; `make test` installs those later)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
 hg_answer install-deps "$0" "$@"
 
-packages=(
-  # build
-  cmake ninja-build ccache g++ pkg-config
+run_packages=(
+  # build (GoogleTest too: configuring the tree configures the tests)
+  cmake ninja-build ccache g++ pkg-config libgtest-dev
   # runtime libraries
-  liblcm-dev liblcm-bin liblcm-java libopenni2-dev libaravis-dev libusb-1.0-0-dev libeigen3-dev libopencv-dev
+  liblcm-dev liblcm-bin libopenni2-dev libaravis-dev libusb-1.0-0-dev libeigen3-dev libopencv-dev
   cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev libyaml-cpp-dev
-  # lcm-spy, tools and tests
-  default-jdk-headless default-jre libjchart2d-java libgtest-dev iproute2 xvfb python3 openssl
+  # operator station (HTTP/WebSocket, password hashing, the 3-D view) and MCAP chunks
+  libboost-dev libsodium-dev libjs-three libzstd-dev liblz4-dev
+  # tools/run.sh: its network namespace, python3 for the supervisor, the test DDS Security set
+  iproute2 python3 openssl
+)
+test_packages=(
+  # lcm-spy and its tests (headless)
+  liblcm-java default-jdk-headless default-jre libjchart2d-java xvfb
   # lint (tools/lint: make test runs the function-length check; formatting with clang-format)
   universal-ctags clang-format
   # test-only oracle for the outline core (never needed to build or run the product)
   libcgal-dev libgmp-dev
-  # operator station (HTTP/WebSocket, password hashing, the 3-D view) and MCAP chunks
-  libboost-dev libsodium-dev libjs-three libzstd-dev liblz4-dev
   # browser tests (a real Chromium through Selenium), fuzzing (libFuzzer with clang)
   chromium chromium-driver python3-selenium clang libclang-rt-14-dev
 )
+packages=("${run_packages[@]}")
+case "${1:-}" in
+  --run) ;;
+  "") packages+=("${test_packages[@]}") ;;
+  *) echo "install-deps: unknown option '$1' (--run or nothing)" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do

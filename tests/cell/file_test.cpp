@@ -37,6 +37,7 @@ Cell random_cell(std::mt19937_64& rng) {
     f.linear() = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
     f.translation() = Eigen::Vector3d(0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
     c.calibration.camera_to_flange = f;
+    if (rng() % 2) c.calibration.mounting = hg::cell::Mounting::EyeInHand;
   }
   c.workspace_min = Eigen::Vector3d(-1 + 0.1 * u(rng), -1 + 0.1 * u(rng), -0.2 + 0.1 * u(rng));
   c.workspace_max = Eigen::Vector3d(1 + 0.1 * u(rng), 1 + 0.1 * u(rng), 1 + 0.1 * u(rng));
@@ -84,6 +85,7 @@ TEST(Cell, RandomCellsSurviveAWriteAndARead) {
     fs::remove(p);
     hg::cell::write_cell(p.string(), c);
     const Cell r = hg::cell::read_cell(p.string());
+    EXPECT_EQ(r.calibration.mounting, c.calibration.mounting);
     EXPECT_EQ(r.calibration.camera_to_base.matrix(), c.calibration.camera_to_base.matrix());  // 17 digits: exact
     ASSERT_EQ(r.calibration.camera_to_flange.has_value(), c.calibration.camera_to_flange.has_value());
     if (c.calibration.camera_to_flange) {
@@ -155,6 +157,10 @@ TEST(Cell, ErrorsNameTheFileAndTheKey) {
       {"  min: [-1.0, -1.0, 0.0]", "  min: [-1.0, -1.0]", f + "workspace.min: expected a list of 3"},
       {"home: [0.5, 0.0, 0.3]", "home: [0.5, 0.0, 3.0]", f + "home: must lie inside"},
       {"table-z: 0.0", "table-z: 0.0\ntable-z: 1.0", f + "table-z: given twice"},
+      {"  mounting: eye-to-hand", "  mounting: on-the-wall",
+       f + "calibration.mounting: 'on-the-wall' is neither eye-to-hand nor eye-in-hand"},
+      {"  mounting: eye-to-hand", "  mounting: eye-in-hand",
+       f + "calibration.camera-to-flange: missing: calibration.mounting eye-in-hand needs it"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.to);
@@ -163,6 +169,9 @@ TEST(Cell, ErrorsNameTheFileAndTheKey) {
     EXPECT_EQ(err.rfind(c.expect, 0), 0u) << err;
   }
   EXPECT_EQ(error_of(cell_text(), p), "");  // the unchanged file is fine
+  // Without the key, a cell is eye-to-hand (the files written before it existed).
+  EXPECT_EQ(error_of(cell_text("  mounting: eye-to-hand", ""), p), "");
+  EXPECT_EQ(hg::cell::read_cell(p.string()).calibration.mounting, hg::cell::Mounting::EyeToHand);
   try {
     hg::cell::read_cell("/nonexistent/cell.yaml");
     ADD_FAILURE() << "no error";

@@ -65,7 +65,7 @@ struct Peer {
 Peer start_peer(const std::string& job_id, double seconds, const std::string& sec_dir, const std::string& identity) {
   int p[2];
   if (pipe(p) != 0) return {};
-  std::vector<std::string> args = {std::string(HG_BIN_DIR) + "/dds_peer",
+  std::vector<std::string> args = {std::string(HG_TESTS_DIR) + "/dds_peer",
                                    std::to_string(kDomain),
                                    cyclone_config(),
                                    "hg_",

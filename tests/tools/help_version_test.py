@@ -1,7 +1,8 @@
 """Every program built into build/bin and every script of the tree answers --help and --version: exit 0, something on
 standard output (--version: the project's version, read here from CMakeLists.txt), and no file created —
-neither in the working directory, nor in $TMPDIR, nor in the source tree. Runs in its own network
-namespace (tests/netns.sh) in case a program opened a socket it should not."""
+neither in the working directory, nor in $TMPDIR, nor in the source tree. build/bin holds the user programs only
+(test binaries go to build/tests). Runs in its own network namespace (tests/netns.sh) in case a program opened a
+socket it should not."""
 import os
 import re
 import subprocess
@@ -17,11 +18,20 @@ def project_version():
         return re.search(r"^project\(hullgrind VERSION ([0-9.]+)", f.read(), re.M).group(1)
 
 
+def declared_programs():
+    """The user programs: every executable target outside tests/ (HG_PROGRAMS, from CMake)."""
+    return sorted(n for n in os.environ.get("HG_PROGRAMS", "").split(",") if n)
+
+
 def programs():
-    """The installed programs: every executable target outside tests/ (HG_PROGRAMS, from CMake; the test
-    binaries share build/bin). Each must have been built."""
-    names = [n for n in os.environ.get("HG_PROGRAMS", "").split(",") if n]
-    return [os.path.join(BIN, n) for n in sorted(names)]
+    """Every program in build/bin (test binaries go to build/tests)."""
+    return [os.path.join(BIN, n) for n in declared_programs()]
+
+
+def bin_listing():
+    """The executable files in build/bin, whatever made them."""
+    return sorted(n for n in os.listdir(BIN) if os.path.isfile(os.path.join(BIN, n)) and
+                  os.access(os.path.join(BIN, n), os.X_OK))
 
 
 def is_script(path):
@@ -63,6 +73,9 @@ class HelpAndVersion(unittest.TestCase):
         self.assertGreater(len(programs()), 15, "HG_PROGRAMS lists the programs (set by CMake)")
         for exe in programs():
             self.assertTrue(os.access(exe, os.X_OK), exe + " is not built")
+        # build/bin holds the user programs and nothing else: no test binary, no program CMake no longer makes.
+        self.assertEqual(sorted(set(bin_listing()) - set(declared_programs())), [],
+                         "executables in build/bin that are no user program (test binaries belong in build/tests)")
         self.assertGreater(len(scripts()), 8)
         version = project_version()
         before = tree_snapshot(SRC)

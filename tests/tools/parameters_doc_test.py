@@ -12,6 +12,10 @@ BIN = os.environ.get("HG_BIN_DIR", os.path.join(SRC, "build", "bin"))
 DOC = os.path.join(SRC, "docs", "PARAMETERS.md")
 PROGRAMS = ["hg-camera-bridge", "hg-outline-service", "hg-path-planner", "hg-robot-bridge", "hg-dds-gateway",
             "hg-job-recorder", "hg-plan", "hg-outline", "hg-robot-export", "hg-gen", "hg-calibrate", "hg-bench"]
+# The programs with an option parser of their own (not runtime::Params): the page names them, their --help is
+# their reference. Every user program (HG_PROGRAMS, from CMake) is in one list or the other.
+OWN_OPTIONS = ["hg-overview", "hg-lcm-dump", "hg-lcm-send", "hg-camera-render", "hg-fake-genicam", "hg-bench-camera",
+               "hg-bench-outline-service", "hg-plan-bench", "hg-core-timing", "hg-radius-table", "hg-bench-rss"]
 HEADER = """# Parameters
 
 Every parameter of the processes and of the tools built on the same parameter handling, as each program
@@ -20,7 +24,10 @@ kebab-case, the same on the command line (`--tool-radius 0.01`, lists as `0.5,0,
 YAML file (`tool-radius: 0.01`, lists as `[0.5, 0, 1.2]`, booleans `true`/`false`); the command line wins
 over the file, the file over the default. Generated: `tests/tools/parameters_doc_test.py` checks that this
 page matches the programs.
-"""
+
+Not on this page: %s parse their own options (not yet the shared parameter handling); `PROGRAM --help`
+lists them.
+""" % ", ".join("`%s`" % n for n in OWN_OPTIONS)
 
 
 def generated():
@@ -34,6 +41,13 @@ def generated():
 
 
 class ParametersDoc(unittest.TestCase):
+    def test_every_program_is_on_the_page_or_named_as_parsing_its_own(self):
+        declared = set(n for n in os.environ.get("HG_PROGRAMS", "").split(",") if n)
+        self.assertGreater(len(declared), 15, "HG_PROGRAMS lists the programs (set by CMake)")
+        self.assertEqual(sorted(declared - set(PROGRAMS) - set(OWN_OPTIONS)), [],
+                         "programs neither in PARAMETERS.md nor named as parsing their own options")
+        self.assertEqual(sorted(set(PROGRAMS) & set(OWN_OPTIONS)), [])
+
     def test_doc_matches_the_programs(self):
         text = generated()
         for name in PROGRAMS:

@@ -129,6 +129,9 @@ void small_time_table(std::ostream& o, const Report& r, const std::string& set, 
 // Title, how the figures were measured, and what the method names mean.
 void header_section(std::ostream& o, const Report& r) {
   o << "# Outline core benchmark: the paper's tables, our insertion orders, CGAL and PCL\n\n"
+    << "The paper: Hang Yu, Yixi Zhao, Chongben Ni, Jinhong Ding, Tao Zhang, Ran Zhang and Xintian Jiang, \"A Novel "
+       "Vision-Based Outline Extraction Method for Hull Components in Shipbuilding\", *Journal of Marine Science and "
+       "Engineering* 12(3), 453, MDPI, 2024, doi:10.3390/jmse12030453.\n\n"
     << "Written by `hg-bench` (tools/bench/). All figures below come from ONE run of one process: times are "
        "medians of repeated runs of the whole outline (triangulation + circumradius classification + loops; "
        "reading the file excluded), one thread unless a column says otherwise, Release; methods are run round-robin so load bursts "

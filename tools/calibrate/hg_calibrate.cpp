@@ -139,6 +139,7 @@ void store(const Args& a, const std::string& method, const Eigen::Isometry3d* to
   if (to_base) c.calibration.camera_to_base = *to_base;
   c.calibration.camera_to_flange.reset();
   if (to_flange) c.calibration.camera_to_flange = *to_flange;
+  c.calibration.mounting = to_flange ? cell::Mounting::EyeInHand : cell::Mounting::EyeToHand;  // what was measured
   c.calibration.date = cell::utc_now_iso();
   c.calibration.method = method;
   c.calibration.rms_mm = rms * 1e3;
@@ -194,11 +195,23 @@ int eye_in_hand(const Args& a) {
   const calibration::Drawing d = calibration::calibration_plate_drawing();
   const auto seen = detect_all(s, d);
   std::vector<Eigen::Isometry3d> flange, plate;
+  std::vector<std::vector<Eigen::Vector3d>> centres;
   for (std::size_t v = 0; v < seen.size(); ++v) {
     flange.push_back(*s.views[v].flange_to_base);
     plate.push_back(seen[v].plate_to_camera);
+    centres.emplace_back();
+    for (const auto& h : seen[v].holes) centres.back().push_back(h.centre_camera);
   }
-  const calibration::HandEyeResult r = calibration::solve_eye_in_hand(flange, plate);
+  calibration::HandEyeResult r = calibration::solve_eye_in_hand(flange, plate);
+  // The plate lies on the cell's table: its hole centres are at table-z + thickness in the base frame, which
+  // fixes the camera's distance along its optical axis that the views leave weakly determined.
+  const double centre_height = cell::read_cell(a.cell).table_z + d.thickness;
+  for (auto& m : r.methods)
+    std::printf("eye-in-hand %s: moved %.3f mm along the optical axis to put the holes at the table's height\n",
+                m.name.c_str(),
+                calibration::fit_camera_height(m.camera_to_flange, flange, centres, centre_height) * 1e3);
+  r.disagreement_translation =
+      (r.methods[0].camera_to_flange.translation() - r.methods[1].camera_to_flange.translation()).norm();
   json methods = json::array();
   for (const auto& m : r.methods) {
     json views = json::array();

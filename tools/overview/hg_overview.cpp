@@ -119,17 +119,20 @@ int main(int argc, char** argv) {
   try {
     // Camera -> base from the cell file, through the planner's own configuration code, as the run gave them.
     const hg::runtime::Config cfg = hg::runtime::Config::load(planner_config);
-    const auto planner = hg::path_planner::config_from(hg::path_planner::lookup_from(planner_cli, cfg));
-    const Eigen::Isometry3d camera_to_base = planner.camera_to_base;
-    std::printf("camera-to-base calibration (from the cell file %s): %s\n", planner.cell_file.c_str(),
-                hg::path_planner::matrix_text(camera_to_base).c_str());
-
+    auto planner = hg::path_planner::config_from(hg::path_planner::lookup_from(planner_cli, cfg));
     auto log = hg::overview::read_run_log(log_path);
     auto job = hg::overview::trace_job(log, job_id);
     if (job.job_id.empty()) {
       std::fprintf(stderr, "hg-overview: %s: no job request in the log (%zu events)\n", log_path.c_str(), log.events);
       return 1;
     }
+    // Eye-in-hand: the outline's flange pose at capture, as the planner placed it.
+    if (const std::string why = job.outline ? hg::path_planner::place_outline(job.outline->msg, planner) : "";
+        !why.empty())
+      std::fprintf(stderr, "hg-overview: warning: %s\n", why.c_str());
+    const Eigen::Isometry3d camera_to_base = planner.camera_to_base;
+    std::printf("camera-to-base calibration (from the cell file %s): %s\n", planner.cell_file.c_str(),
+                hg::path_planner::matrix_text(camera_to_base).c_str());
     std::filesystem::create_directories(out_dir);
     hg::outline::io::StagedFiles files;
     if (job.outline) files.stage(out_dir + "/outline.json", hg::overview::outline_json(job).dump(1) + "\n");
