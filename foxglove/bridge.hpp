@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "lcm_schema.hpp"
+#include "tools/lcm_tools/lcm_schema.hpp"
 
 namespace hg::foxglove {
 

@@ -17,7 +17,7 @@
 #include <cstdint>
 #include <string>
 
-#include "lcm_schema.hpp"
+#include "tools/lcm_tools/lcm_schema.hpp"
 
 namespace hg::foxglove {
 
