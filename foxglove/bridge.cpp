@@ -191,6 +191,14 @@ int Bridge::well_known(const std::string& name, const std::string& schema_name, 
   return id;
 }
 
+Converted Bridge::camera_transform(int64_t utime) {
+  Converted c;
+  if (!opt_.camera_to_base || opt_.camera_to_flange) return c;
+  int tf = well_known(kTf, "foxglove.FrameTransform", c);
+  c.outputs.push_back({tf, transform_json(utime, opt_.base_frame, opt_.camera_frame, *opt_.camera_to_base).dump()});
+  return c;
+}
+
 Converted Bridge::convert(const std::string& channel, const uint8_t* data, std::size_t size,
                           const std::function<bool(int)>& wanted) {
   Converted c;
@@ -364,6 +372,7 @@ void Bridge::derive(const lcmtools::Struct& type, const uint8_t* data, std::size
       base_camera = pose_of(m.flange_position, m.flange_orientation) * *opt_.camera_to_flange;
     else if (opt_.camera_to_base)
       base_camera = *opt_.camera_to_base;
+    opt_.camera_frame = m.header.frame_id;
     int tf = base_camera ? well_known(kTf, "foxglove.FrameTransform", c) : -1;
     if (base_camera && want(tf))
       c.outputs.push_back(

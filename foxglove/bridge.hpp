@@ -44,6 +44,7 @@ struct BridgeOptions {
   // flange, composed with the capture's flange pose. Without either, no base <- camera transform is sent.
   std::optional<Eigen::Isometry3d> camera_to_base, camera_to_flange;
   std::string base_frame = "robot_base";
+  std::string camera_frame = "camera";  // until a plate cloud names its frame
 };
 
 struct Output {
@@ -70,6 +71,10 @@ class Bridge {
   // builds only what someone subscribed to; nullptr: everything). Never throws on bad bytes.
   Converted convert(const std::string& channel, const std::uint8_t* data, std::size_t size,
                     const std::function<bool(int)>& wanted = nullptr);
+  // The base <- camera transform of an eye-to-hand cell on /tf at utime (the live server sends it every
+  // second, so a client that connects between jobs has the camera too); nothing without a calibration or
+  // for an eye-in-hand cell (its camera moves: the transform comes with each cloud).
+  Converted camera_transform(std::int64_t utime);
 
  private:
   struct ChannelState {
