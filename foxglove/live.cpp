@@ -14,7 +14,10 @@ namespace hg::foxglove {
 
 namespace {
 
-constexpr std::size_t kSmall = 256 * 1024;  // messages below this are converted even without a subscriber
+// Messages below this are converted even without a subscriber (kept as their channel's last message for a
+// client that subscribes later: the cloud, outline and path come once per job); a 1.6 M-point cloud (19 MB)
+// is converted only for a subscriber.
+constexpr std::size_t kSmall = 4u << 20;
 
 struct Pending {
   std::string channel;
@@ -101,7 +104,9 @@ class Live {
 
   void convert(const Pending& p) {
     const auto* data = reinterpret_cast<const std::uint8_t*>(p.bytes.data());
-    auto wanted = [&](int t) { return p.bytes.size() < kSmall || server_.subscribed(t); };
+    // A topic this message creates is built too: nobody can have subscribed to it yet.
+    const int known = static_cast<int>(bridge_.topics().size());
+    auto wanted = [&](int t) { return p.bytes.size() < kSmall || t >= known || server_.subscribed(t); };
     Converted c = bridge_.convert(p.channel, data, p.bytes.size(), wanted);
     if (c.unknown_type) ++unknown_;
     if (!c.error.empty()) node_.count_decode_error(p.channel, c.error);
