@@ -109,7 +109,7 @@ int convert(const hg::runtime::Params& p) {
     return 1;
   }
   report(in, st, log.size(), seconds);
-  if (st.events == 0 && log.size() > 0) {
+  if (st.events_read == 0 && log.size() > 0) {
     std::filesystem::remove(tmp);
     std::fprintf(stderr, "hg-mcap: %s: not an LCM log (no event in %zu bytes)\n", in.c_str(), log.size());
     return 2;

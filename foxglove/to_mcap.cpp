@@ -35,6 +35,7 @@ ToMcapStats lcmlog_to_mcap(const std::uint8_t* log, std::size_t size, std::FILE*
   LogReader reader(log, size);
   LogEvent e;
   while (reader.next(e)) {
+    ++st.events_read;
     if (e.utime < opt.start_utime || e.utime > opt.end_utime) continue;
     ++st.events;
     std::string channel(e.channel);

@@ -23,7 +23,8 @@ struct ToMcapOptions {
 };
 
 struct ToMcapStats {
-  std::size_t events = 0;   // well-formed events read (in the time range)
+  std::size_t events = 0;       // well-formed events in the time range
+  std::size_t events_read = 0;  // well-formed events in the whole log
   std::size_t corrupt = 0;  // corrupt stretches of the log skipped
   std::vector<std::size_t> corrupt_offsets;
   std::size_t decode_errors = 0;   // events of a known type that did not decode: skipped
