@@ -57,8 +57,9 @@ uint32_t crc32_of(uint32_t crc, const void* data, std::size_t size) {
   return crc;
 }
 
-std::string compress(Compression c, const std::string& in) {
-  std::string out;
+// Into `out` (kept by the writer, so its pages are not faulted in again for every chunk); returns what
+// the chunk holds: out, or `in` itself when uncompressed.
+const std::string& compress(Compression c, const std::string& in, std::string& out) {
   if (c == Compression::Zstd) {
     out.resize(ZSTD_compressBound(in.size()));
     std::size_t n = ZSTD_compress(out.data(), out.size(), in.data(), in.size(), 1);
@@ -72,7 +73,7 @@ std::string compress(Compression c, const std::string& in) {
     if (LZ4F_isError(n)) throw std::runtime_error(std::string("lz4: ") + LZ4F_getErrorName(n));
     out.resize(n);
   } else {
-    out = in;
+    return in;
   }
   return out;
 }
@@ -106,8 +107,15 @@ void McapWriter::write(const void* data, std::size_t size) {
 }
 
 void McapWriter::record(uint8_t opcode, const std::string& content) {
-  std::string r = record_bytes(opcode, content);
-  write(r.data(), r.size());
+  record_head(opcode, content.size());
+  write(content.data(), content.size());
+}
+
+void McapWriter::record_head(uint8_t opcode, uint64_t length) {
+  std::string h;
+  h.push_back(static_cast<char>(opcode));
+  put<uint64_t>(h, length);
+  write(h.data(), h.size());
 }
 
 std::string McapWriter::schema_record(uint16_t id) const {
@@ -176,16 +184,17 @@ void McapWriter::write_message(uint16_t channel, uint32_t sequence, uint64_t log
 void McapWriter::flush_chunk() {
   if (chunk_.empty()) return;
   ChunkIndex ci{chunk_start_, chunk_end_, offset_, 0, {}, 0, 0, chunk_.size()};
-  std::string body = compress(opt_.compression, chunk_);
+  const std::string& body = compress(opt_.compression, chunk_, zbuf_);
   std::string c;
   put<uint64_t>(c, chunk_start_);
   put<uint64_t>(c, chunk_end_);
   put<uint64_t>(c, chunk_.size());
   put<uint32_t>(c, crc32_of(0, chunk_.data(), chunk_.size()));
   put_string(c, compression_name(opt_.compression));
-  put<uint64_t>(c, body.size());  // records: uint64 length + bytes
-  c += body;
-  record(kChunk, c);
+  put<uint64_t>(c, body.size());                // records: uint64 length + bytes
+  record_head(kChunk, c.size() + body.size());  // the body is written as it is, not copied into c
+  write(c.data(), c.size());
+  write(body.data(), body.size());
   ci.length = offset_ - ci.offset;
   ci.compressed_size = body.size();
   uint64_t index_start = offset_;

@@ -55,6 +55,7 @@ class McapWriter {
   };
   void write(const void* data, std::size_t size);  // to the file, counting the offset and the data CRC
   void record(std::uint8_t opcode, const std::string& content);
+  void record_head(std::uint8_t opcode, std::uint64_t length);
   void flush_chunk();
   std::string schema_record(std::uint16_t id) const;
   std::string channel_record(std::uint16_t id) const;
@@ -79,7 +80,7 @@ class McapWriter {
   std::vector<ChannelRec> channels_;
 
   // The open chunk.
-  std::string chunk_;
+  std::string chunk_, zbuf_;
   std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> chunk_index_;
   std::uint64_t chunk_start_ = 0, chunk_end_ = 0;
 

@@ -25,7 +25,7 @@ struct ToMcapOptions {
 struct ToMcapStats {
   std::size_t events = 0;       // well-formed events in the time range
   std::size_t events_read = 0;  // well-formed events in the whole log
-  std::size_t corrupt = 0;  // corrupt stretches of the log skipped
+  std::size_t corrupt = 0;      // corrupt stretches of the log skipped
   std::vector<std::size_t> corrupt_offsets;
   std::size_t decode_errors = 0;   // events of a known type that did not decode: skipped
   std::string first_decode_error;  // "CHANNEL event N: why"

@@ -11,7 +11,7 @@ bin="${HG_BIN_DIR:-$root/build/bin}"
 clouds=${1:-10}
 points=${2:-1590000}
 tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+trap '[[ -n "${HG_KEEP:-}" ]] || rm -rf "$tmp"' EXIT
 # One sample of each type from hg-lcm-send (the current fingerprints), recorded in a network namespace.
 "$root/tests/netns.sh" bash -c "'$root/tools/record' --channels 'HG_.*' '$tmp/samples.lcmlog' >'$tmp/name' & r=\$!;
   while [[ ! -s '$tmp/name' ]]; do sleep 0.05; done; '$bin/hg-lcm-send' sample --type all --count 1 >/dev/null; sleep 0.5; kill \$r; wait \$r" \
@@ -51,6 +51,7 @@ with open(out, "wb") as f:
                 ev("HG_HEARTBEAT", events["HG_HEARTBEAT"])
 PY
 size=$(stat -c %s "$tmp/bench.lcmlog")
+[[ -z "${HG_KEEP:-}" ]] || echo "kept: $tmp/bench.lcmlog"
 echo "log: $clouds plate clouds of $points points + statuses and heartbeats, $(( size / 1000000 )) MB"
 printf '%-12s %-14s %10s %10s %10s\n' compression max-points "MB in" "MB out" "MB/s"
 for mp in 200000 0; do
