@@ -64,6 +64,7 @@ function slowClient() {
   return ws;
 }
 
+// u and v are float32: their JSON is the shortest text of the float, so Math.fround gives the float back.
 function cloudExpectation(msg) {
   const n = msg.n, step = maxPoints === 0 || n <= maxPoints ? 1 : Math.ceil(n / maxPoints);
   const o = msg.plane_origin, ua = msg.plane_u_axis, va = msg.plane_v_axis;
@@ -71,7 +72,7 @@ function cloudExpectation(msg) {
   let count = 0;
   for (let i = 0; i < n; i += step, ++count)
     for (let k = 0; k < 3; ++k) {
-      const x = Math.fround(o[k] + msg.u[i] * ua[k] + msg.v[i] * va[k]);
+      const x = Math.fround(o[k] + Math.fround(msg.u[i]) * ua[k] + Math.fround(msg.v[i]) * va[k]);
       if (x < min[k]) min[k] = x;
       if (x > max[k]) max[k] = x;
     }

@@ -68,6 +68,7 @@ async function indexed(bytes) {
 }
 
 // The plate's points back from a hullgrind.plate_cloud_t JSON message, as hg-mcap decimates them.
+// u and v are float32: their JSON is the shortest text of the float, so Math.fround gives the float back.
 function cloudExpectation(msg, maxPoints) {
   const n = msg.n;
   const step = maxPoints === 0 || n <= maxPoints ? 1 : Math.ceil(n / maxPoints);
@@ -76,7 +77,7 @@ function cloudExpectation(msg, maxPoints) {
   let count = 0;
   for (let i = 0; i < n; i += step) {
     for (let k = 0; k < 3; ++k) {
-      const x = Math.fround(o[k] + msg.u[i] * ua[k] + msg.v[i] * va[k]);
+      const x = Math.fround(o[k] + Math.fround(msg.u[i]) * ua[k] + Math.fround(msg.v[i]) * va[k]);
       min[k] = Math.min(min[k], x);
       max[k] = Math.max(max[k], x);
     }
