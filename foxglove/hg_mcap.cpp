@@ -74,6 +74,12 @@ void report(const std::string& in, const hg::foxglove::ToMcapStats& st, std::siz
   if (st.decode_errors)
     std::fprintf(stderr, "hg-mcap: %s: %zu messages did not decode and were skipped; the first: %s\n", in.c_str(),
                  st.decode_errors, st.first_decode_error.c_str());
+  if (st.decode_errors) {
+    std::fprintf(stderr, "hg-mcap: %s: skipped events:", in.c_str());
+    for (const auto& [channel, number] : st.skipped)
+      std::fprintf(stderr, " %s#%lld", channel.c_str(), static_cast<long long>(number));
+    std::fprintf(stderr, "\n");
+  }
   if (st.unknown)
     std::fprintf(stderr, "hg-mcap: %s: %zu messages of an unknown type written raw\n", in.c_str(), st.unknown);
 }

@@ -43,6 +43,7 @@ ToMcapStats lcmlog_to_mcap(const std::uint8_t* log, std::size_t size, std::FILE*
     for (int t : c.new_topics) sink.add(bridge.topics()[t], static_cast<std::size_t>(t));
     if (c.unknown_type) ++st.unknown;
     if (!c.error.empty()) {
+      if (st.skipped.size() < 100) st.skipped.emplace_back(channel, e.number);
       if (st.decode_errors++ == 0)
         st.first_decode_error = channel + " event " + std::to_string(e.number) + ": " + c.error;
       continue;

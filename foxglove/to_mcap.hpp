@@ -27,10 +27,11 @@ struct ToMcapStats {
   std::size_t events_read = 0;  // well-formed events in the whole log
   std::size_t corrupt = 0;      // corrupt stretches of the log skipped
   std::vector<std::size_t> corrupt_offsets;
-  std::size_t decode_errors = 0;   // events of a known type that did not decode: skipped
-  std::string first_decode_error;  // "CHANNEL event N: why"
-  std::size_t unknown = 0;         // events of no hullgrind type: written raw (encoding "lcm")
-  std::size_t messages = 0;        // MCAP messages written (LCM channels and derived topics)
+  std::size_t decode_errors = 0;                              // events of a known type that did not decode: skipped
+  std::string first_decode_error;                             // "CHANNEL event N: why"
+  std::vector<std::pair<std::string, std::int64_t>> skipped;  // channel and event number of each (first 100)
+  std::size_t unknown = 0;   // events of no hullgrind type: written raw (encoding "lcm")
+  std::size_t messages = 0;  // MCAP messages written (LCM channels and derived topics)
   std::size_t topics = 0;
   std::uint64_t bytes_out = 0;
   std::map<std::string, std::size_t> per_topic;
