@@ -13,6 +13,7 @@
 #include <deque>
 #include <map>
 #include <set>
+#include <stdexcept>
 
 namespace hg::foxglove {
 
@@ -365,7 +366,7 @@ WsServer::WsServer(WsServerOptions options) : impl_(std::make_shared<Impl>()) {
   impl_->session_id = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
   beast::error_code ec;
   tcp::endpoint ep(net::ip::make_address(impl_->opt.host, ec), static_cast<unsigned short>(impl_->opt.port));
-  if (ec) throw std::runtime_error("host '" + impl_->opt.host + "' is not an IP address");
+  if (ec) throw std::invalid_argument("host '" + impl_->opt.host + "' is not an IP address (--host)");
   auto& a = impl_->acceptor;
   a.open(ep.protocol(), ec);
   if (!ec) a.set_option(net::socket_base::reuse_address(true), ec);
