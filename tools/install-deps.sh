@@ -45,7 +45,29 @@ for p in "${packages[@]}"; do
   [[ "$status" == "install ok installed" ]] || missing+=("$p")
 done
 
+# npm packages of the tests (readers nobody here wrote: @mcap/core, ajv, @foxglove/ws-protocol, ...): exactly
+# tests/npm/package-lock.json, installed with `npm ci` into build/npm/ (HG_NPM_DIR). Skipped quickly when
+# the installed lock file is the committed one.
+npm_packages() {
+  local root npm_dir
+  root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  npm_dir="${HG_NPM_DIR:-$root/build/npm}"
+  if [[ -d "$npm_dir/node_modules" ]] && cmp -s "$root/tests/npm/package-lock.json" "$npm_dir/installed.lock.json"; then
+    return 0
+  fi
+  if ! command -v npm >/dev/null; then
+    echo "install-deps: npm (Node.js 18 or newer) is missing: the Foxglove tests need it" >&2
+    return 1
+  fi
+  echo "install-deps: npm ci into $npm_dir (tests/npm/package-lock.json)" >&2
+  mkdir -p "$npm_dir"
+  cp "$root/tests/npm/package.json" "$root/tests/npm/package-lock.json" "$npm_dir/"
+  (cd "$npm_dir" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+  cp "$root/tests/npm/package-lock.json" "$npm_dir/installed.lock.json"
+}
+
 if [[ ${#missing[@]} -eq 0 ]]; then
+  npm_packages
   exit 0
 fi
 
@@ -60,3 +82,4 @@ echo "install-deps: installing ${missing[*]}" >&2
 export DEBIAN_FRONTEND=noninteractive
 apt-get update -qq
 $cmd -qq
+npm_packages

@@ -136,7 +136,7 @@ if [[ -e "$OUT/supervisor.lock" ]] && ! flock -n "$OUT/supervisor.lock" true; th
 fi
 
 # The supervisor's socket (in $OUT/supervisor) is its own: it removes a stale one and refuses a live one.
-rm -rf "$OUT/logs" "$OUT/run.lcmlog" "$OUT/outline.json" "$OUT/path.json" "$OUT/overview.png" "$OUT/summary.json"
+rm -rf "$OUT/logs" "$OUT/run.lcmlog" "$OUT/run.mcap" "$OUT/outline.json" "$OUT/path.json" "$OUT/overview.png" "$OUT/summary.json"
 mkdir -p "$OUT"
 printf '%s\n' "$checked" >"$OUT/pipeline.json"  # what this run started: every command line, placeholders expanded
 # Each child gets a parent-death signal: a run.sh killed even by SIGKILL takes everything it started with it.
@@ -238,5 +238,14 @@ rc=0
 # The picture needs the calibration the planner ran with: its command line from the pipeline file (above).
 "$BIN/hg-overview" "$OUT/run.lcmlog" --out "$OUT" --job-id "$JOB_ID" --planner-config "$ROOT/config/path_planner.yaml" \
   --planner-args "${planner_args[@]}" || rc=$?
-echo "bus recorded in $OUT/run.lcmlog; process logs in $OUT/logs/; the job's record: tools/hg-jobs --dir $OUT/jobs show $JOB_ID"
+# The bus as MCAP for Foxglove / Lichtblick beside run.lcmlog, and the job's slice in its record
+# (docs/foxglove.md); the log is closed by now.
+mcap() { "$BIN/hg-mcap" "$OUT/run.lcmlog" --cell "$(planner_file --cell)" "$@" 2>&1 | sed 's/^/  /'; return "${PIPESTATUS[0]}"; }
+mcap -o "$OUT/run.mcap" || { echo "run.sh: hg-mcap failed: no $OUT/run.mcap" >&2; rc=1; }
+if times=$(python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); print(j["created_utime"] - 1000000, j.get("ended_utime", j["updated_utime"]) + 1000000)' \
+    "$OUT/jobs/$JOB_ID/job.json" 2>/dev/null); then
+  read -r t0_us t1_us <<<"$times"
+  mcap -o "$OUT/jobs/$JOB_ID/job.mcap" --start-utime "$t0_us" --end-utime "$t1_us" || rc=1
+fi
+echo "bus recorded in $OUT/run.lcmlog (MCAP: $OUT/run.mcap); process logs in $OUT/logs/; the job's record: tools/hg-jobs --dir $OUT/jobs show $JOB_ID"
 exit $rc

@@ -24,7 +24,7 @@ LAYERS = [
     ("processes", ["camera_bridge", "outline_service", "path_planner", "robot_bridge", "dds_gateway",
                    "job_recorder"]),
     ("calibration", ["calibration"]),
-    ("tools", ["tools"]),
+    ("tools", ["tools", "foxglove"]),
 ]
 PROCESSES = set(LAYERS[4][1])
 EXEMPT = {"tests"}  # tests may include anything

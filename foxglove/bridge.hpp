@@ -1,0 +1,101 @@
+// What the bus looks like in Foxglove: one place that turns an LCM message into Foxglove topics, shared by
+// the live server (hg-foxglove) and the recorder (hg-mcap), so a recording and a live cell show the same
+// topics with the same schemas.
+//   - every LCM channel is a topic of the same name, its JSON Schema generated from the .lcm files
+//     (lcm_json.hpp), encoding json; a channel whose fingerprint is no hullgrind type is a topic with
+//     encoding "lcm" and no schema (the raw bytes), counted as unknown;
+//   - the 3-D picture in Foxglove's well-known schemas (JSON encoding):
+//       /hg/plate/points   foxglove.PointCloud     HG_PLATE_CLOUD, x y z float32, decimated to max_points
+//       /hg/outline        foxglove.SceneUpdate    HG_OUTLINE: one line loop per outline loop (holes red)
+//       /hg/grind_path     foxglove.SceneUpdate    HG_GRIND_PATH: line segments coloured by segment kind
+//       /hg/log            foxglove.Log            HG_JOB_STATUS as log lines (the processes' own log
+//                                                  lines are files in out/logs/, not on the bus)
+//       /tf                foxglove.FrameTransform base <- camera (the cell's calibration; eye-in-hand:
+//                                                  with the flange pose of the capture) with every plate
+//                                                  cloud, base <- tcp with every HG_ROBOT_STATUS
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tools/lcm_tools/lcm_schema.hpp"
+
+namespace hg::foxglove {
+
+struct Topic {
+  std::string name;
+  std::string schema_name;      // "hullgrind.plate_cloud_t", "foxglove.PointCloud"; "" for a raw channel
+  std::string schema_encoding;  // "jsonschema", or "" with no schema
+  std::string schema;           // the JSON Schema text
+  std::string encoding;         // "json", or "lcm" for a raw channel
+  bool active = true;           // false once its channel changed type (the live server unadvertises it)
+};
+
+struct BridgeOptions {
+  std::size_t max_points = 200000;  // PointCloud decimation: every k-th point so that at most this many remain
+  std::string tcp_frame = "tcp";
+  // The cell's calibration (config/cell.yaml): p_base = camera_to_base * p_camera; eye-in-hand: camera ->
+  // flange, composed with the capture's flange pose. Without either, no base <- camera transform is sent.
+  std::optional<Eigen::Isometry3d> camera_to_base, camera_to_flange;
+  std::string base_frame = "robot_base";
+  std::string camera_frame = "camera";  // until a plate cloud names its frame
+};
+
+struct Output {
+  int topic;            // index into Bridge::topics()
+  std::string payload;  // JSON text (or the raw LCM bytes for a raw channel)
+};
+
+struct Converted {
+  std::vector<Output> outputs;
+  std::vector<int> new_topics;      // topics created by this message (advertise them)
+  std::vector<int> retired_topics;  // topics of the channel's previous type (unadvertise them)
+  bool unknown_type = false;        // the fingerprint is no hullgrind type: sent raw
+  std::string error;                // a known type that did not decode: nothing sent, say why
+};
+
+class Bridge {
+ public:
+  Bridge(lcmtools::Schema schema, BridgeOptions options);
+
+  const std::vector<Topic>& topics() const { return topics_; }
+  const lcmtools::Schema& schema() const { return schema_; }
+
+  // One LCM message. wanted(topic) says whether the payload of that topic is needed (the live server
+  // builds only what someone subscribed to; nullptr: everything). Never throws on bad bytes.
+  Converted convert(const std::string& channel, const std::uint8_t* data, std::size_t size,
+                    const std::function<bool(int)>& wanted = nullptr);
+  // The base <- camera transform of an eye-to-hand cell on /tf at utime (the live server sends it every
+  // second, so a client that connects between jobs has the camera too); nothing without a calibration or
+  // for an eye-in-hand cell (its camera moves: the transform comes with each cloud).
+  Converted camera_transform(std::int64_t utime);
+
+ private:
+  struct ChannelState {
+    std::int64_t fingerprint = 0;
+    int topic = -1;
+    std::vector<int> derived;
+  };
+  int add_topic(Topic t, Converted& c);
+  int well_known(const std::string& name, const std::string& schema_name, Converted& c);
+  void derive(const lcmtools::Struct& type, const std::uint8_t* data, std::size_t size,
+              const std::function<bool(int)>& wanted, Converted& c);
+
+  lcmtools::Schema schema_;
+  BridgeOptions opt_;
+  std::vector<Topic> topics_;
+  std::map<std::string, ChannelState> channels_;
+  std::map<std::string, int> well_known_;  // derived topic name -> index
+};
+
+// The JSON Schema of each Foxglove well-known message this bridge writes ("foxglove.PointCloud", ...):
+// only the fields it fills, every one required.
+std::string well_known_schema(const std::string& schema_name);
+
+}  // namespace hg::foxglove

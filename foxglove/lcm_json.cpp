@@ -1,0 +1,362 @@
+#include "lcm_json.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <set>
+#include <type_traits>
+
+namespace hg::foxglove {
+
+using lcmtools::DecodeError;
+using lcmtools::Dim;
+using lcmtools::Kind;
+using lcmtools::Member;
+
+namespace {
+
+bool is_integer(Kind k) { return k == Kind::Int8 || k == Kind::Int16 || k == Kind::Int32 || k == Kind::Int64; }
+
+std::size_t fixed_size(Kind k) {
+  switch (k) {
+    case Kind::Int8:
+    case Kind::Boolean:
+    case Kind::Byte: return 1;
+    case Kind::Int16: return 2;
+    case Kind::Int32:
+    case Kind::Float: return 4;
+    case Kind::Int64:
+    case Kind::Double: return 8;
+    default: return 0;  // string, struct: variable
+  }
+}
+
+// ---- schema ----
+
+template <class T>
+Json integer_schema() {
+  return Json{
+      {"type", "integer"}, {"minimum", std::numeric_limits<T>::min()}, {"maximum", std::numeric_limits<T>::max()}};
+}
+
+Json primitive_schema(Kind k) {
+  switch (k) {
+    case Kind::Int8: return integer_schema<int8_t>();
+    case Kind::Int16: return integer_schema<int16_t>();
+    case Kind::Int32: return integer_schema<int32_t>();
+    case Kind::Int64: return integer_schema<int64_t>();
+    case Kind::Byte: return integer_schema<uint8_t>();
+    case Kind::Float:
+    case Kind::Double: return Json{{"type", Json::array({"number", "null"})}};
+    case Kind::Boolean: return Json{{"type", "boolean"}};
+    case Kind::String: return Json{{"type", "string"}};
+    default: return Json::object();
+  }
+}
+
+std::string definition_ref(const std::string& full_name) { return "#/definitions/" + full_name; }
+
+Json member_schema(const Member& m) {
+  Json item = m.kind == Kind::Struct ? Json{{"$ref", definition_ref(m.type_name)}} : primitive_schema(m.kind);
+  for (std::size_t i = m.dims.size(); i-- > 0;) {
+    const Dim& d = m.dims[i];
+    if (m.kind == Kind::Byte && i + 1 == m.dims.size()) {
+      item = Json{{"type", "string"}, {"contentEncoding", "base64"}};
+      continue;
+    }
+    Json a{{"type", "array"}, {"items", std::move(item)}};
+    if (!d.variable) a["minItems"] = a["maxItems"] = d.fixed;
+    item = std::move(a);
+  }
+  return item;
+}
+
+Json object_schema(const Struct& s) {
+  Json props = Json::object();
+  Json required = Json::array();
+  for (const Member& m : s.members) {
+    props[m.name] = member_schema(m);
+    required.push_back(m.name);
+  }
+  return Json{{"type", "object"},
+              {"title", s.full_name()},
+              {"properties", std::move(props)},
+              {"required", std::move(required)},
+              {"additionalProperties", false}};
+}
+
+// Every struct type reachable from s's members, for "definitions".
+void collect_nested(const Schema& schema, const Struct& s, std::set<std::string>& names) {
+  for (const Member& m : s.members)
+    if (m.kind == Kind::Struct && names.insert(m.type_name).second)
+      collect_nested(schema, *schema.find(m.type_name), names);
+}
+
+}  // namespace
+
+Json json_schema(const Schema& schema, const Struct& s) {
+  Json out{{"$schema", "http://json-schema.org/draft-07/schema#"}};
+  Json body = object_schema(s);
+  for (auto& [k, v] : body.items()) out[k] = v;
+  std::set<std::string> nested;
+  collect_nested(schema, s, nested);
+  if (!nested.empty()) {
+    Json defs = Json::object();
+    for (const std::string& name : nested) defs[name] = object_schema(*schema.find(name));
+    out["definitions"] = std::move(defs);
+  }
+  return out;
+}
+
+// ---- text helpers ----
+
+void append_base64(const std::uint8_t* d, std::size_t n, std::string& out) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::size_t start = out.size();
+  out.resize(start + (n + 2) / 3 * 4);
+  char* p = out.data() + start;
+  std::size_t i = 0;
+  for (; i + 3 <= n; i += 3) {
+    uint32_t v = (uint32_t(d[i]) << 16) | (uint32_t(d[i + 1]) << 8) | d[i + 2];
+    *p++ = k[v >> 18];
+    *p++ = k[(v >> 12) & 63];
+    *p++ = k[(v >> 6) & 63];
+    *p++ = k[v & 63];
+  }
+  if (i < n) {
+    uint32_t v = uint32_t(d[i]) << 16;
+    if (i + 1 < n) v |= uint32_t(d[i + 1]) << 8;
+    *p++ = k[v >> 18];
+    *p++ = k[(v >> 12) & 63];
+    *p++ = i + 1 < n ? k[(v >> 6) & 63] : '=';
+    *p++ = '=';
+  }
+}
+
+namespace {
+
+// Length of the valid UTF-8 sequence at s[i], or 0 when it is not one.
+std::size_t utf8_length(std::string_view s, std::size_t i) {
+  auto b = [&](std::size_t j) { return static_cast<unsigned char>(s[j]); };
+  unsigned char c = b(i);
+  std::size_t n = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 && c < 0xF0 ? 3 : c >= 0xC2 && c < 0xE0 ? 2 : 0;
+  if (n == 0 || i + n > s.size()) return 0;
+  for (std::size_t j = 1; j < n; ++j)
+    if ((b(i + j) & 0xC0) != 0x80) return 0;
+  if (n == 3 && ((c == 0xE0 && b(i + 1) < 0xA0) || (c == 0xED && b(i + 1) >= 0xA0))) return 0;  // overlong, surrogate
+  if (n == 4 && ((c == 0xF0 && b(i + 1) < 0x90) || (c == 0xF4 && b(i + 1) >= 0x90))) return 0;
+  return n;
+}
+
+}  // namespace
+
+void append_json_string(std::string_view s, std::string& out) {
+  static const char* hex = "0123456789abcdef";
+  out.push_back('"');
+  for (std::size_t i = 0; i < s.size();) {
+    unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c >= 0x80) {
+      std::size_t n = utf8_length(s, i);
+      if (n == 0) {
+        out += "\xEF\xBF\xBD";
+        ++i;
+      } else {
+        out.append(s.substr(i, n));
+        i += n;
+      }
+      continue;
+    }
+    if (c == '"' || c == '\\') {
+      out.push_back('\\');
+      out.push_back(static_cast<char>(c));
+    } else if (c < 0x20) {
+      out += "\\u00";
+      out.push_back(hex[c >> 4]);
+      out.push_back(hex[c & 15]);
+    } else {
+      out.push_back(static_cast<char>(c));
+    }
+    ++i;
+  }
+  out.push_back('"');
+}
+
+namespace {
+
+template <class T>
+void append_number(T v, std::string& out) {
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, r.ptr);
+}
+
+template <class F>
+void append_real(F v, std::string& out) {
+  if (!std::isfinite(v)) {
+    out += "null";
+    return;
+  }
+  append_number(v, out);
+}
+
+// ---- the encoder ----
+
+struct Encoder {
+  const Schema& schema;
+  const uint8_t* d;
+  std::size_t size;
+  std::size_t pos;
+  std::string& out;
+
+  void need(std::size_t n, const std::string& field) const {
+    if (n > size - pos)
+      throw DecodeError("truncated: '" + field + "' needs " + std::to_string(n) + " bytes at byte " +
+                        std::to_string(pos) + ", message has " + std::to_string(size));
+  }
+  uint64_t be(std::size_t n) {
+    uint64_t v = 0;
+    for (std::size_t i = 0; i < n; ++i) v = (v << 8) | d[pos + i];
+    pos += n;
+    return v;
+  }
+
+  void string_value(const std::string& field) {
+    need(4, field);
+    int32_t len = static_cast<int32_t>(be(4));
+    if (len < 1) throw DecodeError("bad string length " + std::to_string(len) + " of '" + field + "'");
+    need(static_cast<std::size_t>(len), field);
+    const char* p = reinterpret_cast<const char*>(d + pos);
+    if (p[len - 1] != '\0') throw DecodeError("string '" + field + "' is not NUL-terminated");
+    append_json_string(std::string_view(p, static_cast<std::size_t>(len - 1)), out);
+    pos += static_cast<std::size_t>(len);
+  }
+
+  // One primitive value; returns it as an integer when it is one (array sizes).
+  int64_t primitive(Kind k, const std::string& field) {
+    if (k == Kind::String) {
+      string_value(field);
+      return 0;
+    }
+    std::size_t n = fixed_size(k);
+    need(n, field);
+    uint64_t raw = be(n);
+    switch (k) {
+      case Kind::Int8: append_number(static_cast<int8_t>(raw), out); return static_cast<int8_t>(raw);
+      case Kind::Int16: append_number(static_cast<int16_t>(raw), out); return static_cast<int16_t>(raw);
+      case Kind::Int32: append_number(static_cast<int32_t>(raw), out); return static_cast<int32_t>(raw);
+      case Kind::Int64: append_number(static_cast<int64_t>(raw), out); return static_cast<int64_t>(raw);
+      case Kind::Byte: append_number(static_cast<unsigned>(raw), out); return 0;
+      case Kind::Boolean: out += raw ? "true" : "false"; return 0;
+      case Kind::Float: append_real(std::bit_cast<float>(static_cast<uint32_t>(raw)), out); return 0;
+      case Kind::Double: append_real(std::bit_cast<double>(raw), out); return 0;
+      default: return 0;
+    }
+  }
+
+  void element(const Member& m, const std::string& field) {
+    if (m.kind == Kind::Struct) structure(*schema.find(m.type_name), field);
+    else
+      primitive(m.kind, field);
+  }
+
+  // The innermost dimension of a numeric array: one bounds check, then a tight loop (a cloud's u, v and
+  // part arrays are most of the bytes of the bus).
+  template <class T, class Raw>
+  void numbers(std::size_t n) {
+    out.push_back('[');
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i) out.push_back(',');
+      Raw raw = 0;
+      for (std::size_t b = 0; b < sizeof(Raw); ++b) raw = static_cast<Raw>((raw << 8) | d[pos + b]);
+      pos += sizeof(Raw);
+      if constexpr (std::is_floating_point_v<T>) append_real(std::bit_cast<T>(raw), out);
+      else
+        append_number(static_cast<T>(raw), out);
+    }
+    out.push_back(']');
+  }
+  bool fast_numbers(Kind k, std::size_t n) {
+    switch (k) {
+      case Kind::Float: numbers<float, uint32_t>(n); return true;
+      case Kind::Double: numbers<double, uint64_t>(n); return true;
+      case Kind::Int16: numbers<int16_t, uint16_t>(n); return true;
+      case Kind::Int32: numbers<int32_t, uint32_t>(n); return true;
+      case Kind::Int64: numbers<int64_t, uint64_t>(n); return true;
+      default: return false;
+    }
+  }
+
+  void array(const Member& m, const std::vector<int64_t>& lens, std::size_t level, const std::string& field) {
+    std::size_t n = static_cast<std::size_t>(lens[level]);
+    if (m.kind == Kind::Byte && level + 1 == lens.size()) {
+      need(n, field);
+      out.push_back('"');
+      append_base64(d + pos, n, out);
+      out.push_back('"');
+      pos += n;
+      return;
+    }
+    std::size_t fixed = fixed_size(m.kind);
+    if (fixed != 0) {  // a lying length fails here, before the loop
+      std::size_t inner = fixed;
+      for (std::size_t i = level; i < lens.size(); ++i) {
+        if (lens[i] != 0 && inner > (size - pos) / static_cast<std::size_t>(lens[i])) need(size, field);
+        inner *= static_cast<std::size_t>(lens[i]);
+      }
+      need(inner, field);
+      if (level + 1 == lens.size() && fast_numbers(m.kind, n)) return;
+    }
+    out.push_back('[');
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i) out.push_back(',');
+      if (level + 1 == lens.size()) element(m, field);
+      else
+        array(m, lens, level + 1, field);
+    }
+    out.push_back(']');
+  }
+
+  void structure(const Struct& s, const std::string& path) {
+    std::map<std::string, int64_t, std::less<>> ints;  // integer members: array sizes
+    out.push_back('{');
+    bool first = true;
+    for (const Member& m : s.members) {
+      if (!first) out.push_back(',');
+      first = false;
+      append_json_string(m.name, out);
+      out.push_back(':');
+      std::string field = path.empty() ? m.name : path + "." + m.name;
+      if (m.dims.empty()) {
+        if (is_integer(m.kind)) ints[m.name] = primitive(m.kind, field);
+        else
+          element(m, field);
+        continue;
+      }
+      std::vector<int64_t> lens;
+      for (const Dim& dim : m.dims) {
+        int64_t len = dim.variable ? ints.at(dim.var) : dim.fixed;
+        if (len < 0) throw DecodeError("negative array length " + std::to_string(len) + " of '" + field + "'");
+        lens.push_back(len);
+      }
+      array(m, lens, 0, field);
+    }
+    out.push_back('}');
+  }
+};
+
+}  // namespace
+
+void to_json(const Schema& schema, const Struct& s, const uint8_t* data, std::size_t size, std::string& out) {
+  Encoder enc{schema, data, size, 0, out};
+  enc.need(8, "fingerprint");
+  if (static_cast<int64_t>(enc.be(8)) != schema.fingerprint(s))
+    throw DecodeError("fingerprint is not that of " + s.full_name());
+  enc.structure(s, "");
+  if (enc.pos != size)
+    throw DecodeError(std::to_string(size - enc.pos) + " trailing bytes after " + s.full_name() + " at byte " +
+                      std::to_string(enc.pos));
+}
+
+}  // namespace hg::foxglove

@@ -1,0 +1,41 @@
+// LCM message -> JSON, and the JSON Schema of that JSON, both driven by one thing: the hullgrind schema
+// parsed from the .lcm files (tools/lcm_tools, embedded at build time). No schema is written by hand, so a
+// field added to a .lcm file appears in the schema and in every message at the next build.
+//
+// The mapping (JSON Schema draft-07, what ajv and Foxglove read):
+//   int8..int64 -> integer (with the type's range), byte -> integer 0..255,
+//   float, double -> number, or null for NaN/Inf (JSON has no such numbers),
+//   boolean -> boolean, string -> string (bytes that are not UTF-8 become U+FFFD),
+//   byte arrays -> the innermost dimension as one base64 string (contentEncoding base64, as Foxglove's
+//   JSON encoding writes bytes), other arrays -> arrays (fixed sizes as minItems = maxItems),
+//   nested struct -> object; every member is required and no other property is allowed.
+// The encoder writes the text straight from the message bytes (no intermediate tree): a 1.6 M-point cloud
+// is 5 M floats, and the live server and hg-mcap both run this on every message.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "tools/lcm_tools/lcm_schema.hpp"
+
+namespace hg::foxglove {
+
+using lcmtools::Json;
+using lcmtools::Schema;
+using lcmtools::Struct;
+
+// The JSON Schema of the JSON that to_json writes for messages of type s; "title" is the full type name.
+Json json_schema(const Schema& schema, const Struct& s);
+
+// Appends the JSON text of one whole LCM message (fingerprint + body) of type s to out. Throws
+// lcmtools::DecodeError (naming the field and byte offset) on a wrong fingerprint, truncated or lying
+// lengths, or trailing bytes; out is then left with a partial text the caller discards.
+void to_json(const Schema& schema, const Struct& s, const std::uint8_t* data, std::size_t size, std::string& out);
+
+// Standard base64 (RFC 4648, with padding), appended to out.
+void append_base64(const std::uint8_t* data, std::size_t size, std::string& out);
+// A JSON string literal (quotes included) of text, appended to out; invalid UTF-8 becomes U+FFFD.
+void append_json_string(std::string_view text, std::string& out);
+
+}  // namespace hg::foxglove

@@ -1,0 +1,215 @@
+#include "live.hpp"
+
+#include <condition_variable>
+#include <deque>
+#include <thread>
+
+#include "bridge.hpp"
+#include "cell/cell.hpp"
+#include "hullgrind/heartbeat_t.hpp"
+#include "runtime/log.hpp"
+#include "ws_server.hpp"
+
+namespace hg::foxglove {
+
+namespace {
+
+// Messages below this are converted even without a subscriber (kept as their channel's last message for a
+// client that subscribes later: the cloud, outline and path come once per job); a 1.6 M-point cloud (19 MB)
+// is converted only for a subscriber.
+constexpr std::size_t kSmall = 4u << 20;
+
+struct Pending {
+  std::string channel;
+  std::int64_t recv_utime;
+  std::string bytes;
+};
+
+class Live {
+ public:
+  Live(runtime::Node& node, BridgeOptions bopt, WsServerOptions sopt, std::size_t queue_messages,
+       std::size_t queue_bytes)
+      : node_(node),
+        bridge_(lcmtools::Schema::embedded(), std::move(bopt)),
+        server_(std::move(sopt)),
+        max_messages_(queue_messages),
+        max_bytes_(queue_bytes) {
+    worker_ = std::thread([this] { work(); });
+  }
+  ~Live() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      stop_ = true;
+    }
+    cv_.notify_one();
+    worker_.join();
+  }
+  int port() const { return server_.bound_port(); }
+
+  // LCM thread: a copy into the queue, nothing else.
+  void on_message(const lcm::ReceiveBuffer& rb, const runtime::Delivery& d) {
+    Pending p{d.channel, d.recv_utime, std::string(static_cast<const char*>(rb.data), rb.data_size)};
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      bytes_ += p.bytes.size();
+      queue_.push_back(std::move(p));
+      while (queue_.size() > max_messages_ || (bytes_ > max_bytes_ && queue_.size() > 1)) {
+        bytes_ -= queue_.front().bytes.size();
+        queue_.pop_front();
+        node_.count_dropped();
+      }
+    }
+    cv_.notify_one();
+  }
+
+  void health() {
+    WsStats st = server_.stats();
+    std::int64_t dropped_clients = 0;
+    std::string text = std::to_string(st.clients.size()) + " clients";
+    for (const WsClientStats& c : st.clients) {
+      dropped_clients += static_cast<std::int64_t>(c.dropped);
+      text +=
+          "; " + c.peer + " dropped " + std::to_string(c.dropped);  // not "sent": the text would change every second
+    }
+    text += "; " + std::to_string(st.disconnected_garbage) + " closed for garbage; " + std::to_string(unknown_.load()) +
+            " messages of unknown type";
+    node_.set_state(hullgrind::heartbeat_t::STATE_OK, text);
+    (void)dropped_clients;
+  }
+
+ private:
+  void work() {
+    auto next_tf = std::chrono::steady_clock::now();
+    for (;;) {
+      Pending p;
+      bool have = false;
+      {
+        std::unique_lock<std::mutex> lock(mu_);
+        cv_.wait_until(lock, next_tf, [this] { return stop_ || !queue_.empty(); });
+        if (stop_) return;
+        if (!queue_.empty()) {
+          p = std::move(queue_.front());
+          queue_.pop_front();
+          bytes_ -= p.bytes.size();
+          have = true;
+        }
+      }
+      if (have) convert(p);
+      if (std::chrono::steady_clock::now() >= next_tf) {
+        next_tf += std::chrono::seconds(1);
+        send(bridge_.camera_transform(runtime::now_utime()), runtime::now_utime());
+      }
+    }
+  }
+
+  void convert(const Pending& p) {
+    const auto* data = reinterpret_cast<const std::uint8_t*>(p.bytes.data());
+    // A topic this message creates is built too: nobody can have subscribed to it yet.
+    const int known = static_cast<int>(bridge_.topics().size());
+    auto wanted = [&](int t) { return p.bytes.size() < kSmall || t >= known || server_.subscribed(t); };
+    Converted c = bridge_.convert(p.channel, data, p.bytes.size(), wanted);
+    if (c.unknown_type) ++unknown_;
+    if (!c.error.empty()) node_.count_decode_error(p.channel, c.error);
+    send(std::move(c), p.recv_utime);
+  }
+
+  void send(Converted c, std::int64_t utime) {
+    if (!c.retired_topics.empty()) server_.unadvertise(c.retired_topics);
+    if (!c.new_topics.empty()) {
+      std::vector<WsChannel> list;
+      for (int t : c.new_topics) {
+        const Topic& topic = bridge_.topics()[t];
+        list.push_back(
+            WsChannel{t, topic.name, topic.encoding, topic.schema_name, topic.schema, topic.schema_encoding});
+        if (topic.encoding == "lcm")
+          runtime::logf(runtime::Level::Warn, "channel %s carries a type that is no hullgrind type: advertised raw",
+                        topic.name.c_str());
+      }
+      server_.advertise(std::move(list));
+    }
+    auto ts = static_cast<std::uint64_t>(std::max<std::int64_t>(0, utime)) * 1000;
+    for (Output& o : c.outputs) {
+      server_.publish(o.topic, ts, std::make_shared<const std::string>(std::move(o.payload)));
+      ++node_.counters().published;
+    }
+  }
+
+  runtime::Node& node_;
+  Bridge bridge_;  // worker thread only
+  WsServer server_;
+  std::size_t max_messages_, max_bytes_;
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::deque<Pending> queue_;
+  std::size_t bytes_ = 0;
+  bool stop_ = false;
+  std::atomic<std::int64_t> unknown_{0};
+  std::thread worker_;
+};
+
+BridgeOptions bridge_options(runtime::Node& node) {
+  BridgeOptions o;
+  o.max_points = static_cast<std::size_t>(node.param_int("max-points"));
+  o.base_frame = node.param("base-frame");
+  o.camera_frame = node.param("camera-frame");
+  if (!node.param("cell").empty()) {
+    cell::Cell cell = cell::read_cell(node.param("cell"));
+    if (cell.calibration.camera_to_flange) o.camera_to_flange = cell.calibration.camera_to_flange;
+    else
+      o.camera_to_base = cell.calibration.camera_to_base;
+  }
+  return o;
+}
+
+}  // namespace
+
+runtime::ProcessInfo process_info() {
+  using runtime::integer_param;
+  using runtime::text_param;
+  return {
+      "hg-foxglove",
+      "The bus, live, for Foxglove and Lichtblick: a Foxglove WebSocket protocol server (read-only).",
+      "Every LCM channel is a topic of the same name with the JSON Schema generated from the .lcm files\n"
+      "(encoding json; a channel of an unknown type is advertised once with encoding lcm, raw, and counted),\n"
+      "plus the 3-D picture in Foxglove's schemas: /hg/plate/points (foxglove.PointCloud), /hg/outline and\n"
+      "/hg/grind_path (foxglove.SceneUpdate), /tf (foxglove.FrameTransform: base <- camera from --cell, base\n"
+      "<- tcp from HG_ROBOT_STATUS), /hg/log (foxglove.Log: the job statuses). hg-mcap writes the same topics.\n"
+      "Open ws://HOST:PORT in Foxglove or Lichtblick. No client publishing. A slow client misses frames\n"
+      "(counted per client in the heartbeat's state text); a client sending garbage is disconnected with a\n"
+      "close reason. Details: docs/foxglove.md.",
+      {text_param("host", "127.0.0.1", "address to listen on (loopback: the cell's traffic stays on the machine)"),
+       integer_param("port", "8765", "TCP port (0: any free port, logged)", 0, 65535),
+       integer_param("max-points", "200000", "foxglove.PointCloud: at most this many points (every k-th; 0 = all)", 0,
+                     1e9),
+       text_param("cell", "", "cell file (config/cell.yaml) for the base <- camera transform; empty: none sent"),
+       text_param("base-frame", "robot_base", "parent frame of the camera transform"),
+       text_param("camera-frame", "camera", "the camera's frame until a plate cloud names it"),
+       integer_param("max-clients", "16", "clients served at once; more are refused", 1, 1000),
+       integer_param("client-queue-frames", "256", "messages queued per client before its frames are dropped", 1, 1e6),
+       integer_param("client-queue-mb", "64", "MB queued per client before its frames are dropped", 1, 1e5),
+       integer_param("queue-messages", "64", "LCM messages waiting for conversion before the oldest is dropped", 1,
+                     1e6),
+       integer_param("queue-mb", "256", "MB of LCM messages waiting for conversion before the oldest is dropped", 1,
+                     1e5)}};
+}
+
+std::shared_ptr<void> attach(runtime::Node& node) {
+  WsServerOptions s;
+  s.host = node.param("host");
+  s.port = static_cast<int>(node.param_int("port"));
+  s.max_clients = static_cast<std::size_t>(node.param_int("max-clients"));
+  s.queue_frames = static_cast<std::size_t>(node.param_int("client-queue-frames"));
+  s.queue_bytes = static_cast<std::size_t>(node.param_int("client-queue-mb")) << 20;
+  auto live =
+      std::make_shared<Live>(node, bridge_options(node), s, static_cast<std::size_t>(node.param_int("queue-messages")),
+                             static_cast<std::size_t>(node.param_int("queue-mb")) << 20);
+  runtime::logf(runtime::Level::Info, "serving the bus on ws://%s:%d (Foxglove WebSocket protocol)", s.host.c_str(),
+                live->port());
+  node.subscribe_raw(".*",
+                     [live](const lcm::ReceiveBuffer& rb, const runtime::Delivery& d) { live->on_message(rb, d); });
+  node.every(std::chrono::seconds(1), [live] { live->health(); });
+  node.set_state(hullgrind::heartbeat_t::STATE_OK, "0 clients");
+  return live;
+}
+
+}  // namespace hg::foxglove

@@ -1,0 +1,78 @@
+// A Foxglove WebSocket protocol server (foxglove/ws-protocol docs/spec.md, subprotocol
+// foxglove.websocket.v1; foxglove.sdk.v1, the name newer clients ask for, is accepted too) on Boost.Beast:
+// serverInfo, advertise / unadvertise, subscribe / unsubscribe, binary message data, status. Read-only:
+// no client publishing, parameters or services are offered.
+//
+// It never slows its caller: publish() only hands a shared payload to the server's own thread. Each
+// client has a bounded queue (frames and bytes); a message that does not fit is dropped for that client
+// and counted. A client that sends something that is not the protocol (not JSON, unknown op, bad fields,
+// binary data, oversized frames) is disconnected with a close reason.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace hg::foxglove {
+
+struct WsChannel {
+  int id;
+  std::string topic, encoding, schema_name, schema, schema_encoding;
+};
+
+struct WsServerOptions {
+  std::string host = "127.0.0.1";
+  int port = 8765;  // 0: any free port (tests; bound_port() says which)
+  std::string name = "hg-foxglove";
+  std::size_t max_clients = 16;
+  std::size_t queue_frames = 256;          // per client
+  std::size_t queue_bytes = 64u << 20;     // per client
+  std::size_t max_client_message = 65536;  // a client's frame larger than this is garbage
+};
+
+struct WsClientStats {
+  std::string peer;
+  std::uint64_t sent = 0, dropped = 0;
+  std::size_t subscriptions = 0;
+};
+
+struct WsStats {
+  std::vector<WsClientStats> clients;
+  std::uint64_t disconnected_garbage = 0;  // clients closed for not speaking the protocol
+  std::uint64_t refused = 0;               // connections refused (no subprotocol, not WebSocket, too many)
+};
+
+class WsServer {
+ public:
+  // Binds and listens (throws std::runtime_error naming the address if it cannot), then serves on a thread
+  // of its own until the destructor.
+  explicit WsServer(WsServerOptions options);
+  ~WsServer();
+  WsServer(const WsServer&) = delete;
+  WsServer& operator=(const WsServer&) = delete;
+
+  int bound_port() const { return port_; }
+
+  // Thread-safe; cheap (no I/O on the caller's thread).
+  void advertise(std::vector<WsChannel> channels);
+  void unadvertise(const std::vector<int>& channel_ids);
+  // Sends a message of a channel to its subscribers; also kept as the channel's last message, sent to a
+  // client when it subscribes (outline and path are published once per job).
+  void publish(int channel_id, std::uint64_t timestamp_ns, std::shared_ptr<const std::string> payload);
+  bool subscribed(int channel_id) const;
+  WsStats stats() const;
+
+  struct Impl;
+
+ private:
+  std::shared_ptr<Impl> impl_;
+  std::thread thread_;
+  int port_ = 0;
+};
+
+}  // namespace hg::foxglove

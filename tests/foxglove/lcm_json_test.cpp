@@ -1,0 +1,247 @@
+// foxglove/lcm_json: the JSON of a message is the message. Property tests over random messages of every
+// hullgrind type (random integers over each type's full range, floats including NaN, Inf, -0 and
+// denormals, strings with escapes and multi-byte UTF-8, random array lengths): a random value is encoded
+// to LCM bytes by lcm_tools (Schema::encode, which tools_schema_test checks against lcm-gen's classes),
+// written as JSON by to_json, parsed back by nlohmann and compared with the value it came from.
+// Truncated and corrupted bytes must throw DecodeError, never crash. ajv checks the schemas
+// (tests/foxglove/mcap_check.js); here their shape follows the .lcm file member by member.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <random>
+
+#include "foxglove/lcm_json.hpp"
+
+namespace {
+
+using hg::foxglove::Json;
+using hg::lcmtools::Kind;
+using hg::lcmtools::Member;
+using hg::lcmtools::Schema;
+using hg::lcmtools::Struct;
+
+std::string base64_of(const std::vector<uint8_t>& b) {
+  std::string s;
+  hg::foxglove::append_base64(b.data(), b.size(), s);
+  return s;
+}
+
+struct Gen {
+  const Schema& schema;
+  std::mt19937_64 rng;
+
+  int64_t range(int64_t lo, int64_t hi) { return std::uniform_int_distribution<int64_t>(lo, hi)(rng); }
+  double real(bool single) {
+    switch (range(0, 9)) {
+      case 0: return std::numeric_limits<double>::quiet_NaN();
+      case 1: return range(0, 1) ? INFINITY : -INFINITY;
+      case 2: return -0.0;
+      case 3: return single ? std::numeric_limits<float>::denorm_min() : std::numeric_limits<double>::denorm_min();
+      default: {
+        double v = std::ldexp(std::uniform_real_distribution<double>(-1, 1)(rng), static_cast<int>(range(-40, 40)));
+        return single ? static_cast<double>(static_cast<float>(v)) : v;
+      }
+    }
+  }
+  std::string text() {
+    static const std::vector<std::string> pieces = {"a",    "Z",    " ", "\"", "\\", "/",     "\n", "\t",
+                                                    "\x01", "\x1f", "é", "€",  "😀",  "plate", "{}", "[]"};
+    std::string s;
+    for (int64_t i = range(0, 12); i > 0; --i) s += pieces[range(0, pieces.size() - 1)];
+    return s;
+  }
+  Json primitive(Kind k) {
+    switch (k) {
+      case Kind::Int8: return range(-128, 127);
+      case Kind::Int16: return range(-32768, 32767);
+      case Kind::Int32: return range(INT32_MIN, INT32_MAX);
+      case Kind::Int64: return range(INT64_MIN, INT64_MAX);
+      case Kind::Byte: return range(0, 255);
+      case Kind::Boolean: return range(0, 1) == 1;
+      case Kind::Float: return real(true);
+      case Kind::Double: return real(false);
+      case Kind::String: return text();
+      default: return {};
+    }
+  }
+  Json element(const Member& m) {
+    return m.kind == Kind::Struct ? object(*schema.find(m.type_name)) : primitive(m.kind);
+  }
+  Json array(const Member& m, const std::vector<int64_t>& lens, std::size_t level) {
+    Json a = Json::array();
+    for (int64_t i = 0; i < lens[level]; ++i)
+      a.push_back(level + 1 == lens.size() ? element(m) : array(m, lens, level + 1));
+    return a;
+  }
+  Json object(const Struct& s) {
+    Json o = Json::object();
+    std::map<std::string, int64_t> sizes;
+    for (const Member& m : s.members)  // array sizes first: they are earlier integer members
+      for (const auto& d : m.dims)
+        if (d.variable && !sizes.count(d.var)) sizes[d.var] = range(0, 6);
+    for (const Member& m : s.members) {
+      if (sizes.count(m.name)) {
+        o[m.name] = sizes[m.name];
+      } else if (m.dims.empty()) {
+        o[m.name] = element(m);
+      } else {
+        std::vector<int64_t> lens;
+        for (const auto& d : m.dims) lens.push_back(d.variable ? sizes[d.var] : d.fixed);
+        o[m.name] = array(m, lens, 0);
+      }
+    }
+    return o;
+  }
+};
+
+// What to_json must print for a value: NaN and Inf as null, byte arrays' innermost dimension as base64.
+Json expected(const Schema& schema, const Member& m, const Json& v, std::size_t level);
+Json expected_object(const Schema& schema, const Struct& s, const Json& v) {
+  Json o = Json::object();
+  for (const Member& m : s.members) o[m.name] = expected(schema, m, v.at(m.name), 0);
+  return o;
+}
+Json expected(const Schema& schema, const Member& m, const Json& v, std::size_t level) {
+  if (level < m.dims.size()) {
+    if (m.kind == Kind::Byte && level + 1 == m.dims.size()) {
+      std::vector<uint8_t> b;
+      for (const Json& x : v) b.push_back(x.get<uint8_t>());
+      return base64_of(b);
+    }
+    Json a = Json::array();
+    for (const Json& x : v) a.push_back(expected(schema, m, x, level + 1));
+    return a;
+  }
+  if (m.kind == Kind::Struct) return expected_object(schema, *schema.find(m.type_name), v);
+  if ((m.kind == Kind::Float || m.kind == Kind::Double) && !std::isfinite(v.get<double>())) return nullptr;
+  return v;
+}
+
+// Equal as the reader sees them: a float32 printed shortest ("292.35956") reads back as that float
+// (Math.fround in JavaScript), -0 may print as the integer 0.
+bool same(const Json& a, const Json& b, bool single) {
+  if (a.is_number() && b.is_number()) {
+    double x = a.get<double>(), y = b.get<double>();
+    return single ? static_cast<float>(x) == static_cast<float>(y) : x == y;
+  }
+  if (a.is_array() && b.is_array()) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (!same(a[i], b[i], single)) return false;
+    return true;
+  }
+  return a == b;
+}
+bool same_object(const Schema& schema, const Struct& s, const Json& a, const Json& b) {
+  if (!a.is_object() || a.size() != s.members.size()) return false;
+  for (const Member& m : s.members) {
+    if (!a.contains(m.name)) return false;
+    if (m.kind == Kind::Struct) {
+      const Struct& t = *schema.find(m.type_name);
+      std::function<bool(const Json&, const Json&, std::size_t)> walk = [&](const Json& x, const Json& y,
+                                                                            std::size_t level) {
+        if (level == m.dims.size()) return same_object(schema, t, x, y);
+        if (!x.is_array() || x.size() != y.size()) return false;
+        for (std::size_t i = 0; i < x.size(); ++i)
+          if (!walk(x[i], y[i], level + 1)) return false;
+        return true;
+      };
+      if (!walk(a[m.name], b[m.name], 0)) return false;
+    } else if (!same(a[m.name], b[m.name], m.kind == Kind::Float)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+TEST(FoxgloveLcmJson, RandomMessagesOfEveryTypeComeBackAsTheirJson) {
+  Schema schema = Schema::embedded();
+  int checked = 0;
+  for (uint64_t seed = 0; seed < 300; ++seed) {
+    Gen gen{schema, std::mt19937_64(seed)};
+    for (const Struct& s : schema.structs()) {
+      Json value = gen.object(s);
+      std::vector<uint8_t> bytes = schema.encode(s, value);
+      std::string text;
+      hg::foxglove::to_json(schema, s, bytes.data(), bytes.size(), text);
+      Json back = Json::parse(text);  // throws on invalid JSON or UTF-8
+      Json want = expected_object(schema, s, value);
+      ASSERT_TRUE(same_object(schema, s, back, want)) << s.full_name() << " seed " << seed << "\n"
+                                                      << text << "\n"
+                                                      << want.dump();
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 3000);
+}
+
+TEST(FoxgloveLcmJson, CutAndCorruptedBytesThrowDecodeErrorNeverCrash) {
+  Schema schema = Schema::embedded();
+  std::mt19937_64 rng(7);
+  for (const Struct& s : schema.structs()) {
+    Gen gen{schema, std::mt19937_64(11)};
+    std::vector<uint8_t> bytes = schema.encode(s, gen.object(s));
+    for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
+      std::string text;
+      EXPECT_THROW(hg::foxglove::to_json(schema, s, bytes.data(), cut, text), hg::lcmtools::DecodeError)
+          << s.full_name() << " cut at " << cut;
+    }
+    std::vector<uint8_t> longer = bytes;
+    longer.push_back(0);
+    std::string text;
+    EXPECT_THROW(hg::foxglove::to_json(schema, s, longer.data(), longer.size(), text), hg::lcmtools::DecodeError);
+    for (int i = 0; i < 2000; ++i) {  // random bytes after the fingerprint: a decode or a DecodeError
+      std::vector<uint8_t> bad = bytes;
+      for (int k = 0; k < 4; ++k) bad[8 + rng() % (bad.size() - 8)] = static_cast<uint8_t>(rng());
+      std::string t;
+      try {
+        hg::foxglove::to_json(schema, s, bad.data(), bad.size(), t);
+        EXPECT_NO_THROW((void)Json::parse(t)) << s.full_name();
+      } catch (const hg::lcmtools::DecodeError&) {
+      }
+    }
+  }
+}
+
+TEST(FoxgloveLcmJson, SchemaFollowsTheLcmFileMemberByMember) {
+  Schema schema = Schema::embedded();
+  for (const Struct& s : schema.structs()) {
+    Json js = hg::foxglove::json_schema(schema, s);
+    EXPECT_EQ(js["title"], s.full_name());
+    EXPECT_EQ(js["additionalProperties"], false);
+    ASSERT_EQ(js["required"].size(), s.members.size());
+    for (std::size_t i = 0; i < s.members.size(); ++i) {
+      const Member& m = s.members[i];
+      EXPECT_EQ(js["required"][i], m.name);
+      const Json& p = js["properties"][m.name];
+      if (m.dims.empty() && m.kind == Kind::Struct) EXPECT_EQ(p["$ref"], "#/definitions/" + m.type_name);
+      if (m.kind == Kind::Byte && m.dims.size() == 1) EXPECT_EQ(p["contentEncoding"], "base64") << m.name;
+      if (m.kind != Kind::Byte && m.dims.size() == 1) EXPECT_EQ(p["type"], "array") << m.name;
+      if (m.kind == Kind::Struct) EXPECT_TRUE(js["definitions"].contains(m.type_name));
+    }
+  }
+}
+
+TEST(FoxgloveLcmJson, Base64IsRfc4648) {
+  auto b = [](std::string s) { return base64_of(std::vector<uint8_t>(s.begin(), s.end())); };
+  EXPECT_EQ(b(""), "");
+  EXPECT_EQ(b("f"), "Zg==");
+  EXPECT_EQ(b("fo"), "Zm8=");
+  EXPECT_EQ(b("foo"), "Zm9v");
+  EXPECT_EQ(b("foobar"), "Zm9vYmFy");
+}
+
+TEST(FoxgloveLcmJson, InvalidUtf8BecomesReplacementCharacter) {
+  std::string out;
+  hg::foxglove::append_json_string(
+      "a\xff"
+      "b\xc3",
+      out);
+  EXPECT_EQ(Json::parse(out),
+            "a\xEF\xBF\xBD"
+            "b\xEF\xBF\xBD");
+}
+
+}  // namespace
