@@ -44,6 +44,12 @@ for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
   [[ "$status" == "install ok installed" ]] || missing+=("$p")
 done
+# The tests' npm readers need Node.js and npm: Debian's, unless the machine has its own already.
+with_npm=false
+if [[ -z "${1:-}" ]]; then
+  with_npm=true
+  command -v npm >/dev/null || missing+=(nodejs npm)
+fi
 
 # npm packages of the tests (readers nobody here wrote: @mcap/core, ajv, @foxglove/ws-protocol, ...): exactly
 # tests/npm/package-lock.json, installed with `npm ci` into build/npm/ (HG_NPM_DIR). Skipped quickly when
@@ -67,7 +73,7 @@ npm_packages() {
 }
 
 if [[ ${#missing[@]} -eq 0 ]]; then
-  npm_packages
+  ! $with_npm || npm_packages
   exit 0
 fi
 
@@ -82,4 +88,4 @@ echo "install-deps: installing ${missing[*]}" >&2
 export DEBIAN_FRONTEND=noninteractive
 apt-get update -qq
 $cmd -qq
-npm_packages
+! $with_npm || npm_packages
