@@ -19,19 +19,8 @@ using runtime::logf;
 
 namespace {
 
-constexpr std::size_t kMaxName = 120, kKeptPrefix = 100;
 constexpr std::size_t kOutlinesKept = 8;
 constexpr std::size_t kRecordsInMemory = 1024;  // beyond this, ended records are dropped (reloaded from disk)
-
-std::uint64_t fnv1a(const std::string& s) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
-bool plain(unsigned char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-}
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -48,29 +37,7 @@ bool ends_job(const hullgrind::job_status_t& s) {
 
 }  // namespace
 
-std::string job_dir_name(const std::string& job_id) {
-  if (job_id.empty()) return "";
-  std::string name;
-  for (std::size_t i = 0; i < job_id.size(); ++i) {
-    const unsigned char c = static_cast<unsigned char>(job_id[i]);
-    if (plain(c) || (c == '.' && i > 0)) {
-      name += char(c);
-    } else {
-      char buf[4];
-      std::snprintf(buf, sizeof buf, "%%%02X", c);
-      name += buf;
-    }
-  }
-  if (name.size() > kMaxName) {
-    std::size_t keep = kKeptPrefix;
-    while (keep > 0 && name[keep - 1] == '%') --keep;  // never cut an escape in two
-    if (keep >= 2 && name[keep - 2] == '%') keep -= 2;
-    char buf[24];
-    std::snprintf(buf, sizeof buf, "~%016llx", static_cast<unsigned long long>(fnv1a(job_id)));
-    name = name.substr(0, keep) + buf;
-  }
-  return name;
-}
+std::string job_dir_name(const std::string& job_id) { return runtime::job_dir_name(job_id); }
 
 std::string iso_time(std::int64_t utime) {
   const std::time_t secs = static_cast<std::time_t>(utime / 1000000);
