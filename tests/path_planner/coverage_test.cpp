@@ -14,6 +14,7 @@
 #include "outline_core/outline.hpp"
 #include "partgen/shapes.hpp"
 #include "partgen/synth.hpp"
+#include "path_planner/io.hpp"
 #include "path_planner/pipeline.hpp"
 #include "tests/path_planner/truth.hpp"
 
@@ -259,6 +260,27 @@ TEST(PathPlannerCoverage, SlotIsNotReachedByA21mmTool) {
       EXPECT_NE(w.find("concave"), std::string::npos) << w;  // its ends: concave, radius 20 < 21 mm
     }
   EXPECT_TRUE(found) << ::testing::PrintToString(r.warnings);
+  // The path message says it as data: loop 2 not planned, one CAUSE_TOO_SMALL stretch of its whole perimeter;
+  // the other loops planned and fully reached.
+  const hullgrind::grind_path_t g = to_lcm(r, "slot", 0, "robot_base", 0);
+  EXPECT_EQ(g.revision, 1);
+  ASSERT_EQ(g.num_loops, 3);
+  EXPECT_FALSE(g.coverage[2].planned);
+  EXPECT_TRUE(g.coverage[2].hole);
+  EXPECT_EQ(g.coverage[2].reached_length, 0);
+  EXPECT_NEAR(g.coverage[2].edge_length, perimeter, 0.1e-3);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_TRUE(g.coverage[k].planned);
+    EXPECT_EQ(g.coverage[k].reached_length, g.coverage[k].edge_length);
+    EXPECT_EQ(g.coverage[k].reason, "");
+  }
+  ASSERT_EQ(g.num_unreached, 1);
+  EXPECT_EQ(g.unreached[0].loop_index, 2);
+  EXPECT_EQ(g.unreached[0].cause, +hullgrind::edge_stretch_t::CAUSE_TOO_SMALL);
+  EXPECT_NEAR(g.unreached[0].length, perimeter, 0.1e-3);
+  EXPECT_NE(g.unreached[0].reason.find("too small for a tool of radius 21"), std::string::npos)
+      << g.unreached[0].reason;
+  for (int i = 0; i < g.n; ++i) EXPECT_NE(g.loop_index[i], 2);
 }
 
 TEST(PathPlannerCoverage, SlotAtATool20mmVerdictMatchesTheGeometry) {
