@@ -49,12 +49,10 @@ CORNER_EXCLUSION = 0.010
 TOP_FACE_TOLERANCE = 1.0e-3
 
 
-# Noisy pm806 frames now and then have a gap of a few missing pixels inside the plate, which the outline
-# rightly reports as a tiny hole; with the shipped small_hole: fail the planner then FAILS the job ("hole K
-# is too small"), about one frame in seven. The tests that need DONE use the planner's documented
-# small_hole: skip (planned without it, warning in PLANNED); E2EWholePipeline checks independently that
-# every true hole is ground.
-PLANNER_ARGS = ["--small-hole", "skip"]
+# The shipped pipeline's planner (small-hole: fail): a hole too small for the tool FAILS the job. (With
+# small-hole: skip a skipped hole is an unground stretch of the plan: it waits for an operator's approval and
+# can never end DONE unexcluded.) E2EWholePipeline checks independently that every true hole is ground.
+PLANNER_ARGS = []
 # Known issue (issue 8 brief): the robot bridge refuses a path whose corner needs more than max-accel
 # (v^2/r; the planner does not slow down at corners yet). Now and then a noisy frame gives a grind corner
 # of ~0.2 mm radius, too tight at the default 0.02 m/s. The jobs that must go DONE ask for half that grind
