@@ -9,7 +9,8 @@ a network namespace of its own (tests/netns.sh):
                     (DONE, or FAILED/ABORTED with a reason) within a bound, and a new job goes DONE; the
                     job recorder killed mid-job still records the job's end.
   E2EInterruptedRun tools/run.sh stopped mid-job (Ctrl-C), then run again: the second run ends DONE; the job
-                    history has the first job ABORTED and the second DONE.
+                    history has the first job ABORTED and the second DONE; a third run asking for the second
+                    job again is answered DONE from the job history: no second path, no second run.
   E2EReplay         the recorded run log, replayed into a fresh outline service + planner, gives the same
                     outline and path.
   E2EGenicam        config/pipeline-genicam.toml: the camera bridge reads a fake GigE Vision 3-D camera
@@ -313,6 +314,21 @@ class E2EInterruptedRun(PipelineCase):
         show = E.run([os.path.join(E.SRC, "tools", "hg-jobs"), "--dir", os.path.join(p.dir, "jobs"), "list"], timeout=60)
         self.assertRegex(show.stdout, r"e2e-rerun-1 .* ABORTED")
         self.assertRegex(show.stdout, r"e2e-rerun-2 .* DONE")
+        # A third pipeline on the same folder, asked for the job that ended DONE: the job history (jobs-dir)
+        # answers it; no second path, no second run.
+        with open(os.path.join(p.dir, "jobs", "e2e-rerun-2", "events.jsonl")) as f:
+            paths_before = sum(1 for line in f if json.loads(line).get("event") == "path")
+        cmd, env = self.run_sh(p, "e2e-rerun-2")
+        third = E.run(cmd, timeout=600, env=env)
+        self.assertEqual(third.returncode, 0, third.stdout + third.stderr)
+        self.assertRegex(third.stdout, r"hg-robot-bridge DONE \(answer\).*the job history holds it as DONE")
+        self.assertNotRegex(third.stdout, r"PLANNED|RUNNING|ACCEPTED")
+        with open(os.path.join(p.dir, "jobs", "e2e-rerun-2", "events.jsonl")) as f:
+            events = [json.loads(line) for line in f]
+        self.assertEqual(sum(1 for e in events if e.get("event") == "path"), paths_before)
+        third_rec = p.record("e2e-rerun-2")
+        self.assertEqual((third_rec["state"], third_rec["final"], third_rec["ended"]),
+                         ("DONE", True, second_rec["ended"]), str(third_rec))
 
 
 class E2EReplay(PipelineCase):
