@@ -349,6 +349,9 @@ class E2EReplay(PipelineCase):
         try:
             for name in ("outline", "planner"):
                 cmd = [p._rewrite_arg(a) for a in E.process_command(name)] + (PLANNER_ARGS if name == "planner" else [])
+                if "--jobs-dir" in cmd:  # a re-computation of a job the history holds as DONE: without the history
+                    at = cmd.index("--jobs-dir")
+                    del cmd[at:at + 2]
                 if "/" not in cmd[0]:
                     cmd[0] = E.bin_path(cmd[0])
                 procs.append(subprocess.Popen(cmd, cwd=p.dir, stdout=p._file("replay-%s.log" % name),
