@@ -181,7 +181,8 @@ Cell read_cell(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw CellError(path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
-  only_keys(root, {"calibration", "table-z", "workspace", "max-speed", "max-accel", "tool", "home"}, path, "");
+  only_keys(root, {"calibration", "table-z", "workspace", "max-speed", "max-accel", "tool", "home", "approval"}, path,
+            "");
   Cell c;
   c.calibration = read_calibration(need(root, "calibration", path, ""), path);
   c.table_z = number(need(root, "table-z", path, ""), path, "table-z");
@@ -196,6 +197,11 @@ Cell read_cell(const std::string& path) {
   c.tool.radius = number(need(tool, "radius", path, "tool."), path, "tool.radius");
   c.tool.tilt = number(need(tool, "tilt", path, "tool."), path, "tool.tilt");
   c.home = vec3(need(root, "home", path, ""), path, "home");
+  if (const YAML::Node a = root["approval"]) {
+    const std::string v = text(a, path, "approval");
+    if (v != "auto" && v != "operator") fail(path, "approval", "'" + v + "' is not one of auto | operator");
+    c.approval = v == "auto" ? Approval::Auto : Approval::Operator;
+  }
   validate(c, path);
   return c;
 }
@@ -225,6 +231,7 @@ std::string write_cell(const std::string& path, const Cell& c) {
   root["tool"]["radius"] = c.tool.radius;
   root["tool"]["tilt"] = c.tool.tilt;
   root["home"] = seq(c.home);
+  root["approval"] = c.approval == Approval::Auto ? "auto" : "operator";
   out << root;
 
   namespace fs = std::filesystem;

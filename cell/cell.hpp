@@ -40,6 +40,10 @@ struct Tool {
   double tilt = 0;       // rad, toward the edge normal
 };
 
+// Who approves a plan before the robot moves (key `approval`): an operator always, or the cell's policy for a
+// plan that reaches every edge of the part (a plan with an unreached edge always waits for an operator).
+enum class Approval { Operator, Auto };
+
 struct Cell {
   Calibration calibration;
   double table_z = 0;  // table top in the base frame; every path point must be strictly above
@@ -48,6 +52,7 @@ struct Cell {
   double max_accel = 0;  // m/s^2
   Tool tool;
   Eigen::Vector3d home = Eigen::Vector3d::Zero();
+  Approval approval = Approval::Operator;  // optional key, default operator
 };
 
 // Reads and validates a cell file. Throws CellError naming the file and the key: missing or unknown keys,

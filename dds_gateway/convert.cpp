@@ -20,6 +20,18 @@ void borrow(Seq& seq, const std::vector<T>& v) {
 
 hgdds_Header header(const hullgrind::header_t& h) { return {h.seq, h.utime, str(h.frame_id)}; }
 
+template <class Seq, class T>
+void own(Seq& seq, std::vector<T>& v) {
+  seq._maximum = seq._length = static_cast<uint32_t>(v.size());
+  seq._buffer = v.data();
+  seq._release = false;
+}
+
+void stretches(const std::vector<hullgrind::edge_stretch_t>& from, std::vector<hgdds_EdgeStretch>& to) {
+  to.clear();
+  for (const auto& e : from) to.push_back({e.loop_index, e.hole, e.start, e.length, e.cause, str(e.reason)});
+}
+
 template <std::size_t N>
 void copy(double (&to)[N], const double (&from)[N]) {
   std::memcpy(to, from, sizeof to);
@@ -85,6 +97,13 @@ void to_dds(const hullgrind::grind_path_t& m, GrindPathSample& out) {
   s.tool_radius = m.tool_radius;
   s.tilt = m.tilt;
   s.flipped = m.flipped;
+  s.revision = m.revision;
+  out.coverage.clear();
+  for (const auto& c : m.coverage)
+    out.coverage.push_back({c.loop_index, c.hole, c.planned, c.edge_length, c.reached_length, str(c.reason)});
+  stretches(m.unreached, out.unreached);
+  own(s.coverage, out.coverage);
+  own(s.unreached, out.unreached);
 }
 
 hgdds_PartPose to_dds(const hullgrind::part_pose_t& m) {
@@ -103,8 +122,9 @@ hgdds_PartPose to_dds(const hullgrind::part_pose_t& m) {
   return s;
 }
 
-hgdds_JobStatus to_dds(const hullgrind::job_status_t& m) {
-  hgdds_JobStatus s{};
+void to_dds(const hullgrind::job_status_t& m, JobStatusSample& out) {
+  hgdds_JobStatus& s = out.s;
+  s = {};
   s.header = header(m.header);
   s.job_id = str(m.job_id);
   s.part_id = str(m.part_id);
@@ -112,7 +132,12 @@ hgdds_JobStatus to_dds(const hullgrind::job_status_t& m) {
   s.state = m.state;
   s.progress = m.progress;
   s.message = str(m.message);
-  return s;
+  s.answer = m.answer;
+  s.plan_revision = m.plan_revision;
+  s.actor = str(m.actor);
+  borrow(s.excluded_loops, m.excluded_loops);
+  stretches(m.unground, out.unground);
+  own(s.unground, out.unground);
 }
 
 hgdds_RobotStatus to_dds(const hullgrind::robot_status_t& m) {
@@ -160,6 +185,10 @@ hullgrind::job_request_t to_lcm(const hgdds_JobRequest& r) {
   m.safe_height = r.safe_height;
   m.direction = r.direction;
   m.flipped = r.flipped;
+  m.actor = r.actor ? r.actor : "";
+  m.plan_revision = r.plan_revision;
+  m.excluded_loops.assign(r.excluded_loops._buffer, r.excluded_loops._buffer + r.excluded_loops._length);
+  m.num_excluded = std::int32_t(m.excluded_loops.size());
   return m;
 }
 
@@ -214,8 +243,20 @@ std::string check_job_request(const hgdds_JobRequest& r, const JobLimits& limits
     unsigned char c = static_cast<unsigned char>(part[i]);
     if (c < 0x20 || c == 0x7f) return "part_id has a control character at position " + std::to_string(i);
   }
-  if (r.action < hullgrind::job_request_t::ACTION_START || r.action > hullgrind::job_request_t::ACTION_RESET)
-    return "action " + std::to_string(int(r.action)) + " is not START (0), ABORT (1) or RESET (2)";
+  if (r.action < hullgrind::job_request_t::ACTION_START || r.action > hullgrind::job_request_t::ACTION_QUERY)
+    return "action " + std::to_string(int(r.action)) +
+           " is not START (0), ABORT (1), RESET (2), APPROVE (3), REJECT (4), REPLAN (5) or QUERY (6)";
+  const char* actor = r.actor ? r.actor : "";
+  if (std::strlen(actor) > limits.max_part_id)
+    return "actor has " + std::to_string(std::strlen(actor)) + " bytes, more than " +
+           std::to_string(limits.max_part_id);
+  for (std::size_t i = 0; actor[i]; ++i)
+    if (static_cast<unsigned char>(actor[i]) < 0x20 || actor[i] == 0x7f)
+      return "actor has a control character at position " + std::to_string(i);
+  if (r.excluded_loops._length > 4096) return "more than 4096 excluded loops";
+  if (r.excluded_loops._length > 0 && !r.excluded_loops._buffer) return "excluded_loops has no data";
+  for (std::uint32_t i = 0; i < r.excluded_loops._length; ++i)
+    if (r.excluded_loops._buffer[i] < 0) return "excluded loop " + std::to_string(i) + " is negative";
   if (r.direction != hullgrind::job_request_t::DIRECTION_CLIMB &&
       r.direction != hullgrind::job_request_t::DIRECTION_CONVENTIONAL)
     return "direction " + std::to_string(int(r.direction)) + " is not CLIMB (0) or CONVENTIONAL (1)";

@@ -24,12 +24,18 @@ struct OutlineSample {
 struct GrindPathSample {
   hgdds_GrindPath s{};
   std::vector<double> position, orientation;  // flattened n x 3, n x 4
+  std::vector<hgdds_LoopCoverage> coverage;
+  std::vector<hgdds_EdgeStretch> unreached;
+};
+struct JobStatusSample {
+  hgdds_JobStatus s{};
+  std::vector<hgdds_EdgeStretch> unground;
 };
 
 void to_dds(const hullgrind::outline_t& m, OutlineSample& out);
 void to_dds(const hullgrind::grind_path_t& m, GrindPathSample& out);
 hgdds_PartPose to_dds(const hullgrind::part_pose_t& m);
-hgdds_JobStatus to_dds(const hullgrind::job_status_t& m);
+void to_dds(const hullgrind::job_status_t& m, JobStatusSample& out);
 hgdds_RobotStatus to_dds(const hullgrind::robot_status_t& m);
 hgdds_Health to_dds(const hullgrind::heartbeat_t& m);
 

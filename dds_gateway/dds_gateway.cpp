@@ -125,8 +125,9 @@ Gateway::Gateway(runtime::Node& node, Options options)
                                              // The gateway's own refusals went to DDS directly (handle_job_request); do
                                              // not send them twice.
                                              if (m.source == node_.name()) return;
-                                             hgdds_JobStatus s = to_dds(m);
-                                             write(w_job_status_, &s, "job status");
+                                             JobStatusSample s;
+                                             to_dds(m, s);
+                                             write(w_job_status_, &s.s, "job status");
                                            });
   node_.subscribe<hullgrind::robot_status_t>(
       channels::kRobotStatus,
@@ -225,8 +226,9 @@ void Gateway::handle_job_request(const hgdds_JobRequest& r) {
   st.message = "refused by " + node_.name() + ": " + why;
   logf(Level::Warn, "job request '%s' from DDS refused: %s", st.job_id.c_str(), why.c_str());
   node_.publish(channels::kJobStatus, st);  // fills header seq and utime
-  hgdds_JobStatus s = to_dds(st);
-  write(w_job_status_, &s, "job status");
+  JobStatusSample s;
+  to_dds(st, s);
+  write(w_job_status_, &s.s, "job status");
 }
 
 std::unique_ptr<Gateway> attach(runtime::Node& node) { return std::make_unique<Gateway>(node, options_from(node)); }

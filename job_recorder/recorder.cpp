@@ -19,19 +19,8 @@ using runtime::logf;
 
 namespace {
 
-constexpr std::size_t kMaxName = 120, kKeptPrefix = 100;
 constexpr std::size_t kOutlinesKept = 8;
 constexpr std::size_t kRecordsInMemory = 1024;  // beyond this, ended records are dropped (reloaded from disk)
-
-std::uint64_t fnv1a(const std::string& s) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
-bool plain(unsigned char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-}
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -40,37 +29,49 @@ std::string read_text(const fs::path& p) {
   return ss.str();
 }
 
-// Who ends a job: the robot bridge's DONE, or FAILED/ABORTED/REFUSED from anyone (as tools/run.sh reads it).
+// Who ends a job: the robot bridge's DONE, or any other terminal state (FAILED, ABORTED, REFUSED, INCOMPLETE,
+// REJECTED, NEEDS_RESCAN) from anyone (as tools/run.sh reads it).
 bool ends_job(const hullgrind::job_status_t& s) {
   return (s.state == hullgrind::job_status_t::STATE_DONE && s.source == "hg-robot-bridge") ||
          (runtime::job_state_final(s.state) && s.state != hullgrind::job_status_t::STATE_DONE);
 }
 
+json stretch_json(const hullgrind::edge_stretch_t& e) {
+  static const char* causes[] = {"UNREACHED", "TOO_SMALL", "CORNER", "EXCLUDED", "NOT_RUN"};
+  return {{"loop", e.loop_index},
+          {"hole", e.hole},
+          {"start", e.start},
+          {"length", e.length},
+          {"cause", e.cause >= 0 && e.cause < 5 ? causes[e.cause] : std::to_string(int(e.cause))},
+          {"reason", e.reason}};
+}
+
+json unground_json(const hullgrind::job_status_t& s) {
+  json out = json::array();
+  for (const auto& e : s.unground) out.push_back(stretch_json(e));
+  return out;
+}
+
+// The status as an event line: what it said, and the approval and unground fields when it has them.
+json status_event(const hullgrind::job_status_t& s, std::int64_t utime) {
+  json ev = {{"time", iso_time(utime)},
+             {"utime", utime},
+             {"event", "status"},
+             {"source", s.source},
+             {"state", runtime::job_state_name(s.state)},
+             {"progress", s.progress},
+             {"message", s.message}};
+  if (s.answer) ev["answer"] = true;
+  if (s.plan_revision > 0) ev["plan_revision"] = s.plan_revision;
+  if (!s.actor.empty()) ev["actor"] = s.actor;
+  if (!s.excluded_loops.empty()) ev["excluded_loops"] = s.excluded_loops;
+  if (!s.unground.empty()) ev["unground"] = unground_json(s);
+  return ev;
+}
+
 }  // namespace
 
-std::string job_dir_name(const std::string& job_id) {
-  if (job_id.empty()) return "";
-  std::string name;
-  for (std::size_t i = 0; i < job_id.size(); ++i) {
-    const unsigned char c = static_cast<unsigned char>(job_id[i]);
-    if (plain(c) || (c == '.' && i > 0)) {
-      name += char(c);
-    } else {
-      char buf[4];
-      std::snprintf(buf, sizeof buf, "%%%02X", c);
-      name += buf;
-    }
-  }
-  if (name.size() > kMaxName) {
-    std::size_t keep = kKeptPrefix;
-    while (keep > 0 && name[keep - 1] == '%') --keep;  // never cut an escape in two
-    if (keep >= 2 && name[keep - 2] == '%') keep -= 2;
-    char buf[24];
-    std::snprintf(buf, sizeof buf, "~%016llx", static_cast<unsigned long long>(fnv1a(job_id)));
-    name = name.substr(0, keep) + buf;
-  }
-  return name;
-}
+std::string job_dir_name(const std::string& job_id) { return runtime::job_dir_name(job_id); }
 
 std::string iso_time(std::int64_t utime) {
   const std::time_t secs = static_cast<std::time_t>(utime / 1000000);
@@ -93,7 +94,10 @@ json request_json(const hullgrind::job_request_t& r) {
           {"step", r.step},
           {"safe_height", r.safe_height},
           {"direction", r.direction == hullgrind::job_request_t::DIRECTION_CONVENTIONAL ? "conventional" : "climb"},
-          {"flipped", r.flipped}};
+          {"flipped", r.flipped},
+          {"actor", r.actor},
+          {"plan_revision", r.plan_revision},
+          {"excluded_loops", r.excluded_loops}};
 }
 
 Recorder::Recorder(fs::path root, std::int64_t now_utime) : root_(std::move(root)) {
@@ -193,12 +197,14 @@ void Recorder::mark_interrupted(json& rec, const std::string& why, std::int64_t 
 }
 
 void Recorder::on_request(const hullgrind::job_request_t& r, std::int64_t utime) {
+  if (r.action == hullgrind::job_request_t::ACTION_QUERY) return;  // asks about jobs; not part of one
   json* rec = record(r.job_id, utime);
   if (!rec) return;
   json req = request_json(r);
   append_event(r.job_id, {{"time", iso_time(utime)}, {"utime", utime}, {"event", "request"}, {"request", req}});
   (*rec)["requests"] = rec->value("requests", 0) + 1;
-  if (!rec->contains("request")) {  // the first request says what the job is; repeats are events
+  if (!rec->contains("request") && r.action == hullgrind::job_request_t::ACTION_START) {
+    // the first START says what the job is; repeats and the other actions are events
     (*rec)["request"] = req;
     (*rec)["requested"] = iso_time(utime);
     (*rec)["requested_utime"] = utime;
@@ -210,35 +216,49 @@ void Recorder::on_request(const hullgrind::job_request_t& r, std::int64_t utime)
 void Recorder::on_status(const hullgrind::job_status_t& s, std::int64_t utime) {
   json* rec = record(s.job_id, utime);
   if (!rec) return;
-  const std::string state = runtime::job_state_name(s.state);
-  append_event(s.job_id, {{"time", iso_time(utime)},
-                          {"utime", utime},
-                          {"event", "status"},
-                          {"source", s.source},
-                          {"state", state},
-                          {"progress", s.progress},
-                          {"message", s.message}});
+  append_event(s.job_id, status_event(s, utime));
   if ((*rec)["part_id"] == "" && !s.part_id.empty()) (*rec)["part_id"] = s.part_id;
   if (rec->value("final", false)) return save(s.job_id);  // the first end stands; later words are events
+  // An answer (to a QUERY or a repeat) changes nothing, unless it tells the end of a job this record does not
+  // hold as ended: the end was published while the recorder was down (catch-up after a restart).
+  if (s.answer && !ends_job(s)) return save(s.job_id);
+  if (s.answer) (*rec)["caught_up"] = {{"at", iso_time(utime)}, {"source", s.source}};
   // A status after an interruption: the job went on (the recorder was the one that died).
   if (rec->contains("interrupted")) {
     (*rec)["resumed_after_interruption"] = (*rec)["interrupted"];
     rec->erase("interrupted");
   }
-  const bool progress_only = s.state == hullgrind::job_status_t::STATE_RUNNING && (*rec)["state"] == "RUNNING";
-  (*rec)["state"] = state;
-  (*rec)["source"] = s.source;
-  (*rec)["progress"] = s.progress;
-  if (!progress_only || s.progress >= 1) (*rec)["message"] = s.message;
-  (*rec)["updated"] = iso_time(utime);
-  (*rec)["updated_utime"] = utime;
-  if (ends_job(s)) {
-    (*rec)["final"] = true;
-    (*rec)["ended"] = iso_time(utime);
-    (*rec)["ended_utime"] = utime;
-    (*rec)["reason"] = s.message;
-  }
+  apply_status(*rec, s, utime);
   save(s.job_id);
+}
+
+void Recorder::apply_status(json& rec, const hullgrind::job_status_t& s, std::int64_t utime) {
+  using S = hullgrind::job_status_t;
+  const std::string state = runtime::job_state_name(s.state);
+  const bool progress_only = s.state == S::STATE_RUNNING && rec["state"] == "RUNNING";
+  rec["state"] = state;
+  rec["source"] = s.source;
+  rec["progress"] = s.progress;
+  if (!progress_only || s.progress >= 1) rec["message"] = s.message;
+  rec["updated"] = iso_time(utime);
+  rec["updated_utime"] = utime;
+  if (s.plan_revision > 0) rec["plan_revision"] = s.plan_revision;
+  if (s.state == S::STATE_APPROVED)
+    rec["approval"] = {{"by", s.actor},
+                       {"at", iso_time(utime)},
+                       {"at_utime", utime},
+                       {"revision", s.plan_revision},
+                       {"excluded_loops", s.excluded_loops}};
+  if (s.state == S::STATE_REJECTED)
+    rec["rejection"] = {{"by", s.actor}, {"at", iso_time(utime)}, {"revision", s.plan_revision}};
+  // The plan's gaps while it awaits approval, and the run's unground stretches at the end.
+  if (s.state == S::STATE_AWAITING_APPROVAL || runtime::job_state_final(s.state)) rec["unground"] = unground_json(s);
+  if (ends_job(s)) {
+    rec["final"] = true;
+    rec["ended"] = iso_time(utime);
+    rec["ended_utime"] = utime;
+    rec["reason"] = s.message;
+  }
 }
 
 void Recorder::on_outline(const hullgrind::outline_t& o, std::int64_t) {
@@ -250,18 +270,22 @@ void Recorder::on_path(const hullgrind::grind_path_t& p, std::int64_t utime) {
   json* rec = record(p.job_id, utime);
   if (!rec) return;
   const fs::path dir = dir_of(p.job_id);
-  const bool first = !rec->contains("path");
+  // A job's path is its first plan, replaced by each newer revision (REPLAN) while the job is not ended.
+  const bool kept =
+      !rec->contains("path") || (!rec->value("final", false) && p.revision > (*rec)["path"].value("revision", 0));
   append_event(p.job_id, {{"time", iso_time(utime)},
                           {"utime", utime},
                           {"event", "path"},
                           {"waypoints", p.n},
+                          {"revision", p.revision},
                           {"outline_seq", p.outline_seq},
-                          {"kept", first}});
-  if (!first) return save(p.job_id);                     // a job has one path: the first
+                          {"kept", kept}});
+  if (!kept) return save(p.job_id);
   write_file(dir / "path.json", path_file::to_text(p));  // the one path file writer
-  (*rec)["path"] = {{"file", "path.json"},          {"waypoints", p.n}, {"outline_seq", p.outline_seq},
-                    {"tool_radius", p.tool_radius}, {"frame", p.frame}, {"time", iso_time(utime)}};
-  for (auto it = outlines_.rbegin(); it != outlines_.rend(); ++it) {
+  (*rec)["path"] = {
+      {"file", "path.json"},          {"waypoints", p.n}, {"revision", p.revision}, {"outline_seq", p.outline_seq},
+      {"tool_radius", p.tool_radius}, {"frame", p.frame}, {"time", iso_time(utime)}};
+  for (auto it = outlines_.rbegin(); it != outlines_.rend() && !rec->contains("outline"); ++it) {
     if (it->header.seq != p.outline_seq) continue;
     write_file(dir / "outline.json", outline::io::outline_message_json(*it, nullptr).dump(1) + "\n");
     int holes = 0;

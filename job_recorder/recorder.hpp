@@ -1,14 +1,17 @@
 // The job history: one folder per job id under a root directory (make run: out/jobs/), written by one
 // process (hg-job-recorder) from what the bus says about the job, so that an operator can tell afterwards
 // what the cell did to which part and when (tools/hg-jobs). Layout of ROOT/NAME/ (NAME: job_dir_name):
-//   job.json      summary: job id, part, first request, current state, source and reason, times, whether
-//                 it ended (final) or was interrupted; rewritten whole (temporary file + rename) on change
+//   job.json      summary: job id, part, first request, current state, source and reason, times, plan
+//                 revision, approval (who, when, revision, excluded loops) or rejection, the unground stretches,
+//                 whether it ended (final) or was interrupted; rewritten whole (temporary file + rename)
 //   events.jsonl  every request, status, outline and path of the job, one JSON object a line, appended
 //                 and flushed as it comes
 //   outline.json  the outline the path was planned on (hg-outline's schema, as make run's out/outline.json)
 //   path.json     the grind path (the schema of make run's out/path.json)
 // A process killed mid-way leaves whole files: a job whose end was not heard is marked "interrupted" with
-// its last known state and time when the recorder starts again or stops; a later status still ends it.
+// its last known state and time when the recorder starts again or stops; a later status still ends it, and
+// so does an answer (answer = true) with a terminal state: the recorder asks every process on start (QUERY "")
+// for its last status of each job it holds (catch-up: "caught_up" in job.json).
 #pragma once
 
 #include <cstdint>
@@ -65,6 +68,8 @@ class Recorder {
   void save(const std::string& job_id);
   void write_file(const std::filesystem::path& path, const std::string& text);
   void mark_interrupted(nlohmann::json& rec, const std::string& why, std::int64_t utime);
+  // A status that is no answer (or an answer that ends the job): state, approval, unground, the end.
+  void apply_status(nlohmann::json& rec, const hullgrind::job_status_t& s, std::int64_t utime);
   void load_open_records(std::int64_t now_utime);
 
   std::filesystem::path root_;

@@ -337,10 +337,37 @@ OutlineInput from_lcm(const hullgrind::outline_t& m) {
   return in;
 }
 
+std::vector<hullgrind::edge_stretch_t> unground_stretches(const PlanResult& r) {
+  using hullgrind::edge_stretch_t;
+  std::vector<edge_stretch_t> out;
+  char buf[160];
+  for (const LoopCoverage& c : r.coverage) {
+    edge_stretch_t s{};
+    s.loop_index = std::int16_t(c.loop);
+    s.hole = c.hole;
+    if (!c.planned) {
+      s.length = c.length;
+      s.cause = edge_stretch_t::CAUSE_TOO_SMALL;
+      s.reason = "not planned: " + c.skipped;
+      out.push_back(s);
+      continue;
+    }
+    for (const UnreachedStretch& u : c.unreached) {
+      s.start = u.start;
+      s.length = u.length;
+      s.cause = u.concave ? edge_stretch_t::CAUSE_CORNER : edge_stretch_t::CAUSE_UNREACHED;
+      std::snprintf(buf, sizeof buf, "farther than %.1f + %.1f mm from the tool path%s", r.params.tool_radius * 1e3,
+                    r.coverage_tolerance * 1e3, u.concave ? ", at a concave corner or bend tighter than the tool" : "");
+      s.reason = buf;
+      out.push_back(s);
+    }
+  }
+  return out;
+}
+
 hullgrind::grind_path_t to_lcm(const PlanResult& r, const std::string& job_id, std::int64_t outline_seq,
-                               const std::string& frame, std::int64_t utime) {
-  hullgrind::grind_path_t g{};  // every count zero: a message that encodes (coverage, unreached are h1's)
-  g.revision = 1;
+                               const std::string& frame, std::int64_t utime, std::int32_t revision) {
+  hullgrind::grind_path_t g{};  // every count zero until filled: a message that encodes
   g.header.utime = utime;
   g.header.frame_id = frame;
   g.job_id = job_id;
@@ -363,6 +390,22 @@ hullgrind::grind_path_t to_lcm(const PlanResult& r, const std::string& job_id, s
   g.tool_radius = r.params.tool_radius;
   g.tilt = r.params.chamfer_angle;
   g.flipped = r.params.flipped;
+  g.revision = revision;
+  for (const LoopCoverage& c : r.coverage) {
+    hullgrind::loop_coverage_t lc{};
+    lc.loop_index = std::int16_t(c.loop);
+    lc.hole = c.hole;
+    lc.planned = c.planned;
+    lc.edge_length = c.length;
+    lc.reached_length = c.planned ? c.length - c.unreached_length : 0;
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%.1f mm of its %.1f mm edge not reached", c.unreached_length * 1e3, c.length * 1e3);
+    lc.reason = !c.planned ? c.skipped : c.unreached.empty() ? std::string() : std::string(buf);
+    g.coverage.push_back(lc);
+  }
+  g.num_loops = std::int32_t(g.coverage.size());
+  g.unreached = unground_stretches(r);
+  g.num_unreached = std::int32_t(g.unreached.size());
   return g;
 }
 

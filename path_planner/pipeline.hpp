@@ -246,7 +246,9 @@ struct UnreachedStretch {
 struct LoopCoverage {
   int loop = 0;
   bool hole = false;
-  double length = 0;            // edge length, m
+  bool planned = true;  // false: the loop is not ground at all (a hole too small for the tool; skipped says why)
+  std::string skipped;  // why not planned
+  double length = 0;    // edge length, m
   double unreached_length = 0;  // m
   std::vector<UnreachedStretch> unreached;
   double reached_fraction() const { return length > 0 ? 1 - unreached_length / length : 1; }

@@ -199,6 +199,7 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
 
   std::vector<GrindLoop> grind;
   std::vector<std::size_t> skipped_warning(in.loops.size(), SIZE_MAX);
+  std::vector<std::string> skipped(in.loops.size());
   for (std::size_t k = 0; k < in.loops.size(); ++k) {
     const Loop& l = in.loops[k];
     const std::vector<Ring> off = offset_ring(edges[k], l.hole, P.tool_radius, cfg.arc_tolerance);
@@ -206,6 +207,7 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
       const std::string why = too_small_text(k, l.hole, edges[k], P.tool_radius, cfg.arc_tolerance);
       if (cfg.small_hole == SmallHolePolicy::Fail || !l.hole) return fail("not grindable: " + why);
       skipped_warning[k] = res.warnings.size();
+      skipped[k] = why;
       res.warnings.push_back("skipped: " + why);
       continue;
     }
@@ -232,7 +234,9 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
   res.coverage = loops_coverage(in.loops, edges, grind_segments(res.path, T), P.tool_radius, res.coverage_tolerance);
   std::string unreached;
   for (std::size_t k = 0; k < in.loops.size(); ++k) {
-    const LoopCoverage& c = res.coverage[k];
+    LoopCoverage& c = res.coverage[k];
+    c.planned = skipped[k].empty();
+    c.skipped = skipped[k];
     res.unreached_length += c.unreached_length;
     if (!c.unreached.empty()) {
       const std::string text = describe_unreached(c, T, P.tool_radius, res.coverage_tolerance, cfg.base_frame);

@@ -6,6 +6,7 @@
 
 #include "hullgrind/heartbeat_t.hpp"
 #include "runtime/log.hpp"
+#include "runtime/node.hpp"
 
 namespace hg::robot_bridge {
 
@@ -19,6 +20,7 @@ const char* state_name(Bridge::State s) {
   switch (s) {
     case Bridge::State::Idle: return "idle";
     case Bridge::State::Accepted: return "accepted";
+    case Bridge::State::Awaiting: return "awaiting approval";
     case Bridge::State::Running: return "running";
     case Bridge::State::Fault: return "FAULT";
   }
@@ -55,22 +57,40 @@ void Bridge::recover(double now) {
               "hg-robot-bridge restarted while job " + job + " was running; robot stopped", now);
 }
 
-void Bridge::report(const std::string& job_id, std::int8_t state, double progress, const std::string& message,
-                    bool record) {
+job_status_t Bridge::make_status(const std::string& job_id, std::int8_t state, double progress,
+                                 const std::string& message) const {
   job_status_t s{};
   s.header.frame_id = "";
   s.job_id = job_id;
-  s.part_id = job_id == job_id_ ? part_id_ : "";
-  if (record && !job_id.empty()) ledger_.set(job_id, s.part_id, state, progress, message);
-  if (const runtime::JobLedger::Entry* e = ledger_.find(job_id); e && s.part_id.empty()) s.part_id = e->part_id;
-  s.source = cfg_.source;
   s.state = state;
   s.progress = progress;
   s.message = message;
-  if (state != job_status_t::STATE_RUNNING)
-    logf(state == job_status_t::STATE_DONE || state == job_status_t::STATE_ACCEPTED ? Level::Info : Level::Warn,
-         "job %s: state %d: %s", job_id.c_str(), int(state), message.c_str());
+  if (job_id.empty() || job_id != job_id_) return s;
+  s.part_id = part_id_;
+  s.plan_revision = held_.revision;
+  s.actor = actor_;
+  s.excluded_loops = excluded_;
+  s.num_excluded = std::int32_t(excluded_.size());
+  return s;
+}
+
+void Bridge::publish(job_status_t s, bool record) {
+  s.source = cfg_.source;
+  s.answer = !record;
+  s.num_excluded = std::int32_t(s.excluded_loops.size());
+  s.num_unground = std::int32_t(s.unground.size());
+  if (record && !s.job_id.empty()) ledger_.set(s);
+  if (const runtime::JobLedger::Entry* e = ledger_.find(s.job_id); e && s.part_id.empty()) s.part_id = e->part_id;
+  if (s.state != job_status_t::STATE_RUNNING)
+    logf(s.state == job_status_t::STATE_DONE || s.state == job_status_t::STATE_ACCEPTED ? Level::Info : Level::Warn,
+         "job %s: %s%s: %s", s.job_id.c_str(), runtime::job_state_name(s.state).c_str(), record ? "" : " (answer)",
+         s.message.c_str());
   out_.job_status(s);
+}
+
+void Bridge::report(const std::string& job_id, std::int8_t state, double progress, const std::string& message,
+                    bool record) {
+  publish(make_status(job_id, state, progress, message), record);
 }
 
 void Bridge::save_state() {
@@ -94,11 +114,22 @@ void Bridge::update_health() {
     out_.health(hullgrind::heartbeat_t::STATE_OK, "");
 }
 
-void Bridge::finish(std::int8_t state, const std::string& message, double) {
-  report(job_id_, state, state == job_status_t::STATE_DONE ? 1.0 : progress_, message);
-  state_ = State::Idle;
+void Bridge::finish(std::int8_t state, const std::string& message, double,
+                    const std::vector<hullgrind::edge_stretch_t>& unground) {
+  job_status_t s = make_status(job_id_, state, state == job_status_t::STATE_DONE ? 1.0 : progress_, message);
+  s.unground = unground;
+  publish(s);
+  release();
+}
+
+// Nothing held any more.
+void Bridge::release() {
+  state_ = state_ == State::Fault ? State::Fault : State::Idle;
   job_id_.clear();
   part_id_.clear();
+  held_ = {};
+  excluded_.clear();
+  actor_.clear();
   save_state();
 }
 
@@ -106,7 +137,7 @@ void Bridge::enter_fault(std::int32_t code, const std::string& text, double now)
   driver_->stop(now);
   fault_code_ = code;
   fault_text_ = text;
-  if (state_ == State::Accepted || state_ == State::Running) {
+  if (state_ == State::Accepted || state_ == State::Awaiting || state_ == State::Running) {
     const int idx = driver_->state().path_index;
     report(
         job_id_, job_status_t::STATE_ABORTED, progress_,
@@ -114,41 +145,97 @@ void Bridge::enter_fault(std::int32_t code, const std::string& text, double now)
   }
   logf(Level::Error, "FAULT: %s; nothing runs until a RESET request", text.c_str());
   state_ = State::Fault;
-  job_id_.clear();
-  part_id_.clear();
-  save_state();
+  release();
 }
 
 void Bridge::on_job_request(const job_request_t& req, double now) {
   driver_->update(now);
+  if (req.action == job_request_t::ACTION_QUERY) return answer_query(req);
   if (const runtime::JobLedger::Entry* seen = ledger_.find(req.job_id)) return on_repeat(req, *seen, now);
   switch (req.action) {
     case job_request_t::ACTION_START: return start_job(req, now);
     case job_request_t::ACTION_ABORT: return;  // an abort for a job never seen here is another stage's
     case job_request_t::ACTION_RESET: return reset_fault(req, now);
+    case job_request_t::ACTION_APPROVE:
+    case job_request_t::ACTION_REJECT:
+    case job_request_t::ACTION_REPLAN: return on_unknown(req, now);
     default:
       return report(req.job_id, job_status_t::STATE_REFUSED, 0,
                     "refused: unknown action " + std::to_string(int(req.action)));
   }
 }
 
-// A job id seen before: a retrying writer, or an operator repeating. Only the ABORT of the job being held
-// acts; everything else is answered with the id's state.
-void Bridge::on_repeat(const job_request_t& req, runtime::JobLedger::Entry seen, double now) {
-  const bool held = (state_ == State::Accepted || state_ == State::Running) && req.job_id == job_id_;
-  if (req.action == job_request_t::ACTION_ABORT && held) {
-    driver_->stop(now);
-    return finish(
-        job_status_t::STATE_ABORTED,
-        state_ == State::Running ? "aborted by request; robot stopped" : "aborted by request before the path arrived",
-        now);
+// An action for a job this bridge never held: the job history's word on it, else "no such job"; nothing changes.
+void Bridge::on_unknown(const job_request_t& req, double) {
+  const std::string what = runtime::job_action_name(req.action) + " of job " + req.job_id;
+  if (const auto rec = runtime::recorded_job(cfg_.jobs_dir, req.job_id); rec && rec->state >= 0)
+    return report(req.job_id, rec->state, 0,
+                  what + ": the job history holds it as " + runtime::job_state_name(rec->state) +
+                      (rec->message.empty() ? "" : " (" + rec->message + ")") + "; nothing done",
+                  false);
+  report(req.job_id, job_status_t::STATE_REFUSED, 0, what + ": no such job held by the robot bridge; nothing done",
+         false);
+}
+
+// A job id seen before. The held job's ABORT, and APPROVE / REJECT while it awaits approval act; REPLAN is
+// the planner's (its new revision arrives as a path); everything else is answered with the id's state.
+void Bridge::on_repeat(const job_request_t& req, const runtime::JobLedger::Entry& seen, double now) {
+  const bool held = state_ != State::Idle && state_ != State::Fault && req.job_id == job_id_;
+  const bool awaiting = held && state_ == State::Awaiting;
+  if (req.action == job_request_t::ACTION_ABORT && held) return abort_held(req, now);
+  if (req.action == job_request_t::ACTION_APPROVE && awaiting) return approve(req, now);
+  if (req.action == job_request_t::ACTION_REJECT && awaiting) return reject(req);
+  if (req.action == job_request_t::ACTION_REPLAN && awaiting) return;
+  answer(req, seen, false);
+}
+
+void Bridge::answer(const job_request_t& req, const runtime::JobLedger::Entry& seen, bool keep_message) {
+  job_status_t s = seen.status;
+  if (s.job_id.empty()) {  // set without a whole status (upstream ends)
+    s.job_id = req.job_id;
+    s.state = seen.state;
+    s.progress = seen.progress;
+    s.message = seen.message;
   }
-  report(req.job_id, seen.state, seen.progress, runtime::repeat_answer(req.action, req.job_id, seen), false);
+  s.part_id = seen.part_id;
+  if (!keep_message) s.message = runtime::repeat_answer(req.action, req.job_id, seen);
+  publish(s, false);
+}
+
+// QUERY: the last status of the job (of every job the ledger holds, for ""), as it was published.
+void Bridge::answer_query(const job_request_t& req) {
+  if (!req.job_id.empty()) {
+    if (const runtime::JobLedger::Entry* e = ledger_.find(req.job_id)) answer(req, *e, true);
+    return;
+  }
+  for (const std::string& id : ledger_.ids())
+    if (const runtime::JobLedger::Entry* e = ledger_.find(id)) {
+      job_request_t r = req;
+      r.job_id = id;
+      answer(r, *e, true);
+    }
+}
+
+void Bridge::abort_held(const job_request_t& req, double now) {
+  driver_->stop(now);
+  if (!req.actor.empty()) actor_ = req.actor;
+  const char* when = state_ == State::Running    ? "robot stopped"
+                     : state_ == State::Awaiting ? "before approval; nothing moved"
+                                                 : "before the path arrived";
+  finish(job_status_t::STATE_ABORTED,
+         std::string("aborted by ") + (req.actor.empty() ? "request" : req.actor) + "; " + when, now);
 }
 
 void Bridge::start_job(const job_request_t& req, double now) {
   const RobotState& st = driver_->state();
   if (req.job_id.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: empty job id");
+  if (const auto rec = runtime::recorded_job(cfg_.jobs_dir, req.job_id);
+      runtime::recorded_before(rec, runtime::now_utime()) && rec->state >= 0)
+    return report(req.job_id, rec->state, 0,
+                  "START of job " + req.job_id + ": the job history holds it as " +
+                      runtime::job_state_name(rec->state) + (rec->ended ? "" : " (started before)") +
+                      (rec->message.empty() ? "" : " (" + rec->message + ")") + "; not run again",
+                  false);
   if (state_ == State::Fault)
     return report(req.job_id, job_status_t::STATE_REFUSED, 0,
                   "refused: robot bridge in FAULT (" + fault_text_ + "); check the cell and send RESET");
@@ -158,16 +245,17 @@ void Bridge::start_job(const job_request_t& req, double now) {
   state_ = State::Accepted;
   job_id_ = req.job_id;
   part_id_ = req.part_id;
-  not_ground_.clear();
+  held_ = {};
+  excluded_.clear();
+  actor_.clear();
   accepted_at_ = now;
   progress_ = 0;
   report(job_id_, job_status_t::STATE_ACCEPTED, 0, "accepted; waiting for the grind path");
 }
 
 void Bridge::reset_fault(const job_request_t& req, double now) {
-  if (state_ == State::Accepted || state_ == State::Running)
-    return report(req.job_id, job_status_t::STATE_REFUSED, 0,
-                  "reset refused: job " + job_id_ + " is running (ABORT it)");
+  if (state_ == State::Accepted || state_ == State::Awaiting || state_ == State::Running)
+    return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: job " + job_id_ + " is held (ABORT it)");
   if (state_ != State::Fault) return report(req.job_id, job_status_t::STATE_DONE, 1, "reset: nothing to clear");
   const std::string why = driver_->reset(now);
   if (!why.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "reset refused: " + why);
@@ -181,28 +269,98 @@ void Bridge::reset_fault(const job_request_t& req, double now) {
 
 void Bridge::on_grind_path(const hullgrind::grind_path_t& msg, double now) {
   driver_->update(now);
-  if (state_ != State::Accepted || msg.job_id != job_id_) {
-    if (const runtime::JobLedger::Entry* seen = ledger_.find(msg.job_id))  // a second path never runs
-      return report(msg.job_id, seen->state, seen->progress,
-                    "grind path for job " + msg.job_id + " ignored: it is " + runtime::job_state_name(seen->state) +
-                        (seen->message.empty() ? "" : " (" + seen->message + ")"),
-                    false);
-    return report(msg.job_id, job_status_t::STATE_REFUSED, 0,
-                  "path refused: job " + msg.job_id + " was not accepted by the robot bridge (" + state_name(state_) +
-                      (job_id_.empty() ? "" : ", holding job " + job_id_) + ")");
-  }
-  const Path path = from_lcm(msg);
+  const bool ours = msg.job_id == job_id_ && !job_id_.empty();
+  if (ours && state_ == State::Accepted) return take_plan(msg, now);
+  if (ours && state_ == State::Awaiting && msg.revision > held_.revision) return take_plan(msg, now);  // REPLAN
+  if (const runtime::JobLedger::Entry* seen = ledger_.find(msg.job_id))  // a second path never runs
+    return report(msg.job_id, seen->state, seen->progress,
+                  "grind path (revision " + std::to_string(msg.revision) + ") for job " + msg.job_id +
+                      " ignored: it is " + runtime::job_state_name(seen->state) +
+                      (seen->message.empty() ? "" : " (" + seen->message + ")"),
+                  false);
+  report(msg.job_id, job_status_t::STATE_REFUSED, 0,
+         "path refused: job " + msg.job_id + " was not accepted by the robot bridge (" + state_name(state_) +
+             (job_id_.empty() ? "" : ", holding job " + job_id_) + ")");
+}
+
+// A plan for the held job (its first, or a REPLAN's new revision): checked against the cell, then approved by
+// the cell's policy (every edge reached, approval auto) or held for an operator.
+void Bridge::take_plan(const hullgrind::grind_path_t& msg, double now) {
   const RobotState& st = driver_->state();
-  std::string why;
-  if (!st.pose_valid) why = "the robot's TCP pose is unknown";
-  if (why.empty()) why = check_path(path, st.tcp, cfg_.limits);
-  if (why.empty() && !cfg_.export_file.empty()) {
+  std::string why = st.pose_valid ? check_path(from_lcm(msg), st.tcp, cfg_.limits) : "the robot's TCP pose is unknown";
+  held_ = msg;
+  excluded_.clear();
+  actor_.clear();
+  if (!why.empty()) {
+    progress_ = 0;
+    return finish(job_status_t::STATE_REFUSED,
+                  "path (revision " + std::to_string(msg.revision) + ") refused, nothing moved: " + why, now);
+  }
+  if (cfg_.auto_approve && fully_reached(msg)) {
+    actor_ = "policy auto";
+    report(job_id_, job_status_t::STATE_APPROVED, 0,
+           "approved by the cell's policy (approval: auto): the plan reaches every edge");
+    return run_plan(msg, now);
+  }
+  state_ = State::Awaiting;
+  const std::vector<hullgrind::edge_stretch_t> gaps = unground(msg, {}, "");
+  job_status_t s = make_status(job_id_, job_status_t::STATE_AWAITING_APPROVAL, 0,
+                               "plan revision " + std::to_string(msg.revision) + " (" + std::to_string(msg.n) +
+                                   " waypoints) awaits an operator's approval: " +
+                                   (gaps.empty() ? std::string("it reaches every edge (cell approval: operator)")
+                                                 : "edge not reached: " + describe(gaps)));
+  s.unground = gaps;
+  publish(s);
+}
+
+// APPROVE of the held plan: the revision the operator saw, the loops excluded, the result checked again.
+void Bridge::approve(const job_request_t& req, double now) {
+  if (req.actor.empty()) return refuse_approval("an approval names who approves (actor)");
+  if (req.plan_revision != 0 && req.plan_revision != held_.revision)
+    return refuse_approval("revision " + std::to_string(req.plan_revision) + " is not the plan held (revision " +
+                           std::to_string(held_.revision) + ")");
+  const std::vector<std::int16_t> excluded(req.excluded_loops.begin(), req.excluded_loops.end());
+  if (std::string why = check_exclusions(held_, excluded); !why.empty()) return refuse_approval(why);
+  const hullgrind::grind_path_t trimmed = without_loops(held_, excluded);
+  if (!excluded.empty() && grind_waypoints(trimmed) == 0)
+    return refuse_approval("nothing left to grind without loops " + loop_list(excluded) + " (REJECT the job)");
+  const RobotState& st = driver_->state();
+  if (std::string why = st.pose_valid ? check_path(from_lcm(trimmed), st.tcp, cfg_.limits) : "TCP pose unknown";
+      !why.empty())
+    return refuse_approval("the plan without loops " + loop_list(excluded) + " fails the cell's check: " + why);
+  excluded_ = excluded;
+  actor_ = req.actor;
+  report(job_id_, job_status_t::STATE_APPROVED, 0,
+         "approved by " + actor_ + " (revision " + std::to_string(held_.revision) + ")" +
+             (excluded_.empty() ? "" : "; loops excluded: " + loop_list(excluded_)));
+  run_plan(trimmed, now);
+}
+
+void Bridge::refuse_approval(const std::string& why) {
+  job_status_t s = make_status(
+      job_id_, job_status_t::STATE_AWAITING_APPROVAL, 0,
+      "approval refused: " + why + "; still awaiting approval of revision " + std::to_string(held_.revision));
+  s.unground = unground(held_, {}, "");
+  publish(s, false);
+}
+
+void Bridge::reject(const job_request_t& req) {
+  actor_ = req.actor;
+  finish(job_status_t::STATE_REJECTED,
+         "rejected by " + (req.actor.empty() ? std::string("request") : req.actor) + " (plan revision " +
+             std::to_string(held_.revision) + "); nothing moved",
+         0, unground(held_, {}, ""));
+}
+
+// The approved plan to the robot.
+void Bridge::run_plan(const hullgrind::grind_path_t& plan, double now) {
+  const Path path = from_lcm(plan);
+  if (!cfg_.export_file.empty()) {
     std::ofstream out(cfg_.export_file, std::ios::trunc);
     out << make_script(path, cfg_.script);
     if (!out) logf(Level::Warn, "cannot write %s", cfg_.export_file.c_str());
   }
-  if (why.empty()) why = driver_->start(path, now);
-  if (!why.empty()) {
+  if (std::string why = driver_->start(path, now); !why.empty()) {
     progress_ = 0;
     return finish(job_status_t::STATE_REFUSED, "path refused, nothing moved: " + why, now);
   }
@@ -212,6 +370,19 @@ void Bridge::on_grind_path(const hullgrind::grind_path_t& msg, double now) {
   char buf[160];
   snprintf(buf, sizeof buf, "running %zu waypoints on the %s robot", path.size(), driver_->name());
   report(job_id_, job_status_t::STATE_RUNNING, 0, buf);
+}
+
+// The path ran completely: DONE when every loop not excluded was fully reached, else INCOMPLETE.
+void Bridge::end_run(double now) {
+  const std::vector<hullgrind::edge_stretch_t> gaps = unground(held_, excluded_, actor_);
+  std::vector<hullgrind::edge_stretch_t> not_excluded;
+  for (const auto& g : gaps)
+    if (!is_excluded(g)) not_excluded.push_back(g);
+  const std::string excluded =
+      excluded_.empty() ? "" : "; loops " + loop_list(excluded_) + " excluded by " + actor_ + " at approval";
+  if (not_excluded.empty()) return finish(job_status_t::STATE_DONE, "path complete" + excluded, now, gaps);
+  finish(job_status_t::STATE_INCOMPLETE, "path complete; edge not ground: " + describe(not_excluded) + excluded, now,
+         gaps);
 }
 
 void Bridge::on_move(const hullgrind::robot_move_t& msg, double now) {
@@ -236,7 +407,9 @@ void Bridge::on_move(const hullgrind::robot_move_t& msg, double now) {
   if (!why.empty()) return report(msg.move_id, job_status_t::STATE_REFUSED, 0, "move refused, nothing moved: " + why);
   job_id_ = msg.move_id;
   part_id_.clear();
-  not_ground_.clear();
+  held_ = {};
+  excluded_.clear();
+  actor_.clear();
   progress_ = 0;
   state_ = State::Running;
   save_state();
@@ -244,44 +417,26 @@ void Bridge::on_move(const hullgrind::robot_move_t& msg, double now) {
   report(job_id_, job_status_t::STATE_RUNNING, 0, std::string("moving the TCP on the ") + driver_->name() + " robot");
 }
 
-// The planner's coverage warnings in a PLANNED message ("; warning: skipped: ..." and "; warning: not
-// reached: ...", each naming a loop and "N mm of its M mm edge"), joined by "; ".
-static std::string not_ground_in(const std::string& planned) {
-  static const std::string kWarning = "; warning: ";
-  std::string out;
-  for (std::size_t at = planned.find(kWarning); at != std::string::npos;) {
-    const std::size_t from = at + kWarning.size(), next = planned.find(kWarning, from);
-    const std::string w = planned.substr(from, next == std::string::npos ? std::string::npos : next - from);
-    if (w.find(" mm edge") != std::string::npos) out += (out.empty() ? "" : "; ") + w;
-    at = next;
-  }
-  return out;
-}
-
+// Other processes' reports: a job accepted here that ends upstream (the planner FAILED it, the outline asks for
+// a rescan) is no longer waited for.
 void Bridge::on_job_status(const job_status_t& s, double) {
-  if (s.source == cfg_.source || s.job_id != job_id_) return;
-  // The planner publishes the path, then PLANNED: the job may already be running when it arrives.
-  if (s.state == job_status_t::STATE_PLANNED && (state_ == State::Accepted || state_ == State::Running))
-    not_ground_ = not_ground_in(s.message);
-  if (state_ != State::Accepted) return;
-  if (s.state == job_status_t::STATE_FAILED || s.state == job_status_t::STATE_ABORTED ||
-      s.state == job_status_t::STATE_REFUSED) {
-    logf(Level::Warn, "job %s ended upstream (%s: %s); no longer waiting for its path", s.job_id.c_str(),
-         s.source.c_str(), s.message.c_str());
-    ledger_.set(s.job_id, part_id_, s.state, 0, "ended upstream: " + s.source + ": " + s.message);
-    state_ = State::Idle;
-    job_id_.clear();
-    part_id_.clear();
-  }
+  if (s.source == cfg_.source || s.job_id != job_id_ || s.answer || state_ != State::Accepted) return;
+  if (!runtime::job_state_final(s.state) || s.state == job_status_t::STATE_DONE) return;
+  logf(Level::Warn, "job %s ended upstream (%s: %s); no longer waiting for its path", s.job_id.c_str(),
+       s.source.c_str(), s.message.c_str());
+  ledger_.set(s.job_id, part_id_, s.state, 0, "ended upstream: " + s.source + ": " + s.message);
+  release();
 }
 
 void Bridge::shutdown(double now) {
-  if (state_ != State::Accepted && state_ != State::Running) return;
+  if (state_ != State::Accepted && state_ != State::Awaiting && state_ != State::Running) return;
   driver_->stop(now);
   const bool running = state_ == State::Running;
   report(job_id_, job_status_t::STATE_ABORTED, progress_,
-         std::string("hg-robot-bridge stopped while the job was ") +
-             (running ? "running; robot stopped" : "waiting for its path"));
+         std::string("hg-robot-bridge stopped while the job was ") + (running ? "running; robot stopped"
+                                                                      : state_ == State::Awaiting
+                                                                          ? "awaiting approval"
+                                                                          : "waiting for its path"));
   if (!running) {
     state_ = State::Idle;
     job_id_.clear();
@@ -298,8 +453,7 @@ void Bridge::tick(double now) {
     finish(job_status_t::STATE_FAILED, buf, now);
   } else if (state_ == State::Running) {
     if (st.finished) {
-      finish(job_status_t::STATE_DONE,
-             not_ground_.empty() ? "path complete" : "path complete; edge not ground (planner): " + not_ground_, now);
+      end_run(now);
     } else if (!st.failure.empty()) {
       finish(job_status_t::STATE_FAILED, st.failure, now);
     } else {

@@ -47,13 +47,17 @@ runtime::ProcessInfo process_info() {
       "hg-robot-bridge",
       "Accepted jobs' grind paths (HG_GRIND_PATH) -> robot (simulated or Universal Robots) -> HG_ROBOT_STATUS (100 Hz), HG_JOB_STATUS.",
       "Job protocol: a START job_request_t is ACCEPTED (or REFUSED: busy, FAULT, robot not ready); the grind_path_t\n"
-      "with that job id is checked (workspace box, table height, speed, corner acceleration) and run: RUNNING with\n"
-      "progress, then DONE, or FAILED/ABORTED with the reason. The limits checked and the simulated robot's home\n"
+      "with that job id is checked (workspace box, table height, speed, corner acceleration) and held\n"
+      "AWAITING_APPROVAL until an APPROVE (optionally excluding loops; the rest checked again) or REJECT; the\n"
+      "cell's `approval: auto` approves by itself only a plan that reaches every edge. Approved, it runs: RUNNING\n"
+      "with progress, then DONE (every loop not excluded fully reached) or INCOMPLETE (the unground stretches\n"
+      "listed), or FAILED/ABORTED with the reason. QUERY answers the last status of each job held (answer=true).\n"
+      "The limits checked, the approval policy and the simulated robot's home\n"
       "come from the cell file (--cell, docs/cell.md); an accel above its max-accel stops the start (exit 2).\n"
       "A fault (protective/emergency stop, lost connection,\n"
       "unexpected robot mode) puts the bridge in FAULT until a RESET request. ABORT stops the job. A job id is\n"
       "one job: a request with an id seen before (a retrying writer) is answered with that job's state and\n"
-      "changes nothing; only the ABORT of the held job acts. A RESET needs an id of its own.\n"
+      "changes nothing; only ABORT, APPROVE and REJECT of the held job act. A RESET needs an id of its own.\n"
       "Stopped (SIGTERM) mid-job: the robot is stopped, the job ABORTED, and the state file kept.\n"
       "HG_RUN_ID (set by tools/run.sh): with --driver sim, a state file of another run is the last run's\n"
       "simulated robot: its job is reported ABORTED (interrupted) and the bridge starts clean.\n"
@@ -75,6 +79,9 @@ runtime::ProcessInfo process_info() {
           {"state-file", "",
            "file remembering the running job and HG_RUN_ID across a crash (a restart reports it ABORTED and holds FAULT)"},
           {"frame", "robot_base", "robot base frame name (robot_status_t header.frame_id)"},
+          {"jobs-dir", "",
+           "the job history (hg-job-recorder's --dir): a START of a job it holds as ended or started before is "
+           "answered with that state and never run; \"\" = off"},
           {"sim-time-scale", "1", "sim: simulated seconds per real second", false, runtime::ParamType::Number, 0,
            std::numeric_limits<double>::infinity(), true},
           {"sim-home-orientation", "0,1,0,0",
@@ -173,6 +180,8 @@ class Process {
     cfg.state_file = node.param("state-file");
     if (const char* run = std::getenv("HG_RUN_ID")) cfg.run_id = run;
     cfg.export_file = node.param("export");
+    cfg.jobs_dir = node.param("jobs-dir");
+    cfg.auto_approve = cell.cell.approval == cell::Approval::Auto;
     cfg.frame = node.param("frame");
     cfg.source = node.name();
     cfg.script = script_from(node.params(), cell);

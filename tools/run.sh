@@ -184,11 +184,15 @@ pids+=("$!")
 for _ in $(seq 1 100); do grep -q listening "$OUT/job_status.err" 2>/dev/null && break; sleep 0.1; done
 stamp "job request $JOB_ID"
 "$BIN/hg-lcm-send" job --job-id "$JOB_ID" --part-id demo-plate >/dev/null
-# Follows the statuses until the job ends: DONE from the robot, or FAILED/ABORTED/REFUSED from anyone.
+# Follows the statuses until the job ends: DONE from the robot, or any other terminal state (FAILED, ABORTED,
+# REFUSED, INCOMPLETE, REJECTED, NEEDS_RESCAN) from anyone; a plan awaiting approval is waited for (the
+# operator approves or rejects it: hg-lcm-send approve|reject --job-id ID --by NAME).
 "${with_pdeathsig[@]}" KILL -- python3 - "$OUT/job_status.jsonl" "$JOB_ID" "$TIMEOUT" "$t0" <<'PY' || true
 import json, sys, time
 path, job, timeout, t0 = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
-names = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED"]
+names = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED",
+         "AWAITING_APPROVAL", "APPROVED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN"]
+terminal = ("FAILED", "ABORTED", "REFUSED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN")
 end = time.time() + timeout
 pos, running, last_step = 0, False, -1
 while time.time() < end:
@@ -203,8 +207,9 @@ while time.time() < end:
         m = json.loads(line).get("msg", {})
         if m.get("job_id") != job:
             continue
-        state = names[m["state"]] if 0 <= m["state"] < 8 else str(m["state"])
-        text = "%s %s %3.0f%% %s" % (m["source"], state, 100 * m["progress"], m["message"])
+        state = names[m["state"]] if 0 <= m["state"] < len(names) else str(m["state"])
+        text = "%s %s%s %3.0f%% %s" % (m["source"], state, " (answer)" if m.get("answer") else "",
+                                       100 * m["progress"], m["message"])
         if state == "RUNNING":
             if sys.stdout.isatty():  # one line that updates itself
                 sys.stdout.write("\r[%6.1f s] %s" % (time.time() - t0, text[:110].ljust(110)))
@@ -218,7 +223,10 @@ while time.time() < end:
             sys.stdout.write("\n")
             running = False
         print("[%6.1f s] %s" % (time.time() - t0, text))
-        if (state == "DONE" and m["source"] == "hg-robot-bridge") or state in ("FAILED", "ABORTED", "REFUSED"):
+        if state == "AWAITING_APPROVAL" and not m.get("answer"):
+            print("           approve: hg-lcm-send approve --job-id %s --by NAME [--exclude-loops N,...]; "
+                  "or reject: hg-lcm-send reject --job-id %s --by NAME" % (job, job))
+        if (state == "DONE" and m["source"] == "hg-robot-bridge") or state in terminal:
             sys.exit(0)
     sys.stdout.flush()
     time.sleep(0.1)

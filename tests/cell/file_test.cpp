@@ -47,6 +47,7 @@ Cell random_cell(std::mt19937_64& rng) {
   c.tool.radius = 0.01 + 0.005 * std::abs(u(rng));
   c.tool.tilt = 0.7 * u(rng);
   c.home = Eigen::Vector3d(0.5 * u(rng), 0.5 * u(rng), 0.3 + 0.1 * std::abs(u(rng)));
+  c.approval = rng() % 2 ? hg::cell::Approval::Auto : hg::cell::Approval::Operator;
   return c;
 }
 
@@ -104,6 +105,7 @@ TEST(Cell, RandomCellsSurviveAWriteAndARead) {
     EXPECT_EQ(r.tool.radius, c.tool.radius);
     EXPECT_EQ(r.tool.tilt, c.tool.tilt);
     EXPECT_EQ(r.home, c.home);
+    EXPECT_EQ(r.approval, c.approval);
   }
 }
 
@@ -135,6 +137,26 @@ TEST(Cell, TheShippedCellFileHoldsThePlannersValues) {
   EXPECT_EQ(c.max_speed, 0.25);
   EXPECT_EQ(c.max_accel, 2.0);
   EXPECT_EQ(c.home, Eigen::Vector3d(0.5, 0, 0.3));
+  EXPECT_EQ(c.approval, hg::cell::Approval::Operator);  // a plan waits for an operator
+  // The simulated cell of make run approves a plan that reaches every edge by itself.
+  EXPECT_EQ(hg::cell::read_cell(std::string(HG_SOURCE_DIR) + "/config/cell-sim.yaml").approval,
+            hg::cell::Approval::Auto);
+}
+
+TEST(Cell, ApprovalIsOperatorUnlessTheFileSaysAuto) {
+  const fs::path p = scratch("approval.yaml");
+  std::ifstream in(std::string(HG_SOURCE_DIR) + "/config/cell.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t at = text.find("approval:");
+  ASSERT_NE(at, std::string::npos);
+  const std::string without = text.substr(0, at);
+  std::ofstream(p) << without;
+  EXPECT_EQ(hg::cell::read_cell(p.string()).approval, hg::cell::Approval::Operator);
+  std::ofstream(p) << without << "approval: auto\n";
+  EXPECT_EQ(hg::cell::read_cell(p.string()).approval, hg::cell::Approval::Auto);
+  EXPECT_EQ(error_of(without + "approval: sometimes\n", p),
+            p.string() + ": approval: 'sometimes' is not one of auto | operator");
+  EXPECT_EQ(error_of(without + "approval: [auto]\n", p), p.string() + ": approval: expected a string");
 }
 
 TEST(Cell, ErrorsNameTheFileAndTheKey) {

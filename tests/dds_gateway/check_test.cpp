@@ -72,12 +72,12 @@ TEST(DdsGatewayCheck, ParameterRangesAreInclusiveAndZeroMeansDefault) {
 TEST(DdsGatewayCheck, ActionDirectionAndPartIdAreChecked) {
   Req q;
   hgdds_JobRequest& r = q.refresh();
-  for (int a : {0, 1, 2}) {
+  for (int a = 0; a <= 6; ++a) {  // START, ABORT, RESET, APPROVE, REJECT, REPLAN, QUERY
     r.action = int8_t(a);
     EXPECT_EQ(check_job_request(r, JobLimits{}), "");
   }
-  r.action = 3;
-  EXPECT_NE(check_job_request(r, JobLimits{}).find("action 3"), std::string::npos);
+  r.action = 7;
+  EXPECT_NE(check_job_request(r, JobLimits{}).find("action 7"), std::string::npos);
   r.action = -1;
   EXPECT_NE(check_job_request(r, JobLimits{}).find("action -1"), std::string::npos);
   r.action = 0;

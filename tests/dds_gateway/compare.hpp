@@ -103,6 +103,19 @@ inline void expect_same(const hullgrind::grind_path_t& m, const hgdds_GrindPath&
   EXPECT_EQ(m.tool_radius, d.tool_radius);
   EXPECT_EQ(m.tilt, d.tilt);
   EXPECT_EQ(m.flipped, d.flipped);
+  EXPECT_EQ(m.revision, d.revision);
+  ASSERT_EQ(m.coverage.size(), d.coverage._length);
+  for (std::size_t i = 0; i < m.coverage.size(); ++i) {
+    EXPECT_EQ(m.coverage[i].loop_index, d.coverage._buffer[i].loop_index);
+    EXPECT_EQ(m.coverage[i].planned, d.coverage._buffer[i].planned);
+    EXPECT_EQ(m.coverage[i].reached_length, d.coverage._buffer[i].reached_length);
+    EXPECT_EQ(m.coverage[i].reason, str(d.coverage._buffer[i].reason));
+  }
+  ASSERT_EQ(m.unreached.size(), d.unreached._length);
+  for (std::size_t i = 0; i < m.unreached.size(); ++i) {
+    EXPECT_EQ(m.unreached[i].length, d.unreached._buffer[i].length);
+    EXPECT_EQ(m.unreached[i].cause, d.unreached._buffer[i].cause);
+  }
 }
 
 inline void expect_same(const hullgrind::job_status_t& m, const hgdds_JobStatus& d) {
@@ -114,6 +127,18 @@ inline void expect_same(const hullgrind::job_status_t& m, const hgdds_JobStatus&
   EXPECT_EQ(m.state, d.state);
   EXPECT_EQ(m.progress, d.progress);
   EXPECT_EQ(m.message, str(d.message));
+  EXPECT_EQ(m.answer, d.answer);
+  EXPECT_EQ(m.plan_revision, d.plan_revision);
+  EXPECT_EQ(m.actor, str(d.actor));
+  expect_seq(m.excluded_loops, d.excluded_loops, "excluded_loops");
+  ASSERT_EQ(m.unground.size(), d.unground._length);
+  for (std::size_t i = 0; i < m.unground.size(); ++i) {
+    EXPECT_EQ(m.unground[i].loop_index, d.unground._buffer[i].loop_index);
+    EXPECT_EQ(m.unground[i].start, d.unground._buffer[i].start);
+    EXPECT_EQ(m.unground[i].length, d.unground._buffer[i].length);
+    EXPECT_EQ(m.unground[i].cause, d.unground._buffer[i].cause);
+    EXPECT_EQ(m.unground[i].reason, str(d.unground._buffer[i].reason));
+  }
 }
 
 inline void expect_same(const hullgrind::robot_status_t& m, const hgdds_RobotStatus& d) {

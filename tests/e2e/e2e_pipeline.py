@@ -24,8 +24,9 @@ CONFIG = os.path.join(SRC, "config")
 PIPELINE = os.path.join(CONFIG, "pipeline.toml")
 SUPERVISOR = os.path.join(SRC, "tools", "supervisor")
 RECORD = os.path.join(SRC, "tools", "record")
-STATES = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED"]
-FINAL = ("DONE", "FAILED", "ABORTED", "REFUSED")
+STATES = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED",
+          "AWAITING_APPROVAL", "APPROVED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN"]
+FINAL = ("DONE", "FAILED", "ABORTED", "REFUSED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN")
 ROBOT = "hg-robot-bridge"
 
 
@@ -279,8 +280,9 @@ class Pipeline:
                     break
                 m = json.loads(line).get("msg", {})
                 if job_id is None or m.get("job_id") == job_id:
-                    out.append({"source": m["source"], "state": STATES[m["state"]] if 0 <= m["state"] < 8 else str(m["state"]),
-                                "progress": m["progress"], "message": m["message"], "job_id": m.get("job_id")})
+                    out.append({"source": m["source"], "state": STATES[m["state"]] if 0 <= m["state"] < len(STATES) else str(m["state"]),
+                                "progress": m["progress"], "message": m["message"], "job_id": m.get("job_id"),
+                                "answer": bool(m.get("answer", False))})
         return out
 
     def wait_status(self, job_id, pred, timeout, what):
@@ -297,10 +299,10 @@ class Pipeline:
         return found[0]
 
     def wait_final(self, job_id, timeout):
-        """How the job ended: DONE from the robot bridge, or FAILED/ABORTED/REFUSED from anyone."""
+        """How the job ended: DONE from the robot bridge, or any other terminal state from anyone."""
         return self.wait_status(job_id, lambda s: (s["state"] == "DONE" and s["source"] == ROBOT) or
-                                s["state"] in ("FAILED", "ABORTED", "REFUSED"), timeout,
-                                "job %s to end (DONE, FAILED, ABORTED or REFUSED)" % job_id)
+                                (s["state"] in FINAL and s["state"] != "DONE"), timeout,
+                                "job %s to end (%s)" % (job_id, ", ".join(FINAL)))
 
     def record(self, job_id):
         """The job history's summary of a job (hg-job-recorder's job.json; ids of these tests need no escaping)."""

@@ -1,6 +1,8 @@
 // hg-job-recorder on the bus (own network namespace) with tools/hg-jobs reading what it wrote: a job to DONE
 // with its outline and path, a hostile job id kept inside the directory, and a job open when the recorder is
-// killed (-9) shown as interrupted with its last state after a restart, then ended by a later status.
+// killed (-9) shown as interrupted with its last state after a restart, then ended by a later status; and
+// kill -9 of the recorder at random moments just before the robot bridge's DONE: the restarted recorder
+// catches up (QUERY) and every record ends as the bus ended it.
 #include <gtest/gtest.h>
 
 #include <lcm/lcm-cpp.hpp>
@@ -10,6 +12,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <random>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -23,6 +27,9 @@
 #include "hullgrind/outline_t.hpp"
 #include "job_recorder/recorder.hpp"
 #include "runtime/lcm_url.hpp"
+#include "runtime/job_ledger.hpp"
+#include "tests/common/cell_file.hpp"
+#include "tests/robot_bridge/test_paths.hpp"
 #include "tests/common/child_process.hpp"
 
 namespace fs = std::filesystem;
@@ -36,9 +43,11 @@ namespace {
 struct Fixture {
   lcm::LCM lcm{hg::runtime::default_lcm_url()};
   fs::path dir = fs::temp_directory_path() / ("hg_jobrec_proc_" + std::to_string(getpid()));
-  int beats = 0;
+  int beats = 0, beat_pid = -1;
   void on_beat(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* b) {
-    beats += b->process == "hg-job-recorder";
+    if (b->process != "hg-job-recorder") return;
+    ++beats;
+    beat_pid = b->pid;
   }
   Fixture() {
     fs::remove_all(dir);
@@ -49,7 +58,8 @@ struct Fixture {
     hg::test::ChildProcess p(
         {std::string(HG_BIN_DIR) + "/hg-job-recorder", "--dir", dir.string(), "--log-level", "warn"});
     beats = 0;
-    wait([&] { return beats > 0; }, 10s);  // subscribed once it beats
+    const int pid = p.pid();
+    wait([&] { return beats > 0 && beat_pid == pid; }, 10s);  // subscribed once it beats (this one)
     return p;
   }
   template <class Pred>
@@ -175,4 +185,64 @@ TEST(JobRecorderProcess, RecordsJobsAndTheirEndsAcrossAKill) {
   ASSERT_TRUE(f.wait([&] { return f.record_has("job-3", "requests", 1); }, 10s));
   EXPECT_EQ(rec.stop(), 0);
   EXPECT_TRUE(f.record("job-3").contains("interrupted"));
+}
+
+namespace {
+
+// The bus's own word on how each job ended: the first status with a terminal state that is no answer (the
+// robot bridge's DONE; any other terminal state from anyone), with when it came.
+struct Ends {
+  std::map<std::string, std::string> state;
+  std::map<std::string, std::chrono::steady_clock::time_point> at;
+  void on_status(const lcm::ReceiveBuffer*, const std::string&, const job_status_t* s) {
+    const bool ends = (s->state == job_status_t::STATE_DONE && s->source == "hg-robot-bridge") ||
+                      (hg::runtime::job_state_final(s->state) && s->state != job_status_t::STATE_DONE);
+    if (s->answer || !ends || state.count(s->job_id)) return;
+    state[s->job_id] = hg::runtime::job_state_name(s->state);
+    at[s->job_id] = std::chrono::steady_clock::now();
+  }
+};
+
+}  // namespace
+
+TEST(JobRecorderProcess, AnEndPublishedWhileTheRecorderIsDownIsCaughtUp) {
+  Fixture f;
+  ASSERT_TRUE(f.lcm.good()) << "no LCM: the test must run inside tests/netns.sh";
+  Ends ends;
+  f.lcm.subscribe("HG_JOB_STATUS", &Ends::on_status, &ends);
+  // The simulated cell approves a plan reaching every edge by itself: START, path, RUNNING, DONE ~0.5 s later.
+  hg::test::ChildProcess bridge({std::string(HG_BIN_DIR) + "/hg-robot-bridge", "--driver", "sim", "--sim-time-scale",
+                                 "10", "--cell", hg::test::sim_cell(), "--log-level", "error"});
+  ASSERT_TRUE(bridge.started());
+  auto rec = f.start();
+  ASSERT_GT(f.beats, 0);
+  int down_at_end = 0, jobs = 0;
+  for (unsigned seed : {1u, 2u, 3u}) {
+    std::mt19937 rng(seed);
+    for (int i = 0; i < 8; ++i, ++jobs) {
+      const std::string id = "k" + std::to_string(seed) + "-" + std::to_string(i);
+      f.request(id, "part");
+      ASSERT_TRUE(f.wait([&] { return f.record_has(id, "state", "ACCEPTED"); }, 10s)) << id;
+      auto p = rbtest::make_path(id, {{0.5, 0, 0.2, 0.1, 0}, {0.7, 0, 0.2, 0.1, 2}, {0.5, 0, 0.3, 0.1, 4}});
+      f.lcm.publish("HG_GRIND_PATH", &p);
+      ASSERT_TRUE(f.wait([&] { return f.record_has(id, "state", "RUNNING"); }, 10s)) << id;
+      // The run takes ~0.55 s: killed somewhere in its last 0.35 s or just after, down for 0.2..0.8 s.
+      f.wait([] { return false; }, std::chrono::milliseconds(200 + rng() % 400));
+      rec.kill_now();
+      const auto killed = std::chrono::steady_clock::now();
+      f.wait([] { return false; }, std::chrono::milliseconds(200 + rng() % 600));
+      const auto restarted = std::chrono::steady_clock::now();
+      if (ends.at.count(id) && ends.at[id] > killed && ends.at[id] < restarted) ++down_at_end;
+      rec = f.start();
+      ASSERT_TRUE(f.wait([&] { return ends.state.count(id) && f.record_has(id, "final", true); }, 10s))
+          << id << ": " << f.record(id).dump();
+      EXPECT_EQ(f.record(id)["state"], ends.state[id]) << id;
+      EXPECT_EQ(ends.state[id], "DONE") << id;
+    }
+  }
+  std::printf("%d of %d DONEs were published while the recorder was down\n", down_at_end, jobs);
+  EXPECT_GT(down_at_end, jobs / 4);  // the catch-up was exercised, not only the live path
+  for (const auto& [id, state] : ends.state) EXPECT_EQ(f.record(id)["state"], state) << id;
+  EXPECT_EQ(rec.stop(), 0);
+  EXPECT_EQ(bridge.stop(), 0);
 }

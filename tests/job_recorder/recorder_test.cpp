@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "job_recorder/recorder.hpp"
+#include "runtime/job_ledger.hpp"
 
 namespace fs = std::filesystem;
 using hg::job_recorder::job_dir_name;
@@ -273,4 +274,155 @@ TEST(JobRecorder, AJobOpenWhenTheRecorderDiesIsMarkedInterruptedAndALaterStatusS
   EXPECT_EQ(rec.stats().bad_records, 1);
   rec.on_request(request("N"), T0 + 70'000'000);
   EXPECT_EQ(read_json(tmp.path / "N" / "job.json")["job_id"], "N");
+}
+
+namespace {
+
+hullgrind::edge_stretch_t stretch(int loop, double length, std::int8_t cause) {
+  hullgrind::edge_stretch_t e{};
+  e.loop_index = std::int16_t(loop);
+  e.hole = loop > 0;
+  e.length = length;
+  e.cause = cause;
+  e.reason = "r" + std::to_string(loop);
+  return e;
+}
+
+void set_unground(job_status_t& s, std::vector<hullgrind::edge_stretch_t> u) {
+  s.unground = std::move(u);
+  s.num_unground = std::int32_t(s.unground.size());
+}
+
+}  // namespace
+
+TEST(JobRecorder, TheRecordKeepsTheApprovalAndTheUngroundStretches) {
+  TempDir d("approval");
+  Recorder rec(d.path, T0);
+  rec.on_request(request("a"), T0);
+  rec.on_status(status("a", job_status_t::STATE_PLANNED, "hg-path-planner", "3 loops"), T0 + 1);
+  job_status_t awaiting = status("a", job_status_t::STATE_AWAITING_APPROVAL, "hg-robot-bridge", "awaits");
+  awaiting.plan_revision = 1;
+  set_unground(awaiting, {stretch(2, 0.03, hullgrind::edge_stretch_t::CAUSE_TOO_SMALL)});
+  rec.on_status(awaiting, T0 + 2);
+  json j = read_json(rec.dir_of("a") / "job.json");
+  EXPECT_EQ(j["state"], "AWAITING_APPROVAL");
+  EXPECT_EQ(j["final"], false);
+  ASSERT_EQ(j["unground"].size(), 1u);
+  EXPECT_EQ(j["unground"][0]["cause"], "TOO_SMALL");
+  job_request_t approve = request("a", job_request_t::ACTION_APPROVE);
+  approve.actor = "operator ann";
+  approve.excluded_loops = {2};
+  approve.num_excluded = 1;
+  rec.on_request(approve, T0 + 3);
+  job_status_t approved = status("a", job_status_t::STATE_APPROVED, "hg-robot-bridge", "approved");
+  approved.actor = "operator ann";
+  approved.plan_revision = 1;
+  approved.excluded_loops = {2};
+  approved.num_excluded = 1;
+  rec.on_status(approved, T0 + 4);
+  job_status_t done = status("a", job_status_t::STATE_DONE, "hg-robot-bridge", "path complete; loops 2 excluded", 1);
+  done.actor = "operator ann";
+  set_unground(done, {stretch(2, 0.03, hullgrind::edge_stretch_t::CAUSE_EXCLUDED)});
+  rec.on_status(done, T0 + 5);
+  j = read_json(rec.dir_of("a") / "job.json");
+  EXPECT_EQ(j["state"], "DONE");
+  EXPECT_EQ(j["final"], true);
+  EXPECT_EQ(j["request"]["action"], "START");  // the approval is an event, not the job's request
+  EXPECT_EQ(j["requests"], 2);
+  EXPECT_EQ(j["approval"]["by"], "operator ann");
+  EXPECT_EQ(j["approval"]["at_utime"], T0 + 4);
+  EXPECT_EQ(j["approval"]["revision"], 1);
+  EXPECT_EQ(j["approval"]["excluded_loops"], json::array({2}));
+  ASSERT_EQ(j["unground"].size(), 1u);
+  EXPECT_EQ(j["unground"][0]["cause"], "EXCLUDED");
+  EXPECT_EQ(j["unground"][0]["loop"], 2);
+  const std::vector<json> ev = events(rec.dir_of("a"));
+  ASSERT_EQ(ev.size(), 6u);
+  EXPECT_EQ(ev[3]["request"]["action"], "APPROVE");
+  EXPECT_EQ(ev[3]["request"]["excluded_loops"], json::array({2}));
+  EXPECT_EQ(ev[4]["actor"], "operator ann");
+}
+
+TEST(JobRecorder, IncompleteRejectedAndNeedsRescanEndARecordFromAnySource) {
+  TempDir d("terminal");
+  Recorder rec(d.path, T0);
+  const std::int8_t ends[] = {job_status_t::STATE_INCOMPLETE, job_status_t::STATE_REJECTED,
+                              job_status_t::STATE_NEEDS_RESCAN};
+  for (std::int8_t state : ends) {
+    const std::string id = "t" + std::to_string(int(state));
+    rec.on_request(request(id), T0);
+    job_status_t s =
+        status(id, state, state == job_status_t::STATE_NEEDS_RESCAN ? "hg-path-planner" : "hg-robot-bridge", "why");
+    if (state == job_status_t::STATE_INCOMPLETE)
+      set_unground(s, {stretch(0, 0.004, hullgrind::edge_stretch_t::CAUSE_UNREACHED),
+                       stretch(3, 0.02, hullgrind::edge_stretch_t::CAUSE_CORNER)});
+    if (state == job_status_t::STATE_REJECTED) s.actor = "operator bo";
+    rec.on_status(s, T0 + 1);
+    rec.on_status(status(id, job_status_t::STATE_RUNNING, "hg-robot-bridge", "later"), T0 + 2);  // an event only
+    const json j = read_json(rec.dir_of(id) / "job.json");
+    EXPECT_EQ(j["final"], true) << id;
+    EXPECT_EQ(j["state"], hg::runtime::job_state_name(state)) << id;
+    EXPECT_EQ(j["reason"], "why");
+    if (state == job_status_t::STATE_INCOMPLETE) {
+      ASSERT_EQ(j["unground"].size(), 2u);
+      EXPECT_EQ(j["unground"][1]["cause"], "CORNER");
+      EXPECT_DOUBLE_EQ(j["unground"][1]["length"].get<double>(), 0.02);
+    }
+    if (state == job_status_t::STATE_REJECTED) EXPECT_EQ(j["rejection"]["by"], "operator bo");
+  }
+}
+
+// Answers (answer = true) change nothing, except that a terminal one ends a record not ended (the end was
+// published while the recorder was down): over random sequences, the record ends exactly as the first
+// non-answer end or, without one, the first terminal answer; answers never move a state.
+TEST(JobRecorder, ATerminalAnswerEndsAnOpenRecordOtherAnswersChangeNothing) {
+  std::mt19937 rng(7);
+  const std::int8_t states[] = {job_status_t::STATE_ACCEPTED,          job_status_t::STATE_RUNNING,
+                                job_status_t::STATE_AWAITING_APPROVAL, job_status_t::STATE_DONE,
+                                job_status_t::STATE_INCOMPLETE,        job_status_t::STATE_ABORTED};
+  for (int seed = 0; seed < 60; ++seed) {
+    TempDir d("answers" + std::to_string(seed));
+    std::string expect_state = "ACCEPTED";
+    bool ended = false;
+    {
+      Recorder rec(d.path, T0);
+      rec.on_request(request("q"), T0);
+      rec.on_status(status("q", job_status_t::STATE_ACCEPTED, "hg-robot-bridge", "accepted"), T0);
+      for (int i = 0; i < 8; ++i) {
+        job_status_t s = status("q", states[rng() % 6], "hg-robot-bridge", "m" + std::to_string(i));
+        s.answer = rng() % 2;
+        if (i == 3 && rng() % 2) {
+          rec.stop(T0 + 10);  // the recorder stops and a new one starts: the record is open, interrupted
+        }
+        const bool terminal = hg::runtime::job_state_final(s.state);
+        if (!ended && (!s.answer || terminal)) expect_state = hg::runtime::job_state_name(s.state);
+        if (!ended && terminal) ended = true;
+        rec.on_status(s, T0 + 20 + i);
+      }
+    }
+    const json j = read_json(d.path / "q" / "job.json");
+    EXPECT_EQ(j["state"], expect_state) << seed;
+    EXPECT_EQ(j["final"], ended) << seed;
+  }
+}
+
+TEST(JobRecorder, ANewRevisionReplacesThePathOfAJobNotEnded) {
+  TempDir d("revision");
+  Recorder rec(d.path, T0);
+  rec.on_outline(outline(4), T0);
+  rec.on_request(request("v"), T0);
+  hullgrind::grind_path_t p1 = path("v", 4, 3), p2 = path("v", 4, 5);
+  p1.revision = 1, p2.revision = 2;
+  rec.on_path(p1, T0 + 1);
+  rec.on_path(p2, T0 + 2);
+  rec.on_path(p1, T0 + 3);  // an older revision: an event
+  json j = read_json(rec.dir_of("v") / "job.json");
+  EXPECT_EQ(j["path"]["revision"], 2);
+  EXPECT_EQ(j["path"]["waypoints"], 5);
+  EXPECT_EQ(read_json(rec.dir_of("v") / "path.json")["waypoints"].size(), 5u);
+  rec.on_status(status("v", job_status_t::STATE_REJECTED, "hg-robot-bridge", "rejected"), T0 + 4);
+  hullgrind::grind_path_t p3 = path("v", 4, 7);
+  p3.revision = 3;
+  rec.on_path(p3, T0 + 5);  // after the end: kept as an event only
+  EXPECT_EQ(read_json(rec.dir_of("v") / "job.json")["path"]["revision"], 2);
 }

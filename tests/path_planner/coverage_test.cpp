@@ -14,7 +14,11 @@
 #include "outline_core/outline.hpp"
 #include "partgen/shapes.hpp"
 #include "partgen/synth.hpp"
+#include "path_planner/io.hpp"
 #include "path_planner/pipeline.hpp"
+#include "robot_bridge/bridge.hpp"
+#include "runtime/job_ledger.hpp"
+#include "robot_bridge/sim_driver.hpp"
 #include "tests/path_planner/truth.hpp"
 
 using namespace hg::path_planner;
@@ -259,6 +263,27 @@ TEST(PathPlannerCoverage, SlotIsNotReachedByA21mmTool) {
       EXPECT_NE(w.find("concave"), std::string::npos) << w;  // its ends: concave, radius 20 < 21 mm
     }
   EXPECT_TRUE(found) << ::testing::PrintToString(r.warnings);
+  // The path message says it as data: loop 2 not planned, one CAUSE_TOO_SMALL stretch of its whole perimeter;
+  // the other loops planned and fully reached.
+  const hullgrind::grind_path_t g = to_lcm(r, "slot", 0, "robot_base", 0);
+  EXPECT_EQ(g.revision, 1);
+  ASSERT_EQ(g.num_loops, 3);
+  EXPECT_FALSE(g.coverage[2].planned);
+  EXPECT_TRUE(g.coverage[2].hole);
+  EXPECT_EQ(g.coverage[2].reached_length, 0);
+  EXPECT_NEAR(g.coverage[2].edge_length, perimeter, 0.1e-3);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_TRUE(g.coverage[k].planned);
+    EXPECT_EQ(g.coverage[k].reached_length, g.coverage[k].edge_length);
+    EXPECT_EQ(g.coverage[k].reason, "");
+  }
+  ASSERT_EQ(g.num_unreached, 1);
+  EXPECT_EQ(g.unreached[0].loop_index, 2);
+  EXPECT_EQ(g.unreached[0].cause, +hullgrind::edge_stretch_t::CAUSE_TOO_SMALL);
+  EXPECT_NEAR(g.unreached[0].length, perimeter, 0.1e-3);
+  EXPECT_NE(g.unreached[0].reason.find("too small for a tool of radius 21"), std::string::npos)
+      << g.unreached[0].reason;
+  for (int i = 0; i < g.n; ++i) EXPECT_NE(g.loop_index[i], 2);
 }
 
 TEST(PathPlannerCoverage, SlotAtATool20mmVerdictMatchesTheGeometry) {
@@ -402,4 +427,56 @@ TEST(PathPlannerCoverage, EveryRealHoleLargerThanTheToolIsPlannedOnNoisyClouds) 
     }
   // plate-hole-slot: 2 holes, ring-flange: 1, trapezoid-holes: 5 D30 (radius 15 > 10 + 2), over 12 seeds, 2 tools.
   EXPECT_EQ(holes_checked, (2 + 1 + 5) * 12 * 2);
+}
+
+// Issue 22's first row, on the exact plate-hole-slot: a tool wider than the slot plans the rest (small-hole:
+// skip) and once said DONE. Now the plan carries the skipped slot as an unground stretch; the robot bridge of an
+// `approval: auto` cell does not approve it by itself, nothing moves before an operator approves, and the run
+// ends INCOMPLETE naming hole 2, unless the operator excluded it (DONE, the exclusion recorded).
+TEST(PathPlannerCoverage, ASlotTooNarrowForTheToolNeverEndsDone) {
+  namespace rb = hg::robot_bridge;
+  using hullgrind::job_status_t;
+  PlannerConfig cfg = demo_config();
+  cfg.small_hole = SmallHolePolicy::Skip;
+  JobParams jp;
+  jp.tool_radius = 0.021;
+  const PlanResult r = plan(exact_plate(), jp, cfg, cfg.home);
+  ASSERT_TRUE(r.ok) << r.reason;
+  const hullgrind::grind_path_t g = to_lcm(r, "slot", 0, "robot_base", 0);
+  for (bool exclude : {false, true}) {
+    std::vector<job_status_t> st;
+    rb::SimOptions so;
+    so.home.position = cfg.home;
+    so.home.orientation = rb::Quat(0, 1, 0, 0);
+    so.time_scale = 50;
+    rb::BridgeConfig bc;
+    bc.limits = cfg.limits;
+    bc.auto_approve = true;
+    rb::BridgeOutputs out;
+    out.job_status = [&](job_status_t& s) { st.push_back(s); };
+    rb::Bridge bridge(bc, std::make_unique<rb::SimDriver>(so), out, 0);
+    hullgrind::job_request_t start{};
+    start.job_id = "slot";
+    bridge.on_job_request(start, 0);
+    bridge.on_grind_path(g, 0);
+    ASSERT_EQ(st.back().state, +job_status_t::STATE_AWAITING_APPROVAL) << st.back().message;
+    EXPECT_NE(st.back().message.find("hole 2"), std::string::npos) << st.back().message;
+    double t = 0;
+    for (int i = 0; i < 100; ++i) bridge.tick(t += 0.01);
+    EXPECT_FALSE(bridge.driver().state().path_index > 0);  // nothing moved
+    hullgrind::job_request_t approve = start;
+    approve.action = hullgrind::job_request_t::ACTION_APPROVE;
+    approve.actor = "operator test";
+    if (exclude) approve.excluded_loops = {2}, approve.num_excluded = 1;
+    bridge.on_job_request(approve, t);
+    ASSERT_EQ(st.back().state, +job_status_t::STATE_RUNNING) << st.back().message;
+    while (!hg::runtime::job_state_final(st.back().state) && t < 600) bridge.tick(t += 0.01);
+    const job_status_t& end = st.back();
+    EXPECT_EQ(end.state, exclude ? +job_status_t::STATE_DONE : +job_status_t::STATE_INCOMPLETE) << end.message;
+    ASSERT_EQ(end.num_unground, 1);
+    EXPECT_EQ(end.unground[0].loop_index, 2);
+    EXPECT_EQ(end.unground[0].cause,
+              exclude ? +hullgrind::edge_stretch_t::CAUSE_EXCLUDED : +hullgrind::edge_stretch_t::CAUSE_TOO_SMALL);
+    EXPECT_NEAR(end.unground[0].length, 2 * 0.08 + 2 * M_PI * 0.02, 0.1e-3);
+  }
 }

@@ -5,6 +5,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
 #include <map>
 #include <optional>
 
@@ -31,10 +35,16 @@ struct Bus {
     lcm.subscribe("HG_JOB_STATUS", &Bus::on_status, this);
   }
   void on_beat(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::heartbeat_t* m) { beats.push_back(*m); }
-  void on_path(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::grind_path_t* m) { paths.push_back(*m); }
+  void on_path(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::grind_path_t* m) {
+    paths.push_back(*m);
+    order.push_back("path " + m->job_id + " " + std::to_string(m->revision));
+  }
   void on_status(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_status_t* m) {
     statuses.push_back(*m);
+    if (m->state == hullgrind::job_status_t::STATE_PLANNED && !m->answer)
+      order.push_back("planned " + m->job_id + " " + std::to_string(m->plan_revision));
   }
+  std::vector<std::string> order;  // paths and PLANNED statuses as they came
   std::vector<hullgrind::heartbeat_t> beats;
   std::vector<hullgrind::grind_path_t> paths;
   std::vector<hullgrind::job_status_t> statuses;
@@ -82,13 +92,38 @@ class PathPlannerProcess : public testing::Test {
  protected:
   void SetUp() override {
     ASSERT_TRUE(lcm.good()) << "no LCM: the test must run inside tests/netns.sh";
-    planner = hg::test::ChildProcess({std::string(HG_BIN_DIR) + "/hg-path-planner", "--log-level", "warn",
-                                      "--outline-max-age", "30", "--cell", hg::test::shipped_cell()});
+    start_planner({});
+  }
+  void start_planner(const std::vector<std::string>& extra) {
+    if (planner.started()) {
+      ASSERT_EQ(planner.stop(), 0);
+    }
+    std::vector<std::string> cmd = {std::string(HG_BIN_DIR) + "/hg-path-planner",
+                                    "--log-level",
+                                    "warn",
+                                    "--outline-max-age",
+                                    "30",
+                                    "--cell",
+                                    hg::test::shipped_cell()};
+    cmd.insert(cmd.end(), extra.begin(), extra.end());
+    bus.beats.clear();
+    planner = hg::test::ChildProcess(cmd);
     ASSERT_TRUE(planner.started());
-    // Subscribed once it beats.
-    ASSERT_TRUE(wait_for([&] { return !bus.beats.empty(); }, 5s)) << "no heartbeat from hg-path-planner";
+    // Subscribed once it beats (this one: a beat of the one before may still be queued).
+    const int pid = planner.pid();
+    ASSERT_TRUE(wait_for([&] { return !bus.beats.empty() && bus.beats.back().pid == pid; }, 5s))
+        << "no heartbeat from hg-path-planner";
+  }
+  int count(const std::string& id, std::int8_t state, bool answers) {
+    int n = 0;
+    for (const auto& m : bus.statuses) n += m.job_id == id && m.state == state && m.answer == answers;
+    return n;
   }
   void TearDown() override {
+    if (HasFailure())
+      for (const auto& m : bus.statuses)
+        std::fprintf(stderr, "status %s %s %d%s: %s\n", m.source.c_str(), m.job_id.c_str(), int(m.state),
+                     m.answer ? " (answer)" : "", m.message.c_str());
     if (planner.started()) {
       EXPECT_EQ(planner.stop(), 0) << "unclean exit";
     }
@@ -153,9 +188,120 @@ TEST_F(PathPlannerProcess, OutlineAndJobGivePathAndPlanned) {
   }
   EXPECT_TRUE(hole_ground);
   EXPECT_TRUE(outer_ground);
-  // PLANNING came before PLANNED.
+  // The first revision, with the coverage of both loops: every edge reached by the 5 mm tool (R8 fillets).
+  EXPECT_EQ(p.revision, 1);
+  ASSERT_EQ(p.num_loops, 2);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ(p.coverage[k].loop_index, k);
+    EXPECT_EQ(p.coverage[k].hole, k == 1);
+    EXPECT_TRUE(p.coverage[k].planned);
+    EXPECT_NEAR(p.coverage[k].reached_length, p.coverage[k].edge_length, 1e-12);
+  }
+  EXPECT_NEAR(p.coverage[0].edge_length, 1.0, 1e-3);  // 2 x (0.3 + 0.2) m
+  EXPECT_EQ(p.num_unreached, 0);
+  // PLANNING came before PLANNED, and PLANNED (revision 1) before the path.
   ASSERT_GE(bus.statuses.size(), 2u);
   EXPECT_EQ(bus.statuses.front().state, +hullgrind::job_status_t::STATE_PLANNING);
+  EXPECT_EQ(s->plan_revision, 1);
+  EXPECT_EQ(bus.order, (std::vector<std::string>{"planned job-1 1", "path job-1 1"}));
+}
+
+// REPLAN plans the job again on the outline it was planned on, as the next revision, and only while the robot
+// bridge holds the plan awaiting approval.
+TEST_F(PathPlannerProcess, ReplanGivesTheNextRevisionOnlyWhileAwaitingApproval) {
+  auto o = plate_outline(21);
+  lcm.publish("HG_OUTLINE", &o);
+  auto r = start("job-r");
+  lcm.publish("HG_JOB_REQUEST", &r);
+  ASSERT_TRUE(wait_for([&] { return bus.paths.size() == 1; }, 5s));
+  auto replan = r;
+  replan.action = +hullgrind::job_request_t::ACTION_REPLAN;
+  replan.tool_radius = 0.004;
+  lcm.publish("HG_JOB_REQUEST", &replan);  // nobody said AWAITING_APPROVAL: refused
+  ASSERT_TRUE(wait_for([&] { return count("job-r", hullgrind::job_status_t::STATE_PLANNED, true) == 1; }, 5s));
+  EXPECT_NE(bus.statuses.back().message.find("not awaiting approval"), std::string::npos)
+      << bus.statuses.back().message;
+  auto other = plate_outline(22);  // a newer outline: the replan still uses the job's own
+  for (auto& u : other.loops[1].u) u += 0.01;
+  lcm.publish("HG_OUTLINE", &other);
+  hullgrind::job_status_t held{};
+  held.job_id = "job-r";
+  held.source = "hg-robot-bridge";
+  held.state = +hullgrind::job_status_t::STATE_AWAITING_APPROVAL;
+  held.plan_revision = 1;
+  lcm.publish("HG_JOB_STATUS", &held);
+  lcm.publish("HG_JOB_REQUEST", &replan);
+  ASSERT_TRUE(wait_for([&] { return bus.paths.size() == 2; }, 5s));
+  const auto& p2 = bus.paths[1];
+  EXPECT_EQ(p2.job_id, "job-r");
+  EXPECT_EQ(p2.revision, 2);
+  EXPECT_EQ(p2.outline_seq, 21);
+  EXPECT_DOUBLE_EQ(p2.tool_radius, 0.004);
+  EXPECT_EQ(bus.order.back(), "path job-r 2");
+  EXPECT_EQ(bus.order[bus.order.size() - 2], "planned job-r 2");
+  lcm.publish("HG_JOB_REQUEST", &replan);  // the bridge has not held revision 2 yet: refused
+  ASSERT_TRUE(wait_for([&] { return count("job-r", hullgrind::job_status_t::STATE_PLANNED, true) == 2; }, 5s));
+  wait_for([] { return false; }, 300ms);
+  EXPECT_EQ(bus.paths.size(), 2u);
+}
+
+// --small-hole skip plans the rest of the part, and the skipped cut-out is an unground stretch of the plan
+// (CAUSE_TOO_SMALL, its whole edge), so no auto-approval and no DONE can hide it.
+TEST_F(PathPlannerProcess, ASkippedHoleIsAnUngroundStretchOfThePlan) {
+  start_planner({"--small-hole", "skip"});
+  auto o = plate_outline(31);
+  o.loops.push_back(loop(true, {{0.22, 0.05}, {0.235, 0.05}, {0.235, 0.065}, {0.22, 0.065}}));  // 15 mm square
+  o.num_loops = 3;
+  lcm.publish("HG_OUTLINE", &o);
+  auto r = start("job-s");
+  r.tool_radius = 0.01;
+  lcm.publish("HG_JOB_REQUEST", &r);
+  ASSERT_TRUE(wait_for([&] { return !bus.paths.empty(); }, 5s));
+  const auto& p = bus.paths[0];
+  ASSERT_EQ(p.num_loops, 3);
+  EXPECT_FALSE(p.coverage[2].planned);
+  EXPECT_EQ(p.coverage[2].reached_length, 0);
+  EXPECT_NE(p.coverage[2].reason.find("too small"), std::string::npos) << p.coverage[2].reason;
+  int too_small = 0;
+  for (const auto& u : p.unreached)
+    if (u.loop_index == 2) {
+      ++too_small;
+      EXPECT_EQ(u.cause, +hullgrind::edge_stretch_t::CAUSE_TOO_SMALL);
+      EXPECT_TRUE(u.hole);
+      EXPECT_NEAR(u.length, p.coverage[2].edge_length, 1e-12);
+    }
+  EXPECT_EQ(too_small, 1);
+  for (int i = 0; i < p.n; ++i) EXPECT_NE(p.loop_index[i], 2);
+  const auto s = final_status("job-s");
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->num_unground, p.num_unreached);
+}
+
+// QUERY answers the planner's last status of each job (answer = true); the job history (--jobs-dir) keeps a
+// job that ended from being planned again by a planner that never saw it.
+TEST_F(PathPlannerProcess, QueryAndTheJobHistory) {
+  namespace fs = std::filesystem;
+  const fs::path jobs = fs::path(testing::TempDir()) / ("pp_jobs_" + std::to_string(getpid()));
+  fs::create_directories(jobs / "old");
+  std::ofstream(jobs / "old" / "job.json")
+      << R"({"job_id": "old", "state": "INCOMPLETE", "final": true, "reason": "hole 2 unground", "requested_utime": 1})";
+  start_planner({"--jobs-dir", jobs.string()});
+  auto o = plate_outline(41);
+  lcm.publish("HG_OUTLINE", &o);
+  auto old = start("old");
+  lcm.publish("HG_JOB_REQUEST", &old);
+  ASSERT_TRUE(wait_for([&] { return count("old", hullgrind::job_status_t::STATE_INCOMPLETE, true) == 1; }, 5s));
+  EXPECT_NE(bus.statuses.back().message.find("the job history holds it as INCOMPLETE"), std::string::npos);
+  auto fresh = start("fresh");
+  lcm.publish("HG_JOB_REQUEST", &fresh);
+  ASSERT_TRUE(wait_for([&] { return bus.paths.size() == 1; }, 5s));
+  EXPECT_EQ(bus.paths[0].job_id, "fresh");
+  hullgrind::job_request_t query{};
+  query.action = +hullgrind::job_request_t::ACTION_QUERY;
+  lcm.publish("HG_JOB_REQUEST", &query);
+  ASSERT_TRUE(wait_for([&] { return count("fresh", hullgrind::job_status_t::STATE_PLANNED, true) == 1; }, 5s));
+  EXPECT_EQ(count("old", hullgrind::job_status_t::STATE_INCOMPLETE, false), 0);  // never its own state
+  fs::remove_all(jobs);
 }
 
 TEST_F(PathPlannerProcess, ErrorOutlineBadOutlineAndGarbageGiveErrorStatuses) {

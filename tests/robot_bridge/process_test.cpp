@@ -81,8 +81,18 @@ TEST(RobotBridgeProcess, SimJobFaultResetAndCleanExit) {
   ASSERT_TRUE(bus.wait([&] { return bus.has("e2", job_status_t::STATE_REFUSED); }));
   auto path = rbtest::three_segment_path("e1");
   bus.lcm.publish("HG_GRIND_PATH", &path);
+  // The shipped cell says `approval: operator`: the plan waits, the robot stays idle, until an APPROVE.
+  ASSERT_TRUE(bus.wait([&] { return bus.has("e1", job_status_t::STATE_AWAITING_APPROVAL); }));
+  usleep(300000);
+  {
+    std::lock_guard l(bus.m);
+    for (const auto& r : bus.robot) ASSERT_NE(r.mode, +robot_status_t::MODE_RUNNING);
+  }
+  auto approve = rbtest::approval("e1", "pat");
+  bus.lcm.publish("HG_JOB_REQUEST", &approve);
   ASSERT_TRUE(
       bus.wait([&] { return bus.has("e1", job_status_t::STATE_DONE) || bus.has("e1", job_status_t::STATE_REFUSED); }));
+  ASSERT_TRUE(bus.has("e1", job_status_t::STATE_APPROVED));
   ASSERT_TRUE(bus.has("e1", job_status_t::STATE_DONE));
   {
     std::lock_guard l(bus.m);
@@ -102,6 +112,9 @@ TEST(RobotBridgeProcess, SimJobFaultResetAndCleanExit) {
   ASSERT_TRUE(bus.wait([&] { return bus.has("e3", job_status_t::STATE_ACCEPTED); }));
   auto back = rbtest::make_path("e3", {{0.5, 0, 0.1, 0.02, 0}, {0.5, 0, 0.3, 0.02, 4}});
   bus.lcm.publish("HG_GRIND_PATH", &back);
+  ASSERT_TRUE(bus.wait([&] { return bus.has("e3", job_status_t::STATE_AWAITING_APPROVAL); }));
+  auto approve3 = rbtest::approval("e3", "pat");
+  bus.lcm.publish("HG_JOB_REQUEST", &approve3);
   ASSERT_TRUE(bus.wait([&] { return bus.has("e3", job_status_t::STATE_RUNNING); }));
   bridge.signal(SIGUSR1);
   ASSERT_TRUE(bus.wait([&] { return bus.has("e3", job_status_t::STATE_ABORTED); }));

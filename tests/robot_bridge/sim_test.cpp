@@ -13,19 +13,21 @@
 #include "robot_bridge/bridge.hpp"
 #include "robot_bridge/path.hpp"
 #include "robot_bridge/sim_driver.hpp"
+#include "harness.hpp"
 #include "test_paths.hpp"
 
 using namespace hg::robot_bridge;
 using hullgrind::job_request_t;
 using hullgrind::job_status_t;
 using hullgrind::robot_status_t;
+using rbtest::auto_cfg;
+using rbtest::Harness;
+using rbtest::kA;
+using rbtest::kDt;
 using rbtest::make_path;
 using rbtest::request;
 
 namespace {
-
-constexpr double kA = 0.5;    // tangential acceleration of the profile in these tests
-constexpr double kDt = 0.01;  // 100 Hz ticks, as the process runs them
 
 // Extra time a speed change costs over running each segment at its own speed, from energy/kinematics: going
 // from v1 to v2 at acceleration a takes |dv|/a and covers |v2^2-v1^2|/(2a), which at the higher speed would
@@ -34,42 +36,6 @@ double ramp_cost(double v1, double v2) {
   const double dv = std::abs(v2 - v1), vmax = std::max(v1, v2);
   return dv * dv / (2 * kA * vmax);
 }
-
-struct Harness {
-  std::vector<job_status_t> statuses;
-  std::vector<robot_status_t> robot;
-  std::unique_ptr<Bridge> bridge;
-  SimDriver* sim = nullptr;
-  double now = 0;
-
-  explicit Harness(SimOptions so = {}, BridgeConfig cfg = {}) {
-    so.home.position = Vec3(0.5, 0, 0.3);
-    so.home.orientation = Quat(0, 1, 0, 0);
-    so.accel = kA;
-    auto d = std::make_unique<SimDriver>(so);
-    sim = d.get();
-    BridgeOutputs out;
-    out.job_status = [this](job_status_t& s) { statuses.push_back(s); };
-    out.robot_status = [this](robot_status_t& s) { robot.push_back(s); };
-    bridge = std::make_unique<Bridge>(cfg, std::move(d), out, now);
-  }
-  void tick(int n = 1) {
-    for (int i = 0; i < n; ++i) bridge->tick(now += kDt);
-  }
-  void send(const std::string& job, std::int8_t action) { bridge->on_job_request(request(job, action), now); }
-  void path(const hullgrind::grind_path_t& p) { bridge->on_grind_path(p, now); }
-  const job_status_t& last() const { return statuses.back(); }
-  // Ticks until a status for `job` with `state` appears; false after `limit` simulated seconds.
-  bool run_until(const std::string& job, std::int8_t state, double limit = 120) {
-    const double end = now + limit;
-    while (now < end) {
-      for (const auto& s : statuses)
-        if (s.job_id == job && s.state == state) return true;
-      tick();
-    }
-    return false;
-  }
-};
 
 }  // namespace
 
@@ -315,7 +281,7 @@ TEST(RobotBridgeSim, Refusals) {
 }
 
 TEST(RobotBridgeSim, AcceptedJobIsReleasedWhenThePathNeverComes) {
-  BridgeConfig cfg;
+  BridgeConfig cfg = auto_cfg();
   cfg.path_timeout = 5;
   Harness h({}, cfg);
   h.send("p", job_request_t::ACTION_START);
@@ -331,40 +297,8 @@ TEST(RobotBridgeSim, AcceptedJobIsReleasedWhenThePathNeverComes) {
   EXPECT_EQ(h.bridge->state(), Bridge::State::Idle);
 }
 
-TEST(RobotBridgeSim, DoneCarriesTheEdgeThePlannerSaidIsNotGround) {
-  // The planner (small_hole: skip) publishes the path, then PLANNED with its coverage warnings; the bridge
-  // is running by then. DONE must still say what was left unground, word for word, and only that.
-  Harness h;
-  h.send("c", job_request_t::ACTION_START);
-  h.path(rbtest::three_segment_path("c"));
-  ASSERT_EQ(h.last().state, +job_status_t::STATE_RUNNING) << h.last().message;
-  const std::string unreached =
-      "not reached: hole 1: 33.0 mm of its 160.0 mm edge (79.4 % reached) is farther than "
-      "10.0 + 0.2 mm from the tool path, in 4 stretches";
-  const std::string skipped =
-      "skipped: hole 3 is too small for a tool of radius 10.000000 mm: hole 3: 6.5 mm of its "
-      "6.5 mm edge (0.0 % reached)";
-  job_status_t planned{};
-  planned.job_id = "c";
-  planned.source = "hg-path-planner";
-  planned.state = job_status_t::STATE_PLANNED;
-  planned.message = "180 waypoints, 2 loops, planned in 3.1 ms; warning: pixel pitch unknown; warning: " + unreached +
-                    "; warning: " + skipped;
-  h.bridge->on_job_status(planned, h.now);
-  ASSERT_TRUE(h.run_until("c", job_status_t::STATE_DONE));
-  EXPECT_EQ(h.last().message, "path complete; edge not ground (planner): " + unreached + "; " + skipped);
-  // The next job, planned without warnings, is just complete.
-  h.send("d", job_request_t::ACTION_START);
-  h.path(rbtest::three_segment_path("d"));
-  planned.job_id = "d";
-  planned.message = "180 waypoints, 2 loops, planned in 3.1 ms";
-  h.bridge->on_job_status(planned, h.now);
-  ASSERT_TRUE(h.run_until("d", job_status_t::STATE_DONE));
-  EXPECT_EQ(h.last().message, "path complete");
-}
-
 TEST(RobotBridgeSim, RestartDuringAJobReportsItAndHoldsFault) {
-  BridgeConfig cfg;
+  BridgeConfig cfg = auto_cfg();
   cfg.state_file = ::testing::TempDir() + "rb_state_" + std::to_string(getpid());
   {
     Harness h({}, cfg);
@@ -500,7 +434,7 @@ struct RealRobot : Driver {
 }  // namespace
 
 TEST(RobotBridgeJobIds, SimStartsCleanAfterAnotherRunARealRobotStaysInFault) {
-  BridgeConfig cfg;
+  BridgeConfig cfg = auto_cfg();
   cfg.state_file = ::testing::TempDir() + "rb_run_state_" + std::to_string(getpid());
   cfg.run_id = "run-1";
   auto crash = [&](const std::string& job) {

@@ -248,6 +248,38 @@ TEST(ToolsBus, TypeFilterJobCommandAndExitCodes) {
   EXPECT_EQ(run({kBin + "/hg-lcm-dump", "--type", "no_such_t"}, dir.path, "t4"), 2);
   EXPECT_EQ(run({kBin + "/hg-lcm-send", "job"}, dir.path, "t5"), 2);
 
+  // The operator's actions: approve (with exclusions and the revision seen), reject, replan, query.
+  Proc ops = start_dump({"--type", "job_request_t", "--count", "4", "--timeout", "60"}, dir.path, "ops");
+  EXPECT_EQ(run({kBin + "/hg-lcm-send", "approve", "--job-id", "J-7", "--exclude-loops", "3,5", "--revision", "2",
+                 "--by", "ann"},
+                dir.path, "approve"),
+            0);
+  EXPECT_EQ(run({kBin + "/hg-lcm-send", "reject", "--job-id", "J-8", "--by", "bo"}, dir.path, "reject"), 0);
+  EXPECT_EQ(run({kBin + "/hg-lcm-send", "replan", "--job-id", "J-9", "--tool-radius", "0.008"}, dir.path, "replan"), 0);
+  EXPECT_EQ(run({kBin + "/hg-lcm-send", "query"}, dir.path, "query"), 0);
+  EXPECT_EQ(wait_exit(ops), 0) << slurp(ops.err);
+  lines = json_lines(ops.out);
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[0]["msg"]["action"], 3);  // ACTION_APPROVE
+  EXPECT_EQ(lines[0]["msg"]["actor"], "operator ann");
+  EXPECT_EQ(lines[0]["msg"]["plan_revision"], 2);
+  EXPECT_EQ(lines[0]["msg"]["excluded_loops"], Json::array({3, 5}));
+  EXPECT_EQ(lines[0]["msg"]["num_excluded"], 2);
+  EXPECT_EQ(lines[1]["msg"]["action"], 4);  // ACTION_REJECT
+  EXPECT_EQ(lines[1]["msg"]["actor"], "operator bo");
+  EXPECT_EQ(lines[2]["msg"]["action"], 5);  // ACTION_REPLAN
+  EXPECT_EQ(lines[2]["msg"]["tool_radius"], 0.008);
+  EXPECT_EQ(lines[3]["msg"]["action"], 6);  // ACTION_QUERY
+  EXPECT_EQ(lines[3]["msg"]["job_id"], "");
+  // Who decides is required; a loop list must be indices.
+  EXPECT_EQ(run({kBin + "/hg-lcm-send", "approve", "--job-id", "J-7"}, dir.path, "t6"), 2);
+  EXPECT_EQ(run({kBin + "/hg-lcm-send", "reject", "--job-id", "J-7"}, dir.path, "t7"), 2);
+  EXPECT_EQ(
+      run({kBin + "/hg-lcm-send", "approve", "--job-id", "J-7", "--by", "x", "--exclude-loops", "3,a"}, dir.path, "t8"),
+      2);
+  EXPECT_EQ(
+      run({kBin + "/hg-lcm-send", "reject", "--job-id", "J-7", "--by", "x", "--tool-radius", "1"}, dir.path, "t9"), 2);
+
   // SIGTERM: clean exit 0 with the summary printed.
   Proc idle = start_dump({"--summary"}, dir.path, "idle");
   idle.process.signal(SIGTERM);

@@ -99,8 +99,9 @@ void log_event(lcm::LogFile& log, std::int64_t utime, const std::string& channel
   log.writeEvent(&e);
 }
 
-// A recorded job J1 planned with kRunCamera; returns the path message as it is in the log.
-hullgrind::grind_path_t write_job_log(const std::string& file) {
+// A recorded job J1 planned with kRunCamera; returns the path message as it is in the log. `end`: the robot
+// bridge's last word on it (DONE; INCOMPLETE with hole 1 unground), followed by a QUERY's DONE answer.
+hullgrind::grind_path_t write_job_log(const std::string& file, std::int8_t end = hullgrind::job_status_t::STATE_DONE) {
   const Scene s = scene();
   const pp::PlanResult r = pp::plan(s.input, {}, planner_config(kRunCamera), std::nullopt);
   EXPECT_TRUE(r.ok) << r.reason;
@@ -123,9 +124,25 @@ hullgrind::grind_path_t write_job_log(const std::string& file) {
   hullgrind::job_status_t done{};
   done.job_id = "J1";
   done.source = "hg-robot-bridge";
-  done.state = hullgrind::job_status_t::STATE_DONE;
+  done.state = end;
   done.progress = 1;
+  done.message = end == hullgrind::job_status_t::STATE_DONE ? "path complete" : "path complete; edge not ground";
+  if (end == hullgrind::job_status_t::STATE_INCOMPLETE) {
+    hullgrind::edge_stretch_t u{};
+    u.loop_index = 1;
+    u.hole = true;
+    u.length = 0.0314;
+    u.cause = hullgrind::edge_stretch_t::CAUSE_TOO_SMALL;
+    done.unground = {u};
+    done.num_unground = 1;
+  }
   log_event(log, 5000, "HG_JOB_STATUS", done);
+  hullgrind::job_status_t answer = done;  // an answer never overrides how the job ended
+  answer.state = hullgrind::job_status_t::STATE_DONE;
+  answer.answer = true;
+  answer.unground.clear();
+  answer.num_unground = 0;
+  log_event(log, 6000, "HG_JOB_STATUS", answer);
   return path;
 }
 
@@ -293,6 +310,31 @@ TEST(Overview, DrawsThePathOnThePlateWithTheRunsCalibration) {
                 &out),
             2);
   EXPECT_NE(out.find(tmp("broken_cell.yaml") + ": hom: unknown key"), std::string::npos) << out;
+}
+
+// The end state as the bus said it: INCOMPLETE stays INCOMPLETE in the summary (exit 1), its unground stretch
+// listed; DONE is DONE (exit 0).
+TEST(Overview, TellsTheEndStateTruthfully) {
+  for (std::int8_t end : {hullgrind::job_status_t::STATE_DONE, hullgrind::job_status_t::STATE_INCOMPLETE}) {
+    write_job_log(tmp("end.lcmlog"), end);
+    const auto job = hg::overview::trace_job(hg::overview::read_run_log(tmp("end.lcmlog")));
+    ASSERT_TRUE(job.final_status);
+    EXPECT_EQ(job.final_status->msg.state, end);
+    EXPECT_FALSE(job.final_status->msg.answer);
+    std::string out;
+    const int rc = run("hg-overview " + tmp("end.lcmlog") + " --out " + tmp("end") + " --planner-config " +
+                           kPlannerConfig + " --cell " + kRunCell,
+                       &out);
+    EXPECT_EQ(rc, end == hullgrind::job_status_t::STATE_DONE ? 0 : 1) << out;
+    const std::string summary = slurp(tmp("end") + "/summary.json");
+    if (end == hullgrind::job_status_t::STATE_INCOMPLETE) {
+      EXPECT_NE(out.find("job J1: INCOMPLETE - path complete; edge not ground"), std::string::npos) << out;
+      EXPECT_NE(summary.find("\"final_state\": \"INCOMPLETE\""), std::string::npos) << summary;
+      EXPECT_NE(summary.find("\"length\": 0.0314"), std::string::npos) << summary;
+    } else {
+      EXPECT_NE(out.find("job J1: DONE - path complete"), std::string::npos) << out;
+    }
+  }
 }
 
 TEST(Overview, ScaleBarIsARoundLengthOfAtMostAQuarterOfThePicture) {

@@ -33,6 +33,16 @@ Publishes hullgrind messages. --lcm-url default: $LCM_DEFAULT_URL, else udpm://2
       [--direction climb|conventional] [--flipped] [--seq N] [--channel C]
       one job_request_t on HG_JOB_REQUEST (zero parameters mean "configured default").
 
+  approve --job-id J --by NAME [--exclude-loops 3,5] [--revision N]
+      APPROVE the plan the robot bridge holds AWAITING_APPROVAL (revision N, default 0: the latest), without
+      the loops listed (their edge is recorded as excluded by "operator NAME").
+  reject --job-id J --by NAME
+      REJECT the plan held: the job ends REJECTED, nothing moves.
+  replan --job-id J [--by NAME] [job parameters as for job]
+      REPLAN a job awaiting approval on its outline with these parameters: the next plan revision.
+  query [--job-id J]
+      QUERY: every process answers its last status of job J (of every job it holds without --job-id).
+
   sample --type T[,T...]|all [--count N] [--rate HZ] [--start-seq S] [--channel C]
       N rounds (default 10; 0: until SIGINT/SIGTERM) of well-formed messages of each type, seq S..S+N-1,
       every field a function of seq (see docs/monitoring.md), header.utime the time of sending.
@@ -78,63 +88,107 @@ bool publish(lcm::LCM& lcm, const std::string& channel, const std::vector<uint8_
   return true;
 }
 
-int cmd_job(lcm::LCM& lcm, Args& args) {
-  hullgrind::job_request_t m{};
-  std::string channel = hg::channels::kJobRequest;
-  m.action = hullgrind::job_request_t::ACTION_START;
-  m.direction = hullgrind::job_request_t::DIRECTION_CLIMB;
-  m.flipped = false;
-  m.header.seq = 0;
+// "3,5" -> {3, 5}: loop indices of the outline (0..32767).
+std::vector<std::int16_t> loop_list(const std::string& text) {
+  std::vector<std::int16_t> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    std::size_t used = 0;
+    long v = -1;
+    try {
+      v = std::stol(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || v < 0 || v > 32767)
+      throw UsageError("--exclude-loops: '" + item + "' is not a loop index (0..32767)");
+    out.push_back(std::int16_t(v));
+  }
+  if (out.empty()) throw UsageError("--exclude-loops: no loop given");
+  return out;
+}
+
+// The job parameters (START, REPLAN); false when `a` is none of them.
+bool job_option(const std::string& a, Args& args, hullgrind::job_request_t& m) {
+  if (a == "--part-id") m.part_id = args.value();
+  else if (a == "--tool-radius")
+    m.tool_radius = args.number(0, 1);
+  else if (a == "--chamfer-angle")
+    m.chamfer_angle = args.number(-1.6, 1.6);
+  else if (a == "--grind-speed")
+    m.grind_speed = args.number(0, 10);
+  else if (a == "--travel-speed")
+    m.travel_speed = args.number(0, 10);
+  else if (a == "--step")
+    m.step = args.number(0, 1);
+  else if (a == "--safe-height")
+    m.safe_height = args.number(0, 2);
+  else if (a == "--direction") {
+    std::string v = args.value();
+    if (v == "climb") m.direction = hullgrind::job_request_t::DIRECTION_CLIMB;
+    else if (v == "conventional")
+      m.direction = hullgrind::job_request_t::DIRECTION_CONVENTIONAL;
+    else
+      throw UsageError("--direction: '" + v + "' is not climb or conventional");
+  } else if (a == "--flipped")
+    m.flipped = args.flag();
+  else
+    return false;
+  return true;
+}
+
+std::int8_t action_of(const std::string& v) {
+  using R = hullgrind::job_request_t;
+  if (v == "start") return R::ACTION_START;
+  if (v == "abort") return R::ACTION_ABORT;
+  if (v == "reset") return R::ACTION_RESET;
+  throw UsageError("--action: '" + v + "' is not start, abort or reset");
+}
+
+// job, approve, reject, replan, query: one job_request_t on HG_JOB_REQUEST.
+int cmd_request(lcm::LCM& lcm, const std::string& command, Args& args) {
+  using R = hullgrind::job_request_t;
+  R m{};
+  std::string channel = hg::channels::kJobRequest, by;
+  m.action = command == "approve"  ? R::ACTION_APPROVE
+             : command == "reject" ? R::ACTION_REJECT
+             : command == "replan" ? R::ACTION_REPLAN
+             : command == "query"  ? R::ACTION_QUERY
+                                   : R::ACTION_START;
   bool have_id = false;
   while (!args.done()) {
-    std::string a = args.next();
+    const std::string a = args.next();
+    const bool job_like = command == "job" || command == "replan";
     if (a == "--job-id") m.job_id = args.value(), have_id = true;
-    else if (a == "--part-id")
-      m.part_id = args.value();
-    else if (a == "--action") {
-      std::string v = args.value();
-      if (v == "start") m.action = hullgrind::job_request_t::ACTION_START;
-      else if (v == "abort")
-        m.action = hullgrind::job_request_t::ACTION_ABORT;
-      else if (v == "reset")
-        m.action = hullgrind::job_request_t::ACTION_RESET;
-      else
-        throw UsageError("--action: '" + v + "' is not start, abort or reset");
-    } else if (a == "--tool-radius")
-      m.tool_radius = args.number(0, 1);
-    else if (a == "--chamfer-angle")
-      m.chamfer_angle = args.number(-1.6, 1.6);
-    else if (a == "--grind-speed")
-      m.grind_speed = args.number(0, 10);
-    else if (a == "--travel-speed")
-      m.travel_speed = args.number(0, 10);
-    else if (a == "--step")
-      m.step = args.number(0, 1);
-    else if (a == "--safe-height")
-      m.safe_height = args.number(0, 2);
-    else if (a == "--direction") {
-      std::string v = args.value();
-      if (v == "climb") m.direction = hullgrind::job_request_t::DIRECTION_CLIMB;
-      else if (v == "conventional")
-        m.direction = hullgrind::job_request_t::DIRECTION_CONVENTIONAL;
-      else
-        throw UsageError("--direction: '" + v + "' is not climb or conventional");
-    } else if (a == "--flipped")
-      m.flipped = args.flag();
+    else if (job_like && job_option(a, args, m))
+      continue;
+    else if (a == "--action" && command == "job")
+      m.action = action_of(args.value());
+    else if (a == "--by" && command != "query")
+      by = args.value();
+    else if (a == "--exclude-loops" && command == "approve")
+      m.excluded_loops = loop_list(args.value());
+    else if (a == "--revision" && command == "approve")
+      m.plan_revision = std::int32_t(args.integer(0, INT32_MAX));
     else if (a == "--seq")
       m.header.seq = args.integer(0, INT64_MAX);
     else if (a == "--channel")
       channel = args.value();
     else
-      throw UsageError("job: unknown option '" + a + "'");
+      throw UsageError(command + ": unknown option '" + a + "'");
   }
-  if (!have_id || m.job_id.empty()) throw UsageError("job: --job-id is required");
+  if (command != "query" && (!have_id || m.job_id.empty())) throw UsageError(command + ": --job-id is required");
+  if ((command == "approve" || command == "reject") && by.empty())
+    throw UsageError(command + ": --by NAME is required (the record keeps who decided)");
+  if (!by.empty()) m.actor = "operator " + by;
+  m.num_excluded = std::int32_t(m.excluded_loops.size());
   m.header.utime = now_utime();
   if (lcm.publish(channel, &m) != 0) {
     std::fprintf(stderr, "hg-lcm-send: publish on %s failed\n", channel.c_str());
     return 1;
   }
-  std::fprintf(stderr, "hg-lcm-send: published job_request_t job_id=%s on %s\n", m.job_id.c_str(), channel.c_str());
+  std::fprintf(stderr, "hg-lcm-send: published job_request_t (%s, action %d) job_id=%s on %s\n", command.c_str(),
+               int(m.action), m.job_id.c_str(), channel.c_str());
   return 0;
 }
 
@@ -348,14 +402,16 @@ int main(int argc, char** argv) {
     Args args(argc, argv, first + 1);
     Schema schema = Schema::embedded();
     check_schema_matches_generated(schema);
-    if (command != "job" && command != "sample" && command != "garbage" && command != "json" && command != "heartbeat")
+    const bool request =
+        command == "job" || command == "approve" || command == "reject" || command == "replan" || command == "query";
+    if (!request && command != "sample" && command != "garbage" && command != "json" && command != "heartbeat")
       throw UsageError("unknown command '" + command + "' (see --help)");
     lcm::LCM lcm(url);
     if (!lcm.good()) {
       std::fprintf(stderr, "hg-lcm-send: cannot open LCM at %s\n", url.c_str());
       return 1;
     }
-    if (command == "job") return cmd_job(lcm, args);
+    if (request) return cmd_request(lcm, command, args);
     if (command == "heartbeat") return cmd_heartbeat(lcm, args);
     if (command == "sample") return cmd_sample(lcm, schema, args);
     if (command == "garbage") return cmd_garbage(lcm, schema, args);

@@ -1,5 +1,7 @@
 #include "tools/overview/overview.hpp"
 
+#include "runtime/job_ledger.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -16,9 +18,19 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-const char* state_name(int s) {
-  static const char* names[] = {"ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED"};
-  return s >= 0 && s < 8 ? names[s] : "?";
+std::string state_name(int s) { return runtime::job_state_name(std::int8_t(s)); }
+
+// "hole 2: 285.7 mm TOO_SMALL; outer loop 0: 3.1 mm UNREACHED": the stretches a job's end left unground.
+std::string unground_text(const hullgrind::job_status_t& s) {
+  static const char* causes[] = {"UNREACHED", "TOO_SMALL", "CORNER", "EXCLUDED", "NOT_RUN"};
+  std::string out;
+  for (const auto& u : s.unground) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s %d: %.1f mm %s", u.hole ? "hole" : "outer loop", int(u.loop_index),
+                  u.length * 1e3, u.cause >= 0 && u.cause < 5 ? causes[u.cause] : "?");
+    out += (out.empty() ? "" : "; ") + std::string(buf);
+  }
+  return out;
 }
 
 double ms(std::int64_t a, std::int64_t b) { return double(b - a) * 1e-3; }
@@ -36,6 +48,16 @@ Json summary_json(const JobTrace& job) {
   if (job.final_status) {
     j["final_source"] = job.final_status->msg.source;
     j["final_message"] = job.final_status->msg.message;
+    if (job.final_status->msg.answer) j["final_answer"] = true;  // the end is an answer (e.g. the job history's)
+    Json unground = Json::array();
+    for (const auto& u : job.final_status->msg.unground)
+      unground.push_back({{"loop", u.loop_index},
+                          {"hole", u.hole},
+                          {"start", u.start},
+                          {"length", u.length},
+                          {"cause", int(u.cause)},
+                          {"reason", u.reason}});
+    j["unground"] = std::move(unground);
   }
   Json stages = Json::object();
   if (job.cloud) stages["capture_to_cloud_ms"] = ms(job.cloud->msg.header.utime, job.cloud->log_utime);
@@ -167,6 +189,11 @@ std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std
       (job.final_status && !job.final_status->msg.message.empty() ? " (" + job.final_status->msg.message + ")" : "");
   if (outcome.size() > 125) outcome = outcome.substr(0, 122) + "...";
   lines.push_back(outcome);
+  if (job.final_status && !job.final_status->msg.unground.empty()) {
+    std::string gaps = "NOT GROUND: " + unground_text(job.final_status->msg);
+    if (gaps.size() > 125) gaps = gaps.substr(0, 122) + "...";
+    lines.push_back(gaps);
+  }
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 "cloud %zu points; outline %d outer + %d holes (blue, red), R = %.2f mm; path %zu waypoints",

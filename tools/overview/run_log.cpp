@@ -1,5 +1,7 @@
 #include "tools/overview/run_log.hpp"
 
+#include "runtime/job_ledger.hpp"
+
 #include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 
@@ -20,9 +22,11 @@ bool decode(const lcm::LogEvent* e, std::vector<Logged<T>>& into) {
   return true;
 }
 
-bool is_final(std::int8_t s) {
-  return s == hullgrind::job_status_t::STATE_DONE || s == hullgrind::job_status_t::STATE_FAILED ||
-         s == hullgrind::job_status_t::STATE_ABORTED || s == hullgrind::job_status_t::STATE_REFUSED;
+// A status that ends the job: the robot bridge's DONE, any other terminal state from anyone (as the recorder
+// and tools/run.sh read it).
+bool ends_job(const hullgrind::job_status_t& s) {
+  return (s.state == hullgrind::job_status_t::STATE_DONE && s.source == "hg-robot-bridge") ||
+         (runtime::job_state_final(s.state) && s.state != hullgrind::job_status_t::STATE_DONE);
 }
 
 }  // namespace
@@ -69,7 +73,9 @@ JobTrace trace_job(const RunLog& log, const std::string& job_id) {
   for (const auto& s : log.statuses)
     if (s.msg.job_id == t.job_id) {
       t.statuses.push_back(s);
-      if (is_final(s.msg.state)) t.final_status = s;
+      // The first end the bus said; an answer (a repeat's, a QUERY's) only when nothing else ended the job.
+      const bool have_end = t.final_status && !t.final_status->msg.answer;
+      if (ends_job(s.msg) && !have_end && (!t.final_status || !s.msg.answer)) t.final_status = s;
     }
   return t;
 }
