@@ -3,7 +3,7 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build test run clean
+.PHONY: all deps configure build test run station clean
 
 all: build
 
@@ -23,6 +23,9 @@ test: build
 
 run: build
 	tools/run.sh
+
+station: build
+	tools/run.sh --station
 
 clean:
 	rm -rf $(BUILD_DIR) out

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 #include "runtime/node.hpp"
@@ -67,6 +68,12 @@ HttpResponse ok(Json body, int status = 200) {
   return r;
 }
 
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 // A finite number in (0, max] under `key`, or an error text naming it.
 std::string positive(const Json& options, const char* key, double max, double& out) {
   auto it = options.find(key);
@@ -74,7 +81,7 @@ std::string positive(const Json& options, const char* key, double max, double& o
   if (!it->is_number()) return std::string("options.") + key + ": must be a number";
   const double v = it->get<double>();
   if (!std::isfinite(v) || !(v > 0) || v > max)
-    return std::string("options.") + key + ": " + std::to_string(v) + " is outside (0, " + std::to_string(max) + "]";
+    return std::string("options.") + key + ": " + number_text(v) + " is outside (0, " + number_text(max) + "]";
   out = v;
   return "";
 }
@@ -161,7 +168,19 @@ Api::Api(ApiConfig config, std::vector<User> users, Sessions& sessions, LoginLim
       live_(live),
       history_(history),
       sink_(std::move(sink)) {
-  for (User& u : users) users_[u.name] = std::move(u);
+  set_users(std::move(users));
+}
+
+void Api::set_users(std::vector<User> users) {
+  std::map<std::string, User> by_name;
+  for (User& u : users) by_name[u.name] = std::move(u);
+  std::lock_guard lock(users_mutex_);
+  users_ = std::move(by_name);
+}
+
+std::size_t Api::user_count() const {
+  std::lock_guard lock(users_mutex_);
+  return users_.size();
 }
 
 std::string Api::cookie_value(const std::string& header, const std::string& name) {
@@ -181,7 +200,15 @@ std::string Api::cookie_value(const std::string& header, const std::string& name
 std::optional<Session> Api::session_of(const HttpRequest& req) {
   const std::string id = cookie_value(req.cookie, kCookie);
   if (id.empty()) return std::nullopt;
-  return sessions_.find(id, std::chrono::steady_clock::now());
+  auto s = sessions_.find(id, std::chrono::steady_clock::now());
+  if (!s) return s;
+  std::lock_guard lock(users_mutex_);
+  auto u = users_.find(s->user);
+  if (u == users_.end() || u->second.role != s->role) {  // removed, or the role changed: log in again
+    sessions_.remove(id);
+    return std::nullopt;
+  }
+  return s;
 }
 
 HttpResponse Api::handle(const HttpRequest& req) {
@@ -197,6 +224,8 @@ HttpResponse Api::route_api(const HttpRequest& req, const Target& t) {
   if (!post && req.method != "GET") return json_error(405, "method " + req.method + " not allowed");
   if (post && t.segments.size() == 2 && t.segments[1] == "login") return login(req);
   auto session = session_of(req);
+  if (!session && !post && t.segments.size() == 2 && t.segments[1] == "session")
+    return ok({{"user", nullptr}});  // the page asks whether it is logged in: not an error
   if (!session) return json_error(401, "not logged in");
   if (!post && t.segments.size() == 2 && t.segments[1] == "session")
     return ok({{"user", session->user}, {"role", role_name(session->role)}, {"csrf", session->csrf}});
@@ -243,14 +272,19 @@ HttpResponse Api::login(const HttpRequest& req) {
     r.headers.emplace_back("Retry-After", std::to_string(wait));
     return r;
   }
-  auto it = users_.find(user);
-  if (it == users_.end() || password.size() > 1024 || !verify_password(it->second.hash, password)) {
+  std::optional<User> found;
+  {
+    std::lock_guard lock(users_mutex_);
+    auto it = users_.find(user);
+    if (it != users_.end()) found = it->second;
+  }
+  if (!found || password.size() > 1024 || !verify_password(found->hash, password)) {
     limiter_.failed(user_key, now);
     limiter_.failed(peer_key, now);
     return json_error(401, "wrong user or password");
   }
   limiter_.succeeded(user_key);
-  const Session s = sessions_.create(it->second.name, it->second.role, now);
+  const Session s = sessions_.create(found->name, found->role, now);
   HttpResponse r = ok({{"user", s.user}, {"role", role_name(s.role)}, {"csrf", s.csrf}});
   r.headers.emplace_back("Set-Cookie", std::string(kCookie) + "=" + s.id + "; Path=/; HttpOnly; SameSite=Strict" +
                                            (config_.tls ? "; Secure" : ""));
@@ -281,7 +315,8 @@ HttpResponse Api::cell() const {
              {"camera_fps", live_.camera_fps()},
              {"cell", config_.cell},
              {"faults", faults},
-             {"limits", {{"max_speed", config_.limits.max_speed}}}});
+             {"limits", {{"max_speed", config_.limits.max_speed}}},
+             {"station", config_.station ? config_.station() : Json(nullptr)}});
 }
 
 HttpResponse Api::jobs(const Target& t) const {

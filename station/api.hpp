@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <utility>
@@ -50,6 +51,7 @@ struct ApiConfig {
   OptionLimits limits;
   Json cell;                         // what GET /api/cell says about the cell file (calibration, tool, limits)
   std::function<Json()> supervisor;  // the supervisor's status-json, or null
+  std::function<Json()> station;     // the server's counters, or null
 };
 
 // Where job requests go: the bounded queue to the LCM thread. False when it is full (503).
@@ -77,6 +79,9 @@ class Api {
       const History& history, RequestSink sink);
 
   HttpResponse handle(const HttpRequest& req);
+  // Replaces the users (the users file changed); sessions of removed users end at their next request.
+  void set_users(std::vector<User> users);
+  std::size_t user_count() const;
   // The session a request's cookie names (the WebSocket upgrade asks this).
   std::optional<Session> session_of(const HttpRequest& req);
   static std::string cookie_value(const std::string& cookie_header, const std::string& name);
@@ -99,6 +104,7 @@ class Api {
   HttpResponse static_file(const Target& t) const;
 
   ApiConfig config_;
+  mutable std::mutex users_mutex_;
   std::map<std::string, User> users_;
   Sessions& sessions_;
   LoginLimiter& limiter_;

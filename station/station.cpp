@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <deque>
+#include <filesystem>
 #include <mutex>
 
 #include "cell/cell_params.hpp"
@@ -95,6 +96,9 @@ struct Station {
   RequestQueue requests;
   std::unique_ptr<Api> api;
   std::unique_ptr<Server> server;
+  std::string users_file;
+  std::filesystem::file_time_type users_mtime{};
+  std::string users_problem;  // why the users file is not in use, for the heartbeat
   std::mutex supervisor_mutex;
   Json supervisor_cache;
   std::chrono::steady_clock::time_point supervisor_time{};
@@ -139,6 +143,14 @@ ApiConfig api_config(const runtime::Node& node, const cell::LoadedCell& cell, St
   c.three_root = node.param("three-root");
   c.limits.max_speed = cell.cell.max_speed;
   c.cell = cell_summary(cell);
+  c.station = [&st] {
+    if (!st.server) return Json(nullptr);
+    const ServerStats& s = st.server->stats();
+    return Json{{"requests", s.requests.load()},        {"refused", s.bad_requests.load()},
+                {"too_large", s.too_large.load()},      {"timed_out", s.timeouts.load()},
+                {"connections_refused", s.refused_connections.load()}, {"live_clients", s.websockets.load()},
+                {"live_clients_dropped", s.websocket_drops.load()}};
+  };
   const std::string run_dir = node.param("supervisor-dir");
   if (!run_dir.empty())
     c.supervisor = [&st, run_dir] {  // asked at most once a second
@@ -153,12 +165,33 @@ ApiConfig api_config(const runtime::Node& node, const cell::LoadedCell& cell, St
   return c;
 }
 
-void health(runtime::Node& node, const Server& server) {
-  const ServerStats& s = server.stats();
-  node.set_state(hullgrind::heartbeat_t::STATE_OK,
-                 "requests " + std::to_string(s.requests) + ", refused " + std::to_string(s.bad_requests) +
-                     ", too large " + std::to_string(s.too_large) + ", timed out " + std::to_string(s.timeouts) +
-                     ", live clients " + std::to_string(s.websockets));
+// The users file is read again when it changes (tools/hg-station-user while the station runs). Missing: no
+// one can log in (DEGRADED says so); broken: the users read before stay.
+void reload_users(Station& st, bool first) {
+  std::error_code ec;
+  const auto mtime = std::filesystem::last_write_time(st.users_file, ec);
+  if (ec) {
+    st.users_problem = "no users file " + st.users_file + " (tools/hg-station-user add NAME --role operator)";
+    if (st.api) st.api->set_users({});
+    return;
+  }
+  if (!first && mtime == st.users_mtime && st.users_problem.empty()) return;
+  st.users_mtime = mtime;
+  try {
+    auto users = read_users(st.users_file);
+    st.users_problem = users.empty() ? "no users in " + st.users_file : "";
+    st.api->set_users(std::move(users));
+  } catch (const UsersError& e) {
+    if (first) throw;
+    st.users_problem = e.what();
+  }
+}
+
+void health(runtime::Node& node, const Station& st) {
+  if (!st.users_problem.empty())
+    node.set_state(hullgrind::heartbeat_t::STATE_DEGRADED, st.users_problem);
+  else
+    node.set_state(hullgrind::heartbeat_t::STATE_OK);
 }
 
 }  // namespace
@@ -180,7 +213,7 @@ runtime::ProcessInfo process_info() {
        integer_param("port", "8080", "TCP port (0: any free port, printed in the log)", 0, 65535),
        text_param("tls-cert", "", "TLS certificate chain, PEM (with tls-key: HTTPS and WSS only)"),
        text_param("tls-key", "", "TLS private key, PEM"),
-       text_param("users-file", "", "the users file (tools/hg-station-user); required"),
+       text_param("users-file", "", "the users file (tools/hg-station-user; read again when it changes; missing: nobody can log in)"),
        text_param("jobs-dir", "", "the job recorder's folder (out/jobs): the history; empty: no history"),
        text_param("web-root", "", "the page's files; empty: the source tree's station/web"),
        text_param("three-root", "/usr/share/javascript/three", "three.js (Debian's libjs-three), served as /three/"),
@@ -198,12 +231,6 @@ runtime::ProcessInfo process_info() {
 std::shared_ptr<void> attach(runtime::Node& node) {
   if (node.param("users-file").empty())
     throw runtime::ConfigError("users-file: required (make one with tools/hg-station-user add NAME --role operator)");
-  std::vector<User> users;
-  try {
-    users = read_users(node.param("users-file"));
-  } catch (const UsersError& e) {
-    throw node.params().error("users-file", e.what());
-  }
   const cell::LoadedCell cell = cell::load_cell(node.params());
   auto st = std::make_shared<Station>();
   st->sessions = std::make_unique<Sessions>(std::chrono::seconds(std::int64_t(node.param_double("session-timeout"))));
@@ -213,19 +240,28 @@ std::shared_ptr<void> attach(runtime::Node& node) {
   st->live = std::make_unique<LiveState>(lo);
   st->history = std::make_unique<History>(node.param("jobs-dir"));
   Station* raw = st.get();
-  st->api = std::make_unique<Api>(api_config(node, cell, *st), users, *st->sessions, st->limiter, *st->live,
+  st->api = std::make_unique<Api>(api_config(node, cell, *st), std::vector<User>{}, *st->sessions, st->limiter, *st->live,
                                   *st->history, [raw](hullgrind::job_request_t& r) { return raw->requests.push(r); });
+  st->users_file = node.param("users-file");
+  try {
+    reload_users(*st, true);
+  } catch (const UsersError& e) {
+    throw node.params().error("users-file", e.what());
+  }
   st->server = std::make_unique<Server>(server_config(node), *st->api, *st->live);
   subscribe(node, *st->live);
   node.every(std::chrono::milliseconds(20), [raw, &node] {
     for (auto& r : raw->requests.take()) node.publish(channels::kJobRequest, r);
   });
-  node.every(std::chrono::milliseconds(1000), [raw, &node] { health(node, *raw->server); });
+  node.every(std::chrono::milliseconds(2000), [raw, &node] {
+    reload_users(*raw, false);
+    health(node, *raw);
+  });
   st->server->start();
   runtime::logf(runtime::Level::Info, "listening on http%s://%s:%d/ (%zu users)",
                 node.param("tls-cert").empty() ? "" : "s", node.param("address").c_str(), st->server->port(),
-                users.size());
-  node.set_state(hullgrind::heartbeat_t::STATE_OK);
+                st->api->user_count());
+  health(node, *st);
   return st;
 }
 
