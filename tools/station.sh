@@ -40,9 +40,9 @@ if [[ "${HG_IN_NETNS:-}" != "1" ]]; then
 fi
 
 if [[ ! -s "$OUT/station/users" ]]; then
-  pw=$(head -c 64 /dev/urandom | tr -dc 'A-Za-z2-9' | head -c 20)
+  pw=$("$BIN/hg-station-user" add operator --role operator --file "$OUT/station/users" | sed -n 's/^password: //p')
+  [[ -n "$pw" ]] || { echo "station.sh: hg-station-user add operator failed" >&2; exit 1; }
   (umask 077; printf '%s\n' "$pw" >"$OUT/station/first-password")
-  printf '%s\n' "$pw" | "$BIN/hg-station-user" add operator --role operator --password-stdin --file "$OUT/station/users" >/dev/null
   FIRST="user operator, password $pw (also in $OUT/station/first-password; shown only this once)"
 else
   FIRST="users in $OUT/station/users (tools/hg-station-user); the first password is in $OUT/station/first-password"
