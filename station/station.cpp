@@ -146,9 +146,12 @@ ApiConfig api_config(const runtime::Node& node, const cell::LoadedCell& cell, St
   c.station = [&st] {
     if (!st.server) return Json(nullptr);
     const ServerStats& s = st.server->stats();
-    return Json{{"requests", s.requests.load()},        {"refused", s.bad_requests.load()},
-                {"too_large", s.too_large.load()},      {"timed_out", s.timeouts.load()},
-                {"connections_refused", s.refused_connections.load()}, {"live_clients", s.websockets.load()},
+    return Json{{"requests", s.requests.load()},
+                {"refused", s.bad_requests.load()},
+                {"too_large", s.too_large.load()},
+                {"timed_out", s.timeouts.load()},
+                {"connections_refused", s.refused_connections.load()},
+                {"live_clients", s.websockets.load()},
                 {"live_clients_dropped", s.websocket_drops.load()}};
   };
   const std::string run_dir = node.param("supervisor-dir");
@@ -188,8 +191,7 @@ void reload_users(Station& st, bool first) {
 }
 
 void health(runtime::Node& node, const Station& st) {
-  if (!st.users_problem.empty())
-    node.set_state(hullgrind::heartbeat_t::STATE_DEGRADED, st.users_problem);
+  if (!st.users_problem.empty()) node.set_state(hullgrind::heartbeat_t::STATE_DEGRADED, st.users_problem);
   else
     node.set_state(hullgrind::heartbeat_t::STATE_OK);
 }
@@ -213,7 +215,8 @@ runtime::ProcessInfo process_info() {
        integer_param("port", "8080", "TCP port (0: any free port, printed in the log)", 0, 65535),
        text_param("tls-cert", "", "TLS certificate chain, PEM (with tls-key: HTTPS and WSS only)"),
        text_param("tls-key", "", "TLS private key, PEM"),
-       text_param("users-file", "", "the users file (tools/hg-station-user; read again when it changes; missing: nobody can log in)"),
+       text_param("users-file", "",
+                  "the users file (tools/hg-station-user; read again when it changes; missing: nobody can log in)"),
        text_param("jobs-dir", "", "the job recorder's folder (out/jobs): the history; empty: no history"),
        text_param("web-root", "", "the page's files; empty: the source tree's station/web"),
        text_param("three-root", "/usr/share/javascript/three", "three.js (Debian's libjs-three), served as /three/"),
@@ -240,8 +243,9 @@ std::shared_ptr<void> attach(runtime::Node& node) {
   st->live = std::make_unique<LiveState>(lo);
   st->history = std::make_unique<History>(node.param("jobs-dir"));
   Station* raw = st.get();
-  st->api = std::make_unique<Api>(api_config(node, cell, *st), std::vector<User>{}, *st->sessions, st->limiter, *st->live,
-                                  *st->history, [raw](hullgrind::job_request_t& r) { return raw->requests.push(r); });
+  st->api =
+      std::make_unique<Api>(api_config(node, cell, *st), std::vector<User>{}, *st->sessions, st->limiter, *st->live,
+                            *st->history, [raw](hullgrind::job_request_t& r) { return raw->requests.push(r); });
   st->users_file = node.param("users-file");
   try {
     reload_users(*st, true);

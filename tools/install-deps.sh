@@ -19,7 +19,7 @@ packages=(
   # test-only oracle for the outline core (never needed to build or run the product)
   libcgal-dev libgmp-dev
   # operator station (HTTP/WebSocket, password hashing, the 3-D view) and MCAP chunks
-  libboost-dev libsodium-dev libjs-three libzstd-dev liblz4-dev
+  libboost-dev libssl-dev libsodium-dev libjs-three libzstd-dev liblz4-dev
   # browser tests (a real Chromium through Selenium), fuzzing (libFuzzer with clang)
   chromium chromium-driver python3-selenium clang libclang-rt-14-dev
 )

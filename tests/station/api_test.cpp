@@ -172,10 +172,10 @@ TEST_F(Fixture, OptionsAreValidatedWithThePlannersRangesAndTheCellsSpeed) {
   auto start = [&](const std::string& options) {
     return call("POST", "/api/jobs", R"({"part_id":"p","options":)" + options + "}", cookie, csrf);
   };
-  for (const char* bad : {R"({"grind_speed":0})", R"({"grind_speed":0.26})", R"({"grind_speed":-1})",
-                          R"({"grind_speed":"fast"})", R"({"travel_speed":1})", R"({"step":0})", R"({"step":-0.1})",
-                          R"({"safe_height":0})", R"({"direction":"up"})", R"({"tool_radius":0.02})", R"([1])",
-                          R"({"grind_speed":1e400})"}) {
+  for (const char* bad :
+       {R"({"grind_speed":0})", R"({"grind_speed":0.26})", R"({"grind_speed":-1})", R"({"grind_speed":"fast"})",
+        R"({"travel_speed":1})", R"({"step":0})", R"({"step":-0.1})", R"({"safe_height":0})", R"({"direction":"up"})",
+        R"({"tool_radius":0.02})", R"([1])", R"({"grind_speed":1e400})"}) {
     HttpResponse r = start(bad);
     EXPECT_EQ(r.status, 400) << bad;
     EXPECT_TRUE(body(r).contains("error"));
@@ -186,15 +186,15 @@ TEST_F(Fixture, OptionsAreValidatedWithThePlannersRangesAndTheCellsSpeed) {
   EXPECT_DOUBLE_EQ(sent[0].grind_speed, 0.25);
   EXPECT_DOUBLE_EQ(sent[0].step, 0.003);
   EXPECT_EQ(int(sent[0].direction), int(hullgrind::job_request_t::DIRECTION_CONVENTIONAL));
-  for (const char* bad_part : {R"({"part_id":""})", R"({"part_id":7})", "{}", R"({"part_id":"a\u0001b"})",
-                               R"({"part_id":"p","extra":1})"})
+  for (const char* bad_part :
+       {R"({"part_id":""})", R"({"part_id":7})", "{}", R"({"part_id":"a\u0001b"})", R"({"part_id":"p","extra":1})"})
     EXPECT_EQ(call("POST", "/api/jobs", bad_part, cookie, csrf).status, 400) << bad_part;
 }
 
 TEST_F(Fixture, ApproveCarriesExcludedLoopsAndRevisionAndRefusesBadLists) {
   auto [cookie, csrf] = login("op", "op-password");
-  HttpResponse r = call("POST", "/api/jobs/job-1/approve", R"({"exclude_loops":[2,0,2],"plan_revision":3})", cookie,
-                        csrf);
+  HttpResponse r =
+      call("POST", "/api/jobs/job-1/approve", R"({"exclude_loops":[2,0,2],"plan_revision":3})", cookie, csrf);
   ASSERT_EQ(r.status, 202) << r.body;
   ASSERT_EQ(sent.size(), 1u);
   EXPECT_EQ(int(sent[0].action), int(hullgrind::job_request_t::ACTION_APPROVE));
@@ -240,8 +240,8 @@ TEST_F(Fixture, AnEndedJobIsNotActedOn) {
 TEST_F(Fixture, StaticFilesStayInsideTheWebRoot) {
   EXPECT_EQ(call("GET", "/").status, 200);
   EXPECT_EQ(call("GET", "/").file, dir / "web" / "index.html");
-  for (const char* t : {"/../secret.txt", "/%2e%2e/secret.txt", "/..%2Fsecret.txt", "/.hidden", "/three/../x",
-                        "/a%00b", "/nope.js", "relative", ""})
+  for (const char* t : {"/../secret.txt", "/%2e%2e/secret.txt", "/..%2Fsecret.txt", "/.hidden", "/three/../x", "/a%00b",
+                        "/nope.js", "relative", ""})
     EXPECT_TRUE(call("GET", t).file.empty()) << t;
   EXPECT_EQ(call("DELETE", "/").status, 405);
   EXPECT_EQ(call("PUT", "/api/jobs").status, 405);

@@ -109,8 +109,10 @@ TEST_F(ServerFixture, GarbageIsRefusedWith400AndTheServerGoesOn) {
 
 TEST_F(ServerFixture, ABodyOverTheLimitIs413) {
   const std::string big(2 << 20, 'x');
-  const std::string r = request("POST /api/login HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-                                "Content-Length: " + std::to_string(big.size()) + "\r\n\r\n" + big);
+  const std::string r = request(
+      "POST /api/login HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+      "Content-Length: " +
+      std::to_string(big.size()) + "\r\n\r\n" + big);
   EXPECT_EQ(r.rfind("HTTP/1.1 413", 0), 0u) << r.substr(0, 200);
   EXPECT_NE(r.find("\"error\""), std::string::npos);
   // A chunked body that grows past the limit, without a length up front.
@@ -129,7 +131,7 @@ TEST_F(ServerFixture, SlowAndHalfOpenClientsAreCutOffAndDoNotBlockOthers) {
     slow.push_back(connect_fd());
     send_all(slow.back(), "GET /api/session HTTP/1.1\r\nHo");  // never finishes its headers
   }
-  const int silent = connect_fd();  // connects and says nothing
+  const int silent = connect_fd();                        // connects and says nothing
   EXPECT_EQ(get_session().rfind("HTTP/1.1 200", 0), 0u);  // served while they hang
   const auto t0 = std::chrono::steady_clock::now();
   for (int fd : slow) {
