@@ -5,8 +5,6 @@
 #include <cstdio>
 #include <set>
 
-#include "runtime/node.hpp"
-
 namespace hg::station {
 
 namespace fs = std::filesystem;
@@ -300,7 +298,9 @@ HttpResponse Api::logout(const HttpRequest& req) {
 }
 
 HttpResponse Api::cell() const {
-  const std::int64_t now = runtime::now_utime();
+  const std::int64_t now =
+      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count();
   Json processes = live_.processes(now), robot = live_.robot(now);
   Json faults = Json::array();
   for (const Json& p : processes)

@@ -267,6 +267,7 @@ void LiveState::on_cloud(const hullgrind::plate_cloud_t& pc, std::int64_t recv) 
 
 void LiveState::on_outline(const hullgrind::outline_t& o, std::int64_t recv) {
   Json j = outline_json(o, options_.camera_to_base);
+  j["utime"] = recv;
   std::lock_guard lock(mutex_);
   outlines_[o.header.seq] = std::move(j);
   while (outlines_.size() > kKeptOutlines) outlines_.erase(outlines_.begin());
@@ -315,6 +316,9 @@ Json LiveState::job(const std::string& job_id) const {
   auto it = jobs_.find(job_id);
   if (it == jobs_.end()) return nullptr;
   const JobLive& j = it->second;
+  Json outline = j.plan_outline;
+  if (!outline.is_object() && !outlines_.empty() && outlines_.rbegin()->second["utime"] >= j.first_utime)
+    outline = outlines_.rbegin()->second;  // no plan yet: the outline that came since the job started
   return {{"job_id", job_id},
           {"part_id", j.part_id},
           {"state", state_name(j.state)},
@@ -323,7 +327,7 @@ Json LiveState::job(const std::string& job_id) const {
           {"updated_utime", j.updated_utime},
           {"statuses", j.statuses},
           {"plan", j.plan},
-          {"outline", j.plan_outline}};
+          {"outline", outline}};
 }
 
 Json LiveState::jobs() const {

@@ -263,7 +263,7 @@ function onEvent(ev) {
       if (!ev.answer) j.live.state = ev.state;
       renderJobLight();
     } else refreshJobSoon();
-  } else if (ev.type === "path" && j && ev.job_id === j.job_id) {
+  } else if ((ev.type === "path" && j && ev.job_id === j.job_id) || (ev.type === "outline" && j && j.live && !j.live.outline)) {
     refreshJobSoon();
   } else if (ev.type === "cloud" && j && !state.cloud) {
     state.live.requestCloud(j.job_id);
