@@ -48,6 +48,7 @@ std::string content_type_of(const fs::path& p) {
   if (ext == ".css") return "text/css; charset=utf-8";
   if (ext == ".png") return "image/png";
   if (ext == ".svg") return "image/svg+xml";
+  if (ext == ".ico") return "image/x-icon";
   if (ext == ".json") return "application/json";
   return "application/octet-stream";
 }
