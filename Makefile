@@ -6,7 +6,7 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps run-deps configure build pipeline test run clean
+.PHONY: all deps run-deps configure build pipeline test run station clean
 
 all: build
 
@@ -35,6 +35,9 @@ test: build
 
 run: pipeline
 	tools/run.sh
+
+station: pipeline
+	tools/run.sh --station
 
 clean:
 	rm -rf $(BUILD_DIR) out

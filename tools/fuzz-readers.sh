@@ -6,7 +6,8 @@
 # `make test` runs every target for 30 s (CTest fuzz_build, fuzz_TARGET; label fuzz).
 #
 #   tools/fuzz-readers.sh [--build-only | --no-build] [SECONDS] [TARGET ...]
-#   TARGET: text pcd ply (the point-cloud readers; default: every target of the table below)
+#   TARGET: text pcd ply (the point-cloud readers), station (hg-station's request handling); default: every
+#           target of the table below
 #   HG_FUZZ_BUILD=dir  build directory (default build-fuzz)   HG_FUZZ_JOBS=n  build jobs (default 2)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
@@ -21,6 +22,7 @@ TARGETS=(
   "text fuzz_read_text cloud_io/fuzz/text.dict tests/data/outline_io/*.xyz tests/data/outline_io/*.csv tests/data/outline_io/*.txt"
   "pcd fuzz_read_pcd cloud_io/fuzz/pcd.dict tests/data/outline_io/*.pcd"
   "ply fuzz_read_ply cloud_io/fuzz/ply.dict tests/data/outline_io/*.ply"
+  "station fuzz_station_request - station/fuzz/seeds/*"
 )
 
 die() { echo "fuzz-readers: $*" >&2; exit 2; }

@@ -18,7 +18,7 @@ run_packages=(
   liblcm-dev liblcm-bin libopenni2-dev libaravis-dev libusb-1.0-0-dev libeigen3-dev libopencv-dev
   cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev libyaml-cpp-dev
   # operator station (HTTP/WebSocket, password hashing, the 3-D view) and MCAP chunks
-  libboost-dev libsodium-dev libjs-three libzstd-dev liblz4-dev
+  libboost-dev libssl-dev libsodium-dev libjs-three libzstd-dev liblz4-dev
   # tools/run.sh: its network namespace, python3 for the supervisor, the test DDS Security set
   iproute2 python3 openssl
 )

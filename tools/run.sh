@@ -45,6 +45,8 @@ Runs the whole hullgrind pipeline once, in its own network namespace, and writes
                      Vision 3-D camera on loopback read through Aravis (config/pipeline-genicam.toml)
   --job-id ID        job id of the request [demo-DATE]
   --timeout S        give up waiting for the job after S seconds [120]
+  --station          the simulated cell with the operator station until Ctrl-C, reachable at
+                     http://127.0.0.1:8080 (tools/station.sh; docs/station.md)
   --offline          no processes: hg-outline on the bundled sample cloud (data/samples/), checked
                      against its ground truth (out/outline.json, outline.png)
   -h, --help         this text
@@ -92,6 +94,7 @@ while [[ $# -gt 0 ]]; do
     --job-id) need_value "$@"; JOB_ID=$2; shift 2 ;;
     --timeout) need_value "$@"; TIMEOUT=$2; shift 2 ;;
     --offline) offline; exit $? ;;
+    --station) shift; exec "$ROOT/tools/station.sh" "$@" ;;
     -h|--help) usage; exit 0 ;;
     *) echo "run.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac

@@ -22,7 +22,7 @@ LAYERS = [
     ("point-cloud io", ["cloud_io"]),
     ("simulation", ["sim"]),
     ("processes", ["camera_bridge", "outline_service", "path_planner", "robot_bridge", "dds_gateway",
-                   "job_recorder"]),
+                   "job_recorder", "station"]),
     ("calibration", ["calibration"]),
     ("tools", ["tools", "foxglove"]),
 ]

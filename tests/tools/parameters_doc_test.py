@@ -11,7 +11,7 @@ SRC = os.environ.get("HG_SOURCE_DIR", os.path.abspath(os.path.join(os.path.dirna
 BIN = os.environ.get("HG_BIN_DIR", os.path.join(SRC, "build", "bin"))
 DOC = os.path.join(SRC, "docs", "PARAMETERS.md")
 PROGRAMS = ["hg-camera-bridge", "hg-outline-service", "hg-path-planner", "hg-robot-bridge", "hg-dds-gateway",
-            "hg-job-recorder", "hg-foxglove", "hg-plan", "hg-outline", "hg-robot-export", "hg-gen", "hg-calibrate", "hg-bench",
+            "hg-job-recorder", "hg-foxglove", "hg-station", "hg-station-user", "hg-plan", "hg-outline", "hg-robot-export", "hg-gen", "hg-calibrate", "hg-bench",
             "hg-mcap"]
 # The programs with an option parser of their own (not runtime::Params): the page names them, their --help is
 # their reference. Every user program (HG_PROGRAMS, from CMake) is in one list or the other.

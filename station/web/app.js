@@ -1,0 +1,383 @@
+// The station's page: views Cell, Job (live 3-D, top view, timeline, approval), New job, History.
+import * as api from "./api.js";
+import { Live } from "./live.js";
+import { Scene3D } from "./scene.js";
+import { drawTop } from "./top.js";
+
+const $ = (id) => document.getElementById(id);
+const STATES = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED",
+  "AWAITING_APPROVAL", "APPROVED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN", "interrupted"];
+const TERMINAL = new Set(["DONE", "FAILED", "ABORTED", "REFUSED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN"]);
+
+const state = { user: null, role: null, live: null, scene: null, job: null, cloud: null, tcp: null, cell: null };
+
+function el(tag, text, cls) {
+  const e = document.createElement(tag);
+  if (text !== undefined && text !== null) e.textContent = String(text);
+  if (cls) e.className = cls;
+  return e;
+}
+
+function row(tbody, cells) {
+  const tr = el("tr");
+  for (const c of cells) {
+    const td = el("td");
+    if (c instanceof Node) td.appendChild(c); else td.textContent = c === undefined || c === null ? "" : String(c);
+    tr.appendChild(td);
+  }
+  tbody.appendChild(tr);
+  return tr;
+}
+
+function dl(target, pairs) {
+  target.replaceChildren();
+  for (const [k, v] of pairs) { target.appendChild(el("dt", k)); target.appendChild(el("dd", v)); }
+}
+
+function banner(text) {
+  $("banner").textContent = text;
+  $("banner").hidden = !text;
+}
+
+function fmtTime(utime) { return utime ? new Date(utime / 1000).toISOString().replace("T", " ").slice(0, 19) : ""; }
+
+// ---- views and navigation ----
+function show(view) {
+  for (const v of document.querySelectorAll(".view")) v.hidden = v.id !== "view-" + view;
+  for (const a of document.querySelectorAll("nav a")) a.classList.toggle("active", a.id === "nav-" + view);
+}
+
+async function route() {
+  if (!state.user) return show("login");
+  const [view, ...rest] = location.hash.replace(/^#/, "").split("/");
+  const arg = rest.length ? decodeURIComponent(rest.join("/")) : "";
+  try {
+    if (view === "job") { show("job"); await openJob(arg || (state.job && state.job.job_id) || ""); }
+    else if (view === "history") { show("history"); await loadHistory(); if (arg) await openRecord(arg); else $("history-job").hidden = true; }
+    else if (view === "new") show("new");
+    else { show("cell"); await loadCell(); }
+  } catch (e) {
+    banner(`${e.message}`);
+  }
+}
+
+// ---- login ----
+async function loggedIn(who) {
+  state.user = who.user;
+  state.role = who.role;
+  document.body.classList.toggle("viewer", who.role !== "operator");
+  $("who-name").textContent = `${who.user} (${who.role})`;
+  $("nav").hidden = false;
+  $("who").hidden = false;
+  state.live = new Live(onEvent, onCloud);
+  state.live.open();
+  await route();
+}
+
+async function onLogin(ev) {
+  ev.preventDefault();
+  $("login-error").textContent = "";
+  try {
+    await loggedIn(await api.login($("login-user").value, $("login-password").value));
+  } catch (e) {
+    $("login-error").textContent = e.status === 401 ? "Wrong user or password." : e.message;
+  }
+}
+
+async function onLogout() {
+  try { await api.logout(); } catch (e) { /* the session may have ended already */ }
+  location.hash = "";
+  location.reload();
+}
+
+// ---- cell ----
+async function loadCell() {
+  const c = await api.get("/api/cell");
+  state.cell = c;
+  const tbody = $("cell-processes").querySelector("tbody");
+  tbody.replaceChildren();
+  const sup = {};
+  for (const p of (c.supervisor && c.supervisor.processes) || []) sup[p.name] = p;
+  const hbName = ["STARTING", "OK", "DEGRADED", "ERROR", "STOPPING"];
+  for (const p of c.processes) {
+    const s = Object.values(sup).find((x) => x.pid === p.pid);
+    row(tbody, [p.process, hbName[p.state] || p.state, s ? s.restarts : "", `${p.age.toFixed(1)} s`, p.state_text]);
+  }
+  for (const s of Object.values(sup))
+    if (!c.processes.some((p) => p.pid === s.pid)) row(tbody, [s.name, s.state, s.restarts, "no heartbeat", s.reason || ""]);
+  const r = c.robot;
+  const modes = ["DISCONNECTED", "IDLE", "RUNNING", "FAULT"];
+  dl($("cell-robot"), r ? [["mode", modes[r.mode] || r.mode], ["job", r.job_id || "-"], ["TCP", r.tcp.map((v) => v.toFixed(3)).join(", ") + " m"],
+    ["fault", r.fault_code ? `${r.fault_code}: ${r.fault_text}` : "none"], ["age", `${r.age.toFixed(1)} s`]] : [["robot", "no status heard"]]);
+  dl($("cell-camera"), [["plate clouds", c.camera_fps > 0 ? `${c.camera_fps.toFixed(2)} per s` : "none recently (job-triggered)"]]);
+  const cal = c.cell.calibration;
+  dl($("cell-calibration"), [["file", c.cell.file], ["method", cal.method], ["date", cal.date],
+    ["residuals", `RMS ${cal.rms_mm} mm, worst ${cal.worst_mm} mm (${cal.features} features)`],
+    ["tool", `radius ${c.cell.tool.radius * 1000} mm`], ["max speed", `${c.cell.max_speed} m/s`]]);
+  const faults = $("cell-faults");
+  faults.replaceChildren();
+  for (const f of c.faults) faults.appendChild(el("li", `${f.source}: ${f.reason}`, "error"));
+  if (!c.faults.length) faults.appendChild(el("li", "none"));
+}
+
+async function onReset() {
+  try {
+    const r = await api.post("/api/robot/reset");
+    $("reset-result").textContent = `RESET sent (${r.job_id})`;
+    setTimeout(loadCell, 800);
+  } catch (e) { $("reset-result").textContent = e.message; }
+}
+
+// ---- new job ----
+function options(prefix) {
+  const o = {};
+  const speed = $(prefix + "-grind-speed").value, step = $(prefix + "-step").value, dir = $(prefix + "-direction").value;
+  if (speed !== "") o.grind_speed = Number(speed);
+  if (step !== "") o.step = Number(step);
+  if (dir) o.direction = dir;
+  return o;
+}
+
+async function onNewJob(ev) {
+  ev.preventDefault();
+  try {
+    const r = await api.post("/api/jobs", { part_id: $("new-part").value, options: options("new") });
+    $("new-result").textContent = `Job ${r.job_id} started.`;
+    location.hash = "#job/" + encodeURIComponent(r.job_id);
+  } catch (e) { $("new-result").textContent = e.message; }
+}
+
+// ---- job, live ----
+async function openJob(id) {
+  if (!state.scene) state.scene = new Scene3D($("job-3d"));
+  if (!id) { $("job-id").textContent = "(none: start one under New job)"; return; }
+  const j = await api.get("/api/jobs/" + encodeURIComponent(id));
+  const changed = !state.job || state.job.job_id !== id;
+  state.job = { job_id: id, live: j.live, record: j.record };
+  if (changed) { state.cloud = null; state.live.requestCloud(id); }
+  renderJob();
+}
+
+function jobState() {
+  const j = state.job;
+  if (j.live) return j.live.state;
+  return j.record ? j.record.job.state : "";
+}
+
+function renderJob() {
+  const j = state.job, live = j.live;
+  $("job-id").textContent = j.job_id;
+  const st = jobState();
+  $("job-state").textContent = st;
+  $("job-state").className = "state " + st;
+  const last = live && live.statuses.length ? live.statuses[live.statuses.length - 1] : null;
+  $("job-message").textContent = last ? last.message : (j.record ? j.record.job.message || "" : "");
+  const running = last && last.state === "RUNNING" ? last.progress : null;
+  $("job-progress-bar").style.width = `${100 * (st === "DONE" ? 1 : running !== null ? running : 0)}%`;
+  $("job-abort").hidden = TERMINAL.has(st);
+  renderTimeline(live ? live.statuses : []);
+  renderApproval(st, live);
+  if (live) {
+    state.scene.setOutline(live.outline);
+    state.scene.setPlan(live.plan);
+  }
+  drawTopView();
+}
+
+function drawTopView() {
+  const live = state.job && state.job.live;
+  drawTop($("job-top"), { cloud: state.cloud, outline: live && live.outline, plan: live && live.plan, tcp: state.tcp });
+}
+
+function renderTimeline(statuses) {
+  const tbody = $("job-timeline").querySelector("tbody");
+  tbody.replaceChildren();
+  const t0 = statuses.length ? statuses[0].utime : 0;
+  for (const s of statuses)
+    row(tbody, [fmtTime(s.utime), ((s.utime - t0) / 1e6).toFixed(2), s.source, s.state,
+      s.message + (s.actor ? ` [${s.actor}]` : "")]);
+}
+
+function renderApproval(st, live) {
+  const box = $("approval");
+  box.hidden = st !== "AWAITING_APPROVAL" || !live || !live.plan || !live.plan.coverage;
+  if (box.hidden) return;
+  const plan = live.plan;
+  $("approval-revision").textContent = plan.revision;
+  const tbody = $("approval-loops").querySelector("tbody");
+  tbody.replaceChildren();
+  for (const c of plan.coverage) {
+    const box = el("input");
+    box.type = "checkbox";
+    box.className = "exclude";
+    box.dataset.loop = c.loop_index;
+    box.id = "exclude-" + c.loop_index;
+    if (state.role !== "operator") box.disabled = true;
+    row(tbody, [c.loop_index, c.hole ? "hole" : "outer", c.planned ? "yes" : "no", `${(c.edge_length * 1000).toFixed(1)} mm`,
+      `${(100 * c.reached_length / (c.edge_length || 1)).toFixed(1)} %`, c.reason, box]);
+  }
+  const warn = $("approval-warnings");
+  warn.replaceChildren();
+  for (const u of plan.unreached) warn.appendChild(el("li", `loop ${u.loop_index} (${u.hole ? "hole" : "outer"}): ${u.cause}, ${(u.length * 1000).toFixed(1)} mm: ${u.reason}`));
+  const last = live.statuses[live.statuses.length - 1];
+  for (const u of (last && last.unground) || [])
+    if (!plan.unreached.some((p) => p.loop_index === u.loop_index && p.start === u.start))
+      warn.appendChild(el("li", `loop ${u.loop_index}: ${u.cause}: ${u.reason}`));
+  if (!warn.children.length) warn.appendChild(el("li", "none"));
+}
+
+async function jobAction(action, body) {
+  const j = state.job;
+  try {
+    await api.post(`/api/jobs/${encodeURIComponent(j.job_id)}/${action}`, body);
+    $("approval-result").textContent = `${action} sent`;
+  } catch (e) {
+    $("approval-result").textContent = e.message;
+    banner(e.message);
+  }
+}
+
+function onApprove() {
+  const exclude = [...document.querySelectorAll("#approval-loops input.exclude:checked")].map((b) => Number(b.dataset.loop));
+  jobAction("approve", { exclude_loops: exclude, plan_revision: state.job.live.plan.revision });
+}
+
+// ---- live events ----
+let refreshTimer = null;
+function refreshJobSoon() {
+  if (refreshTimer) return;
+  refreshTimer = setTimeout(async () => {
+    refreshTimer = null;
+    if (state.job && !$("view-job").hidden) {
+      try { await openJob(state.job.job_id); } catch (e) { banner(e.message); }
+    }
+  }, 150);
+}
+
+function onEvent(ev) {
+  const j = state.job;
+  if (ev.type === "status" && j && ev.job_id === j.job_id) {
+    if (j.live) {  // update in place: the progress bar follows every status
+      const rows = j.live.statuses, last = rows[rows.length - 1];
+      if (last && last.source === ev.source && last.state === ev.state) rows[rows.length - 1] = ev; else refreshJobSoon();
+      if (!ev.answer) j.live.state = ev.state;
+      renderJobLight();
+    } else refreshJobSoon();
+  } else if ((ev.type === "path" && j && ev.job_id === j.job_id) || (ev.type === "outline" && j && j.live && !j.live.outline)) {
+    refreshJobSoon();
+  } else if (ev.type === "cloud" && j && !state.cloud) {
+    state.live.requestCloud(j.job_id);
+  } else if (ev.type === "robot") {
+    if (ev.job_id && j && ev.job_id === j.job_id) {
+      state.tcp = ev.tcp;
+      if (state.scene) state.scene.setTcp(ev.tcp);
+      drawTopView();
+    }
+    if (ev.mode === 3 && !$("view-cell").hidden) loadCell().catch(() => {});
+  } else if (ev.type === "heartbeat" && !$("view-cell").hidden) {
+    cellSoon();
+  }
+}
+
+let cellTimer = null;
+function cellSoon() {
+  if (cellTimer) return;
+  cellTimer = setTimeout(() => { cellTimer = null; loadCell().catch((e) => banner(e.message)); }, 1000);
+}
+
+function renderJobLight() {
+  const j = state.job, rows = j.live.statuses, last = rows[rows.length - 1];
+  const st = j.live.state;
+  $("job-state").textContent = st;
+  $("job-state").className = "state " + st;
+  $("job-message").textContent = last ? last.message : "";
+  const p = st === "DONE" ? 1 : last && last.state === "RUNNING" ? last.progress : 0;
+  $("job-progress-bar").style.width = `${100 * p}%`;
+  $("job-abort").hidden = TERMINAL.has(st);
+  renderTimeline(rows);
+  if (st !== "AWAITING_APPROVAL") $("approval").hidden = true;
+}
+
+function onCloud(cloud) {
+  state.cloud = cloud.xyz;
+  if (state.scene) state.scene.setCloud(cloud.xyz);
+  drawTopView();
+}
+
+// ---- history ----
+async function loadHistory() {
+  const q = new URLSearchParams();
+  for (const [k, id] of [["state", "history-state"], ["part", "history-part"], ["from", "history-from"], ["to", "history-to"]])
+    if ($(id).value) q.set(k, $(id).value);
+  const r = await api.get("/api/jobs?" + q.toString());
+  const tbody = $("history-table").querySelector("tbody");
+  tbody.replaceChildren();
+  for (const j of r.jobs) {
+    const a = el("a", j.job_id);
+    a.href = "#history/" + encodeURIComponent(j.job_id);
+    row(tbody, [j.requested, a, j.part_id, j.interrupted && !j.final ? "interrupted" : j.state, j.ended, j.reason]);
+  }
+  for (const j of r.live_only) {
+    const a = el("a", j.job_id);
+    a.href = "#job/" + encodeURIComponent(j.job_id);
+    row(tbody, [fmtTime(j.first_utime), a, j.part_id, j.state + " (not recorded yet)", "", ""]);
+  }
+}
+
+async function openRecord(id) {
+  const r = await api.get("/api/jobs/" + encodeURIComponent(id));
+  $("history-job").hidden = false;
+  $("hj-id").textContent = id;
+  const rec = r.record ? r.record.job : {};
+  const req = rec.request || {};
+  const approval = (r.record ? r.record.events : []).filter((e) => e.actor || (e.excluded_loops && e.excluded_loops.length));
+  dl($("hj-summary"), [["part", rec.part_id], ["state", rec.state], ["requested", rec.requested], ["ended", rec.ended || ""],
+    ["reason", rec.reason || rec.message || ""], ["request", JSON.stringify(req)],
+    ["outline", rec.outline ? JSON.stringify(rec.outline) : "-"], ["path", rec.path ? JSON.stringify(rec.path) : "-"],
+    ["approval", approval.map((e) => `${e.state || e.action || ""} by ${e.actor || "?"}${e.excluded_loops && e.excluded_loops.length ? ", excluded loops " + e.excluded_loops.join(", ") : ""}`).join("; ") || "-"]]);
+  const files = $("hj-files");
+  files.replaceChildren();
+  for (const f of r.record ? r.record.files : []) {
+    const a = el("a", `${f.name} (${f.size} bytes)`);
+    a.href = `/api/jobs/${encodeURIComponent(id)}/files/${encodeURIComponent(f.name)}`;
+    a.setAttribute("download", f.name);
+    a.className = "download";
+    const li = el("li");
+    li.appendChild(a);
+    files.appendChild(li);
+  }
+  const tbody = $("hj-events").querySelector("tbody");
+  tbody.replaceChildren();
+  for (const e of r.record ? r.record.events : [])
+    row(tbody, [e.time, e.event || e.type || "", e.source || "", e.state || e.action || "", e.message || e.why || ""]);
+  const open = el("a", "open the live view");
+  open.href = "#job/" + encodeURIComponent(id);
+  files.appendChild(el("li")).appendChild(open);
+}
+
+// ---- start ----
+function wire() {
+  for (const s of STATES) $("history-state").appendChild(el("option", s));
+  $("login-form").addEventListener("submit", onLogin);
+  $("logout").addEventListener("click", onLogout);
+  $("reset").addEventListener("click", onReset);
+  $("new-form").addEventListener("submit", onNewJob);
+  $("job-abort").addEventListener("click", () => jobAction("abort"));
+  $("approve").addEventListener("click", onApprove);
+  $("reject").addEventListener("click", () => jobAction("reject"));
+  $("replan").addEventListener("click", () => jobAction("replan", { options: options("replan") }));
+  $("history-filter").addEventListener("submit", (ev) => { ev.preventDefault(); loadHistory().catch((e) => banner(e.message)); });
+  window.addEventListener("hashchange", () => { banner(""); route(); });
+}
+
+async function start() {
+  wire();
+  try {
+    const who = await api.session();
+    if (who.user) await loggedIn(who); else show("login");
+  } catch (e) {
+    show("login");
+  }
+}
+
+start();

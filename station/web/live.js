@@ -1,0 +1,44 @@
+// The WebSocket /api/live: JSON events (statuses, heartbeats, robot poses, new clouds/outlines/paths) and
+// binary cloud frames ("HGC1", uint32 n, int64 seq, float32 xyz * n). Reconnects after a drop.
+export class Live {
+  constructor(onEvent, onCloud) {
+    this.onEvent = onEvent;
+    this.onCloud = onCloud;
+    this.ws = null;
+    this.closed = false;
+  }
+
+  open() {
+    const proto = location.protocol === "https:" ? "wss:" : "ws:";
+    const ws = new WebSocket(`${proto}//${location.host}/api/live`);
+    ws.binaryType = "arraybuffer";
+    ws.onmessage = (m) => {
+      if (typeof m.data === "string") this.onEvent(JSON.parse(m.data));
+      else this.onCloud(parseCloud(m.data));
+    };
+    ws.onclose = () => {
+      this.ws = null;
+      if (!this.closed) setTimeout(() => this.open(), 2000);
+    };
+    this.ws = ws;
+  }
+
+  requestCloud(jobId) {
+    if (this.ws && this.ws.readyState === WebSocket.OPEN) this.ws.send(JSON.stringify({ get: "cloud", job: jobId }));
+    else setTimeout(() => this.requestCloud(jobId), 300);
+  }
+
+  close() {
+    this.closed = true;
+    if (this.ws) this.ws.close();
+  }
+}
+
+export function parseCloud(buf) {
+  const view = new DataView(buf);
+  const magic = String.fromCharCode(view.getUint8(0), view.getUint8(1), view.getUint8(2), view.getUint8(3));
+  if (magic !== "HGC1") throw new Error("not a cloud frame");
+  const n = view.getUint32(4, true);
+  const seq = Number(view.getBigInt64(8, true));
+  return { n, seq, xyz: new Float32Array(buf, 16, n * 3) };
+}

@@ -1,0 +1,123 @@
+// The job's 3-D view (three.js r111 from Debian's libjs-three): the plate cloud coloured by height, the
+// outline (holes in another colour), the tool path coloured by kind, unreached stretches in red, the TCP.
+import * as THREE from "/three/build/three.module.js";
+import { OrbitControls } from "/three/examples/jsm/controls/OrbitControls.js";
+
+export const KIND_COLOURS = [0x7f8fa6, 0x43a047, 0xff9800, 0x00acc1, 0x8e24aa, 0xbbbbbb];
+export const UNREACHED = 0xff1744, HOLE = 0x40c4ff, OUTER = 0xffffff;
+
+export class Scene3D {
+  constructor(container) {
+    this.container = container;
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+    this.renderer.setClearColor(0x10161d);
+    container.appendChild(this.renderer.domElement);
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.PerspectiveCamera(40, 1, 0.01, 100);
+    this.camera.up.set(0, 0, 1);
+    this.camera.position.set(0.5, -1.2, 1.2);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener("change", () => this.render());
+    this.groups = { cloud: new THREE.Group(), outline: new THREE.Group(), path: new THREE.Group() };
+    for (const g of Object.values(this.groups)) this.scene.add(g);
+    this.tcp = new THREE.Mesh(new THREE.SphereBufferGeometry(0.008, 16, 12), new THREE.MeshBasicMaterial({ color: 0xffff00 }));
+    this.tcp.visible = false;
+    this.scene.add(this.tcp);
+    this.scene.add(new THREE.AxesHelper(0.1));
+    this.framed = false;
+    window.addEventListener("resize", () => this.resize());
+    this.resize();
+  }
+
+  resize() {
+    const w = this.container.clientWidth || 560, h = this.container.clientHeight || 420;
+    this.renderer.setSize(w, h);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.render();
+  }
+
+  render() { this.renderer.render(this.scene, this.camera); }
+
+  clear(group) {
+    const g = this.groups[group];
+    while (g.children.length) {
+      const c = g.children.pop();
+      c.geometry.dispose();
+      c.material.dispose();
+    }
+  }
+
+  setCloud(xyz) {
+    this.clear("cloud");
+    const n = xyz.length / 3;
+    let zmin = Infinity, zmax = -Infinity;
+    for (let i = 0; i < n; i++) { const z = xyz[3 * i + 2]; if (z < zmin) zmin = z; if (z > zmax) zmax = z; }
+    const span = zmax - zmin > 1e-6 ? zmax - zmin : 1;
+    const colours = new Float32Array(n * 3), c = new THREE.Color();
+    for (let i = 0; i < n; i++) {
+      c.setHSL(0.66 * (1 - (xyz[3 * i + 2] - zmin) / span), 0.8, 0.5);  // blue low ... red high
+      colours.set([c.r, c.g, c.b], 3 * i);
+    }
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute("position", new THREE.BufferAttribute(xyz, 3));
+    geo.setAttribute("color", new THREE.BufferAttribute(colours, 3));
+    this.groups.cloud.add(new THREE.Points(geo, new THREE.PointsMaterial({ size: 2, sizeAttenuation: false, vertexColors: THREE.VertexColors })));
+    this.frame(geo);
+    this.render();
+  }
+
+  line(group, xyz, colour, closed) {
+    if (xyz.length < 6) return;
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute("position", new THREE.BufferAttribute(new Float32Array(xyz), 3));
+    const Kind = closed ? THREE.LineLoop : THREE.Line;
+    this.groups[group].add(new Kind(geo, new THREE.LineBasicMaterial({ color: colour })));
+    if (!this.framed) this.frame(geo);
+  }
+
+  setOutline(outline) {
+    this.clear("outline");
+    if (!outline || !outline.loops) return;
+    for (const loop of outline.loops) this.line("outline", loop.xyz, loop.hole ? HOLE : OUTER, true);
+    this.render();
+  }
+
+  // Consecutive waypoints of one kind as one line of that kind's colour (each stretch starts at the previous
+  // waypoint, so the path has no gaps); unreached stretches on top, in red.
+  setPlan(plan) {
+    this.clear("path");
+    if (!plan || !plan.position) return;
+    const p = plan.position, kind = plan.kind, n = kind.length;
+    // The segment that ends at waypoint i has kind[i]; a run of equal kinds is one line from its first
+    // segment's start waypoint to its last segment's end waypoint.
+    for (let s = 0; s + 1 < n;) {
+      let e = s + 1;
+      while (e + 1 < n && kind[e + 1] === kind[s + 1]) e++;
+      this.line("path", p.slice(3 * s, 3 * e + 3), KIND_COLOURS[kind[s + 1]] || 0xffffff, false);
+      s = e;
+    }
+    for (const u of plan.unreached || []) this.line("path", u.xyz, UNREACHED, false);
+    this.render();
+  }
+
+  setTcp(xyz) {
+    this.tcp.position.set(xyz[0], xyz[1], xyz[2]);
+    this.tcp.visible = true;
+    this.render();
+  }
+
+  frame(geo) {
+    geo.computeBoundingSphere();
+    const s = geo.boundingSphere;
+    if (!s || !isFinite(s.radius) || s.radius <= 0) return;
+    this.controls.target.copy(s.center);
+    this.camera.position.set(s.center.x, s.center.y - 2.2 * s.radius, s.center.z + 2.2 * s.radius);
+    this.camera.near = s.radius / 100;
+    this.camera.far = s.radius * 100;
+    this.camera.updateProjectionMatrix();
+    this.controls.update();
+    this.framed = true;
+  }
+}
