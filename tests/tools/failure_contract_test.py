@@ -24,7 +24,7 @@ BAD_LCM = ["--lcm-url", "nosuchprovider://nowhere"]
 
 # Processes: they open LCM. Their input arrives on the bus (no input file).
 PROCESSES = {"hg-camera-bridge", "hg-outline-service", "hg-path-planner", "hg-robot-bridge", "hg-dds-gateway",
-             "hg-job-recorder"}
+             "hg-job-recorder", "hg-foxglove", "hg-station"}
 # program -> (arguments the program needs besides the file under test, [missing-input cases]).
 # "{}" in an argument list is the file under test (config or cell); a missing-input case is an argument list
 # naming MISSING.
@@ -41,6 +41,10 @@ TABLE = {
     "hg-core-timing": ([], [[MISSING + ".xyz"]]),
     "hg-dds-gateway": ([], [["--dds-security-identity-ca", MISSING + ".pem"]]),
     "hg-fake-genicam": ([], [["--xml", MISSING + ".xml"]]),
+    "hg-foxglove": ([], []),
+    "hg-mcap": ([MISSING + ".lcmlog", "-o", "{tmp}/x.mcap"], [[MISSING + ".lcmlog", "-o", "{tmp}/x.mcap"]]),
+    "hg-station": ([], [["--users-file", MISSING + ".users"]]),
+    "hg-station-user": (["list", "--file", MISSING + ".users"], [["list", "--file", MISSING + ".users"]]),
     "hg-gen": ([], []),
     "hg-job-recorder": ([], []),
     "hg-lcm-dump": ([], []),
