@@ -2,6 +2,7 @@
 
 #include <condition_variable>
 #include <deque>
+#include <stdexcept>
 #include <thread>
 
 #include "bridge.hpp"
@@ -153,7 +154,12 @@ BridgeOptions bridge_options(runtime::Node& node) {
   o.base_frame = node.param("base-frame");
   o.camera_frame = node.param("camera-frame");
   if (!node.param("cell").empty()) {
-    cell::Cell cell = cell::read_cell(node.param("cell"));
+    cell::Cell cell;
+    try {
+      cell = cell::read_cell(node.param("cell"));
+    } catch (const cell::CellError& e) {  // a bad cell file is bad input: exit 2 before the bus is opened
+      throw std::invalid_argument(e.what());
+    }
     if (cell.calibration.camera_to_flange) o.camera_to_flange = cell.calibration.camera_to_flange;
     else
       o.camera_to_base = cell.calibration.camera_to_base;

@@ -179,9 +179,10 @@ class RunShOutputFolders(Case):
                 deadline = time.monotonic() + 120
                 while time.monotonic() < deadline and len(processes_in(netns)) < 4:
                     time.sleep(0.05)
-                time.sleep(rng.uniform(0.0, 12.0))
                 started = processes_in(netns)
                 self.assertGreater(len(started), 3, started)
+                time.sleep(rng.uniform(0.0, 8.0))  # the job takes ~10 s: run.sh is still running (checked below)
+                self.assertIsNone(p.poll(), "run.sh ended before it was killed; see kill-%d.log" % seed)
                 p.send_signal(signal.SIGKILL)
                 p.wait()
                 log.close()

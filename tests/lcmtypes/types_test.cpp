@@ -152,7 +152,7 @@ TEST(LcmTypes, PartPose) {
 }
 
 TEST(LcmTypes, GrindPath) {
-  hullgrind::grind_path_t m;
+  hullgrind::grind_path_t m{};  // every count zero: what is not set below encodes as an empty list
   m.header = header(5, "robot_base");
   m.job_id = "job-42";
   m.outline_seq = 1;
@@ -168,7 +168,24 @@ TEST(LcmTypes, GrindPath) {
   m.tool_radius = 0.025;
   m.tilt = 0.785;
   m.flipped = true;
+  m.revision = 2;
+  hullgrind::loop_coverage_t c{};
+  c.loop_index = 2, c.hole = true, c.planned = false, c.edge_length = 0.3007, c.reached_length = 0;
+  c.reason = "hole too small for the tool";
+  m.coverage.push_back(c);
+  m.num_loops = 1;
+  hullgrind::edge_stretch_t u{};
+  u.loop_index = 2, u.hole = true, u.start = 0, u.length = 0.3007, u.cause = hullgrind::edge_stretch_t::CAUSE_TOO_SMALL;
+  m.unreached.push_back(u);
+  m.num_unreached = 1;
   auto o = round_trip(m);
+  EXPECT_EQ(o.revision, 2);
+  ASSERT_EQ(o.coverage.size(), 1u);
+  EXPECT_EQ(o.coverage[0].reason, c.reason);
+  EXPECT_FALSE(o.coverage[0].planned);
+  ASSERT_EQ(o.unreached.size(), 1u);
+  EXPECT_EQ(o.unreached[0].cause, +hullgrind::edge_stretch_t::CAUSE_TOO_SMALL);
+  EXPECT_EQ(o.unreached[0].length, 0.3007);
   EXPECT_EQ(o.job_id, "job-42");
   EXPECT_EQ(o.position[2][0], m.position[2][0]);
   EXPECT_EQ(o.kind[2], +hullgrind::grind_path_t::KIND_GRIND);
@@ -177,7 +194,7 @@ TEST(LcmTypes, GrindPath) {
 }
 
 TEST(LcmTypes, JobRequestAndStatus) {
-  hullgrind::job_request_t r;
+  hullgrind::job_request_t r{};
   r.header = header(0, "");
   r.job_id = "j1";
   r.part_id = "bracket";
@@ -186,12 +203,17 @@ TEST(LcmTypes, JobRequestAndStatus) {
   r.safe_height = 0.05;
   r.direction = hullgrind::job_request_t::DIRECTION_CONVENTIONAL;
   r.flipped = false;
+  r.actor = "operator anna";
+  r.excluded_loops = {3, 5};
+  r.num_excluded = 2;
   auto ro = round_trip(r);
+  EXPECT_EQ(ro.excluded_loops, (std::vector<int16_t>{3, 5}));
+  EXPECT_EQ(ro.actor, "operator anna");
   EXPECT_EQ(ro.part_id, "bracket");
   EXPECT_EQ(ro.direction, +hullgrind::job_request_t::DIRECTION_CONVENTIONAL);
   EXPECT_EQ(ro.step, 0.002);
 
-  hullgrind::job_status_t s;
+  hullgrind::job_status_t s{};
   s.header = header(1, "");
   s.job_id = "j1";
   s.part_id = "bracket";

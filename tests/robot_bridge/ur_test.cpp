@@ -44,7 +44,9 @@ struct Harness {
     BridgeOutputs out;
     out.job_status = [this](job_status_t& s) { statuses.push_back(s); };
     out.robot_status = [this](robot_status_t& s) { robot.push_back(s); };
-    bridge = std::make_unique<Bridge>(BridgeConfig{}, std::move(d), out, rbtest::steady_seconds());
+    BridgeConfig cfg;
+    cfg.auto_approve = true;  // a cell with `approval: auto`: these paths reach every edge and run at once
+    bridge = std::make_unique<Bridge>(cfg, std::move(d), out, rbtest::steady_seconds());
   }
   // Runs the bridge loop (5 ms ticks) until pred() holds; false after a generous limit (not a timing check).
   bool run_until(const std::function<bool()>& pred, double limit = 30) {
