@@ -30,6 +30,8 @@
 // strays from the outline (a shape too coarse for the fits) is replaced by a local smoothing.
 #include "path_planner/smooth/stages.hpp"
 
+#include <cmath>
+
 namespace hg::path_planner {
 
 SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o) {
@@ -42,7 +44,12 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   pieces = fit_fillets(*c, std::move(pieces), !corners.empty());
   replace_corners(*c, pieces, corners);
   SmoothedRing out = emit_ring(*c, pieces, corners);
-  if (strays_from(ring, out.points, 1.2 * c->unit)) return local_smoothing(*c, ring);
+  // The band is the staircase's 1.2 units plus the noise of single vertices (4 sigma; c->sigma is that of a
+  // window mean of c->win vertices, sqrt(win) times smaller for independent noise): on a noisy outline the
+  // vertices scatter about a well-fitted ring by more than a pitch, and three in a row beyond 1.2 units is
+  // then noise, not a missed shape (replacing the fit by the light local smoothing leaves that noise in).
+  const double vertex_noise = c->sigma * std::sqrt(double(c->win));
+  if (strays_from(ring, out.points, 1.2 * c->unit + 4.0 * vertex_noise)) return local_smoothing(*c, ring);
   return out;
 }
 
