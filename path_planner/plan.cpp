@@ -168,9 +168,9 @@ std::string too_small_text(std::size_t k, bool hole, const Ring& edge, double to
     return buf;
   }
   std::snprintf(buf, sizeof buf,
-                "hole %zu is too small for the tool: the widest circle inside its edge is %.1f mm across, the tool "
-                "is %.1f mm (radius %.1f mm)",
-                k, inscribed_width(edge, true, arc_tolerance) * 1e3, 2 * tool_radius * 1e3, tool_radius * 1e3);
+                "hole %zu is too small for a tool of radius %.1f mm: the widest circle inside its edge is %.1f mm "
+                "across, the tool is %.1f mm",
+                k, tool_radius * 1e3, inscribed_width(edge, true, arc_tolerance) * 1e3, 2 * tool_radius * 1e3);
   return buf;
 }
 

@@ -30,7 +30,25 @@
 // strays from the outline (a shape too coarse for the fits) is replaced by a local smoothing.
 #include "path_planner/smooth/stages.hpp"
 
+#include <cmath>
+
 namespace hg::path_planner {
+
+namespace {
+
+// The band of smooth/fallback.cpp: the staircase's 1.2 units plus the noise of single vertices (4 sigma;
+// c.sigma is that of a window mean of c.win vertices, sqrt(win) times smaller for independent noise). On a
+// noisy outline (pm806 frames: window-mean noise 0.2-0.35 units) the vertices scatter about a well-fitted
+// ring by up to 4.4 units, and a run of three beyond 1.2 units is noise, not a missed shape (the light local
+// smoothing would keep that noise). A window-mean noise above 0.45 units is no noise but the shape of a
+// coarse outline taken into the estimate (the bundled samples' slots a few pixels wide: 0.54-0.99 units):
+// no allowance then.
+double stray_band(const smooth::SmoothContext& c) {
+  const bool genuine_noise = c.sigma < 0.45 * c.unit;
+  return 1.2 * c.unit + (genuine_noise ? 4.0 * c.sigma * std::sqrt(double(c.win)) : 0.0);
+}
+
+}  // namespace
 
 SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o) {
   using namespace smooth;
@@ -42,7 +60,7 @@ SmoothedRing smooth_ring(const Ring& ring, double pitch, const SmoothOptions& o)
   pieces = fit_fillets(*c, std::move(pieces), !corners.empty());
   replace_corners(*c, pieces, corners);
   SmoothedRing out = emit_ring(*c, pieces, corners);
-  if (strays_from(ring, out.points, 1.2 * c->unit)) return local_smoothing(*c, ring);
+  if (strays_from(ring, out.points, stray_band(*c))) return local_smoothing(*c, ring);
   return out;
 }
 

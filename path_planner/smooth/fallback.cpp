@@ -6,8 +6,9 @@
 // all round) neither holds: the noise estimate takes in the shape itself, the misfit threshold grows to
 // several pixels, and a slot comes out as a rectangle, or collapses. Such a ring is recognised by the
 // distance of the outline's vertices from it: the vertices are the outermost pixel centres, within about
-// one pitch of the edge (plus noise), so a run of vertices farther than 2.5 units (pitch, or the vertex
-// spacing when noise spreads the vertices) from the smoothed ring means a shape the fits did not follow.
+// one pitch of the edge plus their noise, so a run of vertices farther than 1.2 units (pitch, or the vertex
+// spacing when noise spreads the vertices) plus 4 vertex noise levels from the smoothed ring (smooth.cpp
+// sets the band) means a shape the fits did not follow.
 #include "path_planner/smooth/stages.hpp"
 
 #include <algorithm>

@@ -281,7 +281,7 @@ TEST(PathPlannerCoverage, SlotIsNotReachedByA21mmTool) {
   EXPECT_EQ(g.unreached[0].loop_index, 2);
   EXPECT_EQ(g.unreached[0].cause, +hullgrind::edge_stretch_t::CAUSE_TOO_SMALL);
   EXPECT_NEAR(g.unreached[0].length, perimeter, 0.1e-3);
-  EXPECT_NE(g.unreached[0].reason.find("too small for a tool of radius 21"), std::string::npos)
+  EXPECT_NE(g.unreached[0].reason.find("too small for a tool of radius 21.0 mm"), std::string::npos)
       << g.unreached[0].reason;
   for (int i = 0; i < g.n; ++i) EXPECT_NE(g.loop_index[i], 2);
 }
