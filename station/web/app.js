@@ -184,9 +184,16 @@ function renderJob() {
   drawTopView();
 }
 
+// At most once per animation frame (see Scene3D.render): poses come faster than a frame.
+let topPending = false;
 function drawTopView() {
-  const live = state.job && state.job.live;
-  drawTop($("job-top"), { cloud: state.cloud, outline: live && live.outline, plan: live && live.plan, tcp: state.tcp });
+  if (topPending) return;
+  topPending = true;
+  requestAnimationFrame(() => {
+    topPending = false;
+    const live = state.job && state.job.live;
+    drawTop($("job-top"), { cloud: state.cloud, outline: live && live.outline, plan: live && live.plan, tcp: state.tcp });
+  });
 }
 
 function renderTimeline(statuses) {
@@ -330,11 +337,16 @@ async function openRecord(id) {
   $("hj-id").textContent = id;
   const rec = r.record ? r.record.job : {};
   const req = rec.request || {};
-  const approval = (r.record ? r.record.events : []).filter((e) => e.actor || (e.excluded_loops && e.excluded_loops.length));
+  // The decisions and who made them: requests (START, APPROVE, REJECT, ABORT ...) and the statuses that
+  // carry a decision; progress statuses repeat the approver's name and would bury them.
+  const decided = new Set(["APPROVED", "REJECTED", "ABORTED"]);
+  const approval = [...new Set((r.record ? r.record.events : [])
+    .filter((e) => (e.action && e.action !== "QUERY") || decided.has(e.state))
+    .map((e) => `${e.state || e.action || ""} by ${e.actor || "?"}${e.excluded_loops && e.excluded_loops.length ? ", excluded loops " + e.excluded_loops.join(", ") : ""}`))];
   dl($("hj-summary"), [["part", rec.part_id], ["state", rec.state], ["requested", rec.requested], ["ended", rec.ended || ""],
     ["reason", rec.reason || rec.message || ""], ["request", JSON.stringify(req)],
     ["outline", rec.outline ? JSON.stringify(rec.outline) : "-"], ["path", rec.path ? JSON.stringify(rec.path) : "-"],
-    ["approval", approval.map((e) => `${e.state || e.action || ""} by ${e.actor || "?"}${e.excluded_loops && e.excluded_loops.length ? ", excluded loops " + e.excluded_loops.join(", ") : ""}`).join("; ") || "-"]]);
+    ["approval", approval.join("; ") || "-"]]);
   const files = $("hj-files");
   files.replaceChildren();
   for (const f of r.record ? r.record.files : []) {

@@ -38,7 +38,16 @@ export class Scene3D {
     this.render();
   }
 
-  render() { this.renderer.render(this.scene, this.camera); }
+  // One render per animation frame however many updates came in it: the robot's pose arrives at up to
+  // 100 Hz, and each render of a 200 000-point cloud is costly (software GL on a cell PC without a GPU).
+  render() {
+    if (this.pending) return;
+    this.pending = true;
+    requestAnimationFrame(() => {
+      this.pending = false;
+      this.renderer.render(this.scene, this.camera);
+    });
+  }
 
   clear(group) {
     const g = this.groups[group];
