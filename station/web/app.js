@@ -148,10 +148,20 @@ async function onNewJob(ev) {
 }
 
 // ---- job, live ----
+// The station's time of the newest status heard per job, live, before or while its snapshot is fetched: a
+// snapshot older than that is fetched again, so that a last status (AWAITING_APPROVAL, with nothing after
+// it) is never lost between the POST that started a job and the page's first look at it.
+const heard = new Map();
+function hear(ev) {
+  if (heard.size > 1000) heard.clear();
+  heard.set(ev.job_id, Math.max(heard.get(ev.job_id) || 0, ev.utime || 0));
+}
+
 async function openJob(id) {
   if (!state.scene) state.scene = new Scene3D($("job-3d"));
   if (!id) { $("job-id").textContent = "(none: start one under New job)"; return; }
   const j = await api.get("/api/jobs/" + encodeURIComponent(id));
+  if ((heard.get(id) || 0) > ((j.live && j.live.updated_utime) || 0)) refreshJobSoon();
   const changed = !state.job || state.job.job_id !== id;
   state.job = { job_id: id, live: j.live, record: j.record };
   if (changed) { state.cloud = null; state.live.requestCloud(id); }
@@ -263,6 +273,12 @@ function refreshJobSoon() {
 
 function onEvent(ev) {
   const j = state.job;
+  if (ev.type === "status") hear(ev);
+  if (ev.type === "lost") {  // the station dropped events this page was too slow for: read the state again
+    if (j) refreshJobSoon();
+    if (!$("view-cell").hidden) cellSoon();
+    return;
+  }
   if (ev.type === "status" && j && ev.job_id === j.job_id) {
     if (j.live) {  // update in place: the progress bar follows every status
       const rows = j.live.statuses, last = rows[rows.length - 1];
