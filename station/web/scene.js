@@ -82,7 +82,11 @@ export class Scene3D {
     const geo = new THREE.BufferGeometry();
     geo.setAttribute("position", new THREE.BufferAttribute(new Float32Array(xyz), 3));
     const Kind = closed ? THREE.LineLoop : THREE.Line;
-    this.groups[group].add(new Kind(geo, new THREE.LineBasicMaterial({ color: colour })));
+    // Drawn over the cloud: the outline and unreached stretches lie in the plate's plane, where the cloud's
+    // points would hide them.
+    const line = new Kind(geo, new THREE.LineBasicMaterial({ color: colour, depthTest: false }));
+    line.renderOrder = 1;
+    this.groups[group].add(line);
     if (!this.framed) this.frame(geo);
   }
 

@@ -168,6 +168,7 @@ class StationCase(unittest.TestCase):
     def shot(self, name):
         if SHOTS:
             os.makedirs(SHOTS, exist_ok=True)
+            self.driver.execute_script("window.scrollTo(0, 0)")  # the view's title and state, not the last click
             self.driver.save_screenshot(os.path.join(SHOTS, name + ".png"))
 
     def login(self, user, password):
