@@ -148,10 +148,20 @@ async function onNewJob(ev) {
 }
 
 // ---- job, live ----
+// The station's time of the newest status heard per job, live, before or while its snapshot is fetched: a
+// snapshot older than that is fetched again, so that a last status (AWAITING_APPROVAL, with nothing after
+// it) is never lost between the POST that started a job and the page's first look at it.
+const heard = new Map();
+function hear(ev) {
+  if (heard.size > 1000) heard.clear();
+  heard.set(ev.job_id, Math.max(heard.get(ev.job_id) || 0, ev.utime || 0));
+}
+
 async function openJob(id) {
   if (!state.scene) state.scene = new Scene3D($("job-3d"));
   if (!id) { $("job-id").textContent = "(none: start one under New job)"; return; }
   const j = await api.get("/api/jobs/" + encodeURIComponent(id));
+  if ((heard.get(id) || 0) > ((j.live && j.live.updated_utime) || 0)) refreshJobSoon();
   const changed = !state.job || state.job.job_id !== id;
   state.job = { job_id: id, live: j.live, record: j.record };
   if (changed) { state.cloud = null; state.live.requestCloud(id); }
@@ -184,9 +194,16 @@ function renderJob() {
   drawTopView();
 }
 
+// At most once per animation frame (see Scene3D.render): poses come faster than a frame.
+let topPending = false;
 function drawTopView() {
-  const live = state.job && state.job.live;
-  drawTop($("job-top"), { cloud: state.cloud, outline: live && live.outline, plan: live && live.plan, tcp: state.tcp });
+  if (topPending) return;
+  topPending = true;
+  requestAnimationFrame(() => {
+    topPending = false;
+    const live = state.job && state.job.live;
+    drawTop($("job-top"), { cloud: state.cloud, outline: live && live.outline, plan: live && live.plan, tcp: state.tcp });
+  });
 }
 
 function renderTimeline(statuses) {
@@ -256,6 +273,12 @@ function refreshJobSoon() {
 
 function onEvent(ev) {
   const j = state.job;
+  if (ev.type === "status") hear(ev);
+  if (ev.type === "lost") {  // the station dropped events this page was too slow for: read the state again
+    if (j) refreshJobSoon();
+    if (!$("view-cell").hidden) cellSoon();
+    return;
+  }
   if (ev.type === "status" && j && ev.job_id === j.job_id) {
     if (j.live) {  // update in place: the progress bar follows every status
       const rows = j.live.statuses, last = rows[rows.length - 1];
@@ -330,11 +353,16 @@ async function openRecord(id) {
   $("hj-id").textContent = id;
   const rec = r.record ? r.record.job : {};
   const req = rec.request || {};
-  const approval = (r.record ? r.record.events : []).filter((e) => e.actor || (e.excluded_loops && e.excluded_loops.length));
+  // The decisions and who made them: requests (START, APPROVE, REJECT, ABORT ...) and the statuses that
+  // carry a decision; progress statuses repeat the approver's name and would bury them.
+  const decided = new Set(["APPROVED", "REJECTED", "ABORTED"]);
+  const approval = [...new Set((r.record ? r.record.events : [])
+    .filter((e) => (e.action && e.action !== "QUERY") || decided.has(e.state))
+    .map((e) => `${e.state || e.action || ""} by ${e.actor || "?"}${e.excluded_loops && e.excluded_loops.length ? ", excluded loops " + e.excluded_loops.join(", ") : ""}`))];
   dl($("hj-summary"), [["part", rec.part_id], ["state", rec.state], ["requested", rec.requested], ["ended", rec.ended || ""],
     ["reason", rec.reason || rec.message || ""], ["request", JSON.stringify(req)],
     ["outline", rec.outline ? JSON.stringify(rec.outline) : "-"], ["path", rec.path ? JSON.stringify(rec.path) : "-"],
-    ["approval", approval.map((e) => `${e.state || e.action || ""} by ${e.actor || "?"}${e.excluded_loops && e.excluded_loops.length ? ", excluded loops " + e.excluded_loops.join(", ") : ""}`).join("; ") || "-"]]);
+    ["approval", approval.join("; ") || "-"]]);
   const files = $("hj-files");
   files.replaceChildren();
   for (const f of r.record ? r.record.files : []) {

@@ -38,7 +38,16 @@ export class Scene3D {
     this.render();
   }
 
-  render() { this.renderer.render(this.scene, this.camera); }
+  // One render per animation frame however many updates came in it: the robot's pose arrives at up to
+  // 100 Hz, and each render of a 200 000-point cloud is costly (software GL on a cell PC without a GPU).
+  render() {
+    if (this.pending) return;
+    this.pending = true;
+    requestAnimationFrame(() => {
+      this.pending = false;
+      this.renderer.render(this.scene, this.camera);
+    });
+  }
 
   clear(group) {
     const g = this.groups[group];
@@ -73,7 +82,11 @@ export class Scene3D {
     const geo = new THREE.BufferGeometry();
     geo.setAttribute("position", new THREE.BufferAttribute(new Float32Array(xyz), 3));
     const Kind = closed ? THREE.LineLoop : THREE.Line;
-    this.groups[group].add(new Kind(geo, new THREE.LineBasicMaterial({ color: colour })));
+    // Drawn over the cloud: the outline and unreached stretches lie in the plate's plane, where the cloud's
+    // points would hide them.
+    const line = new Kind(geo, new THREE.LineBasicMaterial({ color: colour, depthTest: false }));
+    line.renderOrder = 1;
+    this.groups[group].add(line);
     if (!this.framed) this.frame(geo);
   }
 

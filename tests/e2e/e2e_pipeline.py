@@ -108,10 +108,14 @@ class Pipeline:
     without: names of processes to leave out (the second-host test runs the camera elsewhere).
     extra_args: {process name: [args appended to its command]}.
     netns_exec: a prefix (e.g. nsenter ...) under which everything of this pipeline is started.
-    pipeline_file: the shipped pipeline file to run (config/pipeline.toml; config/pipeline-genicam.toml)."""
+    pipeline_file: the shipped pipeline file to run (config/pipeline.toml; config/pipeline-genicam.toml).
+    variables: {NAME: VALUE} for the file's ${NAME:-DEFAULT} placeholders, given to the supervisor as
+        --set NAME=VALUE (as tools/run.sh --cell FILE does with CELL); the others take their defaults."""
 
-    def __init__(self, name, lcm_url=None, without=(), extra_args=None, netns_exec=(), keep=None, pipeline_file=PIPELINE):
+    def __init__(self, name, lcm_url=None, without=(), extra_args=None, netns_exec=(), keep=None, pipeline_file=PIPELINE,
+                 variables=None):
         self.pipeline_file = pipeline_file
+        self.variables = dict(variables or {})
         self.dir = tempfile.mkdtemp(prefix="hg-e2e-%s-" % name)
         self.lcm_url = lcm_url
         self.prefix = list(netns_exec)
@@ -128,7 +132,10 @@ class Pipeline:
     def _rewrite_arg(self, arg):
         """Paths of the shipped file are relative to config/: ../build/ is the build under test, ${OUT} (the
         supervisor's output folder) this run's directory, other existing files are config/ files; a
-        placeholder with a default (${CELL:-cell-sim.yaml}) takes its default."""
+        placeholder with a default (${CELL:-cell-sim.yaml}) takes its default unless it is one of `variables`
+        (then it stays for the supervisor's --set)."""
+        if any(re.search(r"\$\{%s(:-[^}]*)?\}" % re.escape(n), arg) for n in self.variables):
+            return arg
         arg = with_defaults(arg)
         if arg.startswith("${OUT}/"):
             return os.path.join(self.dir, arg[len("${OUT}/"):])
@@ -199,7 +206,8 @@ class Pipeline:
         if self.recorder.poll() is not None:
             raise RuntimeError("tools/record stopped: " + self.read(rec_out.name))
         self.sup_out = self._file("supervisor.log")
-        self.supervisor = subprocess.Popen(self.prefix + [sys.executable, SUPERVISOR, "run", self.toml],
+        self.supervisor = subprocess.Popen(self.prefix + [sys.executable, SUPERVISOR, "run"] +
+                                           ["--set=%s=%s" % kv for kv in self.variables.items()] + [self.toml],
                                            stdout=self.sup_out, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
                                            start_new_session=True)
         self.wait_all_running(up_timeout)

@@ -101,13 +101,17 @@ return n;
 
 
 class StationCase(unittest.TestCase):
-    cell_file = None  # a cell other than the shipped one (written into the run's directory)
     extra = {}
 
     @classmethod
     def setUpClass(cls):
         extra = dict(cls.extra)
-        cls.pipeline = p = E.Pipeline("station", extra_args=cls.extra_args(extra))
+        cls.tmp = tempfile.mkdtemp(prefix="hg-station-test-")
+        cell = cls.cell_file(cls.tmp)
+        # The cell reaches the planner, the robot bridge and the station as tools/run.sh --cell gives it:
+        # the pipeline file's ${CELL} (the supervisor's --set CELL=FILE).
+        cls.pipeline = p = E.Pipeline("station", extra_args=cls.extra_args(extra),
+                                      variables={"CELL": cell} if cell else None)
         users = os.path.join(p.dir, "station", "users")
         os.makedirs(os.path.dirname(users), exist_ok=True)
         add_user(users, OPERATOR, "operator", OPERATOR_PW)
@@ -122,11 +126,17 @@ class StationCase(unittest.TestCase):
         return extra
 
     @classmethod
+    def cell_file(cls, tmp):
+        """A cell file other than the shipped config/cell-sim.yaml, written into tmp (None: the shipped one)."""
+        return None
+
+    @classmethod
     def tearDownClass(cls):
         try:
             cls.driver.quit()
         finally:
             cls.pipeline.cleanup()
+            shutil.rmtree(cls.tmp, ignore_errors=True)
 
     @classmethod
     def wait_station(cls):
@@ -158,6 +168,7 @@ class StationCase(unittest.TestCase):
     def shot(self, name):
         if SHOTS:
             os.makedirs(SHOTS, exist_ok=True)
+            self.driver.execute_script("window.scrollTo(0, 0)")  # the view's title and state, not the last click
             self.driver.save_screenshot(os.path.join(SHOTS, name + ".png"))
 
     def login(self, user, password):
@@ -174,12 +185,14 @@ class StationCase(unittest.TestCase):
         self.login(user, password)
         self.wait(lambda d: self.by_id("view-cell").is_displayed(), 20, "the cell view after logging in")
 
-    def start_job(self, part):
+    def start_job(self, part, shot=None):
         before = self.by_id("job-id").text
         self.by_id("nav-new").click()
         self.wait(lambda d: self.by_id("view-new").is_displayed(), 10, "the new-job view")
         self.by_id("new-part").clear()
         self.by_id("new-part").send_keys(part)
+        if shot:
+            self.shot(shot)
         self.by_id("new-start").click()
         self.wait(lambda d: self.by_id("view-job").is_displayed() and self.by_id("job-id").text.startswith("st-") and
                   self.by_id("job-id").text != before, 20, "the job view of the new job")
@@ -210,6 +223,7 @@ class StationBrowser(StationCase):
     def test_1_wrong_password_refused(self):
         self.login(OPERATOR, "not-the-password")
         self.wait(lambda d: "Wrong user or password" in self.by_id("login-error").text, 20, "the refusal")
+        self.shot("login")
         self.assertTrue(self.by_id("view-login").is_displayed())
         self.assertFalse(self.by_id("nav").is_displayed())
 
@@ -250,7 +264,7 @@ class StationJobs(StationCase):
 
     def test_4_job_by_clicks_to_done_and_history(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
-        job = self.start_job("browser-plate")
+        job = self.start_job("browser-plate", shot="new-job")
         self.wait_drawn()
         self.wait_state(("RUNNING", "AWAITING_APPROVAL", "DONE"))
         self.shot("job-live")
@@ -290,24 +304,42 @@ class StationJobs(StationCase):
 
     def test_6_fault_shown_and_reset(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
-        self.start_job("fault-plate")
+        job = self.start_job("fault-plate")
         self.wait_state(("RUNNING", "AWAITING_APPROVAL"), 120)
         if self.job_state() == "AWAITING_APPROVAL":
             self.by_id("approve").click()
             self.wait_state("RUNNING", 60)
-        os.kill(self.supervisor_pid("robot"), signal.SIGUSR1)  # the simulated robot's protective stop
-        self.wait_state(("FAILED", "ABORTED", "INCOMPLETE"), 60)
+        # The simulated robot bridge's protective stop on demand (SIGUSR1, hg-robot-bridge --help), sent
+        # while the robot itself reports this job running: the page's label alone may lag the robot.
+        cookie, _ = api_login(OPERATOR, OPERATOR_PW)
+        self.wait(lambda d: self.robot(cookie).get("mode") == 2 and self.robot(cookie).get("job_id") == job, 30,
+                  "the robot running the job")
+        os.kill(self.supervisor_pid("robot"), signal.SIGUSR1)
+        self.assertEqual(self.wait_state(("DONE", "FAILED", "ABORTED", "INCOMPLETE"), 60), "ABORTED")
+        self.assertIn("protective stop", self.by_id("job-message").text)
+        robot = self.robot(cookie)
+        self.assertEqual((robot["mode"], robot["fault_text"]), (3, "simulated protective stop"))
         self.by_id("nav-cell").click()
-        faults = self.wait(lambda d: [li.text for li in d.find_elements(By.CSS_SELECTOR, "#cell-faults li.error")], 30,
-                           "the fault in the cell view")
-        self.assertTrue(any("robot" in f or "FAULT" in f for f in faults), faults)
+        faults = self.wait(lambda d: d.execute_script(FAULTS), 30, "the fault in the cell view")
+        self.assertIn("robot: simulated protective stop", faults)
         self.shot("cell-fault")
         self.by_id("reset").click()
-        self.wait(lambda d: not d.find_elements(By.CSS_SELECTOR, "#cell-faults li.error"), 30, "the fault cleared")
+        self.wait(lambda d: d.execute_script(FAULTS) == [], 30, "the fault cleared")
+        self.assertEqual(self.robot(cookie)["mode"], 1)  # IDLE
+
+    @staticmethod
+    def robot(cookie):
+        status, body, _ = http("GET", "/api/cell", cookie=cookie)
+        assert status == 200, (status, body)
+        return body["robot"] or {}
 
 
-def cell_with(approval, tool_radius=None):
-    """The simulated cell with the approval policy (and tool) changed, in a file of its own."""
+# The cell view's faults (li.error; "none" is no fault), read in one go: the list is rebuilt on every update.
+FAULTS = "return [...document.querySelectorAll('#cell-faults li.error')].map((li) => li.textContent);"
+
+
+def cell_with(tmp, approval, tool_radius=None):
+    """The simulated cell with the approval policy (and tool) changed, in a file of its own in tmp."""
     with open(os.path.join(E.CONFIG, "cell-sim.yaml")) as f:
         text = f.read()
     lines = [l for l in text.splitlines() if not l.startswith("approval:")]
@@ -315,7 +347,7 @@ def cell_with(approval, tool_radius=None):
         lines = [("  radius: %g" % tool_radius) + l[l.index("#") - 1:] if l.strip().startswith("radius:") and "#" in l
                  else ("  radius: %g" % tool_radius if l.strip().startswith("radius:") else l) for l in lines]
     lines.append("approval: " + approval)
-    path = tempfile.mktemp(prefix="hg-station-cell-", suffix=".yaml")
+    path = os.path.join(tmp, "cell-%s%s.yaml" % (approval, "" if tool_radius is None else "-tool-%g" % tool_radius))
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
     return path
@@ -325,9 +357,8 @@ class StationApproval(StationCase):
     """Needs the job protocol's approval (robot bridge: AWAITING_APPROVAL with a cell's `approval: operator`)."""
 
     @classmethod
-    def extra_args(cls, extra):
-        cell = cell_with("operator")
-        return {"robot": ["--cell", cell], "planner": ["--cell", cell], "station": ["--cell", cell]}
+    def cell_file(cls, tmp):
+        return cell_with(tmp, "operator")
 
     def test_1_approve_to_done(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
@@ -356,12 +387,14 @@ class StationLargerTool(StationCase):
     the record). Needs the job protocol (coverage, unreached, APPROVE with excluded loops)."""
 
     @classmethod
-    def extra_args(cls, extra):
-        cell = cell_with("operator", tool_radius=0.03)
-        return {"robot": ["--cell", cell], "planner": ["--cell", cell, "--small-hole", "skip"],
-                "station": ["--cell", cell]}
+    def cell_file(cls, tmp):
+        return cell_with(tmp, "operator", tool_radius=0.03)
 
-    def test_exclude_unreachable_loop(self):
+    @classmethod
+    def extra_args(cls, extra):
+        return {"planner": ["--small-hole", "skip"]}
+
+    def test_1_exclude_unreachable_loop(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
         job = self.start_job("big-tool-plate")
         self.wait_state("AWAITING_APPROVAL", 120)
@@ -377,6 +410,22 @@ class StationLargerTool(StationCase):
         cookie, _ = api_login(OPERATOR, OPERATOR_PW)
         _, body, _ = http("GET", "/api/jobs/" + job, cookie=cookie)
         self.assertTrue(any(e.get("excluded_loops") for e in body["record"]["events"]), short)
+
+    def test_2_without_exclusion_waits_and_reject(self):
+        self.login_ok(OPERATOR, OPERATOR_PW)
+        job = self.start_job("big-tool-plate")
+        self.wait_state("AWAITING_APPROVAL", 120)
+        rows = self.wait(lambda d: d.find_elements(By.CSS_SELECTOR, "#approval-loops tbody tr"), 30, "coverage")
+        self.assertTrue([r for r in rows if "100.0 %" not in r.text], [r.text for r in rows])
+        time.sleep(3)  # nothing approves it by itself: the job still waits for the operator
+        self.assertEqual(self.job_state(), "AWAITING_APPROVAL")
+        self.by_id("reject").click()
+        self.wait_state("REJECTED", 60)
+        self.shot("rejected")
+        cookie, _ = api_login(OPERATOR, OPERATOR_PW)
+        _, body, _ = http("GET", "/api/jobs/" + job, cookie=cookie)
+        self.assertTrue(any(e.get("actor") == "operator " + OPERATOR for e in body["record"]["events"]),
+                        body["record"]["events"][-5:])
 
 
 if __name__ == "__main__":
