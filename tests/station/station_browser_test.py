@@ -316,7 +316,8 @@ class StationJobs(StationCase):
                   "the robot running the job")
         os.kill(self.supervisor_pid("robot"), signal.SIGUSR1)
         self.assertEqual(self.wait_state(("DONE", "FAILED", "ABORTED", "INCOMPLETE"), 60), "ABORTED")
-        self.assertIn("protective stop", self.by_id("job-message").text)
+        # The label and the message come from the same status, drawn on the next animation frame.
+        self.wait(lambda d: "protective stop" in self.by_id("job-message").text, 15, "the fault's reason on the job view")
         robot = self.robot(cookie)
         self.assertEqual((robot["mode"], robot["fault_text"]), (3, "simulated protective stop"))
         self.by_id("nav-cell").click()
