@@ -47,7 +47,7 @@ struct Fixture : ::testing::Test {
 
   HttpResponse call(const std::string& method, const std::string& target, const std::string& body = "",
                     const std::string& cookie = "", const std::string& csrf = "") {
-    HttpRequest r{method, target, cookie, csrf, "application/json", body, "10.0.0.1"};
+    HttpRequest r{method, target, cookie, csrf, "application/json", body, "127.0.0.1"};
     return api->handle(r);
   }
   // Logs in; returns {cookie header, csrf}.
