@@ -406,6 +406,13 @@ hullgrind::grind_path_t to_lcm(const PlanResult& r, const std::string& job_id, s
   g.num_loops = std::int32_t(g.coverage.size());
   g.unreached = unground_stretches(r);
   g.num_unreached = std::int32_t(g.unreached.size());
+  for (std::size_t k = 0; k < r.edges.size(); ++k)
+    for (const Vec2& p : r.edges[k]) {
+      const Vec3 b = r.plate_to_base * Vec3(p.x(), p.y(), 0);
+      g.edge.push_back({b.x(), b.y(), b.z()});
+      g.edge_loop.push_back(std::int16_t(k));
+    }
+  g.num_edge_points = std::int32_t(g.edge.size());
   return g;
 }
 

@@ -313,6 +313,7 @@ struct PlanResult {
   int loops_planned = 0;
   int slowed = 0;                      // waypoint speeds lowered for corners (limit_corner_speeds)
   std::vector<LoopCoverage> coverage;  // per outline loop (edge_coverage), when the path was made
+  std::vector<Ring> edges;             // the smoothed edge of every outline loop (plate frame): what the tool grinds
   double unreached_length = 0;         // sum over the loops, m
   double coverage_tolerance = 0;       // as used
   Eigen::Isometry3d plate_to_base = Eigen::Isometry3d::Identity();  // plate frame of the coverage -> base

@@ -230,6 +230,7 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
     return fail("validation: " + why);
   // Coverage of every loop's edge by the path as published (skipped holes included: none of their edge is).
   res.plate_to_base = T;
+  res.edges = edges;
   res.coverage_tolerance = coverage_tolerance(cfg, res.pitch);
   res.coverage = loops_coverage(in.loops, edges, grind_segments(res.path, T), P.tool_radius, res.coverage_tolerance);
   std::string unreached;

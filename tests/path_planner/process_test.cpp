@@ -1,6 +1,7 @@
 // hg-path-planner on the bus (inside a private network namespace): outline + job request -> grind path
 // and PLANNED; an error-status outline, a bad outline and garbage give error statuses and the process
 // keeps running.
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -199,6 +200,24 @@ TEST_F(PathPlannerProcess, OutlineAndJobGivePathAndPlanned) {
   }
   EXPECT_NEAR(p.coverage[0].edge_length, 1.0, 1e-3);  // 2 x (0.3 + 0.2) m
   EXPECT_EQ(p.num_unreached, 0);
+  // The smoothed edge the tool grinds: both loops, on the drawn rectangle and cut-out (0.5 m along x in the
+  // base frame), in the plane of the plate.
+  ASSERT_EQ(std::size_t(p.num_edge_points), p.edge.size());
+  ASSERT_EQ(p.edge_loop.size(), p.edge.size());
+  int per_loop[2] = {0, 0};
+  for (int i = 0; i < p.num_edge_points; ++i) {
+    const int k = p.edge_loop[i];
+    ASSERT_TRUE(k == 0 || k == 1);
+    ++per_loop[k];
+    const double x = p.edge[i][0] - 0.5, y = p.edge[i][1];
+    const double x0 = k == 0 ? 0 : 0.1, x1 = k == 0 ? 0.3 : 0.16, y0 = k == 0 ? 0 : 0.08, y1 = k == 0 ? 0.2 : 0.12;
+    const double off_box = std::min({std::abs(x - x0), std::abs(x - x1), std::abs(y - y0), std::abs(y - y1)});
+    EXPECT_TRUE(x > x0 - 1e-4 && x < x1 + 1e-4 && y > y0 - 1e-4 && y < y1 + 1e-4) << x << " " << y;
+    if (k == 0) EXPECT_LT(off_box, 1e-4) << x << " " << y;  // the cut-out's fillets lie inside its box
+    EXPECT_NEAR(p.edge[i][2], p.edge[0][2], 1e-9);
+  }
+  EXPECT_GE(per_loop[0], 4);
+  EXPECT_GE(per_loop[1], 20);
   // PLANNING came before PLANNED, and PLANNED (revision 1) before the path.
   ASSERT_GE(bus.statuses.size(), 2u);
   EXPECT_EQ(bus.statuses.front().state, +hullgrind::job_status_t::STATE_PLANNING);
