@@ -41,11 +41,14 @@ double gap_at(const SmoothContext& c, const Corner& k) {
 }
 
 // The corner to drop because it leaves no run between it and its successor (the weaker of the two), or -1.
+// A run needs one residual window of vertices: fewer fit a line of any direction, and two candidates that
+// close are one bend the noise split (a slot's 20 mm end under pm806 noise turns by 40-55 deg over one
+// corner scale at two spots a few vertices apart), not two corners with a straight between.
 int crowded_corner(const SmoothContext& c, const Corners& corners) {
   const int nc = int(corners.size());
   long j0 = 0, j1 = 0;
   for (int k = 0; k < nc; ++k)
-    if (!run_range(c, corners, k, j0, j1))
+    if (!run_range(c, corners, k, j0, j1) || j1 - j0 + 1 < c.win)
       return std::abs(corners[k].turn) < std::abs(corners[(k + 1) % nc].turn) ? k : (k + 1) % nc;
   return -1;
 }

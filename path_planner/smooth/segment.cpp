@@ -18,7 +18,7 @@ double best_fit(const SmoothContext& c, long a, long b, Primitive& best) {
   line.centre = lf.centre, line.dir = lf.dir, line.first = a, line.last = b;
   const double line_err = worst_window_mean(u, line, a, b, c.win, scratch);
   best = line;
-  if (line_err <= c.tolerance || b - a < 5) return line_err;
+  if (b - a < 5) return line_err;
   Primitive circ;
   if (!fit_circle(u, a, b, circ) || !(circ.radius > 2 * c.unit && circ.radius < 1e3 * c.total)) return line_err;
   // A circle that bows off its chord by less than twice the tolerance is not told apart from a straight by
@@ -73,7 +73,7 @@ Pieces greedy_pieces(const SmoothContext& c, long j0, long j1, int run) {
 // squared residuals split best and refits both; false when it stays.
 bool move_junction(const SmoothContext& c, Primitive& pa, Primitive& pb, long shift) {
   const Unrolled& u = c.u;
-  const long lo = pa.first + 2, hi = pb.last + shift - 2;
+  const long lo = pa.first + c.min_piece, hi = pb.last + shift - c.min_piece + 1;
   if (hi - lo < 2) return false;
   auto rb = [&](long j) { return residual(pb, u.at(j - shift)); };
   // cost(t) = sum_{j<=t} ra^2 + sum_{j>t} rb^2 over lo-1 .. hi
@@ -111,25 +111,49 @@ void refine_junctions(const SmoothContext& c, Pieces& p, bool wrap) {
   }
 }
 
-// Neighbouring straights that one line explains about as well (its rms residual within a quarter of the
-// worse piece's) are one edge that a noise bump split: merged, so the short piece beside the bump does not
-// tilt. A real bend, however shallow, raises the merged residual far more than that.
-void merge_lines(const SmoothContext& c, Pieces& p) {
+// Root mean square residual of vertices j0..j1 from primitive p.
+double rms_of(const Unrolled& u, const Primitive& p, long j0, long j1) {
+  double sum = 0;
+  for (long j = j0; j <= j1; ++j) sum += std::pow(residual(p, u.at(j)), 2);
+  return std::sqrt(sum / double(j1 - j0 + 1));
+}
+
+// One primitive of the kind of pa and pb (both lines or both circles) over both ranges; false when the
+// circle fit fails or is no arc of this ring.
+bool fit_union(const SmoothContext& c, const Primitive& pa, const Primitive& pb, Primitive& ab) {
+  ab.first = pa.first, ab.last = pb.last;
+  if (!pa.circle) {
+    const Line l = fit_line(c.u, pa.first, pb.last);
+    ab.circle = false, ab.centre = l.centre, ab.dir = l.dir;
+    return true;
+  }
+  return fit_circle(c.u, pa.first, pb.last, ab) && ab.radius > 2 * c.unit;
+}
+
+// Neighbouring pieces of one kind that one primitive explains are one edge that a noise bump split:
+// merged. Straights when one line explains both about as well (its rms residual within a quarter of the
+// worse piece's): split, the short piece beside the bump tilts, and a real bend, however shallow, raises
+// the merged residual far more than that. Arcs when one circle explains both as the greedy fit explains a
+// piece (no window mean beyond the tolerance): a slot's end split where a dent stopped the greedy fit gets
+// two radii that meet at a kink the tool cannot follow.
+bool explains_both(const SmoothContext& c, const Primitive& pa, const Primitive& pb, const Primitive& ab) {
+  thread_local std::vector<double> scratch;
   const Unrolled& u = c.u;
+  if (ab.circle) return worst_window_mean(u, ab, ab.first, ab.last, c.win, scratch) <= c.tolerance;
+  return rms_of(u, ab, ab.first, ab.last) <=
+         1.25 * std::max(rms_of(u, pa, pa.first, pa.last), rms_of(u, pb, pb.first, pb.last));
+}
+
+void merge_neighbours(const SmoothContext& c, Pieces& p) {
   for (std::size_t i = 0; i + 1 < p.size();) {
     Primitive& pa = p[i].prim;
     const Primitive& pb = p[i + 1].prim;
-    if (pa.circle || pb.circle) {
+    Primitive ab;
+    if (pa.circle != pb.circle || !fit_union(c, pa, pb, ab) || !explains_both(c, pa, pb, ab)) {
       ++i;
       continue;
     }
-    const Line a = fit_line(u, pa.first, pa.last), b = fit_line(u, pb.first, pb.last),
-               ab = fit_line(u, pa.first, pb.last);
-    if (!(ab.rms <= 1.25 * std::max(a.rms, b.rms))) {
-      ++i;
-      continue;
-    }
-    pa.centre = ab.centre, pa.dir = ab.dir, pa.last = pb.last;
+    pa = ab;
     p.erase(p.begin() + long(i) + 1);
   }
 }
@@ -139,7 +163,7 @@ void merge_lines(const SmoothContext& c, Pieces& p) {
 Pieces segment_run(const SmoothContext& c, long j0, long j1, int run, bool wrap) {
   Pieces pieces = greedy_pieces(c, j0, j1, run);
   refine_junctions(c, pieces, wrap);
-  merge_lines(c, pieces);
+  merge_neighbours(c, pieces);
   return pieces;
 }
 
