@@ -20,11 +20,16 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "tools/lcm_tools/lcm_schema.hpp"
+
+namespace hullgrind {
+class plate_cloud_t;
+}
 
 namespace hg::foxglove {
 
@@ -63,6 +68,7 @@ struct Converted {
 class Bridge {
  public:
   Bridge(lcmtools::Schema schema, BridgeOptions options);
+  ~Bridge();
 
   const std::vector<Topic>& topics() const { return topics_; }
   const lcmtools::Schema& schema() const { return schema_; }
@@ -75,6 +81,9 @@ class Bridge {
   // second, so a client that connects between jobs has the camera too); nothing without a calibration or
   // for an eye-in-hand cell (its camera moves: the transform comes with each cloud).
   Converted camera_transform(std::int64_t utime);
+  // Gives an output's payload back once it is written, so that the next message's JSON text goes into
+  // memory already in use (a cloud's text is 40 MB: a fresh buffer is page faults and a munmap each time).
+  void recycle(std::string&& payload);
 
  private:
   struct ChannelState {
@@ -83,6 +92,7 @@ class Bridge {
     std::vector<int> derived;
   };
   int add_topic(Topic t, Converted& c);
+  std::string spare_buffer(std::size_t expected);
   int well_known(const std::string& name, const std::string& schema_name, Converted& c);
   void derive(const lcmtools::Struct& type, const std::uint8_t* data, std::size_t size,
               const std::function<bool(int)>& wanted, Converted& c);
@@ -91,7 +101,9 @@ class Bridge {
   BridgeOptions opt_;
   std::vector<Topic> topics_;
   std::map<std::string, ChannelState> channels_;
-  std::map<std::string, int> well_known_;  // derived topic name -> index
+  std::map<std::string, int> well_known_;            // derived topic name -> index
+  std::vector<std::string> spare_;                   // recycled payload buffers
+  std::unique_ptr<hullgrind::plate_cloud_t> cloud_;  // the last plate cloud decoded (its arrays reused)
 };
 
 // The JSON Schema of each Foxglove well-known message this bridge writes ("foxglove.PointCloud", ...):
