@@ -337,6 +337,21 @@ Json kind_color(int kind) {
   }
 }
 
+// The smoothed edge the tool grinds (grind_path_t.edge, each loop's ring in turn): one line loop per
+// outline loop, cyan (the outline is green and red, the path coloured by kind).
+Json edge_lines(const hullgrind::grind_path_t& m) {
+  Json lines = Json::array();
+  for (int i = 0; i < m.num_edge_points;) {
+    int end = i;
+    Json pts = Json::array();
+    for (; end < m.num_edge_points && m.edge_loop[end] == m.edge_loop[i]; ++end)
+      pts.push_back(vec3_json(vec(m.edge[end].data())));
+    lines.push_back(line_json(1, std::move(pts), color_json(0.0, 0.85, 0.95), Json::array()));
+    i = end;
+  }
+  return lines;
+}
+
 Json path_lines(const hullgrind::grind_path_t& m) {
   Json pts = Json::array(), cols = Json::array();
   for (int i = 1; i < m.n; ++i) {
@@ -416,8 +431,9 @@ void Bridge::derive(const lcmtools::Struct& type, const uint8_t* data, std::size
     if (!want(t)) return;
     if (!decode_generated(m, data, size)) throw DecodeError("grind_path_t refused by its generated class");
     std::string frame = m.frame.empty() ? opt_.base_frame : m.frame;
-    Json e = entity_json(m.header.utime, frame, "grind_path", path_lines(m));
-    c.outputs.push_back({t, Json{{"deletions", Json::array()}, {"entities", Json::array({e})}}.dump()});
+    Json entities = Json::array({entity_json(m.header.utime, frame, "grind_path", path_lines(m)),
+                                 entity_json(m.header.utime, frame, "smoothed_edge", edge_lines(m))});
+    c.outputs.push_back({t, Json{{"deletions", Json::array()}, {"entities", std::move(entities)}}.dump()});
   } else if (name == "hullgrind.job_status_t") {
     int t = well_known(kLog, "foxglove.Log", c);
     hullgrind::job_status_t m;

@@ -7,7 +7,9 @@
 //   - the 3-D picture in Foxglove's well-known schemas (JSON encoding):
 //       /hg/plate/points   foxglove.PointCloud     HG_PLATE_CLOUD, x y z float32, decimated to max_points
 //       /hg/outline        foxglove.SceneUpdate    HG_OUTLINE: one line loop per outline loop (holes red)
-//       /hg/grind_path     foxglove.SceneUpdate    HG_GRIND_PATH: line segments coloured by segment kind
+//       /hg/grind_path     foxglove.SceneUpdate    HG_GRIND_PATH: entity grind_path, line segments coloured
+//                                                  by segment kind; entity smoothed_edge, one cyan line loop
+//                                                  per outline loop of the edge the tool grinds
 //       /hg/log            foxglove.Log            HG_JOB_STATUS as log lines (the processes' own log
 //                                                  lines are files in out/logs/, not on the bus)
 //       /tf                foxglove.FrameTransform base <- camera (the cell's calibration; eye-in-hand:
