@@ -1,5 +1,6 @@
 #include "bridge.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -174,7 +175,33 @@ std::string well_known_schema(const std::string& name) {
   return "";
 }
 
-Bridge::Bridge(lcmtools::Schema schema, BridgeOptions options) : schema_(std::move(schema)), opt_(std::move(options)) {}
+Bridge::Bridge(lcmtools::Schema schema, BridgeOptions options)
+    : schema_(std::move(schema)), opt_(std::move(options)), cloud_(std::make_unique<hullgrind::plate_cloud_t>()) {}
+
+Bridge::~Bridge() = default;
+
+// The largest recycled buffer for a message of a few hundred kB or more (a small one gets a new string).
+std::string Bridge::spare_buffer(std::size_t expected) {
+  std::string s;
+  if (expected >= (256u << 10) && !spare_.empty()) {
+    auto it = std::max_element(spare_.begin(), spare_.end(),
+                               [](const std::string& a, const std::string& b) { return a.capacity() < b.capacity(); });
+    s = std::move(*it);
+    spare_.erase(it);
+    s.clear();
+  }
+  s.reserve(expected);
+  return s;
+}
+
+void Bridge::recycle(std::string&& payload) {
+  if (payload.capacity() < (256u << 10)) return;
+  spare_.push_back(std::move(payload));
+  if (spare_.size() > 4)  // keeps the four largest
+    spare_.erase(std::min_element(spare_.begin(), spare_.end(), [](const std::string& a, const std::string& b) {
+      return a.capacity() < b.capacity();
+    }));
+}
 
 int Bridge::add_topic(Topic t, Converted& c) {
   topics_.push_back(std::move(t));
@@ -229,8 +256,7 @@ Converted Bridge::convert(const std::string& channel, const uint8_t* data, std::
     schema_.decode(*type, data, size, consumed, lcmtools::DecodeOptions{false, 0});
     if (consumed != size) throw DecodeError(std::to_string(size - consumed) + " trailing bytes");
     if (!wanted || wanted(st.topic)) {
-      std::string json;
-      json.reserve(size * 2 + 64);
+      std::string json = spare_buffer(size * 3 + 64);
       to_json(schema_, *type, data, size, json);
       c.outputs.push_back({st.topic, std::move(json)});
     }
@@ -311,6 +337,21 @@ Json kind_color(int kind) {
   }
 }
 
+// The smoothed edge the tool grinds (grind_path_t.edge, each loop's ring in turn): one line loop per
+// outline loop, cyan (the outline is green and red, the path coloured by kind).
+Json edge_lines(const hullgrind::grind_path_t& m) {
+  Json lines = Json::array();
+  for (int i = 0; i < m.num_edge_points;) {
+    int end = i;
+    Json pts = Json::array();
+    for (; end < m.num_edge_points && m.edge_loop[end] == m.edge_loop[i]; ++end)
+      pts.push_back(vec3_json(vec(m.edge[end].data())));
+    lines.push_back(line_json(1, std::move(pts), color_json(0.0, 0.85, 0.95), Json::array()));
+    i = end;
+  }
+  return lines;
+}
+
 Json path_lines(const hullgrind::grind_path_t& m) {
   Json pts = Json::array(), cols = Json::array();
   for (int i = 1; i < m.n; ++i) {
@@ -363,7 +404,7 @@ void Bridge::derive(const lcmtools::Struct& type, const uint8_t* data, std::size
   if (name == "hullgrind.plate_cloud_t") {
     int pts = well_known(kPoints, "foxglove.PointCloud", c);
     std::optional<Eigen::Isometry3d> base_camera;
-    hullgrind::plate_cloud_t m;
+    hullgrind::plate_cloud_t& m = *cloud_;
     bool need_points = want(pts);
     if (!need_points && !opt_.camera_to_base && !opt_.camera_to_flange) return;
     if (!decode_generated(m, data, size)) throw DecodeError("plate_cloud_t refused by its generated class");
@@ -390,8 +431,9 @@ void Bridge::derive(const lcmtools::Struct& type, const uint8_t* data, std::size
     if (!want(t)) return;
     if (!decode_generated(m, data, size)) throw DecodeError("grind_path_t refused by its generated class");
     std::string frame = m.frame.empty() ? opt_.base_frame : m.frame;
-    Json e = entity_json(m.header.utime, frame, "grind_path", path_lines(m));
-    c.outputs.push_back({t, Json{{"deletions", Json::array()}, {"entities", Json::array({e})}}.dump()});
+    Json entities = Json::array({entity_json(m.header.utime, frame, "grind_path", path_lines(m)),
+                                 entity_json(m.header.utime, frame, "smoothed_edge", edge_lines(m))});
+    c.outputs.push_back({t, Json{{"deletions", Json::array()}, {"entities", std::move(entities)}}.dump()});
   } else if (name == "hullgrind.job_status_t") {
     int t = well_known(kLog, "foxglove.Log", c);
     hullgrind::job_status_t m;

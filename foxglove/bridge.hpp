@@ -7,7 +7,9 @@
 //   - the 3-D picture in Foxglove's well-known schemas (JSON encoding):
 //       /hg/plate/points   foxglove.PointCloud     HG_PLATE_CLOUD, x y z float32, decimated to max_points
 //       /hg/outline        foxglove.SceneUpdate    HG_OUTLINE: one line loop per outline loop (holes red)
-//       /hg/grind_path     foxglove.SceneUpdate    HG_GRIND_PATH: line segments coloured by segment kind
+//       /hg/grind_path     foxglove.SceneUpdate    HG_GRIND_PATH: entity grind_path, line segments coloured
+//                                                  by segment kind; entity smoothed_edge, one cyan line loop
+//                                                  per outline loop of the edge the tool grinds
 //       /hg/log            foxglove.Log            HG_JOB_STATUS as log lines (the processes' own log
 //                                                  lines are files in out/logs/, not on the bus)
 //       /tf                foxglove.FrameTransform base <- camera (the cell's calibration; eye-in-hand:
@@ -20,11 +22,16 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "tools/lcm_tools/lcm_schema.hpp"
+
+namespace hullgrind {
+class plate_cloud_t;
+}
 
 namespace hg::foxglove {
 
@@ -63,6 +70,7 @@ struct Converted {
 class Bridge {
  public:
   Bridge(lcmtools::Schema schema, BridgeOptions options);
+  ~Bridge();
 
   const std::vector<Topic>& topics() const { return topics_; }
   const lcmtools::Schema& schema() const { return schema_; }
@@ -75,6 +83,9 @@ class Bridge {
   // second, so a client that connects between jobs has the camera too); nothing without a calibration or
   // for an eye-in-hand cell (its camera moves: the transform comes with each cloud).
   Converted camera_transform(std::int64_t utime);
+  // Gives an output's payload back once it is written, so that the next message's JSON text goes into
+  // memory already in use (a cloud's text is 40 MB: a fresh buffer is page faults and a munmap each time).
+  void recycle(std::string&& payload);
 
  private:
   struct ChannelState {
@@ -83,6 +94,7 @@ class Bridge {
     std::vector<int> derived;
   };
   int add_topic(Topic t, Converted& c);
+  std::string spare_buffer(std::size_t expected);
   int well_known(const std::string& name, const std::string& schema_name, Converted& c);
   void derive(const lcmtools::Struct& type, const std::uint8_t* data, std::size_t size,
               const std::function<bool(int)>& wanted, Converted& c);
@@ -91,7 +103,9 @@ class Bridge {
   BridgeOptions opt_;
   std::vector<Topic> topics_;
   std::map<std::string, ChannelState> channels_;
-  std::map<std::string, int> well_known_;  // derived topic name -> index
+  std::map<std::string, int> well_known_;            // derived topic name -> index
+  std::vector<std::string> spare_;                   // recycled payload buffers
+  std::unique_ptr<hullgrind::plate_cloud_t> cloud_;  // the last plate cloud decoded (its arrays reused)
 };
 
 // The JSON Schema of each Foxglove well-known message this bridge writes ("foxglove.PointCloud", ...):

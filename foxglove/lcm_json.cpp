@@ -1,5 +1,7 @@
 #include "lcm_json.hpp"
 
+#include <bit>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -185,6 +187,15 @@ void append_json_string(std::string_view s, std::string& out) {
 
 namespace {
 
+template <class Raw>
+Raw byteswap(Raw v) {
+  if constexpr (sizeof(Raw) == 2) return static_cast<Raw>(__builtin_bswap16(v));
+  else if constexpr (sizeof(Raw) == 4)
+    return __builtin_bswap32(v);
+  else
+    return __builtin_bswap64(v);
+}
+
 template <class T>
 void append_number(T v, std::string& out) {
   char buf[32];
@@ -261,21 +272,42 @@ struct Encoder {
       primitive(m.kind, field);
   }
 
-  // The innermost dimension of a numeric array: one bounds check, then a tight loop (a cloud's u, v and
-  // part arrays are most of the bytes of the bus).
+  // The innermost dimension of a numeric array: one bounds check, then a tight loop over blocks of elements
+  // into room for the longest text of each (a cloud's u, v and part arrays are most of the bytes of the
+  // bus: no per-element capacity check or append).
   template <class T, class Raw>
   void numbers(std::size_t n) {
+    // std::to_chars' shortest round-trip text of a float or double is at most 24 characters
+    // ("-2.2250738585072014e-308"), of an integer its digits and the sign.
+    constexpr std::size_t width = std::is_floating_point_v<T> ? 24 : std::numeric_limits<T>::digits10 + 3;
+    constexpr std::size_t block = 4096;
     out.push_back('[');
-    for (std::size_t i = 0; i < n; ++i) {
-      if (i) out.push_back(',');
-      Raw raw = 0;
-      for (std::size_t b = 0; b < sizeof(Raw); ++b) raw = static_cast<Raw>((raw << 8) | d[pos + b]);
-      pos += sizeof(Raw);
-      if constexpr (std::is_floating_point_v<T>) append_real(std::bit_cast<T>(raw), out);
-      else
-        append_number(static_cast<T>(raw), out);
+    const uint8_t* src = d + pos;
+    for (std::size_t i = 0; i < n; i += block) {
+      std::size_t m = std::min(block, n - i), start = out.size();
+      out.resize(start + m * (width + 1));
+      char* p = out.data() + start;
+      for (std::size_t k = 0; k < m; ++k, src += sizeof(Raw)) {
+        if (i + k) *p++ = ',';
+        Raw raw;
+        std::memcpy(&raw, src, sizeof raw);
+        if constexpr (std::endian::native == std::endian::little && sizeof(Raw) > 1) raw = byteswap(raw);
+        if constexpr (std::is_floating_point_v<T>) {
+          T v = std::bit_cast<T>(raw);
+          if (!std::isfinite(v)) {
+            std::memcpy(p, "null", 4);
+            p += 4;
+            continue;
+          }
+          p = std::to_chars(p, p + width, v).ptr;
+        } else {
+          p = std::to_chars(p, p + width, static_cast<T>(raw)).ptr;
+        }
+      }
+      out.resize(static_cast<std::size_t>(p - out.data()));
     }
     out.push_back(']');
+    pos += n * sizeof(Raw);
   }
   bool fast_numbers(Kind k, std::size_t n) {
     switch (k) {

@@ -57,28 +57,40 @@ uint32_t crc32_of(uint32_t crc, const void* data, std::size_t size) {
   return crc;
 }
 
-// Into `out` (kept by the writer, so its pages are not faulted in again for every chunk); returns what
-// the chunk holds: out, or `in` itself when uncompressed.
-const std::string& compress(Compression c, const std::string& in, std::string& out) {
-  if (c == Compression::Zstd) {
-    out.resize(ZSTD_compressBound(in.size()));
-    std::size_t n = ZSTD_compress(out.data(), out.size(), in.data(), in.size(), 1);
-    if (ZSTD_isError(n)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(n));
-    out.resize(n);
-  } else if (c == Compression::Lz4) {
-    LZ4F_preferences_t prefs{};
-    prefs.frameInfo.contentSize = in.size();
-    out.resize(LZ4F_compressFrameBound(in.size(), &prefs));
-    std::size_t n = LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), &prefs);
-    if (LZ4F_isError(n)) throw std::runtime_error(std::string("lz4: ") + LZ4F_getErrorName(n));
-    out.resize(n);
-  } else {
-    return in;
-  }
-  return out;
-}
-
 }  // namespace
+
+// The zstd context, made once: ZSTD_compress would allocate (and fault in) a context of several MB for
+// every chunk (LZ4F_compressFrame's state is small).
+struct McapWriter::Compressor {
+  ZSTD_CCtx* zstd = ZSTD_createCCtx();
+  Compressor() {
+    if (!zstd) throw std::runtime_error("cannot make a zstd context");
+  }
+  ~Compressor() { ZSTD_freeCCtx(zstd); }
+
+  // Into `out` (kept by the writer, so its pages are not faulted in again for every chunk); returns what
+  // the chunk holds: out, or `in` itself when uncompressed.
+  const std::string& compress(Compression c, const std::string& in, std::string& out) {
+    if (c == Compression::Zstd) {
+      out.resize(ZSTD_compressBound(in.size()));
+      std::size_t n = ZSTD_compressCCtx(zstd, out.data(), out.size(), in.data(), in.size(), 1);
+      if (ZSTD_isError(n)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(n));
+      out.resize(n);
+    } else if (c == Compression::Lz4) {
+      LZ4F_preferences_t prefs{};
+      prefs.frameInfo.contentSize = in.size();
+      out.resize(LZ4F_compressFrameBound(in.size(), &prefs));
+      std::size_t n = LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), &prefs);
+      if (LZ4F_isError(n)) throw std::runtime_error(std::string("lz4: ") + LZ4F_getErrorName(n));
+      out.resize(n);
+    } else {
+      return in;
+    }
+    return out;
+  }
+};
+
+namespace {}  // namespace
 
 Compression parse_compression(const std::string& name) {
   if (name == "zstd") return Compression::Zstd;
@@ -91,13 +103,16 @@ const char* compression_name(Compression c) {
   return c == Compression::Zstd ? "zstd" : c == Compression::Lz4 ? "lz4" : "";
 }
 
-McapWriter::McapWriter(std::FILE* out, McapOptions options) : out_(out), opt_(std::move(options)) {
+McapWriter::McapWriter(std::FILE* out, McapOptions options)
+    : out_(out), opt_(std::move(options)), compressor_(std::make_unique<Compressor>()) {
   write(kMagic, sizeof kMagic);
   std::string h;
   put_string(h, "");  // profile: none of the registered ones (ros1, ros2) applies
   put_string(h, opt_.library);
   record(kHeader, h);
 }
+
+McapWriter::~McapWriter() = default;
 
 void McapWriter::write(const void* data, std::size_t size) {
   if (size == 0) return;
@@ -184,7 +199,7 @@ void McapWriter::write_message(uint16_t channel, uint32_t sequence, uint64_t log
 void McapWriter::flush_chunk() {
   if (chunk_.empty()) return;
   ChunkIndex ci{chunk_start_, chunk_end_, offset_, 0, {}, 0, 0, chunk_.size()};
-  const std::string& body = compress(opt_.compression, chunk_, zbuf_);
+  const std::string& body = compressor_->compress(opt_.compression, chunk_, zbuf_);
   std::string c;
   put<uint64_t>(c, chunk_start_);
   put<uint64_t>(c, chunk_end_);

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@ class McapWriter {
  public:
   // Writes to out (opened binary by the caller, not closed). Throws std::runtime_error on a write error.
   McapWriter(std::FILE* out, McapOptions options);
+  ~McapWriter();
   McapWriter(const McapWriter&) = delete;
   McapWriter& operator=(const McapWriter&) = delete;
 
@@ -62,8 +64,10 @@ class McapWriter {
   std::string statistics_record() const;
   std::string chunk_index_record(const ChunkIndex& c) const;
 
+  struct Compressor;
   std::FILE* out_;
   McapOptions opt_;
+  std::unique_ptr<Compressor> compressor_;
   std::uint64_t offset_ = 0;
   std::uint32_t data_crc_ = 0;
   bool finished_ = false;

@@ -49,11 +49,12 @@ ToMcapStats lcmlog_to_mcap(const std::uint8_t* log, std::size_t size, std::FILE*
       continue;
     }
     auto time = static_cast<std::uint64_t>(std::max<std::int64_t>(0, e.utime)) * 1000;
-    for (const Output& o : c.outputs) {
+    for (Output& o : c.outputs) {
       writer.write_message(static_cast<std::uint16_t>(sink.channel_of[o.topic]), sink.sequence[o.topic]++, time, time,
                            o.payload.data(), o.payload.size());
       ++st.per_topic[bridge.topics()[o.topic].name];
       ++st.messages;
+      bridge.recycle(std::move(o.payload));
     }
   }
   writer.finish();

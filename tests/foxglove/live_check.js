@@ -6,6 +6,7 @@
 //     against @foxglove/schemas), counts raw ones;
 //   - each /hg/plate/points must give the plate's points back: as many as HG_PLATE_CLOUD's n decimated to
 //     --max-points, the same bounding box as the cloud's (u, v) on its plane;
+//   - each /hg/grind_path must show its grind_path_t's smoothed edge (scene_check.js);
 //   - probes: foxglove.sdk.v1 is accepted; no subprotocol is refused; text garbage, binary data and a bad
 //     subscribe are each closed with code 1008 and a reason; a client that stops reading (paused socket)
 //     must show dropped frames in hg-foxglove's heartbeat.
@@ -17,11 +18,12 @@ const WebSocket = require("ws");
 const { FoxgloveClient } = require("@foxglove/ws-protocol");
 const Ajv = require("ajv");
 const foxgloveSchemas = require("@foxglove/schemas/jsonschema");
+const { checkSmoothedEdge, outlineColors } = require("./scene_check");
 
 const [url, resultFile, stopFile] = process.argv.slice(2);
 const maxPoints = process.argv.includes("--max-points") ? Number(process.argv[process.argv.indexOf("--max-points") + 1]) : 200000;
 const result = { advertised: [], counts: {}, invalid: [], clouds_checked: 0, cloud_failures: [], heartbeat: "",
-                 probes: {}, raw: 0, errors: [] };
+                 probes: {}, raw: 0, errors: [], paths_checked: 0, edge_points: 0, path_failures: [] };
 const ajv = new Ajv({ strict: false });
 const official = {};
 for (const [name, s] of Object.entries(foxgloveSchemas)) official["foxglove." + name] = ajv.compile(s);
@@ -98,7 +100,7 @@ function checkCloud(pc, want) {
 
 function main() {
   const client = new FoxgloveClient({ ws: new WebSocket(url, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]) });
-  const bySub = new Map(), validators = new Map(), clouds = new Map();
+  const bySub = new Map(), validators = new Map(), clouds = new Map(), paths = new Map(), outline = new Set();
   let ready = false;
   client.on("serverInfo", (info) => { result.serverInfo = info; });
   client.on("advertise", (channels) => {
@@ -124,6 +126,16 @@ function main() {
     if (ch.topic === "/hg/plate/points") {
       const key = msg.timestamp.sec * 1e6 + msg.timestamp.nsec / 1e3;
       if (clouds.has(key)) checkCloud(msg, clouds.get(key));
+    }
+    if (ch.schemaName === "hullgrind.grind_path_t") paths.set(msg.header.utime, msg);
+    if (ch.topic === "/hg/outline") for (const c of outlineColors(msg)) outline.add(c);
+    if (ch.topic === "/hg/grind_path") {
+      const path = paths.get(msg.entities[0].timestamp.sec * 1e6 + msg.entities[0].timestamp.nsec / 1e3);
+      if (path) {
+        result.path_failures.push(...checkSmoothedEdge(msg, path, [...outline]));
+        result.edge_points += path.num_edge_points;
+        ++result.paths_checked;
+      }
     }
     if (ch.schemaName === "hullgrind.heartbeat_t" && msg.process === "hg-foxglove") result.heartbeat = msg.state_text;
   });

@@ -94,6 +94,10 @@ class FoxgloveLive(unittest.TestCase):
         self.assertEqual(r["errors"], [])
         self.assertGreaterEqual(r["clouds_checked"], 1, "no PointCloud matched to its plate cloud")
         self.assertEqual(r["cloud_failures"], [])
+        if r["counts"].get("/hg/grind_path"):
+            self.assertGreaterEqual(r["paths_checked"], 1, "no SceneUpdate matched to its grind path")
+            self.assertGreater(r["edge_points"], 0, "the plans carried no smoothed edge")
+            self.assertEqual(r["path_failures"], [])
         pr = r["probes"]
         self.assertEqual((pr["sdk"]["protocol"], pr["sdk"]["first"]), ("foxglove.sdk.v1", "serverInfo"))
         self.assertEqual(pr["no_subprotocol"].get("status"), 400, pr["no_subprotocol"])

@@ -9,7 +9,8 @@
 //   - every JSON message validates (ajv) against its channel's schema, and the foxglove.* ones also
 //     against Foxglove's own schemas (@foxglove/schemas);
 //   - the derived topics: one /hg/plate/points per plate cloud, whose packed points match the cloud (count
-//     with hg-mcap's decimation, bounding box), one /hg/outline, /hg/grind_path, /hg/log per message.
+//     with hg-mcap's decimation, bounding box), one /hg/outline, /hg/grind_path, /hg/log per message;
+//     each /hg/grind_path shows its path's smoothed edge (scene_check.js).
 // usage: mcap_check.js FILE.mcap LOG.lcmlog [LOG.lcmlog...] [--max-points N] [--expect-tf] [--skip CHANNEL#EVENT]...
 // (--skip: an event hg-mcap reported as not decoding, left out of the expectation; one log only)
 // Exit 0 when every check passes, 1 with the reasons otherwise.
@@ -21,6 +22,7 @@ const lz4 = require("@foxglove/wasm-lz4");
 const { crc32 } = require("@foxglove/crc");
 const Ajv = require("ajv");
 const foxgloveSchemas = require("@foxglove/schemas/jsonschema");
+const { checkSmoothedEdge, outlineColors } = require("./scene_check");
 
 const failures = [];
 function check(cond, what) {
@@ -103,7 +105,15 @@ function cloudActual(pc) {
   return { count, min, max };
 }
 
-function checkDerived(topic, json, lastCloud, maxPoints) {
+const seenOutlineColors = new Set();
+let pathsChecked = 0;
+
+function checkDerived(topic, json, lastCloud, maxPoints, lastPath) {
+  if (topic === "/hg/outline") for (const c of outlineColors(json)) seenOutlineColors.add(c);
+  if (topic === "/hg/grind_path" && check(lastPath, "/hg/grind_path before any HG_GRIND_PATH")) {
+    for (const f of checkSmoothedEdge(json, lastPath, [...seenOutlineColors])) check(false, `/hg/grind_path: ${f}`);
+    ++pathsChecked;
+  }
   if (topic === "/hg/plate/points" && check(lastCloud, "PointCloud before any HG_PLATE_CLOUD")) {
     const want = cloudExpectation(lastCloud, maxPoints), got = cloudActual(json);
     check(got.count === want.count, `PointCloud has ${got.count} points, the plate cloud gives ${want.count}`);
@@ -165,7 +175,7 @@ async function main() {
 
   const lcmTopics = new Set(events.map((e) => e.channel));
   const perTopic = new Map();
-  let ev = 0, lastCloud = null, validated = 0;
+  let ev = 0, lastCloud = null, lastPath = null, validated = 0;
   for (const m of messages) {
     const ch = channels.get(m.channelId);
     perTopic.set(ch.topic, (perTopic.get(ch.topic) || 0) + 1);
@@ -192,7 +202,8 @@ async function main() {
       check(official[schema.name](json), `${ch.topic}: not a valid ${schema.name} by @foxglove/schemas: ${ajv.errorsText(official[schema.name].errors)}`);
     ++validated;
     if (schema.name === "hullgrind.plate_cloud_t") lastCloud = json;
-    checkDerived(ch.topic, json, lastCloud, maxPoints);
+    if (schema.name === "hullgrind.grind_path_t") lastPath = json;
+    checkDerived(ch.topic, json, lastCloud, maxPoints, lastPath);
   }
 
   // Counts: every LCM channel exactly as in the log; the derived topics one per source message.
@@ -217,7 +228,7 @@ async function main() {
     process.exit(1);
   }
   console.log(`mcap_check: ${file}: ok: ${messages.length} messages (${validated} JSON validated), ` +
-              `${reader.chunkIndexes.length} chunks; ${summary}`);
+              `${reader.chunkIndexes.length} chunks, ${pathsChecked} smoothed edges checked; ${summary}`);
 }
 
 main().catch((e) => {
