@@ -90,8 +90,6 @@ struct McapWriter::Compressor {
   }
 };
 
-namespace {}  // namespace
-
 Compression parse_compression(const std::string& name) {
   if (name == "zstd") return Compression::Zstd;
   if (name == "lz4") return Compression::Lz4;

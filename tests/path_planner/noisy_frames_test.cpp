@@ -24,6 +24,7 @@
 #include "runtime/config.hpp"
 #include "sim/scene/scene.hpp"
 #include "tests/common/cell_file.hpp"
+#include "tests/path_planner/service_defaults.hpp"
 #include "tests/path_planner/truth.hpp"
 
 using namespace hg::path_planner;
@@ -39,19 +40,7 @@ PlannerConfig make_run_config() {
       lookup_from(overrides, hg::runtime::Config::load(std::string(HG_SOURCE_DIR) + "/config/path_planner.yaml")));
 }
 
-// The outline service's options at their defaults (what `make run` starts it with).
-hg::outline::Options service_options() {
-  hg::outline::Options o;
-  for (const hg::runtime::Param& p : hg::outline_service::process_info().params) {
-    if (p.name == "mode") o.mode = hg::outline::parse_mode(p.default_value);
-    if (p.name == "order") o.order = hg::outline::parse_order(p.default_value);
-    if (p.name == "alpha-radius") o.alpha_radius = std::stod(p.default_value);
-    if (p.name == "auto-factor") o.auto_factor = std::stod(p.default_value);
-    if (p.name == "alpha-mode") o.alpha_mode = hg::outline::parse_alpha_mode(p.default_value);
-    if (p.name == "min-hole-spacings") o.min_hole_spacings = std::stod(p.default_value);
-  }
-  return o;
-}
+using hg::path_planner::test::service_options;
 
 // The grind path's segments in the table frame (x, y), from the base-frame waypoints.
 std::vector<Segment2> grind_in_table(const std::vector<Waypoint>& path, const Eigen::Isometry3d& base_to_table) {

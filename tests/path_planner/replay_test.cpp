@@ -24,6 +24,7 @@
 #include "robot_bridge/robot_bridge.hpp"
 #include "runtime/config.hpp"
 #include "tests/common/cell_file.hpp"
+#include "tests/path_planner/service_defaults.hpp"
 #include "tests/path_planner/truth.hpp"
 
 using namespace hg::path_planner;
@@ -56,19 +57,7 @@ std::string cell_with_camera_at(double height) {
       });
 }
 
-// The outline service's options at its defaults (what `make run` starts it with).
-hg::outline::Options service_options() {
-  hg::outline::Options o;
-  for (const hg::runtime::Param& p : hg::outline_service::process_info().params) {
-    if (p.name == "mode") o.mode = hg::outline::parse_mode(p.default_value);
-    if (p.name == "order") o.order = hg::outline::parse_order(p.default_value);
-    if (p.name == "alpha-radius") o.alpha_radius = std::stod(p.default_value);
-    if (p.name == "auto-factor") o.auto_factor = std::stod(p.default_value);
-    if (p.name == "alpha-mode") o.alpha_mode = hg::outline::parse_alpha_mode(p.default_value);
-    if (p.name == "min-hole-spacings") o.min_hole_spacings = std::stod(p.default_value);
-  }
-  return o;
-}
+using hg::path_planner::test::service_options;
 
 std::vector<hullgrind::plate_cloud_t> clouds() {
   lcm::LogFile log(std::string(HG_TEST_DATA) + "/camera_bridge_three_parts.lcmlog", "r");
