@@ -86,6 +86,10 @@ static std::vector<runtime::Param> bridge_params() {
       {"min-area", "0.002", "smallest part, m^2", false, runtime::ParamType::Number, 0},
       {"top-tolerance", "0", "cloud points: within this of the top plane, metres (0: 4 sigma, >= 1 mm)", false,
        runtime::ParamType::Number, 0},
+      {"dropout-width", "0.010",
+       "a gap inside a part with no return at table height and at most this wide (metres) is dropout: filled, not a hole",
+       false, runtime::ParamType::Number, 0},
+      {"keep-dropout", "", "leave dropout inside the parts as gaps in the cloud instead of filling it", true},
       {"depth-rate", "1", "HG_DEPTH messages per second at most (0: none)", false, runtime::ParamType::Number, 0},
       {"depth-decimation", "4", "HG_DEPTH keeps every n-th pixel of every n-th row", false, runtime::ParamType::Integer,
        1},
@@ -160,6 +164,8 @@ BridgeOptions options_from(const runtime::Node& node) {
   s.close_size = static_cast<int>(node.param_int("close-size"));
   s.min_area = node.param_double("min-area");
   s.top_tolerance = node.param_double("top-tolerance");
+  s.dropout_width = node.param_double("dropout-width");
+  s.fill_dropout = !node.param_bool("keep-dropout");
   o.depth_rate = node.param_double("depth-rate");
   o.depth_decimation = static_cast<int>(node.param_int("depth-decimation"));
   if (o.depth_decimation < 1 || o.depth_decimation > 64)
@@ -254,6 +260,11 @@ void fill_plate_cloud(const Segmentation& s, plate_cloud_t& m) {
   m.v = ok ? s.v : std::vector<float>{};
   m.part = ok ? s.part : std::vector<std::int16_t>{};
   m.num_parts = static_cast<std::int16_t>(ok ? s.num_parts : 0);
+  m.dropout_filled = ok ? s.dropout_filled : 0;
+  m.dropout_filled_area = ok ? s.dropout_filled_area : 0.0;
+  m.edge_assessed = ok;  // an organized frame was behind the points
+  m.edge_dropout_fraction = ok ? s.edge_dropout_fraction() : 0.0;
+  m.largest_edge_gap = ok ? s.largest_edge_gap : 0.0;
 }
 
 void fill_flange(const std::optional<FlangeReading>& r, std::int64_t now_utime, plate_cloud_t& m) {
@@ -394,7 +405,7 @@ void Bridge::process(camera::DepthFrame& frame) {
   corrupt_in_a_row_ = 0;
   last_processed_ = t0;
 
-  const Segmentation s = segment(frame.depth, frame.intrinsics, opt_.segment);
+  const Segmentation s = segment(frame.depth, frame.intrinsics, opt_.segment, frame.intensity);
   plate_cloud_t msg{};
   msg.header.utime = frame.utime;
   msg.header.frame_id = opt_.frame_id;

@@ -1,5 +1,7 @@
 #include "camera_bridge/segment.hpp"
 
+#include "camera_bridge/gaps.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <limits>
@@ -32,6 +34,7 @@ void check(const SegmentParams& p) {
   if (p.close_size < 0 || p.close_size > 31) bad("close_size must be in 0..31");
   if (!(p.min_area >= 0)) bad("min_area must be >= 0");
   if (!(p.top_tolerance >= 0)) bad("top_tolerance must be >= 0");
+  if (!(p.dropout_width >= 0) || std::isinf(p.dropout_width)) bad("dropout_width must be a number >= 0");
   if (p.calibrated_plane && !(std::abs(p.plane_normal.norm() - 1.0) < 1e-3))
     bad("calibrated plane normal must be a unit vector");
 }
@@ -398,7 +401,8 @@ void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& 
 
 }  // namespace
 
-Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const SegmentParams& P) {
+Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const SegmentParams& P,
+                     const cv::Mat& intensity) {
   check(P);
   Segmentation out;
   auto fail = [&](SegmentStatus status, std::string why) {
@@ -433,6 +437,7 @@ Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const S
     return fail(SegmentStatus::BadFrame, "the part has too few valid depth pixels to fit its plane");
   project_onto_top(pts, top, table, out);
   if (out.u.empty()) return fail(SegmentStatus::BadFrame, "the part mask holds no pixel on the fitted top plane");
+  fill_gaps_and_assess_edge(depth, intensity, in, {table.n, table.offset, top.normal, top.offset}, P, out);
   out.status = SegmentStatus::Ok;
   return out;
 }

@@ -42,6 +42,10 @@ struct SegmentParams {
   // top-plane residuals but at least 1 mm.
   double top_tolerance = 0;
   std::uint64_t ransac_seed = 12345;
+  // Gaps inside a part (gaps.hpp): with nothing in the frame to say the steel is cut there, a gap at most
+  // this wide (metres, the widest circle that fits in it) is dropout and filled; a wider one stays a hole.
+  double dropout_width = 0.010;
+  bool fill_dropout = true;  // false: gaps are left as they are (the edge is assessed either way)
 };
 
 enum class SegmentStatus { Ok, NoPart, BadFrame };
@@ -62,8 +66,18 @@ struct Segmentation {
   // Points in scan-line (row-major image) order.
   std::vector<float> u, v;
   std::vector<std::int16_t> part;
-  std::vector<std::int32_t> pixel;  // source pixel index row * width + col
+  std::vector<std::int32_t> pixel;   // source pixel index row * width + col
+  std::vector<std::uint8_t> filled;  // 1: a point on the top plane filling dropout, not a measured one
   std::size_t size() const { return u.size(); }
+  // What the organized frame showed (gaps.hpp): dropout patches filled (single missing pixels, which leave
+  // no hole in an outline, are filled but not counted), gaps kept as cut-outs, and the outer edge.
+  int dropout_filled = 0;
+  double dropout_filled_area = 0;  // m^2 on the top plane
+  int cutouts = 0;
+  double edge_length = 0;          // m, the parts' outer contours
+  double edge_dropout_length = 0;  // m of it in dropout or shadow
+  double largest_edge_gap = 0;     // m, the longest such stretch
+  double edge_dropout_fraction() const { return edge_length > 0 ? edge_dropout_length / edge_length : 0; }
 };
 
 // Empty when the frame is usable; otherwise why not (wrong size or type, no valid pixel, bad intrinsics).
@@ -71,7 +85,10 @@ std::string frame_defect(const cv::Mat& depth, const camera::Intrinsics& in);
 
 // Throws std::invalid_argument on bad parameters; never throws on frame content (a defective frame gives
 // status BadFrame with the reason).
-Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const SegmentParams& params);
+// `intensity`: the source's intensity image of the same frame (CV_8UC1 or CV_16UC1, the depth's size), or
+// empty when it has none; it lets a wide gap with no depth but with light coming back count as dropout.
+Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const SegmentParams& params,
+                     const cv::Mat& intensity = cv::Mat());
 
 // Deprojection used by segment(): camera-frame point of pixel (col, row) at depth z (metres).
 inline Eigen::Vector3d deproject(const camera::Intrinsics& in, double col, double row, double z) {

@@ -105,6 +105,18 @@ Calibration read_calibration(const YAML::Node& n, const std::string& where) {
   return c;
 }
 
+// Section `outline` (optional; each key optional, defaults in OutlineRules).
+OutlineRules read_outline_rules(const YAML::Node& n, const std::string& where) {
+  OutlineRules o;
+  if (!n) return o;
+  const std::string p = "outline.";
+  only_keys(n, {"min-part-area", "max-edge-dropout", "max-edge-gap"}, where, p);
+  if (n["min-part-area"]) o.min_part_area = number(n["min-part-area"], where, p + "min-part-area");
+  if (n["max-edge-dropout"]) o.max_edge_dropout = number(n["max-edge-dropout"], where, p + "max-edge-dropout");
+  if (n["max-edge-gap"]) o.max_edge_gap = number(n["max-edge-gap"], where, p + "max-edge-gap");
+  return o;
+}
+
 YAML::Node seq(const Eigen::Vector3d& v) {
   YAML::Node n;
   for (int i = 0; i < 3; ++i) n.push_back(v[i]);
@@ -170,6 +182,10 @@ void validate(const Cell& c, const std::string& where) {
   if ((c.home.array() < c.workspace_min.array()).any() || (c.home.array() > c.workspace_max.array()).any() ||
       !(c.home.z() > c.table_z))
     fail(where, "home", "must lie inside the workspace and above the table");
+  if (!(c.outline.min_part_area >= 0)) fail(where, "outline.min-part-area", "must be >= 0");
+  if (!(c.outline.max_edge_dropout >= 0 && c.outline.max_edge_dropout <= 1))
+    fail(where, "outline.max-edge-dropout", "must be within [0, 1]");
+  if (!(c.outline.max_edge_gap >= 0)) fail(where, "outline.max-edge-gap", "must be >= 0");
 }
 
 Cell read_cell(const std::string& path) {
@@ -181,8 +197,9 @@ Cell read_cell(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw CellError(path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
-  only_keys(root, {"calibration", "table-z", "workspace", "max-speed", "max-accel", "tool", "home", "approval"}, path,
-            "");
+  only_keys(root,
+            {"calibration", "table-z", "workspace", "max-speed", "max-accel", "tool", "home", "approval", "outline"},
+            path, "");
   Cell c;
   c.calibration = read_calibration(need(root, "calibration", path, ""), path);
   c.table_z = number(need(root, "table-z", path, ""), path, "table-z");
@@ -202,6 +219,7 @@ Cell read_cell(const std::string& path) {
     if (v != "auto" && v != "operator") fail(path, "approval", "'" + v + "' is not one of auto | operator");
     c.approval = v == "auto" ? Approval::Auto : Approval::Operator;
   }
+  c.outline = read_outline_rules(root["outline"], path);
   validate(c, path);
   return c;
 }
@@ -232,6 +250,9 @@ std::string write_cell(const std::string& path, const Cell& c) {
   root["tool"]["tilt"] = c.tool.tilt;
   root["home"] = seq(c.home);
   root["approval"] = c.approval == Approval::Auto ? "auto" : "operator";
+  root["outline"]["min-part-area"] = c.outline.min_part_area;
+  root["outline"]["max-edge-dropout"] = c.outline.max_edge_dropout;
+  root["outline"]["max-edge-gap"] = c.outline.max_edge_gap;
   out << root;
 
   namespace fs = std::filesystem;

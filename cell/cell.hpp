@@ -44,6 +44,14 @@ struct Tool {
 // plan that reaches every edge of the part (a plan with an unreached edge always waits for an operator).
 enum class Approval { Operator, Auto };
 
+// What the outline service takes from the cell (section `outline`, optional; docs/cell.md): the smallest
+// part, and how much of the edge a scan may leave unseen before its outline is POOR (the job NEEDS_RESCAN).
+struct OutlineRules {
+  double min_part_area = 0.002;   // m^2: a smaller outer loop is a fragment, dropped and counted
+  double max_edge_dropout = 0.3;  // fraction of the outer edge's length in dropout or shadow; above: POOR
+  double max_edge_gap = 0.1;      // m, the longest such stretch; above: POOR
+};
+
 struct Cell {
   Calibration calibration;
   double table_z = 0;  // table top in the base frame; every path point must be strictly above
@@ -53,6 +61,7 @@ struct Cell {
   Tool tool;
   Eigen::Vector3d home = Eigen::Vector3d::Zero();
   Approval approval = Approval::Operator;  // optional key, default operator
+  OutlineRules outline;                    // optional section, defaults above
 };
 
 // Reads and validates a cell file. Throws CellError naming the file and the key: missing or unknown keys,

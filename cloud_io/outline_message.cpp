@@ -59,6 +59,7 @@ nlohmann::ordered_json outline_message_json(const hullgrind::outline_t& o, const
   j["holes_dropped_area"] = o.holes_dropped_area;
   j["fragments_dropped"] = o.fragments_dropped;
   j["fragments_dropped_area"] = o.fragments_dropped_area;
+  if (!o.dropped_text.empty()) j["dropped_text"] = o.dropped_text;
   j["edge_dropout_fraction"] = o.edge_dropout_fraction;
   j["largest_edge_gap"] = o.largest_edge_gap;
   j["quality"] = o.quality == hullgrind::outline_t::QUALITY_OK     ? "ok"

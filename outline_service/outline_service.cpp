@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "cell/cell_params.hpp"
 #include "hullgrind/heartbeat_t.hpp"
 #include "outline_service/part_pose.hpp"
 #include "runtime/channels.hpp"
@@ -52,7 +53,8 @@ runtime::ProcessInfo process_info() {
            0, 1024),
        {"min-hole-spacings", kMinHoleDefault,
         "drop holes smaller in area than (this x point spacing)^2: dropout, not cut-outs (0: keep all); the outline core's rule, as hg-outline",
-        false, runtime::ParamType::Number, 0}}};
+        false, runtime::ParamType::Number, 0},
+       cell::cell_param()}};
 }
 
 ServiceOptions options_from(const runtime::Node& node) {
@@ -77,6 +79,11 @@ ServiceOptions options_from(const runtime::Node& node) {
     throw runtime::ConfigError("alpha-mode local sets the radius per triangle: alpha-radius must be 0");
   o.outer_only = node.param_bool("outer-only");
   o.threads = static_cast<int>(node.param_int("threads"));
+  const cell::LoadedCell cell = cell::load_cell(node.params());  // the smallest part, the edge-quality limits
+  o.min_part_area = cell.cell.outline.min_part_area;
+  o.max_edge_dropout = cell.cell.outline.max_edge_dropout;
+  o.max_edge_gap = cell.cell.outline.max_edge_gap;
+  o.cell_file = cell.file;
   return o;
 }
 
@@ -103,6 +110,9 @@ void start_outline(const hullgrind::plate_cloud_t& cloud, const outline::Options
   out.order = outline::to_string(options.order);
   out.alpha_mode = outline::to_string(options.alpha_mode);
   out.alpha_automatic = !(options.alpha_radius > 0);
+  out.holes_dropped = out.fragments_dropped = 0;  // the generated struct leaves its numbers uninitialised
+  out.holes_dropped_area = out.fragments_dropped_area = out.edge_dropout_fraction = out.largest_edge_gap = 0;
+  out.quality = hullgrind::outline_t::QUALITY_UNKNOWN;
 }
 
 // The core's result into the outline message (statistics and loops); true when there is an outer loop.
@@ -122,8 +132,6 @@ bool put_result(const outline::Result& r, hullgrind::outline_t& out) {
   out.point_spacing = r.spacing;
   out.alpha_mode = outline::to_string(r.alpha_mode);
   out.alpha_automatic = r.alpha_automatic;
-  out.holes_dropped = int32_t(r.holes_dropped);
-  out.quality = hullgrind::outline_t::QUALITY_UNKNOWN;  // the edge's scan quality is not assessed yet
   bool any_outer = false;
   for (const outline::Loop& l : r.loops) {
     hullgrind::outline_loop_t m;
@@ -139,6 +147,77 @@ bool put_result(const outline::Result& r, hullgrind::outline_t& out) {
     out.loops.push_back(std::move(m));
   }
   return any_outer;
+}
+
+bool inside(const std::vector<outline::Vec2>& ring, const outline::Vec2& p) {  // even-odd rule
+  bool in = false;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
+    if ((ring[i].y > p.y) != (ring[j].y > p.y) &&
+        p.x < (ring[j].x - ring[i].x) * (p.y - ring[i].y) / (ring[j].y - ring[i].y) + ring[i].x)
+      in = !in;
+  return in;
+}
+
+std::string number(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+// Outer loops smaller than the cell's min-part-area, with the holes inside them, are fragments: taken out
+// of the loops, counted and said in the outline (the holes go with the fragment that holds them).
+void drop_fragments(std::vector<outline::Loop>& loops, const ServiceOptions& o, hullgrind::outline_t& out) {
+  std::vector<bool> drop(loops.size(), false);
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    if (loops[i].hole || !(loops[i].area < o.min_part_area)) continue;
+    drop[i] = true;
+    ++out.fragments_dropped;
+    out.fragments_dropped_area += loops[i].area;
+    for (std::size_t j = 0; j < loops.size(); ++j)
+      if (loops[j].hole && !loops[j].points.empty() && inside(loops[i].points, loops[j].points.front())) drop[j] = true;
+  }
+  std::size_t k = 0;
+  std::erase_if(loops, [&](const outline::Loop&) { return drop[k++]; });
+  if (out.fragments_dropped)
+    out.dropped_text = std::to_string(out.fragments_dropped) + " fragment(s) of " +
+                       number("%.3g", out.fragments_dropped_area * 1e6) + " mm^2 in all dropped: outer loops under " +
+                       o.cell_file + (o.cell_file.empty() ? "" : " ") + "outline.min-part-area " +
+                       number("%g", o.min_part_area) + " m^2";
+}
+
+// The camera bridge's filled dropout joins the core's dropped holes; one line says both.
+void count_dropout(const hullgrind::plate_cloud_t& cloud, std::size_t core_dropped, hullgrind::outline_t& out) {
+  out.holes_dropped = int32_t(cloud.dropout_filled + core_dropped);
+  out.holes_dropped_area = cloud.dropout_filled_area;
+  std::string said;
+  if (cloud.dropout_filled)
+    said = std::to_string(cloud.dropout_filled) + " dropout patch(es) inside the plate filled by the camera bridge (" +
+           number("%.3g", cloud.dropout_filled_area * 1e6) + " mm^2: no return, no sign of a cut)";
+  if (core_dropped)
+    said += (said.empty() ? "" : "; ") + std::to_string(core_dropped) + " hole(s) under min-hole-spacings dropped";
+  if (!said.empty()) out.dropped_text += (out.dropped_text.empty() ? "" : "; ") + said;
+}
+
+// The scan-quality verdict: the bridge's edge figures against the cell's limits. UNKNOWN when no organized
+// frame was behind the cloud.
+void judge_quality(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& o, hullgrind::outline_t& out) {
+  out.edge_dropout_fraction = cloud.edge_dropout_fraction;
+  out.largest_edge_gap = cloud.largest_edge_gap;
+  if (!cloud.edge_assessed) {
+    out.quality = hullgrind::outline_t::QUALITY_UNKNOWN;
+    out.quality_text = "the cloud's edge was not assessed (no organized frame behind it)";
+    return;
+  }
+  const std::string cell = o.cell_file.empty() ? "" : o.cell_file + " ";
+  std::string why;
+  if (cloud.edge_dropout_fraction > o.max_edge_dropout)
+    why = number("%.1f", 100 * cloud.edge_dropout_fraction) + " % of the edge in dropout or shadow (" + cell +
+          "outline.max-edge-dropout " + number("%g", o.max_edge_dropout) + ")";
+  if (cloud.largest_edge_gap > o.max_edge_gap)
+    why += (why.empty() ? "" : "; ") + std::string("a gap of ") + number("%.1f", 1e3 * cloud.largest_edge_gap) +
+           " mm along the edge (" + cell + "outline.max-edge-gap " + number("%g", o.max_edge_gap) + " m)";
+  out.quality = why.empty() ? hullgrind::outline_t::QUALITY_OK : hullgrind::outline_t::QUALITY_POOR;
+  out.quality_text = why;
 }
 
 // One part pose message per part of the loops, the centroid also in the cloud's frame.
@@ -172,7 +251,7 @@ std::vector<hullgrind::part_pose_t> pose_messages(const hullgrind::plate_cloud_t
 }  // namespace
 
 Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& service_options) {
-  const outline::Options& options = service_options;
+  const outline::Options& options = service_options;  // the core's part
   Computed c;
   hullgrind::outline_t& out = c.outline;
   start_outline(cloud, options, out);
@@ -200,11 +279,15 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& se
     return fail(hullgrind::outline_t::STATUS_ERROR, e.what());
   }
   out.compute_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  c.holes_dropped = int(r.holes_dropped);  // gaps of a few missing pixels, dropped by the core's rule
+  drop_fragments(r.loops, service_options, out);
+  count_dropout(cloud, r.holes_dropped, out);
+  c.holes_dropped = out.holes_dropped;
+  judge_quality(cloud, service_options, out);
   if (!put_result(r, out))
-    return fail(
-        hullgrind::outline_t::STATUS_NO_LOOP,
-        "no outer loop found (alpha radius " + std::to_string(r.alpha_radius) + " m too small for the point spacing?)");
+    return fail(hullgrind::outline_t::STATUS_NO_LOOP,
+                out.fragments_dropped ? "no outer loop left: " + out.dropped_text
+                                      : "no outer loop found (alpha radius " + std::to_string(r.alpha_radius) +
+                                            " m too small for the point spacing?)");
   out.num_loops = int32_t(out.loops.size());
   out.status = hullgrind::outline_t::STATUS_OK;
   c.poses = pose_messages(cloud, r.loops);

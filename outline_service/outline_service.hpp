@@ -5,6 +5,8 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <limits>
+#include <string>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -19,9 +21,16 @@
 namespace hg::outline_service {
 
 runtime::ProcessInfo process_info();
-// The outline core's options: the hole rule (Options::min_hole_spacings) is the core's, so hg-outline and
-// this service give the same outline for one cloud.
-using ServiceOptions = outline::Options;
+// The outline core's options (the hole rule, Options::min_hole_spacings, is the core's, so hg-outline and
+// this service give the same outline for one cloud) and the cell's outline rules (docs/cell.md, section
+// outline): the smallest part, and the edge-quality limits. The defaults here keep everything and judge
+// nothing POOR; the process takes them from its --cell.
+struct ServiceOptions : outline::Options {
+  double min_part_area = 0;     // m^2: smaller outer loops (and the holes in them) are dropped as fragments
+  double max_edge_dropout = 1;  // fraction of the edge in dropout or shadow above which quality is POOR
+  double max_edge_gap = std::numeric_limits<double>::infinity();  // m, the longest stretch; above: POOR
+  std::string cell_file;  // named in the reasons ("config/cell.yaml outline.max-edge-gap 0.1")
+};
 ServiceOptions options_from(const runtime::Node& node);  // throws runtime::ConfigError
 
 struct Computed {

@@ -24,7 +24,7 @@ TEST(OutlineServiceCompute, MessageCarriesSpacingModeAndAutomaticRadius) {
   for (double p : {0.0013, 0.004}) {
     SCOPED_TRACE(p);
     const auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, p);
-    hg::outline::Options automatic;
+    os::ServiceOptions automatic;
     const auto a = os::compute(cloud, automatic);
     ASSERT_EQ(a.outline.status, +hullgrind::outline_t::STATUS_OK) << a.outline.error_text;
     EXPECT_NEAR(a.outline.point_spacing, p, 1e-3 * p);
@@ -32,12 +32,12 @@ TEST(OutlineServiceCompute, MessageCarriesSpacingModeAndAutomaticRadius) {
     EXPECT_EQ(a.outline.alpha_mode, "global");
     EXPECT_NEAR(a.outline.alpha_radius, 1.7 * p, 0.05 * p) << "R = k h, k = 1.7 for a regular grid";
     EXPECT_EQ(a.outline.quality, +hullgrind::outline_t::QUALITY_UNKNOWN);
-    hg::outline::Options given;
+    os::ServiceOptions given;
     given.alpha_radius = 2 * p;
     const auto g = os::compute(cloud, given);
     EXPECT_FALSE(g.outline.alpha_automatic);
     EXPECT_EQ(g.outline.alpha_radius, 2 * p);
-    hg::outline::Options local;
+    os::ServiceOptions local;
     local.alpha_mode = hg::outline::AlphaMode::Local;
     const auto l = os::compute(cloud, local);
     EXPECT_EQ(l.outline.alpha_mode, "local");
@@ -50,7 +50,7 @@ TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
   const double p = 0.005;
   auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, p);
   cloud.header.seq = 41;
-  hg::outline::Options opt;
+  os::ServiceOptions opt;
   opt.alpha_radius = 2 * p;
   opt.order = hg::outline::Order::Hilbert;
   auto c = os::compute(cloud, opt);
@@ -109,14 +109,14 @@ TEST(OutlineServiceCompute, GapsOfMissingPixelsAreNotHoles) {
     cloud.part.erase(cloud.part.begin() + long(*it));
   }
   cloud.n -= 4;
-  hg::outline::Options opt;
+  os::ServiceOptions opt;
   opt.alpha_radius = 1.5 * p;
   auto holes = [](const os::Computed& c) {
     int n = 0;
     for (const auto& l : c.outline.loops) n += l.hole;
     return n;
   };
-  hg::outline::Options keep_all = opt;
+  os::ServiceOptions keep_all = opt;
   keep_all.min_hole_spacings = 0;
   auto kept = os::compute(cloud, keep_all);
   ASSERT_EQ(kept.outline.status, +hullgrind::outline_t::STATUS_OK);
@@ -157,10 +157,10 @@ TEST(OutlineServiceCompute, ThreeByThreeDropoutIsNotAHoleButASmallCutOutIs) {
     }
   ASSERT_EQ(cloud.u.size() - kept_points.u.size(), 9u + 64u);
   kept_points.n = int32_t(kept_points.u.size());
-  hg::outline::Options opt;
+  os::ServiceOptions opt;
   opt.alpha_radius = 1.5 * p;
   std::vector<double> areas;
-  hg::outline::Options keep_all = opt;
+  os::ServiceOptions keep_all = opt;
   keep_all.min_hole_spacings = 0;
   const auto all = os::compute(kept_points, keep_all);
   ASSERT_EQ(all.outline.status, +hullgrind::outline_t::STATUS_OK);
@@ -185,7 +185,7 @@ TEST(OutlineServiceCompute, ThreeByThreeDropoutIsNotAHoleButASmallCutOutIs) {
 
 TEST(OutlineServiceCompute, OuterOnlyFillsTheHole) {
   auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, 0.005);
-  hg::outline::Options opt;
+  os::ServiceOptions opt;
   opt.alpha_radius = 0.01;
   opt.outer_only = true;
   auto c = os::compute(cloud, opt);

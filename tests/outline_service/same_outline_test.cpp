@@ -57,7 +57,7 @@ TEST(OutlineSameRule, HgOutlineAndTheServiceGiveTheSameOutline) {
       ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
       const nlohmann::json cli = nlohmann::json::parse(std::ifstream(json));
 
-      hg::outline::Options opt;  // the service's defaults, as its parameter table gives them
+      hg::outline_service::ServiceOptions opt;  // the service's defaults, as its parameter table gives them
       opt.alpha_mode = hg::outline::parse_alpha_mode(mode);
       for (const auto& p : hg::outline_service::process_info().params)
         if (p.name == "min-hole-spacings") opt.min_hole_spacings = std::stod(p.default_value);

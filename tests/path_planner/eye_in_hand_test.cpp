@@ -55,7 +55,7 @@ hullgrind::outline_t outline_seen_from(const sim::View& view, const Eigen::Isome
   r.recv_utime = hg::runtime::now_utime();
   hg::camera_bridge::fill_flange(r, hg::runtime::now_utime(), cloud);
   EXPECT_TRUE(cloud.flange_valid);
-  return hg::outline_service::compute(cloud, hg::outline::Options{}).outline;
+  return hg::outline_service::compute(cloud, hg::outline_service::ServiceOptions{}).outline;
 }
 
 std::vector<Waypoint> planned(const hullgrind::outline_t& m, const PlannerConfig& config) {

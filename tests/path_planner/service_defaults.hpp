@@ -1,4 +1,4 @@
-// The outline service's options at their declared defaults (what `make run` starts it with), for the
+// The outline service's options at their declared defaults (no cell file rules), for the
 // planner's tests that outline rendered frames as the pipeline does.
 #pragma once
 
@@ -8,8 +8,8 @@
 
 namespace hg::path_planner::test {
 
-inline hg::outline::Options service_options() {
-  hg::outline::Options o;
+inline hg::outline_service::ServiceOptions service_options() {
+  hg::outline_service::ServiceOptions o;
   for (const hg::runtime::Param& p : hg::outline_service::process_info().params) {
     if (p.name == "mode") o.mode = hg::outline::parse_mode(p.default_value);
     if (p.name == "order") o.order = hg::outline::parse_order(p.default_value);

@@ -1,0 +1,39 @@
+// What the organized frame says about the plate's gaps and its edge (docs/cameras.md, "Dropout, cut-outs and
+// the edge"), after segment() has found the parts and their top planes. Part of hg_camera_segment; called
+// by segment() only (exposed for it, not an interface of the bridge).
+//
+// A gap is a connected set of pixels without a cloud point that the points of one part enclose. It is a
+// cut-out when the frame shows the laser went through the steel: returns at table height or below on a
+// tenth of it (the table, or the webs of a perforated table, seen through the hole); or, with nothing
+// there at all, when it is wider than SegmentParams::dropout_width and, where the source has an intensity
+// image, dark (no light came back from it). Every other gap is dropout: no return from steel that is
+// there. It is filled with points on the part's top plane, so no consumer takes it for a hole.
+//
+// The edge: along each part's outer contour, a pixel is seen when a pixel just outside it returned (the
+// table, a mixed pixel, a side wall: the drop from plate to table is in the frame) and in dropout or
+// shadow when none did (off the image counts as none): there the scan does not show where the plate ends.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "camera_bridge/segment.hpp"
+
+namespace hg::camera_bridge {
+
+struct PlatePlanes {
+  Eigen::Vector3d table_normal;  // camera frame, n . p = offset, towards the camera
+  double table_offset = 0;
+  Eigen::Vector3d top_normal;  // the parts' top planes: top_normal . p = top_offset[k]
+  std::vector<double> top_offset;
+};
+
+// Fills the dropout gaps of `out` (points merged in scan order, Segmentation::filled set for them) and
+// measures the outer edge; sets the evidence fields of `out`. `intensity`: empty, or CV_8UC1 / CV_16UC1 of
+// the depth image's size (any other is ignored).
+void fill_gaps_and_assess_edge(const cv::Mat& depth, const cv::Mat& intensity, const camera::Intrinsics& in,
+                               const PlatePlanes& planes, const SegmentParams& params, Segmentation& out);
+
+}  // namespace hg::camera_bridge
