@@ -25,6 +25,9 @@ struct DepthFrame {
   std::int64_t utime = 0;  // capture time, microseconds since the epoch
   Intrinsics intrinsics;
   cv::Mat depth;  // CV_16UC1, height x width
+  // CV_8UC1, height x width: the sensor's intensity (reflected light; 255 = saturated), registered to
+  // depth; empty when the source has none (only the synthetic source's realistic scenes fill it so far).
+  cv::Mat intensity;
 };
 
 // The device is missing, lost or unreadable; what() says which and why.
