@@ -25,8 +25,9 @@ struct DepthFrame {
   std::int64_t utime = 0;  // capture time, microseconds since the epoch
   Intrinsics intrinsics;
   cv::Mat depth;  // CV_16UC1, height x width
-  // The sensor's intensity (amplitude) image of the same pixels, CV_8UC1 or CV_16UC1; empty when the source
-  // has none. The bridge uses it to tell dropout on steel (light came back, no depth) from a hole.
+  // The sensor's intensity (reflected light) image of the same pixels, registered to depth: CV_8UC1 (255 =
+  // saturated) or CV_16UC1; empty when the source has none. The bridge uses it to tell dropout on steel
+  // (light came back, no depth) from a hole.
   cv::Mat intensity;
 };
 

@@ -8,6 +8,7 @@
 
 #include "partgen/synth.hpp"
 #include "partgen/writers.hpp"
+#include "sim/scene/effects.hpp"
 
 namespace hg::sim {
 
@@ -53,9 +54,29 @@ inline double plane_z(const Eigen::Vector3d& n, double offset, double a, double 
 //    above the table (view 1.66 x 1.24 m, ~0.8 mm per pixel), 0.1 mm depth counts,
 //    sigma(z) = 0.1 mm + 0.05 mm/m^2 z^2 (0.3 mm at 2 m), 0.5 % dropout.
 //  Both: 30 % of the pixels at a depth edge return a mixed depth between the two surfaces.
+// The principle and its constants (used only by SensorEffects; docs/scene.md gives the reasons):
+//  pm806: structured light (a projector beside the depth camera; an active-stereo camera's second view
+//    stands in the same place): its light and its second line of sight 0.10 m along the camera's x; an
+//    incoherent pattern averages ~4 speckle cells per pixel; detection at 3 % of the return of a grey face
+//    met square on; saturation at 3 times it; the matching window blurs ~2 pixels.
+//  lsr-l: laser triangulation: the laser's scanning mirror 0.35 m along the camera's x (a triangulation
+//    angle of ~10 deg at 2 m); coherent light, ~2 speckle cells per pixel; detection at 2 %; saturation at 3
+//    times; the laser line ~1.5 pixels wide.
 CameraProfile camera_profile(const std::string& name) {
-  if (name == "pm806") return make_profile("pm806", 1280, 960, 60.0, 1.5, 0.001, 0.3e-3, 0.4e-3, 0.01, 0.3);
-  if (name == "lsr-l") return make_profile("lsr-l", 2048, 1536, 45.0, 2.0, 0.0001, 0.1e-3, 0.05e-3, 0.005, 0.3);
+  if (name == "pm806") {
+    CameraProfile p = make_profile("pm806", 1280, 960, 60.0, 1.5, 0.001, 0.3e-3, 0.4e-3, 0.01, 0.3);
+    p.principle = "structured-light";
+    p.emitter = Eigen::Vector3d(0.10, 0, 0);
+    p.return_threshold = 0.03, p.speckle_cells = 4, p.saturation = 3.0, p.footprint_px = 2.0;
+    return p;
+  }
+  if (name == "lsr-l") {
+    CameraProfile p = make_profile("lsr-l", 2048, 1536, 45.0, 2.0, 0.0001, 0.1e-3, 0.05e-3, 0.005, 0.3);
+    p.principle = "laser-triangulation";
+    p.emitter = Eigen::Vector3d(0.35, 0, 0);
+    p.return_threshold = 0.02, p.speckle_cells = 2, p.saturation = 3.0, p.footprint_px = 1.5;
+    return p;
+  }
   throw std::invalid_argument("unknown camera profile '" + name + "' (known: " + join(camera_profile_names()) + ")");
 }
 
@@ -78,7 +99,25 @@ std::vector<std::string> scene_preset_names() {
   for (const auto& s : partgen::shape_names()) names.push_back(s);
   names.push_back("three-parts");
   names.push_back("demo");
+  for (const auto& s : partgen::shape_names()) names.push_back(s + "-realistic");
   return names;
+}
+
+// The values docs/scene.md derives: a perforated downdraft grinding table (8 mm holes on a 16 mm staggered
+// pitch) with spatter and chips, 0.5 mm edge rounding, a third of each top face ground, 3 mm per metre bow.
+SensorEffects realistic_effects() {
+  SensorEffects fx;
+  fx.incidence = true;
+  fx.edge_radius = 0.0005;
+  fx.specular = true;
+  fx.mixed_pixels = true;
+  fx.shadow = true;
+  fx.table.kind = TableSpec::Kind::Perforated;
+  fx.table.spatter_per_m2 = 300;
+  fx.table.chips_per_m2 = 60;
+  fx.warp = 0.003;
+  fx.intensity = true;
+  return fx;
 }
 
 SceneSpec scene_preset(const std::string& name) {
@@ -92,6 +131,15 @@ SceneSpec scene_preset(const std::string& name) {
   if (std::find(shapes.begin(), shapes.end(), name) != shapes.end()) {
     spec.parts.push_back(catalogue_part(name, 0.03, -0.02, 0.10));
     return spec;
+  }
+  const std::string suffix = "-realistic";
+  if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+    const std::string shape = name.substr(0, name.size() - suffix.size());
+    if (std::find(shapes.begin(), shapes.end(), shape) != shapes.end()) {
+      spec.parts.push_back(catalogue_part(shape, 0.03, -0.02, 0.10));
+      spec.effects = realistic_effects();
+      return spec;
+    }
   }
   // Placements of partgen's demo scene; three-parts leaves out the knee.
   if (name == "three-parts" || name == "demo") {
@@ -133,6 +181,18 @@ partgen::Scene place_parts(const SceneSpec& spec) {
 
 namespace {
 
+// The ring with extra vertices so that no piece is longer than `step`.
+partgen::Ring densify(const partgen::Ring& ring, double step) {
+  partgen::Ring out;
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const auto& a = ring[i];
+    const auto& b = ring[(i + 1) % ring.size()];
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / step)));
+    for (int j = 0; j < n; ++j) out.push_back(a + (b - a) * (static_cast<double>(j) / n));
+  }
+  return out;
+}
+
 // Camera above the table origin looking down: camera x = table x, camera y = -table y, camera z = -table z;
 // the table tilted about its x then y axis. Sets the pose and the table plane in the camera frame.
 void place_camera(const SceneSpec& spec, const CameraProfile& prof, RenderedFrame& out) {
@@ -150,17 +210,22 @@ void place_camera(const SceneSpec& spec, const CameraProfile& prof, RenderedFram
 // Each part's top face (z = thickness, polygons 0..n-1) and footprint (z = 0, polygons n..2n-1) projected
 // into the image; the parts' polygons and thicknesses are recorded in `out`. A plane maps to the image by a
 // homography, so straight edges stay straight and the even-odd spans of the projected rings are exactly
-// the pixels whose centre ray meets the face (or, for the footprint, reaches the table inside it).
+// the pixels whose centre ray meets the face (or, for the footprint, reaches the table inside it). A bowed
+// part (SensorEffects::warp) is lifted by its bow: its rings are cut into 5 mm pieces first, each vertex at
+// its own height, so the projection follows the curved face to well under a micrometre.
 std::vector<partgen::PolygonWithHoles> project_parts(const partgen::Scene& scene, const SceneSpec& spec,
-                                                     const CameraProfile& prof, RenderedFrame& out) {
+                                                     const CameraProfile& prof, const std::vector<detail::Warp>& warps,
+                                                     RenderedFrame& out) {
   const int W = prof.width, H = prof.height;
   const int nparts = static_cast<int>(scene.parts.size());
   const Eigen::Isometry3d& T = out.camera_from_table;
   std::vector<partgen::PolygonWithHoles> image_polys(2 * nparts);
   auto project_ring = [&](const partgen::Ring& ring, double z, partgen::Ring& dst, int k) {
-    dst.reserve(ring.size());
-    for (const auto& q : ring) {
-      const Eigen::Vector3d p = T * Eigen::Vector3d(q.x(), q.y(), z);
+    const detail::Warp& w = warps[k];
+    const partgen::Ring pts = w.s == 0 ? ring : densify(ring, 0.005);
+    dst.reserve(pts.size());
+    for (const auto& q : pts) {
+      const Eigen::Vector3d p = T * Eigen::Vector3d(q.x(), q.y(), w.s == 0 ? z : z + w.height(q.x(), q.y()));
       const double u = prof.fx * p.x() / p.z() + prof.cx, v = prof.fy * p.y() / p.z() + prof.cy;
       if (!(p.z() > 0) || u < -0.5 || v < -0.5 || u > W - 0.5 || v > H - 0.5)
         throw std::invalid_argument("scene '" + spec.name + "': part " + std::to_string(k) +
@@ -192,8 +257,8 @@ struct Rays {
 // inside a footprint but miss the top face: they enter through a side wall (outer edge or a hole's). The
 // entry is where the ray's table-frame point first falls inside the outline, found by bisection along the
 // ray between the top-face and table heights.
-void render_row(int r, const std::vector<partgen::Span>& spans, const Rays& ray, const RenderedFrame& out, double* zr,
-                std::uint8_t* lr) {
+void render_row(int r, const std::vector<partgen::Span>& spans, const Rays& ray, const RenderedFrame& out,
+                const std::vector<detail::Warp>& warps, double* zr, std::uint8_t* lr) {
   const int W = static_cast<int>(ray.a.size());
   const int nparts = static_cast<int>(out.part_polygons.size());
   const Eigen::Vector3d& n = out.table_normal;
@@ -206,7 +271,8 @@ void render_row(int r, const std::vector<partgen::Span>& spans, const Rays& ray,
     const double t = out.part_thickness[s.part];
     const auto [c0, c1] = columns(s);
     for (int c = c0; c < c1; ++c) {
-      zr[c] = plane_z(n, out.table_offset + t, ray.a[c], ray.b[r]);
+      zr[c] = warps[s.part].s == 0 ? plane_z(n, out.table_offset + t, ray.a[c], ray.b[r])
+                                   : detail::top_depth(out, warps[s.part], t, ray.a[c], ray.b[r]);
       lr[c] = static_cast<std::uint8_t>(s.part + 1);
     }
   }
@@ -219,7 +285,9 @@ void render_row(int r, const std::vector<partgen::Span>& spans, const Rays& ray,
     for (int c = c0; c < c1; ++c) {
       if (lr[c]) continue;
       const Eigen::Vector3d d(ray.a[c], ray.b[r], 1.0);
-      double z_out = plane_z(n, out.table_offset + t, d.x(), d.y()), z_in = zr[c];
+      double z_out = warps[k].s == 0 ? plane_z(n, out.table_offset + t, d.x(), d.y())
+                                     : detail::top_depth(out, warps[k], t, d.x(), d.y()),
+             z_in = zr[c];
       for (int it = 0; it < 30; ++it) {
         const double zm = 0.5 * (z_out + z_in);
         const Eigen::Vector3d q = table_from_camera * (zm * d);
@@ -235,7 +303,7 @@ void render_row(int r, const std::vector<partgen::Span>& spans, const Rays& ray,
 // part's corner between two walls (entering and leaving through walls without reaching table or top
 // inside the footprint) are not modelled: slivers well under a pixel.
 cv::Mat true_depth(const CameraProfile& prof, const std::vector<partgen::PolygonWithHoles>& image_polys,
-                   RenderedFrame& out) {
+                   const std::vector<detail::Warp>& warps, RenderedFrame& out) {
   const int W = prof.width, H = prof.height;
   Rays ray{std::vector<double>(W), std::vector<double>(H)};
   for (int c = 0; c < W; ++c) ray.a[c] = (c - prof.cx) / prof.fx;
@@ -253,7 +321,7 @@ cv::Mat true_depth(const CameraProfile& prof, const std::vector<partgen::Polygon
   std::vector<partgen::Span> spans;
   for (int r = 0; r < H; ++r) {
     raster.spans(r, spans);
-    render_row(r, spans, ray, out, z_true.ptr<double>(r), out.truth_labels.ptr<std::uint8_t>(r));
+    render_row(r, spans, ray, out, warps, z_true.ptr<double>(r), out.truth_labels.ptr<std::uint8_t>(r));
   }
   return z_true;
 }
@@ -305,9 +373,14 @@ RenderedFrame render(const SceneSpec& spec, const CameraProfile& prof, std::uint
   RenderedFrame out;
   out.intrinsics = prof.intrinsics();
   place_camera(spec, prof, out);
-  const std::vector<partgen::PolygonWithHoles> image_polys = project_parts(scene, spec, prof, out);
-  const cv::Mat z_true = true_depth(prof, image_polys, out);
-  out.depth = sensor_depth(z_true, spec, prof, frame_index);
+  std::vector<partgen::PolygonWithHoles> placed;
+  for (const auto& p : scene.parts) placed.push_back(p.placed);
+  const std::vector<detail::Warp> warps = detail::warps_of(placed, spec.effects.warp);
+  const std::vector<partgen::PolygonWithHoles> image_polys = project_parts(scene, spec, prof, warps, out);
+  cv::Mat z_true = true_depth(prof, image_polys, warps, out);
+  if (spec.effects.any()) detail::apply_effects(spec, prof, frame_index, warps, z_true, out);
+  else
+    out.depth = sensor_depth(z_true, spec, prof, frame_index);
   return out;
 }
 

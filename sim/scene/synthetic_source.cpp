@@ -23,6 +23,7 @@ std::optional<camera::DepthFrame> SyntheticSource::grab(std::chrono::millisecond
   f.utime = runtime::now_utime();
   f.intrinsics = r.intrinsics;
   f.depth = std::move(r.depth);
+  f.intensity = std::move(r.intensity);
   return f;
 }
 

@@ -1,5 +1,6 @@
 // hg-camera-render: synthetic depth frames to files, the input format of `hg-camera-bridge --source files`:
-// OUT/depth_000000.png ... (16-bit PNG), OUT/intrinsics.yaml, OUT/truth.json (ground truth of frame 0).
+// OUT/depth_000000.png ... (16-bit PNG), OUT/intrinsics.yaml, OUT/truth.json (ground truth of frame 0), and
+// OUT/intensity_000000.png ... (8-bit) for scenes that render the intensity image (the realistic presets).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -30,7 +31,15 @@ int main(int argc, char** argv) {
     else if (a == "--help" || a == "-h") {
       std::printf(
           "usage: hg-camera-render --out DIR [--scene NAME] [--profile pm806|lsr-l] [--frames N]\n"
-          "Writes DIR/depth_NNNNNN.png (16-bit), DIR/intrinsics.yaml and DIR/truth.json.\n");
+          "Writes DIR/depth_NNNNNN.png (16-bit), DIR/intrinsics.yaml and DIR/truth.json; scenes with the\n"
+          "intensity image (NAME-realistic) also DIR/intensity_NNNNNN.png (8-bit).\n"
+          "Scenes: %s\n",
+          [] {
+            std::string s;
+            for (const auto& n : scene_preset_names()) s += (s.empty() ? "" : ", ") + n;
+            return s;
+          }()
+              .c_str());
       return 0;
     } else {
       std::fprintf(stderr, "hg-camera-render: command line: unknown option %s (see --help)\n", a.c_str());
@@ -50,6 +59,10 @@ int main(int argc, char** argv) {
       char name[64];
       std::snprintf(name, sizeof name, "/depth_%06d.png", k);
       if (!cv::imwrite(out + name, f.depth)) throw std::runtime_error(std::string("cannot write ") + out + name);
+      if (!f.intensity.empty()) {
+        std::snprintf(name, sizeof name, "/intensity_%06d.png", k);
+        if (!cv::imwrite(out + name, f.intensity)) throw std::runtime_error(std::string("cannot write ") + out + name);
+      }
       if (k == 0) {
         write_intrinsics(f.intrinsics, out + "/intrinsics.yaml");
         write_truth(spec, prof, f, 0, out + "/truth.json");
