@@ -201,7 +201,7 @@ std::string Params::unknown_key_message(const std::string& key, bool command_lin
   const Param* nearest = nullptr;
   std::size_t best = std::string::npos;
   for (const Param& p : declared_) {
-    if (!p.moved_to.empty()) continue;
+    if (!p.moved_to.empty() || p.positional) continue;
     const std::size_t d = edit_distance(kebab, p.name);
     if (d < best) best = d, nearest = &p;
   }
