@@ -136,45 +136,45 @@ runtime::ProcessInfo process_info() {
 
 BridgeOptions options_from(const runtime::Node& node) {
   BridgeOptions o;
-  const std::string trigger = node.param("trigger");
+  const std::string trigger = node.params().text("trigger");
   if (trigger != "continuous" && trigger != "job")
     throw runtime::ConfigError("--trigger must be continuous or job, not '" + trigger + "'");
   o.job_trigger = trigger == "job";
-  o.rate = node.param_double("rate");
-  const std::string parts = node.param("parts");
+  o.rate = node.params().number("rate");
+  const std::string parts = node.params().text("parts");
   if (parts != "largest" && parts != "all")
     throw runtime::ConfigError("--parts must be largest or all, not '" + parts + "'");
   SegmentParams& s = o.segment;
   s.all_parts = parts == "all";
-  const std::string plane = node.param("plane");
+  const std::string plane = node.params().text("plane");
   if (plane != "ransac" && plane != "calibrated")
     throw runtime::ConfigError("--plane must be ransac or calibrated, not '" + plane + "'");
   s.calibrated_plane = plane == "calibrated";
-  const auto nrm = node.param_doubles("plane-normal");
+  const auto nrm = node.params().numbers("plane-normal");
   if (nrm.size() != 3) throw runtime::ConfigError("--plane-normal needs three numbers nx,ny,nz");
   s.plane_normal = Eigen::Vector3d(nrm[0], nrm[1], nrm[2]);
   if (!(s.plane_normal.norm() > 0)) throw runtime::ConfigError("--plane-normal must not be zero");
   s.plane_normal.normalize();
-  s.plane_offset = node.param_double("plane-offset");
-  s.ransac_iterations = static_cast<int>(node.param_int("ransac-iterations"));
-  s.ransac_threshold = node.param_double("ransac-threshold");
-  s.min_height = node.param_double("min-height");
-  s.max_height = node.param_double("max-height");
-  s.open_size = static_cast<int>(node.param_int("open-size"));
-  s.close_size = static_cast<int>(node.param_int("close-size"));
-  s.min_area = node.param_double("min-area");
-  s.top_tolerance = node.param_double("top-tolerance");
-  s.dropout_width = node.param_double("dropout-width");
-  s.fill_dropout = !node.param_bool("keep-dropout");
-  o.depth_rate = node.param_double("depth-rate");
-  o.depth_decimation = static_cast<int>(node.param_int("depth-decimation"));
+  s.plane_offset = node.params().number("plane-offset");
+  s.ransac_iterations = static_cast<int>(node.params().integer("ransac-iterations"));
+  s.ransac_threshold = node.params().number("ransac-threshold");
+  s.min_height = node.params().number("min-height");
+  s.max_height = node.params().number("max-height");
+  s.open_size = static_cast<int>(node.params().integer("open-size"));
+  s.close_size = static_cast<int>(node.params().integer("close-size"));
+  s.min_area = node.params().number("min-area");
+  s.top_tolerance = node.params().number("top-tolerance");
+  s.dropout_width = node.params().number("dropout-width");
+  s.fill_dropout = !node.params().flag("keep-dropout");
+  o.depth_rate = node.params().number("depth-rate");
+  o.depth_decimation = static_cast<int>(node.params().integer("depth-decimation"));
   if (o.depth_decimation < 1 || o.depth_decimation > 64)
     throw runtime::ConfigError("--depth-decimation must be in 1..64");
-  o.retry_min = node.param_double("retry-min");
-  o.retry_max = node.param_double("retry-max");
+  o.retry_min = node.params().number("retry-min");
+  o.retry_max = node.params().number("retry-max");
   if (!(o.retry_min > 0) || !(o.retry_max >= o.retry_min))
     throw runtime::ConfigError("need 0 < --retry-min <= --retry-max");
-  o.frame_id = node.param("frame-id");
+  o.frame_id = node.params().text("frame-id");
   try {
     // Let segment()'s own checks speak for the segmentation parameters before anything runs.
     segment(cv::Mat(), camera::Intrinsics{}, s);
@@ -185,37 +185,37 @@ BridgeOptions options_from(const runtime::Node& node) {
 }
 
 std::unique_ptr<camera::DepthSource> source_from(const runtime::Node& node) {
-  const std::string kind = node.param("source");
+  const std::string kind = node.params().text("source");
   if (kind == "synthetic") {
-    sim::SceneSpec spec = sim::scene_preset(node.param("scene"));
-    sim::CameraProfile prof = sim::camera_profile(node.param("profile"));
-    const double k = node.param_double("noise-scale");
+    sim::SceneSpec spec = sim::scene_preset(node.params().text("scene"));
+    sim::CameraProfile prof = sim::camera_profile(node.params().text("profile"));
+    const double k = node.params().number("noise-scale");
     if (!(k >= 0)) throw runtime::ConfigError("--noise-scale must be >= 0");
     prof.noise_a *= k;
     prof.noise_b *= k;
     prof.dropout = std::min(1.0, prof.dropout * k);
     prof.flying_pixel_prob = std::min(1.0, prof.flying_pixel_prob * k);
-    if (!node.param("seed").empty()) spec.seed = static_cast<std::uint64_t>(node.param_int("seed"));
-    if (const std::string truth = node.param("write-truth"); !truth.empty()) {
+    if (!node.params().text("seed").empty()) spec.seed = static_cast<std::uint64_t>(node.params().integer("seed"));
+    if (const std::string truth = node.params().text("write-truth"); !truth.empty()) {
       sim::write_truth(spec, prof, sim::render(spec, prof, 0), 0, truth);
       logf(Level::Info, "wrote the ground truth of scene '%s' to %s", spec.name.c_str(), truth.c_str());
     }
     // In job mode frames are rendered when asked for; otherwise at the processing rate.
-    const double rate = node.param("trigger") == "job" ? 0.0 : node.param_double("rate");
+    const double rate = node.params().text("trigger") == "job" ? 0.0 : node.params().number("rate");
     return std::make_unique<sim::SyntheticSource>(std::move(spec), prof, rate);
   }
   if (kind == "files") {
-    const std::string path = node.param("files");
+    const std::string path = node.params().text("files");
     if (path.empty()) throw runtime::ConfigError("--source files needs --files DIR|FILE");
-    const double rate = node.param("trigger") == "job" ? 0.0 : node.param_double("rate");
-    return std::make_unique<FilesSource>(path, node.param("intrinsics"), rate, node.param_bool("loop"));
+    const double rate = node.params().text("trigger") == "job" ? 0.0 : node.params().number("rate");
+    return std::make_unique<FilesSource>(path, node.params().text("intrinsics"), rate, node.params().flag("loop"));
   }
   if (kind == "openni2") {
 #if HG_HAVE_OPENNI2
     OpenNI2Options o;
-    o.uri = node.param("uri");
-    o.playback_speed = node.param_double("playback-speed");
-    o.loop = node.param_bool("loop");
+    o.uri = node.params().text("uri");
+    o.playback_speed = node.params().number("playback-speed");
+    o.loop = node.params().flag("loop");
     return make_openni2_source(o);
 #else
     throw runtime::ConfigError(
@@ -226,9 +226,9 @@ std::unique_ptr<camera::DepthSource> source_from(const runtime::Node& node) {
   if (kind == "genicam") {
 #if HG_HAVE_GENICAM
     GenicamOptions o;
-    o.device_id = node.param("genicam-device");
-    o.software_trigger = node.param("trigger") == "job";
-    const std::string format = node.param("genicam-format");
+    o.device_id = node.params().text("genicam-device");
+    o.software_trigger = node.params().text("trigger") == "job";
+    const std::string format = node.params().text("genicam-format");
     if (format != "c16" && format != "abc32f")
       throw runtime::ConfigError("--genicam-format must be c16 or abc32f, not '" + format + "'");
     o.format = format == "c16" ? GenicamFormat::c16 : GenicamFormat::abc32f;

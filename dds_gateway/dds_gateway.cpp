@@ -41,24 +41,24 @@ runtime::ProcessInfo process_info() {
 
 Options options_from(const runtime::Node& node) {
   Options o;
-  std::int64_t domain = node.param_int("dds-domain");
+  std::int64_t domain = node.params().integer("dds-domain");
   if (domain < 0 || domain > 230)
     throw runtime::ConfigError("dds-domain " + std::to_string(domain) + " is outside 0..230");
   o.domain = int(domain);
-  o.topic_prefix = node.param("dds-topic-prefix");
-  o.cyclone_config = node.param("dds-config");
+  o.topic_prefix = node.params().text("dds-topic-prefix");
+  o.cyclone_config = node.params().text("dds-config");
   if (o.cyclone_config.empty()) {
     const char* env = std::getenv("CYCLONEDDS_URI");
     o.cyclone_config = (env && *env) ? env : "file://" + shipped_cyclone_config();
   }
-  o.robot_status_max_rate = node.param_double("robot-status-max-rate");
+  o.robot_status_max_rate = node.params().number("robot-status-max-rate");
   if (!(o.robot_status_max_rate >= 0)) throw runtime::ConfigError("robot-status-max-rate must be >= 0 (0: no limit)");
-  o.security.identity_ca = node.param("dds-security-identity-ca");
-  o.security.identity_certificate = node.param("dds-security-identity-cert");
-  o.security.private_key = node.param("dds-security-private-key");
-  o.security.permissions_ca = node.param("dds-security-permissions-ca");
-  o.security.governance = node.param("dds-security-governance");
-  o.security.permissions = node.param("dds-security-permissions");
+  o.security.identity_ca = node.params().text("dds-security-identity-ca");
+  o.security.identity_certificate = node.params().text("dds-security-identity-cert");
+  o.security.private_key = node.params().text("dds-security-private-key");
+  o.security.permissions_ca = node.params().text("dds-security-permissions-ca");
+  o.security.governance = node.params().text("dds-security-governance");
+  o.security.permissions = node.params().text("dds-security-permissions");
   // A security file that is named but cannot be read is a bad configuration (exit 2), found before DDS starts.
   if (o.security.any())
     if (const std::string p = o.security.problem(); !p.empty()) throw runtime::ConfigError("dds-security: " + p);

@@ -150,13 +150,13 @@ class Live {
 
 BridgeOptions bridge_options(runtime::Node& node) {
   BridgeOptions o;
-  o.max_points = static_cast<std::size_t>(node.param_int("max-points"));
-  o.base_frame = node.param("base-frame");
-  o.camera_frame = node.param("camera-frame");
-  if (!node.param("cell").empty()) {
+  o.max_points = static_cast<std::size_t>(node.params().integer("max-points"));
+  o.base_frame = node.params().text("base-frame");
+  o.camera_frame = node.params().text("camera-frame");
+  if (!node.params().text("cell").empty()) {
     cell::Cell cell;
     try {
-      cell = cell::read_cell(node.param("cell"));
+      cell = cell::read_cell(node.params().text("cell"));
     } catch (const cell::CellError& e) {  // a bad cell file is bad input: exit 2 before the bus is opened
       throw std::invalid_argument(e.what());
     }
@@ -201,14 +201,14 @@ runtime::ProcessInfo process_info() {
 
 std::shared_ptr<void> attach(runtime::Node& node) {
   WsServerOptions s;
-  s.host = node.param("host");
-  s.port = static_cast<int>(node.param_int("port"));
-  s.max_clients = static_cast<std::size_t>(node.param_int("max-clients"));
-  s.queue_frames = static_cast<std::size_t>(node.param_int("client-queue-frames"));
-  s.queue_bytes = static_cast<std::size_t>(node.param_int("client-queue-mb")) << 20;
-  auto live =
-      std::make_shared<Live>(node, bridge_options(node), s, static_cast<std::size_t>(node.param_int("queue-messages")),
-                             static_cast<std::size_t>(node.param_int("queue-mb")) << 20);
+  s.host = node.params().text("host");
+  s.port = static_cast<int>(node.params().integer("port"));
+  s.max_clients = static_cast<std::size_t>(node.params().integer("max-clients"));
+  s.queue_frames = static_cast<std::size_t>(node.params().integer("client-queue-frames"));
+  s.queue_bytes = static_cast<std::size_t>(node.params().integer("client-queue-mb")) << 20;
+  auto live = std::make_shared<Live>(node, bridge_options(node), s,
+                                     static_cast<std::size_t>(node.params().integer("queue-messages")),
+                                     static_cast<std::size_t>(node.params().integer("queue-mb")) << 20);
   runtime::logf(runtime::Level::Info, "serving the bus on ws://%s:%d (Foxglove WebSocket protocol)", s.host.c_str(),
                 live->port());
   node.subscribe_raw(".*",

@@ -27,7 +27,7 @@ runtime::ProcessInfo process_info() {
 }
 
 std::shared_ptr<Recorder> attach(runtime::Node& node) {
-  auto rec = std::make_shared<Recorder>(node.param("dir"), runtime::now_utime());
+  auto rec = std::make_shared<Recorder>(node.params().text("dir"), runtime::now_utime());
   auto health = [rec, &node] {
     const RecorderStats& s = rec->stats();
     if (s.write_errors > 0)

@@ -59,15 +59,15 @@ runtime::ProcessInfo process_info() {
 
 ServiceOptions options_from(const runtime::Node& node) {
   ServiceOptions o;
-  o.min_hole_spacings = node.param_double("min-hole-spacings");
+  o.min_hole_spacings = node.params().number("min-hole-spacings");
   if (!(o.min_hole_spacings >= 0) || std::isinf(o.min_hole_spacings))
     throw runtime::ConfigError("min-hole-spacings must be a number >= 0");
-  o.alpha_radius = node.param_double("alpha-radius");
-  o.auto_factor = node.param_double("auto-factor");
+  o.alpha_radius = node.params().number("alpha-radius");
+  o.auto_factor = node.params().number("auto-factor");
   // Each key parsed on its own, so that the error names it.
   auto parsed = [&](const char* key, auto parse) {
     try {
-      return parse(node.param(key));
+      return parse(node.params().text(key));
     } catch (const outline::OutlineError& e) {
       throw runtime::ConfigError(std::string(key) + ": " + e.what());
     }
@@ -77,8 +77,8 @@ ServiceOptions options_from(const runtime::Node& node) {
   o.alpha_mode = parsed("alpha-mode", outline::parse_alpha_mode);
   if (o.alpha_mode == outline::AlphaMode::Local && o.alpha_radius > 0)
     throw runtime::ConfigError("alpha-mode local sets the radius per triangle: alpha-radius must be 0");
-  o.outer_only = node.param_bool("outer-only");
-  o.threads = static_cast<int>(node.param_int("threads"));
+  o.outer_only = node.params().flag("outer-only");
+  o.threads = static_cast<int>(node.params().integer("threads"));
   const cell::LoadedCell cell = cell::load_cell(node.params());  // the smallest part, the edge-quality limits
   o.min_part_area = cell.cell.outline.min_part_area;
   o.max_edge_dropout = cell.cell.outline.max_edge_dropout;

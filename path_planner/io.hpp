@@ -30,8 +30,8 @@ struct ParamLookup {
 };
 ParamLookup lookup_from(const runtime::Node& node);
 ParamLookup lookup_from(const runtime::Params& params);  // params must outlive the lookup
-// The same outside a process (hg-overview, tests): `cli` (name -> value, lists as "a,b,c") > `config` > the
-// default of planner_params().
+// For tests: `cli` (name -> value, lists as "a,b,c") > `config` > the default of planner_params(), through
+// the same runtime::Params (every program parses its command line with runtime::Params itself).
 ParamLookup lookup_from(const std::map<std::string, std::string>& cli, const runtime::Config& config);
 // Reads the cell file (parameter cell) and the parameters. Throws runtime::ConfigError naming the parameter
 // (and where it came from) when a value is unusable or contradicts the cell, or the cell file and its key.

@@ -78,9 +78,9 @@ constexpr std::size_t kJobsKept = 32;  // outlines kept for REPLAN, newest jobs
 class Planner {
  public:
   Planner(runtime::Node& node) : node_(node), cfg_(config_from(lookup_from(node))) {
-    max_age_ = node.param_double("outline-max-age");
-    timeout_ = node.param_double("outline-timeout");
-    jobs_dir_ = node.param("jobs-dir");
+    max_age_ = node.params().number("outline-max-age");
+    timeout_ = node.params().number("outline-timeout");
+    jobs_dir_ = node.params().text("jobs-dir");
   }
 
   void on_outline(const hullgrind::outline_t& m, const runtime::Delivery& d) {

@@ -127,16 +127,16 @@ runtime::ProcessInfo process_info() {
 std::unique_ptr<Driver> make_sim_driver(runtime::Node& node, const ScriptOptions& script, const Vec3& home) {
   SimOptions so;
   so.home.position = home;
-  auto q = node.param_doubles("sim-home-orientation");
+  auto q = node.params().numbers("sim-home-orientation");
   if (q.size() != 4) throw node.params().error("sim-home-orientation", "needs 4 numbers w,x,y,z");
   so.home.orientation = Quat(q[0], q[1], q[2], q[3]).normalized();
   so.accel = script.accel;
-  so.time_scale = node.param_double("sim-time-scale");
-  so.fault = parse_sim_fault(node.param("sim-fault"));
-  so.fault_at_index = int(node.param_int("sim-fault-index"));
-  so.fault_at_time = node.param_double("sim-fault-time");
-  so.fault_every_job = node.param_bool("sim-fault-every-job");
-  so.outage = node.param_double("sim-outage");
+  so.time_scale = node.params().number("sim-time-scale");
+  so.fault = parse_sim_fault(node.params().text("sim-fault"));
+  so.fault_at_index = int(node.params().integer("sim-fault-index"));
+  so.fault_at_time = node.params().number("sim-fault-time");
+  so.fault_every_job = node.params().flag("sim-fault-every-job");
+  so.outage = node.params().number("sim-outage");
   if (!(so.time_scale > 0)) throw node.params().error("sim-time-scale", "must be positive");
   struct sigaction sa {};
   sa.sa_handler = on_sim_signal;
@@ -150,15 +150,15 @@ std::unique_ptr<Driver> make_sim_driver(runtime::Node& node, const ScriptOptions
 // The Universal Robots driver from the ur-* parameters.
 std::unique_ptr<Driver> make_ur_driver(runtime::Node& node, const ScriptOptions& script) {
   UrOptions uo;
-  uo.host = node.param("ur-host");
-  uo.allow_remote = node.param_bool("ur-allow-remote");
-  uo.script_port = int(node.param_int("ur-script-port"));
-  uo.rtde_port = int(node.param_int("ur-rtde-port"));
-  uo.frequency = node.param_double("ur-frequency");
+  uo.host = node.params().text("ur-host");
+  uo.allow_remote = node.params().flag("ur-allow-remote");
+  uo.script_port = int(node.params().integer("ur-script-port"));
+  uo.rtde_port = int(node.params().integer("ur-rtde-port"));
+  uo.frequency = node.params().number("ur-frequency");
   uo.script = script;
-  uo.data_timeout = node.param_double("ur-data-timeout");
-  uo.backoff_initial = node.param_double("ur-backoff-initial");
-  uo.backoff_max = node.param_double("ur-backoff-max");
+  uo.data_timeout = node.params().number("ur-data-timeout");
+  uo.backoff_initial = node.params().number("ur-backoff-initial");
+  uo.backoff_max = node.params().number("ur-backoff-max");
   return std::make_unique<UrDriver>(uo);
 }
 
@@ -175,17 +175,17 @@ class Process {
     BridgeConfig cfg;
     const cell::LoadedCell cell = cell::load_cell(node.params());
     cfg.limits = cell::limits_of(cell.cell);
-    cfg.path_timeout = node.param_double("path-timeout");
-    cfg.progress_period = node.param_double("progress-period");
-    cfg.state_file = node.param("state-file");
+    cfg.path_timeout = node.params().number("path-timeout");
+    cfg.progress_period = node.params().number("progress-period");
+    cfg.state_file = node.params().text("state-file");
     if (const char* run = std::getenv("HG_RUN_ID")) cfg.run_id = run;
-    cfg.export_file = node.param("export");
-    cfg.jobs_dir = node.param("jobs-dir");
+    cfg.export_file = node.params().text("export");
+    cfg.jobs_dir = node.params().text("jobs-dir");
     cfg.auto_approve = cell.cell.approval == cell::Approval::Auto;
-    cfg.frame = node.param("frame");
+    cfg.frame = node.params().text("frame");
     cfg.source = node.name();
     cfg.script = script_from(node.params(), cell);
-    const std::string driver = node.param("driver");
+    const std::string driver = node.params().text("driver");
     std::unique_ptr<Driver> d = make_driver(node, driver, cfg.script, cell.cell.home);
     d->on_decode_error = [&node](const std::string& what) { node.count_decode_error("robot controller", what); };
     BridgeOutputs out;

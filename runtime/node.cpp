@@ -84,12 +84,15 @@ void Node::print_usage(std::FILE* out) const {
       "Exit status: 0 clean stop, 1 cannot open LCM, 2 bad command line or config (one line names the key).\n");
 }
 
-void Node::parse(int argc, char** argv) {
-  std::vector<Param> all = info_.params;
-  all.push_back(text_param("lcm-url", default_lcm_url(),
+std::vector<Param> process_params(std::vector<Param> own) {
+  own.push_back(text_param("lcm-url", default_lcm_url(),
                            "LCM provider [$LCM_DEFAULT_URL, else " + std::string(kDefaultLcmUrl) + "]"));
-  all.push_back(text_param("log-level", "info", "log threshold", {"debug", "info", "warn", "error"}));
-  params_ = Params(std::move(all));
+  own.push_back(text_param("log-level", "info", "log threshold", {"debug", "info", "warn", "error"}));
+  return own;
+}
+
+void Node::parse(int argc, char** argv) {
+  params_ = Params(process_params(info_.params));
   try {
     switch (params_.parse(argc, argv)) {
       case Params::Action::Help: print_usage(stdout); std::exit(0);

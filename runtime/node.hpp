@@ -37,6 +37,10 @@ struct ProcessInfo {
   std::vector<Param> params;  // the process's own parameters
 };
 
+// A process's parameters as its command line takes them: its own, then --lcm-url and --log-level, which
+// every process has (hg-overview parses the planner's command line with them).
+std::vector<Param> process_params(std::vector<Param> own);
+
 struct Counters {
   std::atomic<std::int64_t> received{0}, published{0}, dropped{0}, decode_errors{0};
 };
@@ -62,19 +66,9 @@ class Node {
   const std::string& name() const { return info_.name; }
   const std::string& lcm_url() const { return lcm_url_; }
   const Config& config() const { return params_.config(); }
+  // The one way to read a parameter (command line > config > default): params().number("tool-radius").
   const Params& params() const { return params_; }
   std::vector<std::string> positional() const { return params_.positional(); }
-
-  // Parameter lookups (command line > config > default). Throw ConfigError on a value of the wrong type.
-  // (runtime::Params does the work; ConfigError messages name the command line or the file and the key.)
-  std::string param(const std::string& name) const { return params_.text(name); }
-  double param_double(const std::string& name) const { return params_.number(name); }
-  std::int64_t param_int(const std::string& name) const { return params_.integer(name); }
-  bool param_bool(const std::string& name) const { return params_.flag(name); }
-  std::vector<double> param_doubles(const std::string& name) const {
-    return params_.numbers(name);
-  }  // "a,b,c" or a YAML list
-  bool param_given(const std::string& name) const { return params_.given(name); }
 
   lcm::LCM& lcm() { return open_lcm(); }
   Counters& counters() { return counters_; }

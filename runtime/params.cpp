@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -69,7 +70,26 @@ std::string wrapped(const std::string& text, std::size_t first, std::size_t inde
   return out + line;
 }
 
+// How --help and errors name a positional argument: its value name, else its name in capitals.
+std::string shown(const Param& p) {
+  if (!p.value_name.empty()) return p.value_name;
+  std::string upper = p.name;
+  for (char& c : upper) c = c == '-' ? '_' : char(std::toupper(static_cast<unsigned char>(c)));
+  return upper;
+}
+
 }  // namespace
+
+Param positional(Param p) {
+  p.positional = true;
+  return p;
+}
+Param rest_param(std::string name, std::string help) {
+  Param p{std::move(name), "", std::move(help)};
+  p.rest = true;
+  p.value_name = "ARG...";
+  return p;
+}
 
 Param text_param(std::string name, std::string def, std::string help, std::vector<std::string> choices) {
   Param p{std::move(name), std::move(def), std::move(help)};
@@ -137,6 +157,30 @@ int answer(Params::Action action, const std::string& program, const Params& para
   return 0;
 }
 
+int parse_tool(Params& params, int argc, const char* const* argv, const std::string& program,
+               const std::function<void(std::FILE*, const Params&)>& usage) {
+  try {
+    const Params::Action action = params.parse(argc, argv);
+    return action == Params::Action::Run ? -1 : answer(action, program, params, usage);
+  } catch (const std::exception& e) {  // ConfigError: the option, or the config file and its key
+    std::fprintf(stderr, "%s: %s (see --help)\n", program.c_str(), e.what());
+    return kExitBadInput;
+  }
+}
+
+std::function<void(std::FILE*, const Params&)> usage_with(std::string head) {
+  return [head = std::move(head)](std::FILE* f, const Params& params) {
+    std::fputs(head.c_str(), f);
+    std::fputs("Options (command line > --config FILE > default):\n", f);
+    params.print_options(f);
+    std::fputs(
+        "  --config FILE                    a YAML file with any of these options as keys (the command line "
+        "wins)\n"
+        "  --help                           this text; --help-markdown: the options as a table; --version\n",
+        f);
+  };
+}
+
 Params::Params(std::vector<Param> declared) : declared_(std::move(declared)) {}
 
 const Param* Params::find(const std::string& name) const {
@@ -157,7 +201,7 @@ std::string Params::unknown_key_message(const std::string& key, bool command_lin
   const Param* nearest = nullptr;
   std::size_t best = std::string::npos;
   for (const Param& p : declared_) {
-    if (!p.moved_to.empty()) continue;
+    if (!p.moved_to.empty() || p.positional) continue;
     const std::size_t d = edit_distance(kebab, p.name);
     if (d < best) best = d, nearest = &p;
   }
@@ -165,46 +209,85 @@ std::string Params::unknown_key_message(const std::string& key, bool command_lin
          (nearest ? " (nearest known: " + dash + nearest->name + end + ")" : std::string());
 }
 
-Params::Action Params::parse(int argc, const char* const* argv) {
-  // --help and --version first: they answer whatever else the command line says, and touch nothing.
+// The index of the command (the first positional argument) in a tool with subcommands; argc otherwise.
+int Params::command_index(int argc, const char* const* argv) const {
+  if (!stop_at_command_) return argc;
   for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const Param* p = find(a.rfind("--", 0) == 0 ? a.substr(2) : a);
+    if (a.rfind("--", 0) != 0 && !(a.size() == 2 && a[0] == '-' && p)) return i;
+    if (a.find('=') == std::string::npos && a != "--config" && p && !p->is_flag) ++i;  // skip its value
+    else if (a == "--config")
+      ++i;
+  }
+  return argc;
+}
+
+// One option at argv[i] (--name, --name=value, --name value, -x value); i ends on the last argument used.
+void Params::parse_option(int& i, int end, const char* const* argv, std::string& config_path) {
+  const std::string a = argv[i];
+  const bool is_alias = a.rfind("--", 0) != 0;
+  std::string name = is_alias ? a : a.substr(2), value;
+  bool has_value = false;
+  if (auto eq = name.find('='); eq != std::string::npos) {
+    value = name.substr(eq + 1), name = name.substr(0, eq), has_value = true;
+  }
+  const Param* p = name == "config" ? nullptr : find(name);
+  if (p && (!p->moved_to.empty() || p->positional)) p = nullptr;
+  if (!p && name != "config") throw ConfigError("command line: " + unknown_key_message(name, true));
+  if (p && p->rest) {
+    rest_[p->name].assign(argv + i + 1, argv + end);
+    i = end;
+    return;
+  }
+  if (p && p->is_flag) {
+    cli_[p->name] = has_value ? value : "true";
+    return;
+  }
+  if (!has_value) {
+    if (i + 1 >= end) throw ConfigError("command line: option " + a + " needs a value");
+    value = argv[++i];
+  }
+  if (p) cli_[p->name] = value;
+  else
+    config_path = value;
+}
+
+// The positional arguments into the declared positional parameters, in order (none declared: the program
+// reads positional() itself).
+void Params::assign_positional() {
+  std::vector<const Param*> slots;
+  for (const Param& p : declared_)
+    if (p.positional) slots.push_back(&p);
+  if (slots.empty() || stop_at_command_) return;
+  if (positional_.size() > slots.size())
+    throw ConfigError("command line: unexpected argument '" + positional_[slots.size()] + "'");
+  for (std::size_t k = 0; k < positional_.size(); ++k) cli_[slots[k]->name] = positional_[k];
+}
+
+Params::Action Params::parse(int argc, const char* const* argv) {
+  const int end = command_index(argc, argv);
+  // --help and --version first: they answer whatever else the command line says, and touch nothing.
+  for (int i = 1; i < end; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") return Action::Help;
     if (a == "--help-markdown") return Action::HelpMarkdown;
     if (a == "--version") return Action::Version;
   }
   std::string config_path;
-  for (int i = 1; i < argc; ++i) {
+  for (int i = 1; i < end; ++i) {
     const std::string a = argv[i];
     if (a == "--") {
-      positional_.insert(positional_.end(), argv + i + 1, argv + argc);
+      positional_.insert(positional_.end(), argv + i + 1, argv + end);
       break;
     }
-    const bool is_alias = a.size() == 2 && a[0] == '-' && a != "--" && find(a);
-    if (a.rfind("--", 0) != 0 && !is_alias) {
-      positional_.push_back(a);
-      continue;
-    }
-    std::string name = is_alias ? a : a.substr(2), value;
-    bool has_value = false;
-    if (auto eq = name.find('='); eq != std::string::npos) {
-      value = name.substr(eq + 1), name = name.substr(0, eq), has_value = true;
-    }
-    const Param* p = name == "config" ? nullptr : find(name);
-    if (p && !p->moved_to.empty()) p = nullptr;
-    if (!p && name != "config") throw ConfigError("command line: " + unknown_key_message(name, true));
-    if (p && p->is_flag) {
-      cli_[p->name] = has_value ? value : "true";
-      continue;
-    }
-    if (!has_value) {
-      if (i + 1 >= argc) throw ConfigError("command line: option " + a + " needs a value");
-      value = argv[++i];
-    }
-    if (p) cli_[p->name] = value;
+    const bool is_alias = a.size() == 2 && a[0] == '-' && find(a);
+    if (a.rfind("--", 0) != 0 && !is_alias) positional_.push_back(a);
     else
-      config_path = value;
+      parse_option(i, end, argv, config_path);
   }
+  positional_.insert(positional_.end(), argv + end, argv + argc);
+  assign_positional();
   if (!config_path.empty()) use_config(Config::load(config_path));
   check_values();
   return Action::Run;
@@ -225,6 +308,8 @@ void Params::check_config_keys() const {
   for (const std::string& key : config_.keys())
     if (const Param* p = find(key); !p || !p->moved_to.empty() || is_builtin(key))
       throw config_.error(key, unknown_key_message(key, false));
+    else if (p->positional || p->rest)
+      throw config_.error(key, "a command-line argument, not a config key");
 }
 
 void Params::check_values() const {
@@ -250,11 +335,17 @@ std::string Params::origin(const std::string& name) const {
 }
 
 ConfigError Params::error(const std::string& name, const std::string& what) const {
+  if (const Param* p = find(name); p && p->positional) return ConfigError("command line: " + shown(*p) + ": " + what);
   if (cli_.count(name)) return ConfigError("command line: --" + name + ": " + what);
   return ConfigError(origin(name) + ": key '" + name + "': " + what);
 }
 
-bool Params::given(const std::string& name) const { return cli_.count(name) || config_.has(name); }
+bool Params::given(const std::string& name) const { return cli_.count(name) || config_.has(name) || rest_.count(name); }
+
+std::vector<std::string> Params::rest(const std::string& name) const {
+  const auto it = rest_.find(name);
+  return it == rest_.end() ? std::vector<std::string>{} : it->second;
+}
 
 std::string Params::text(const std::string& name) const {
   const Param* p = find(name);
@@ -332,7 +423,9 @@ void Params::print_options(std::FILE* out) const {
               : p.kind() == ParamType::Numbers ? " A,B,.."
               : p.kind() == ParamType::Flag    ? " true|false"
                                                : " VALUE";
-    const std::string left = "  " + (p.alias.empty() ? "" : p.alias + value + ", ") + "--" + p.name + value;
+    std::string left = "  " + (p.alias.empty() ? "" : p.alias + value + ", ") + "--" + p.name + value;
+    if (p.positional) left = "  " + shown(p);
+    if (p.rest) left = "  --" + p.name + " " + p.value_name;
     std::string extra;
     if (!p.choices.empty()) {
       for (const std::string& c : p.choices) extra += (extra.empty() ? " {" : "|") + c;
@@ -359,7 +452,8 @@ std::string Params::markdown() const {
       return out;
     };
     const std::string help = cell(p.help);
-    md << "| `" << p.name << "` | " << cell(type_name(p.kind())) << " | "
+    const std::string key = p.positional ? shown(p) + "` (argument)" : p.rest ? p.name + " ARG...`" : p.name + "`";
+    md << "| `" << key << " | " << cell(type_name(p.kind())) << " | "
        << (p.default_value.empty() ? "" : "`" + p.default_value + "`") << " | " << range << " | " << help << " |\n";
   }
   return md.str();

@@ -33,6 +33,12 @@ struct Param {
   // the command line or in a config file it is refused with this; --help and the docs do not list it.
   std::string moved_to{};
   std::string value_name{};  // what --help shows for the value ("FILE"); empty: VALUE
+  // An argument by position (hg-plan-bench VERTICES RUNS), not --name: the positional arguments fill the
+  // declared positional parameters in their order and are checked as any value; one more is an error.
+  bool positional = false;
+  // --name ARG...: every argument after it belongs to it (hg-overview --planner-args: the planner's own
+  // command line, parsed with the planner's declarations); read with Params::rest.
+  bool rest = false;
 
   ParamType kind() const { return is_flag ? ParamType::Flag : type; }
 };
@@ -47,6 +53,10 @@ Param integer_param(std::string name, std::string def, std::string help,
                     double max = std::numeric_limits<double>::infinity());
 Param numbers_param(std::string name, std::string def, std::string help);
 Param flag_param(std::string name, std::string help);
+// An argument by position (see Param::positional): positional(integer_param("runs", "21", "...", 1)).
+Param positional(Param p);
+// --name ARG...: the rest of the command line (see Param::rest).
+Param rest_param(std::string name, std::string help);
 // A key that moved elsewhere (see Param::moved_to): refused naming where it lives now.
 Param moved_param(std::string name, std::string now);
 // Names the values --help shows ({"output", "FILE"}: --output FILE); throws std::invalid_argument for a
@@ -62,6 +72,11 @@ class Params {
 
   Params() = default;
   explicit Params(std::vector<Param> declared);
+
+  // A tool with subcommands (hg-lcm-send [--lcm-url URL] COMMAND [options]): parse() takes the options before
+  // the first positional argument, the command, and leaves it and everything after it in positional(), for
+  // the command's own Params (parse(argc - k, argv + k): the command word stands in for the program name).
+  void stop_at_command() { stop_at_command_ = true; }
 
   // Parses argv[1..] and loads --config FILE. Every value is checked against its type and range before
   // this returns, so a bad value stops the program at start. Throws ConfigError naming the command line or
@@ -81,8 +96,9 @@ class Params {
   double number(const std::string& name) const;
   std::int64_t integer(const std::string& name) const;
   bool flag(const std::string& name) const;
-  std::vector<double> numbers(const std::string& name) const;  // "a,b,c" on the command line, a YAML list
-  bool given(const std::string& name) const;                   // on the command line or in the config
+  std::vector<double> numbers(const std::string& name) const;    // "a,b,c" on the command line, a YAML list
+  bool given(const std::string& name) const;                     // on the command line or in the config
+  std::vector<std::string> rest(const std::string& name) const;  // the arguments after --name (Param::rest)
 
   // Where the value of `name` comes from: "command line", "config 'FILE' line N" or "default".
   std::string origin(const std::string& name) const;
@@ -94,6 +110,9 @@ class Params {
   std::string markdown() const;
 
  private:
+  int command_index(int argc, const char* const* argv) const;
+  void parse_option(int& i, int argc, const char* const* argv, std::string& config_path);
+  void assign_positional();
   void check_config_keys() const;
   void check_values() const;
   std::string unknown_key_message(const std::string& key, bool command_line) const;
@@ -101,7 +120,9 @@ class Params {
   std::vector<Param> declared_;
   std::map<std::string, std::string> cli_;
   std::vector<std::string> positional_;
+  std::map<std::string, std::vector<std::string>> rest_;
   Config config_;
+  bool stop_at_command_ = false;
 };
 
 // The failure contract of every program and tool (docs/RUNNING.md): 0 success; kExitFailed, it ran and failed;
@@ -117,5 +138,14 @@ const char* version();
 // standard output; returns the exit code (0).
 int answer(Params::Action action, const std::string& program, const Params& params,
            const std::function<void(std::FILE*, const Params&)>& usage);
+
+// The start of a command-line tool's main: parses argv into `params`. Returns -1 when the tool is to run;
+// else the exit code, having answered: 0 after --help (usage), --help-markdown or --version;
+// kExitBadInput after a bad command line or config file, which is one line on stderr,
+// "PROGRAM: <what, naming the option or the file and key> (see --help)".
+int parse_tool(Params& params, int argc, const char* const* argv, const std::string& program,
+               const std::function<void(std::FILE*, const Params&)>& usage);
+// The usage every simple tool prints: `head`, the options as declared, the built-in options.
+std::function<void(std::FILE*, const Params&)> usage_with(std::string head);
 
 }  // namespace hg::runtime

@@ -109,14 +109,14 @@ struct Station {
 
 ServerConfig server_config(const runtime::Node& node) {
   ServerConfig c;
-  c.address = node.param("address");
-  c.port = int(node.param_int("port"));
-  c.tls_cert = node.param("tls-cert");
-  c.tls_key = node.param("tls-key");
-  c.max_body = std::size_t(node.param_int("max-body"));
-  c.read_timeout = std::chrono::milliseconds(std::int64_t(node.param_double("read-timeout") * 1000));
-  c.idle_timeout = std::chrono::milliseconds(std::int64_t(node.param_double("idle-timeout") * 1000));
-  c.max_connections = int(node.param_int("max-connections"));
+  c.address = node.params().text("address");
+  c.port = int(node.params().integer("port"));
+  c.tls_cert = node.params().text("tls-cert");
+  c.tls_key = node.params().text("tls-key");
+  c.max_body = std::size_t(node.params().integer("max-body"));
+  c.read_timeout = std::chrono::milliseconds(std::int64_t(node.params().number("read-timeout") * 1000));
+  c.idle_timeout = std::chrono::milliseconds(std::int64_t(node.params().number("idle-timeout") * 1000));
+  c.max_connections = int(node.params().integer("max-connections"));
   return c;
 }
 
@@ -138,9 +138,9 @@ void subscribe(runtime::Node& node, LiveState& live) {
 
 ApiConfig api_config(const runtime::Node& node, const cell::LoadedCell& cell, Station& st) {
   ApiConfig c;
-  c.tls = !node.param("tls-cert").empty();
-  c.web_root = node.param("web-root").empty() ? HG_STATION_WEB_ROOT : node.param("web-root");
-  c.three_root = node.param("three-root");
+  c.tls = !node.params().text("tls-cert").empty();
+  c.web_root = node.params().text("web-root").empty() ? HG_STATION_WEB_ROOT : node.params().text("web-root");
+  c.three_root = node.params().text("three-root");
   c.limits.max_speed = cell.cell.max_speed;
   c.cell = cell_summary(cell);
   c.station = [&st] {
@@ -154,7 +154,7 @@ ApiConfig api_config(const runtime::Node& node, const cell::LoadedCell& cell, St
                 {"live_clients", s.websockets.load()},
                 {"live_clients_dropped", s.websocket_drops.load()}};
   };
-  const std::string run_dir = node.param("supervisor-dir");
+  const std::string run_dir = node.params().text("supervisor-dir");
   if (!run_dir.empty())
     c.supervisor = [&st, run_dir] {  // asked at most once a second
       std::lock_guard lock(st.supervisor_mutex);
@@ -232,21 +232,22 @@ runtime::ProcessInfo process_info() {
 }
 
 std::shared_ptr<void> attach(runtime::Node& node) {
-  if (node.param("users-file").empty())
+  if (node.params().text("users-file").empty())
     throw runtime::ConfigError("users-file: required (make one with tools/hg-station-user add NAME --role operator)");
   const cell::LoadedCell cell = cell::load_cell(node.params());
   auto st = std::make_shared<Station>();
-  st->sessions = std::make_unique<Sessions>(std::chrono::seconds(std::int64_t(node.param_double("session-timeout"))));
+  st->sessions =
+      std::make_unique<Sessions>(std::chrono::seconds(std::int64_t(node.params().number("session-timeout"))));
   LiveOptions lo;
   lo.camera_to_base = cell.cell.calibration.camera_to_base;
-  lo.cloud_points = std::size_t(node.param_int("cloud-points"));
+  lo.cloud_points = std::size_t(node.params().integer("cloud-points"));
   st->live = std::make_unique<LiveState>(lo);
-  st->history = std::make_unique<History>(node.param("jobs-dir"));
+  st->history = std::make_unique<History>(node.params().text("jobs-dir"));
   Station* raw = st.get();
   st->api =
       std::make_unique<Api>(api_config(node, cell, *st), std::vector<User>{}, *st->sessions, st->limiter, *st->live,
                             *st->history, [raw](hullgrind::job_request_t& r) { return raw->requests.push(r); });
-  st->users_file = node.param("users-file");
+  st->users_file = node.params().text("users-file");
   try {
     reload_users(*st, true);
   } catch (const UsersError& e) {
@@ -263,8 +264,8 @@ std::shared_ptr<void> attach(runtime::Node& node) {
   });
   st->server->start();
   runtime::logf(runtime::Level::Info, "listening on http%s://%s:%d/ (%zu users)",
-                node.param("tls-cert").empty() ? "" : "s", node.param("address").c_str(), st->server->port(),
-                st->api->user_count());
+                node.params().text("tls-cert").empty() ? "" : "s", node.params().text("address").c_str(),
+                st->server->port(), st->api->user_count());
   health(node, *st);
   return st;
 }

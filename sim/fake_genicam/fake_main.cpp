@@ -6,13 +6,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "sim/fake_genicam/fake_camera.hpp"
-#include "runtime/version.hpp"
+#include "runtime/params.hpp"
 
 using namespace hg::sim;
 
@@ -35,17 +37,35 @@ std::set<std::string> non_loopback_interfaces() {
   return names;
 }
 
-int usage() {
-  std::fprintf(stdout,
-               "usage: hg-fake-genicam [--scene NAME] [--profile pm806|lsr-l] [--seed N] [--noise-scale K]\n"
-               "                       [--serial S] [--scale-mm MM] [--offset-mm MM] [--rate HZ] [--xml FILE]\n"
-               "A fake GigE Vision 3-D camera on 127.0.0.1 (Aravis's fake camera with hullgrind's GenICam XML)\n"
-               "serving the scene renderer's depth as Coord3D_C16: raw = (depth_mm - offset) / scale. Discovered\n"
-               "by Aravis as Aravis-Fake-SERIAL. Runs until SIGINT/SIGTERM. Only in a network namespace with\n"
-               "nothing but lo (tests/netns.sh): it answers discovery broadcasts.\n"
-               "Defaults: --scene plate-hole-slot --profile pm806 --serial HG3D-0001 --scale-mm 0.05\n"
-               "--offset-mm 400 --rate 5 --noise-scale 1 (frame n is the rendering at index n).\n");
-  return 0;
+constexpr const char* kUsageHead =
+    "usage: hg-fake-genicam [options]\n"
+    "A fake GigE Vision 3-D camera on 127.0.0.1 (Aravis's fake camera with hullgrind's GenICam XML)\n"
+    "serving the scene renderer's depth as Coord3D_C16: raw = (depth_mm - offset) / scale. Discovered\n"
+    "by Aravis as Aravis-Fake-SERIAL. Runs until SIGINT/SIGTERM. Only in a network namespace with\n"
+    "nothing but lo (tests/netns.sh): it answers discovery broadcasts. Frame n is the rendering at index n.\n";
+
+std::vector<hg::runtime::Param> fake_params() {
+  using namespace hg::runtime;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::vector<Param> params = {
+      text_param("scene", "plate-hole-slot", "scene preset of the renderer"),
+      text_param("profile", "pm806", "camera profile", {"pm806", "lsr-l"}),
+      integer_param("seed", "", "the scene's random seed (default: the preset's)", 0),
+      number_param("noise-scale", "1", "multiplies the profile's depth noise, dropout and flying pixels", 0),
+      text_param("serial", "HG3D-0001", "the camera's serial number"),
+      number_param("scale-mm", "0.05", "depth per raw step, mm", 0, inf, true),
+      number_param("offset-mm", "400", "depth of raw value 0, mm"),
+      number_param("rate", "5", "frame rate, Hz", 0, inf, true),
+      text_param("xml", "", "GenICam XML file to serve instead of hullgrind's")};
+  set_value_names(params, {{"scene", "NAME"},
+                           {"seed", "N"},
+                           {"noise-scale", "K"},
+                           {"serial", "S"},
+                           {"scale-mm", "MM"},
+                           {"offset-mm", "MM"},
+                           {"rate", "HZ"},
+                           {"xml", "FILE"}});
+  return params;
 }
 
 int refuse(const std::string& what) {  // one line (the failure contract of every program, docs/RUNNING.md)
@@ -56,39 +76,19 @@ int refuse(const std::string& what) {  // one line (the failure contract of ever
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-fake-genicam")) return 0;
+  hg::runtime::Params p(fake_params());
+  if (const int rc = hg::runtime::parse_tool(p, argc, argv, "hg-fake-genicam", hg::runtime::usage_with(kUsageHead));
+      rc >= 0)
+    return rc;
+  if (!p.positional().empty()) return refuse("unexpected argument '" + p.positional()[0] + "'");
   FakeGenicamOptions o;
-  std::string scene = "plate-hole-slot", profile = "pm806", seed;
-  double noise = 1.0;
-  o.offset_mm = 400;
-  o.frame_rate = 5;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has = i + 1 < argc;
-    if (a == "--help" || a == "-h") return usage();
-    if (a.rfind("--", 0) != 0) return refuse("unknown argument " + a);
-    if (!has) return refuse(a + " needs a value");
-    const std::string v = argv[++i];
-    if (a == "--scene") scene = v;
-    else if (a == "--profile")
-      profile = v;
-    else if (a == "--seed")
-      seed = v;
-    else if (a == "--noise-scale")
-      noise = std::atof(v.c_str());
-    else if (a == "--serial")
-      o.serial = v;
-    else if (a == "--scale-mm")
-      o.scale_mm = std::atof(v.c_str());
-    else if (a == "--offset-mm")
-      o.offset_mm = std::atof(v.c_str());
-    else if (a == "--rate")
-      o.frame_rate = std::atof(v.c_str());
-    else if (a == "--xml")
-      o.xml_path = v;
-    else
-      return refuse("unknown option " + a);
-  }
+  const std::string scene = p.text("scene"), profile = p.text("profile");
+  const double noise = p.number("noise-scale");
+  o.serial = p.text("serial");
+  o.scale_mm = p.number("scale-mm");
+  o.offset_mm = p.number("offset-mm");
+  o.frame_rate = p.number("rate");
+  o.xml_path = p.text("xml");
   if (!o.xml_path.empty() && !std::ifstream(o.xml_path)) return refuse("--xml '" + o.xml_path + "': cannot open");
   if (const auto others = non_loopback_interfaces(); !others.empty()) {
     std::fprintf(stderr,
@@ -99,9 +99,8 @@ int main(int argc, char** argv) {
   }
   try {
     o.scene = scene_preset(scene);
-    if (!seed.empty()) o.scene.seed = std::strtoull(seed.c_str(), nullptr, 10);
+    if (p.given("seed")) o.scene.seed = std::uint64_t(p.integer("seed"));
     o.profile = camera_profile(profile);
-    if (!(noise >= 0)) throw std::invalid_argument("--noise-scale must be >= 0");
     o.profile.noise_a *= noise;
     o.profile.noise_b *= noise;
     o.profile.dropout = std::min(1.0, o.profile.dropout * noise);

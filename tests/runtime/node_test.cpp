@@ -42,12 +42,12 @@ TEST(RuntimeNode, CommandLineBeatsConfigBeatsDefault) {
   std::string cfg = hg::test::temp_yaml("speed: 0.5\nmode: ds\n");
   Argv a({"--lcm-url", "memq://", "--config", cfg, "--mode", "ordinary", "--dry-run"});
   hr::Node node(info(), a.argc(), a.argv());
-  EXPECT_EQ(node.param("mode"), "ordinary");                                // command line
-  EXPECT_EQ(node.param_double("speed"), 0.5);                               // config
-  EXPECT_EQ(node.param_doubles("limits"), (std::vector<double>{1, 2, 3}));  // default
-  EXPECT_TRUE(node.param_bool("dry-run"));
-  EXPECT_TRUE(node.param_given("speed"));
-  EXPECT_FALSE(node.param_given("limits"));
+  EXPECT_EQ(node.params().text("mode"), "ordinary");                           // command line
+  EXPECT_EQ(node.params().number("speed"), 0.5);                               // config
+  EXPECT_EQ(node.params().numbers("limits"), (std::vector<double>{1, 2, 3}));  // default
+  EXPECT_TRUE(node.params().flag("dry-run"));
+  EXPECT_TRUE(node.params().given("speed"));
+  EXPECT_FALSE(node.params().given("limits"));
   EXPECT_EQ(node.lcm_url(), "memq://");
   unlink(cfg.c_str());
 }
@@ -55,8 +55,8 @@ TEST(RuntimeNode, CommandLineBeatsConfigBeatsDefault) {
 TEST(RuntimeNode, FlagDefaultsToFalse) {
   Argv a({"--lcm-url=memq://"});
   hr::Node node(info(), a.argc(), a.argv());
-  EXPECT_FALSE(node.param_bool("dry-run"));
-  EXPECT_EQ(node.param("mode"), "dshi");
+  EXPECT_FALSE(node.params().flag("dry-run"));
+  EXPECT_EQ(node.params().text("mode"), "dshi");
 }
 
 TEST(RuntimeNodeDeathTest, UnknownOptionExits2) {

@@ -249,3 +249,57 @@ TEST(RuntimeParamsDeathTest, ProcessWithBadValueExits2NamingFileAndKey) {
 }
 
 }  // namespace
+
+// Positional arguments are declared as any parameter: filled in order, checked against type and range, named
+// in errors as --help shows them; one more than declared is an error.
+TEST(RuntimeParams, PositionalArgumentsAreDeclaredAndChecked) {
+  const std::vector<hr::Param> bench = {hr::positional(hr::integer_param("vertices", "10000", "about this many", 100)),
+                                        hr::positional(hr::integer_param("runs", "21", "runs", 1)),
+                                        hr::flag_param("verbose", "more")};
+  std::vector<const char*> argv = {"hg-test", "500", "--verbose"};
+  hr::Params p(bench);
+  ASSERT_EQ(p.parse(int(argv.size()), argv.data()), hr::Params::Action::Run);
+  EXPECT_EQ(p.integer("vertices"), 500);
+  EXPECT_EQ(p.integer("runs"), 21);  // its default
+  EXPECT_TRUE(p.flag("verbose"));
+  EXPECT_EQ(parse_error({"50"}, bench), "command line: VERTICES: 50 is out of range (>= 100)");
+  EXPECT_EQ(parse_error({"500", "x"}, bench), "command line: RUNS: 'x' is not an integer");
+  EXPECT_EQ(parse_error({"500", "2", "3"}, bench), "command line: unexpected argument '3'");
+  EXPECT_TRUE(contains(parse_error({"--vertices", "500"}, bench), "unknown option --vertices")) << "not an option";
+  const std::string file = temp_yaml("runs: 3\n");
+  EXPECT_TRUE(contains(parse_error({"--config", file}, bench), "a command-line argument, not a config key"));
+  hr::Params shown(bench);
+  EXPECT_TRUE(contains(shown.markdown(), "| `VERTICES` (argument) | integer | `10000` | >= 100 |"));
+}
+
+// --name ARG...: the rest of the command line belongs to the option, unparsed (it is another program's).
+TEST(RuntimeParams, RestOptionTakesEveryArgumentAfterIt) {
+  const std::vector<hr::Param> decl = {hr::text_param("out", "", "folder"),
+                                       hr::rest_param("planner-args", "the planner's command line")};
+  std::vector<const char*> argv = {"hg-test", "log", "--out", "o", "--planner-args", "--config", "x.yaml", "--out"};
+  hr::Params p(decl);
+  ASSERT_EQ(p.parse(int(argv.size()), argv.data()), hr::Params::Action::Run);
+  EXPECT_EQ(p.text("out"), "o");
+  EXPECT_EQ(p.rest("planner-args"), (std::vector<std::string>{"--config", "x.yaml", "--out"}));
+  EXPECT_EQ(p.positional(), std::vector<std::string>{"log"});
+  EXPECT_TRUE(p.given("planner-args"));
+  hr::Params none(decl);
+  EXPECT_TRUE(none.rest("planner-args").empty());
+}
+
+// A tool with subcommands: the options before the command are the tool's, the command and what follows are
+// left for the command's own declarations (--help after the command is the command's).
+TEST(RuntimeParams, StopsAtTheCommand) {
+  std::vector<const char*> argv = {"hg-test", "--lcm-url", "memq://", "job", "--job-id", "j", "--help"};
+  hr::Params global({hr::text_param("lcm-url", "udpm://", "bus")});
+  global.stop_at_command();
+  ASSERT_EQ(global.parse(int(argv.size()), argv.data()), hr::Params::Action::Run);
+  EXPECT_EQ(global.text("lcm-url"), "memq://");
+  ASSERT_EQ(global.positional(), (std::vector<std::string>{"job", "--job-id", "j", "--help"}));
+  hr::Params job({hr::text_param("job-id", "", "job")});
+  EXPECT_EQ(job.parse(int(argv.size()) - 3, argv.data() + 3), hr::Params::Action::Help);
+  std::vector<const char*> top = {"hg-test", "--help", "job"};
+  hr::Params again({hr::text_param("lcm-url", "udpm://", "bus")});
+  again.stop_at_command();
+  EXPECT_EQ(again.parse(int(top.size()), top.data()), hr::Params::Action::Help);
+}

@@ -8,6 +8,10 @@ key; when it offers --cell, a missing cell file; a missing input file where it r
 LCM) is given an LCM URL that cannot be opened: a bad configuration must be refused (exit 2) before LCM is
 opened (that would be exit 1, "cannot open LCM") or anything else is logged.
 
+Per program also (one table, OUT_OF_RANGE): a value outside its declared range (or not one of its choices) is
+refused, exit 2, in one line naming the option and saying why; --help answers exit 0 and lists that option. Every
+option is declared once in runtime::Params (type, range, help): the tables keep every program on it.
+
 Default files (config/cell.yaml, config/path_planner.yaml) resolve from any working directory: next to the
 executable (build/bin/../../config) or in HG_CONFIG_DIR. Runs in its own network namespace (tests/netns.sh)."""
 import os
@@ -63,6 +67,43 @@ TABLE = {
 }
 
 
+# program -> (arguments with one value out of its declared range or choices, what the one line must name).
+# A program of build/bin without an option that has a range says why in NO_RANGE instead.
+OUT_OF_RANGE = {
+    "hg-bench": (["--runs", "0"], "--runs"),
+    "hg-bench-camera": (["--frames", "0"], "--frames"),
+    "hg-bench-outline-service": (["--runs", "0"], "--runs"),
+    "hg-calibrate": (["verify", "--speed", "0"], "--speed"),
+    "hg-camera-bridge": (["--ransac-iterations", "0"], "--ransac-iterations"),
+    "hg-camera-render": (["--frames", "0"], "--frames"),
+    "hg-core-timing": (["--runs", "0", MISSING + ".xyz"], "--runs"),
+    "hg-dds-gateway": (["--dds-domain", "231"], "--dds-domain"),
+    "hg-fake-genicam": (["--rate", "0"], "--rate"),
+    "hg-foxglove": (["--port", "65536"], "--port"),
+    "hg-mcap": (["--chunk-size", "1"], "--chunk-size"),
+    "hg-station": (["--port", "-1"], "--port"),
+    "hg-station-user": (["list", "--role", "king"], "--role"),
+    "hg-gen": (["--dropout", "1.5"], "--dropout"),
+    "hg-job-recorder": (["--log-level", "loud"], "--log-level"),
+    "hg-lcm-dump": (["--timeout", "-1"], "--timeout"),
+    "hg-lcm-send": (["sample", "--type", "all", "--rate", "-1"], "--rate"),
+    "hg-outline": (["--auto-factor", "0", MISSING + ".xyz"], "--auto-factor"),
+    "hg-outline-service": (["--alpha-radius", "-1"], "--alpha-radius"),
+    "hg-overview": ([MISSING + ".lcmlog", "--out", "{tmp}/o", "--grind-speed", "0"], "--grind-speed"),
+    "hg-path-planner": (["--grind-speed", "0"], "--grind-speed"),
+    "hg-plan": ([OUTLINE, "--grind-speed", "0"], "--grind-speed"),
+    "hg-plan-bench": (["5"], "VERTICES"),
+    "hg-radius-table": (["--seeds", "0"], "--seeds"),
+    "hg-robot-bridge": (["--blend-radius", "-1"], "--blend-radius"),
+    "hg-robot-export": ([MISSING + ".json", "-o", "{tmp}/x.script", "--blend-radius", "-1"], "--blend-radius"),
+}
+NO_RANGE = {
+    # A C wrapper of a command line that is not its own (OUTFILE COMMAND ARGS...), kept tiny because its own
+    # peak RSS is what the child inherits (see rss_wrapper.c); it has no option to declare.
+    "hg-bench-rss": "runs a command: no options of its own",
+}
+
+
 def programs():
     return sorted(n for n in os.environ.get("HG_PROGRAMS", "").split(",") if n)
 
@@ -110,6 +151,40 @@ class FailureContract(unittest.TestCase):
                 for case in missing_inputs:
                     with self.subTest(program=exe, case="missing input file", args=case):
                         self.refused(exe, lcm + case, [MISSING], cwd)
+
+    def test_every_program_refuses_a_value_out_of_range_and_helps(self):
+        names = programs()
+        self.assertGreater(len(names), 15, "HG_PROGRAMS lists the programs (set by CMake)")
+        self.assertEqual(sorted(set(names) - set(OUT_OF_RANGE) - set(NO_RANGE)), [],
+                         "programs missing from OUT_OF_RANGE (or NO_RANGE, with the reason)")
+        for exe in names:
+            with tempfile.TemporaryDirectory() as cwd:
+                with self.subTest(program=exe, case="--help"):
+                    r = self.run_in(cwd, exe, ["--help"])
+                    self.assertEqual(r.returncode, 0, "%s --help: exit %d\n%s" % (exe, r.returncode, r.stderr))
+                    self.assertEqual(r.stderr, "", exe + " --help wrote to stderr")
+                    self.assertIn("usage", r.stdout.lower(), exe + " --help")
+                if exe in NO_RANGE:
+                    continue
+                args, option = OUT_OF_RANGE[exe]
+                lcm = BAD_LCM if exe in PROCESSES else []
+                with self.subTest(program=exe, case="value out of range"):
+                    self.refused(exe, lcm + args, [option], cwd)
+                    line = self.run_in(cwd, exe, lcm + [a.replace("{tmp}", cwd) for a in args]).stderr
+                    self.assertRegex(line, r"out of range|is not one of", exe)
+                with self.subTest(program=exe, case="--help lists the option"):
+                    helptext = self.run_in(cwd, exe, ["--help"]).stdout
+                    self.assertIn(option, helptext, exe)
+
+    def test_the_planner_arguments_of_hg_overview_are_the_planners(self):
+        """hg-overview --planner-args parses the planner's command line with hg-path-planner's declarations: an
+        option the planner does not know is refused (it was skipped, a guess), one the planner has is taken."""
+        with tempfile.TemporaryDirectory() as cwd:
+            base = [MISSING + ".lcmlog", "--out", os.path.join(cwd, "o"), "--planner-args"]
+            self.refused("hg-overview", base + ["--no-such-option", "1"], ["--planner-args", "--no-such-option"], cwd)
+            self.refused("hg-overview", base + ["--grind-speed", "0"], ["--planner-args", "--grind-speed"], cwd)
+            # The planner's own options (--lcm-url, --jobs-dir) are its: taken, and the missing log is what fails.
+            self.refused("hg-overview", base + ["--lcm-url", "memq://", "--jobs-dir", cwd], [MISSING + ".lcmlog"], cwd)
 
     def test_default_files_resolve_from_any_working_directory(self):
         with tempfile.TemporaryDirectory() as cwd:

@@ -15,34 +15,40 @@
 #include "runtime/params.hpp"
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
-#include "runtime/version.hpp"
 
 using namespace hg::camera_bridge;
 using namespace hg::sim;
 
+namespace {
+
+constexpr const char* kUsageHead =
+    "usage: hg-bench-camera [options]\n"
+    "Times depth frame -> encoded plate_cloud_t per camera profile (one thread, median of N).\n";
+
+std::vector<hg::runtime::Param> bench_params() {
+  using namespace hg::runtime;
+  std::vector<Param> params = {integer_param("frames", "30", "frames timed per profile (median)", 1, 1e6),
+                               text_param("scene", "three-parts", "scene preset of the renderer"),
+                               flag_param("all-parts", "segment every part, not only the largest")};
+  set_value_names(params, {{"frames", "N"}, {"scene", "NAME"}});
+  return params;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-bench-camera")) return 0;
-  int frames = 30;
-  std::string scene = "three-parts";
-  bool all_parts = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--frames" && i + 1 < argc) frames = std::atoi(argv[++i]);
-    else if (a == "--scene" && i + 1 < argc)
-      scene = argv[++i];
-    else if (a == "--all-parts")
-      all_parts = true;
-    else if (a == "--help" || a == "-h") {
-      std::printf(
-          "usage: hg-bench-camera [--frames N] [--scene NAME] [--all-parts]\n"
-          "Times depth frame -> encoded plate_cloud_t per camera profile (one thread, median of N).\n");
-      return 0;
-    } else {
-      std::fprintf(stderr, "hg-bench-camera: command line: unknown option %s (see --help)\n", a.c_str());
-      return hg::runtime::kExitBadInput;
-    }
+  hg::runtime::Params p(bench_params());
+  if (const int rc = hg::runtime::parse_tool(p, argc, argv, "hg-bench-camera", hg::runtime::usage_with(kUsageHead));
+      rc >= 0)
+    return rc;
+  if (!p.positional().empty()) {
+    std::fprintf(stderr, "hg-bench-camera: command line: unexpected argument '%s' (see --help)\n",
+                 p.positional()[0].c_str());
+    return hg::runtime::kExitBadInput;
   }
-  if (frames < 1) frames = 1;
+  const int frames = int(p.integer("frames"));
+  const std::string scene = p.text("scene");
+  const bool all_parts = p.flag("all-parts");
   cv::setNumThreads(1);  // one thread, as the target says
   SceneSpec spec;
   try {

@@ -18,7 +18,6 @@
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 #include "outline_service/outline_service.hpp"
-#include "runtime/version.hpp"
 
 namespace cb = hg::camera_bridge;
 namespace sim = hg::sim;
@@ -90,32 +89,37 @@ int bench_file(const std::string& path, int runs) {
   return 0;
 }
 
+constexpr const char* kUsageHead =
+    "usage: hg-bench-outline-service [options]\n"
+    "Times plate cloud -> outline_t + part_pose_t (the outline service's work) per camera profile\n"
+    "and insertion order: one thread, median of N, clouds from the renderer + segmentation.\n"
+    "--pcd FILE: instead, the service end to end on that cloud (message bytes in, encoded messages out,\n"
+    "the service's default options) against the outline core alone on the same points, interleaved.\n";
+
+std::vector<hg::runtime::Param> bench_params() {
+  using namespace hg::runtime;
+  std::vector<Param> params = {integer_param("runs", "20", "runs per row (median)", 1, 1e6),
+                               text_param("scene", "plate-hole-slot", "scene preset of the renderer"),
+                               text_param("pcd", "", "time the service end to end on this cloud file instead")};
+  set_value_names(params, {{"runs", "N"}, {"scene", "NAME"}, {"pcd", "FILE"}});
+  return params;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-bench-outline-service")) return 0;
-  int runs = 20;
-  std::string scene = "plate-hole-slot", pcd;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--scene" && i + 1 < argc)
-      scene = argv[++i];
-    else if (a == "--pcd" && i + 1 < argc)
-      pcd = argv[++i];
-    else if (a == "--help" || a == "-h") {
-      std::printf(
-          "usage: hg-bench-outline-service [--runs N] [--scene NAME] [--pcd FILE]\n"
-          "Times plate cloud -> outline_t + part_pose_t (the outline service's work) per camera profile\n"
-          "and insertion order: one thread, median of N, clouds from the renderer + segmentation.\n"
-          "--pcd FILE: instead, the service end to end on that cloud (message bytes in, encoded messages out,\n"
-          "the service's default options) against the outline core alone on the same points, interleaved.\n");
-      return 0;
-    } else {
-      std::fprintf(stderr, "hg-bench-outline-service: command line: unknown option %s (see --help)\n", a.c_str());
-      return hg::runtime::kExitBadInput;
-    }
+  hg::runtime::Params p(bench_params());
+  if (const int rc =
+          hg::runtime::parse_tool(p, argc, argv, "hg-bench-outline-service", hg::runtime::usage_with(kUsageHead));
+      rc >= 0)
+    return rc;
+  if (!p.positional().empty()) {
+    std::fprintf(stderr, "hg-bench-outline-service: command line: unexpected argument '%s' (see --help)\n",
+                 p.positional()[0].c_str());
+    return hg::runtime::kExitBadInput;
   }
+  const int runs = int(p.integer("runs"));
+  const std::string scene = p.text("scene"), pcd = p.text("pcd");
   if (!pcd.empty()) {
     try {
       return bench_file(pcd, runs);

@@ -2,7 +2,7 @@
 // staircase of a 0.6 x 0.4 m plate rotated 0.3 rad with a D100 hole (partgen::pixel_staircase) at a
 // pitch that gives about the requested vertex count; and on the same staircase with Gaussian jitter of
 // 0.6 pitch on every vertex (a noisy boundary, pixel_pitch configured). Prints median, min, max in ms.
-//   hg-plan-bench [vertices=10000] [runs=21]
+//   hg-plan-bench [VERTICES=10000] [RUNS=21]
 #include "partgen/synth.hpp"
 #include "path_planner/pipeline.hpp"
 
@@ -12,8 +12,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
-#include "runtime/version.hpp"
-#include <cstring>
+#include <vector>
+
+#include "runtime/params.hpp"
 
 using namespace hg::path_planner;
 
@@ -55,24 +56,25 @@ void run(const char* label, const std::vector<Loop>& loops, const PlannerConfig&
               r.path.size());
 }
 
+constexpr const char* kUsageHead =
+    "usage: hg-plan-bench [VERTICES] [RUNS]\n"
+    "Times the planner on a generated plate outline of about this many vertices (docs/BENCHMARKS-planner.md).\n";
+
+std::vector<hg::runtime::Param> bench_params() {
+  using namespace hg::runtime;
+  return {positional(integer_param("vertices", "10000", "about this many outline vertices", 100, 1e8)),
+          positional(integer_param("runs", "21", "runs (median, min, max)", 1, 1e6))};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-plan-bench")) return 0;
-  const char* usage =
-      "usage: hg-plan-bench [vertices >= 100] [runs >= 1]\n"
-      "Times the planner on a generated plate outline of about this many vertices (docs/BENCHMARKS-planner.md).\n";
-  if (argc > 1 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"))) return std::fputs(usage, stdout), 0;
-  const long want = argc > 1 ? std::atol(argv[1]) : 10000;
-  const int runs = argc > 2 ? std::atoi(argv[2]) : 21;
-  if (argc > 1 && argv[1][0] == '-') {  // one line (the failure contract of every program, docs/RUNNING.md)
-    std::fprintf(stderr, "hg-plan-bench: command line: unknown option %s (see --help)\n", argv[1]);
-    return 2;
-  }
-  if (want < 100 || runs < 1) {
-    std::fprintf(stderr, "hg-plan-bench: command line: give vertices >= 100 and runs >= 1 (see --help)\n");
-    return 2;
-  }
+  hg::runtime::Params p(bench_params());
+  if (const int rc = hg::runtime::parse_tool(p, argc, argv, "hg-plan-bench", hg::runtime::usage_with(kUsageHead));
+      rc >= 0)
+    return rc;
+  const long want = long(p.integer("vertices"));
+  const int runs = int(p.integer("runs"));
   // vertices ~ perimeter / pitch: find the pitch by a few secant-like steps
   double pitch = 0.0005;
   for (int it = 0; it < 4; ++it) pitch *= double(vertices(plate(pitch))) / double(want);

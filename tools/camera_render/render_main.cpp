@@ -5,49 +5,46 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/sources.hpp"
-#include "runtime/version.hpp"
+#include "runtime/params.hpp"
 
 using namespace hg::camera_bridge;
 using namespace hg::sim;
 
+namespace {
+
+constexpr const char* kUsageHead =
+    "usage: hg-camera-render --out DIR [options]\n"
+    "Writes DIR/depth_NNNNNN.png (16-bit), DIR/intrinsics.yaml and DIR/truth.json; scenes with the\n"
+    "intensity image (NAME-realistic) also DIR/intensity_NNNNNN.png (8-bit).\n";
+
+std::vector<hg::runtime::Param> render_params() {
+  using namespace hg::runtime;
+  std::vector<Param> params = {text_param("out", "", "output folder (required)"),
+                               text_param("scene", "three-parts", "scene preset of the renderer", scene_preset_names()),
+                               text_param("profile", "pm806", "camera profile", {"pm806", "lsr-l"}),
+                               integer_param("frames", "1", "frames to render", 1, 1e6)};
+  set_value_names(params, {{"out", "DIR"}, {"scene", "NAME"}, {"frames", "N"}});
+  return params;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-camera-render")) return 0;
-  std::string scene = "three-parts", profile = "pm806", out;
-  int frames = 1;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--scene" && i + 1 < argc) scene = argv[++i];
-    else if (a == "--profile" && i + 1 < argc)
-      profile = argv[++i];
-    else if (a == "--frames" && i + 1 < argc)
-      frames = std::atoi(argv[++i]);
-    else if (a == "--out" && i + 1 < argc)
-      out = argv[++i];
-    else if (a == "--help" || a == "-h") {
-      std::printf(
-          "usage: hg-camera-render --out DIR [--scene NAME] [--profile pm806|lsr-l] [--frames N]\n"
-          "Writes DIR/depth_NNNNNN.png (16-bit), DIR/intrinsics.yaml and DIR/truth.json; scenes with the\n"
-          "intensity image (NAME-realistic) also DIR/intensity_NNNNNN.png (8-bit).\n"
-          "Scenes: %s\n",
-          [] {
-            std::string s;
-            for (const auto& n : scene_preset_names()) s += (s.empty() ? "" : ", ") + n;
-            return s;
-          }()
-              .c_str());
-      return 0;
-    } else {
-      std::fprintf(stderr, "hg-camera-render: command line: unknown option %s (see --help)\n", a.c_str());
-      return 2;
-    }
-  }
-  if (out.empty() || frames < 1) {
-    std::fprintf(stderr, "hg-camera-render: need --out DIR and --frames >= 1\n");
+  hg::runtime::Params p(render_params());
+  if (const int rc = hg::runtime::parse_tool(p, argc, argv, "hg-camera-render", hg::runtime::usage_with(kUsageHead));
+      rc >= 0)
+    return rc;
+  const std::string scene = p.text("scene"), profile = p.text("profile"), out = p.text("out");
+  const int frames = int(p.integer("frames"));
+  if (out.empty() || !p.positional().empty()) {
+    std::fprintf(stderr, "hg-camera-render: command line: %s (see --help)\n",
+                 out.empty() ? "need --out DIR" : ("unexpected argument '" + p.positional()[0] + "'").c_str());
     return 2;
   }
   try {

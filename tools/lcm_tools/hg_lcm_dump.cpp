@@ -7,10 +7,11 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "cli.hpp"
 #include "registry.hpp"
-#include "runtime/version.hpp"
+#include "runtime/params.hpp"
 
 namespace {
 
@@ -19,25 +20,31 @@ using namespace hg::lcmtools;
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-const char* kUsage = R"(usage: hg-lcm-dump [options]
+const char* kUsageHead = R"(usage: hg-lcm-dump [options]
 Subscribes to LCM channels and prints each hullgrind message as one JSON line on stdout:
   {"channel": C, "type": "hullgrind.T", "recv_utime": U, "msg": {fields...}}
 A message that does not decode (unknown fingerprint, truncated, trailing bytes) prints
   {"channel": C, "recv_utime": U, "size": BYTES, "error": "why"}
 and is counted; the dump keeps running. Arrays longer than 8 elements print as
 {"length": N, "first": [8 elements]} unless --full.
-
-Options:
-  --lcm-url URL      LCM URL (default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)
-  --channels REGEX   channels to subscribe to (default: HG_.*)
-  --type NAME        print only this type ("heartbeat_t" or "hullgrind.heartbeat_t")
-  --count N          exit after N printed messages
-  --timeout S        exit after S seconds (exit code 3 if --count was not reached by then)
-  --full             print arrays in full
-  --summary          at exit, print per-channel counts and decode errors to stderr
-  --help             this text
 Exit codes: 0 done, 1 LCM failure, 2 bad usage, 3 timed out before --count.
+
 )";
+
+std::vector<hg::runtime::Param> dump_params() {
+  using namespace hg::runtime;
+  std::vector<Param> params = {
+      text_param("lcm-url", default_lcm_url(), "LCM provider [$LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0]"),
+      text_param("channels", "HG_.*", "channels to subscribe to (a regular expression)"),
+      text_param("type", "", "print only this type (\"heartbeat_t\" or \"hullgrind.heartbeat_t\")"),
+      integer_param("count", "", "exit after N printed messages", 0, double(1LL << 62)),
+      number_param("timeout", "", "exit after S seconds (exit code 3 if --count was not reached by then)", 0, 1e9),
+      flag_param("full", "print arrays in full"),
+      flag_param("summary", "at exit, print per-channel counts and decode errors to stderr")};
+  set_value_names(params,
+                  {{"lcm-url", "URL"}, {"channels", "REGEX"}, {"type", "NAME"}, {"count", "N"}, {"timeout", "S"}});
+  return params;
+}
 
 struct ChannelStats {
   long long decoded = 0;  // decoded, whether printed or filtered out by --type
@@ -104,34 +111,22 @@ struct DumpArgs {
 
 // The command line into `a`; -1 to go on, else the exit code (0 after --help, 2 on a usage error).
 int parse_args(int argc, char** argv, DumpArgs& a) {
-  try {
-    Args args(argc, argv, 1);
-    while (!args.done()) {
-      std::string o = args.next();
-      if (o == "--help" || o == "-h") {
-        std::fputs(kUsage, stdout);
-        return 0;
-      } else if (o == "--lcm-url")
-        a.url = args.value();
-      else if (o == "--channels")
-        a.channels = args.value();
-      else if (o == "--type")
-        a.type_name = args.value();
-      else if (o == "--count")
-        a.count = args.integer(0, 1LL << 62);
-      else if (o == "--timeout")
-        a.timeout = args.number(0, 1e9);
-      else if (o == "--full")
-        a.opt.full = args.flag();
-      else if (o == "--summary")
-        a.summary = args.flag();
-      else
-        throw UsageError("unknown option '" + o + "' (see --help)");
-    }
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "hg-lcm-dump: %s\n", e.what());
+  hg::runtime::Params p(dump_params());
+  if (const int rc = hg::runtime::parse_tool(p, argc, argv, "hg-lcm-dump", hg::runtime::usage_with(kUsageHead));
+      rc >= 0)
+    return rc;
+  if (!p.positional().empty()) {
+    std::fprintf(stderr, "hg-lcm-dump: command line: unexpected argument '%s' (see --help)\n",
+                 p.positional()[0].c_str());
     return 2;
   }
+  a.url = p.text("lcm-url");
+  a.channels = p.text("channels");
+  a.type_name = p.text("type");
+  if (p.given("count")) a.count = p.integer("count");
+  if (p.given("timeout")) a.timeout = p.number("timeout");
+  a.opt.full = p.flag("full");
+  a.summary = p.flag("summary");
   return -1;
 }
 
@@ -171,7 +166,6 @@ void print_summary(const Dump& dump) {
 }
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-lcm-dump")) return 0;
   DumpArgs a;
   if (const int rc = parse_args(argc, argv, a); rc >= 0) return rc;
 

@@ -1,7 +1,10 @@
 // hg-lcm-send: publishes hullgrind messages from the command line, for demos and tests (docs/monitoring.md).
 #include <lcm/lcm-cpp.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <climits>
+#include <cstdint>
 #include <csignal>
 #include <cstdio>
 #include <random>
@@ -16,7 +19,7 @@
 #include "registry.hpp"
 #include "runtime/channels.hpp"
 #include "sample.hpp"
-#include "runtime/version.hpp"
+#include "runtime/params.hpp"
 
 namespace {
 
@@ -25,41 +28,118 @@ using namespace hg::lcmtools;
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-const char* kUsage = R"(usage: hg-lcm-send [--lcm-url URL] COMMAND [options]
-Publishes hullgrind messages. --lcm-url default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0.
-
-  job --job-id J [--part-id P] [--action start|abort|reset] [--tool-radius R] [--chamfer-angle RAD]
-      [--grind-speed M/S] [--travel-speed M/S] [--step M] [--safe-height M]
-      [--direction climb|conventional] [--flipped] [--seq N] [--channel C]
-      one job_request_t on HG_JOB_REQUEST (zero parameters mean "configured default").
-
-  approve --job-id J --by NAME [--exclude-loops 3,5] [--revision N]
-      APPROVE the plan the robot bridge holds AWAITING_APPROVAL (revision N, default 0: the latest), without
-      the loops listed (their edge is recorded as excluded by "operator NAME").
-  reject --job-id J --by NAME
-      REJECT the plan held: the job ends REJECTED, nothing moves.
-  replan --job-id J [--by NAME] [job parameters as for job]
-      REPLAN a job awaiting approval on its outline with these parameters: the next plan revision.
-  query [--job-id J]
-      QUERY: every process answers its last status of job J (of every job it holds without --job-id).
-
-  sample --type T[,T...]|all [--count N] [--rate HZ] [--start-seq S] [--channel C]
-      N rounds (default 10; 0: until SIGINT/SIGTERM) of well-formed messages of each type, seq S..S+N-1,
-      every field a function of seq (see docs/monitoring.md), header.utime the time of sending.
-      "all" is every type that has a channel; default channel: the type's (runtime/channels.hpp).
-      --rate is rounds per second (default 100; 0: as fast as possible).
-
-  garbage --channel C [--count N] [--rate HZ] [--seed S]
-      N messages (default 20) that must not decode, in turn: random bytes, a valid message cut short,
-      a valid message with trailing bytes, a valid message whose header string length lies.
-
-  heartbeat --process NAME [--pid PID] [--rate HZ] [--state-text TEXT]
-      heartbeat_t on HG_HEARTBEAT at HZ (default 1) until SIGINT/SIGTERM, state OK, for a process that
-      has no LCM library of its own (tools/supervisor announces itself so); --pid default: the parent's.
-
-  json --type T --channel C JSON
-      one message of type T given as JSON in hg-lcm-dump's --full form (its "msg" object).
+const char* kUsageHead = R"(usage: hg-lcm-send [--lcm-url URL] COMMAND [options]
+Publishes hullgrind messages; COMMAND --help lists only that command's options.
 )";
+
+using hg::runtime::Param;
+
+// The job parameters of job and replan (zero or not given: "configured default").
+std::vector<Param> job_params() {
+  using namespace hg::runtime;
+  return {text_param("part-id", "", "the part"),
+          number_param("tool-radius", "", "tool radius, m", 0, 1),
+          number_param("chamfer-angle", "", "tool tilt, rad", -1.6, 1.6),
+          number_param("grind-speed", "", "TCP speed along the edge, m/s", 0, 10),
+          number_param("travel-speed", "", "air-move speed, m/s", 0, 10),
+          number_param("step", "", "resampling step, m", 0, 1),
+          number_param("safe-height", "", "approach/retract height, m", 0, 2),
+          text_param("direction", "", "grinding direction", {"climb", "conventional"}),
+          flag_param("flipped", "plan for the flipped part")};
+}
+
+// job, approve, reject, replan, query: one job_request_t on HG_JOB_REQUEST.
+std::vector<Param> request_params(const std::string& command) {
+  using namespace hg::runtime;
+  std::vector<Param> p = {
+      text_param("job-id", "", command == "query" ? "the job (default: every job)" : "the job (required)")};
+  if (command == "job" || command == "replan")
+    for (Param& q : job_params()) p.push_back(std::move(q));
+  if (command == "job") p.push_back(text_param("action", "start", "the request's action", {"start", "abort", "reset"}));
+  if (command != "query" && command != "job")
+    p.push_back(text_param("by", "", command == "replan" ? "the operator asking" : "the operator deciding (required)"));
+  if (command == "approve") {
+    p.push_back(text_param("exclude-loops", "", "outline loops not to grind, e.g. 3,5 (recorded as excluded)"));
+    p.push_back(integer_param("revision", "0", "the plan revision approved (0: the latest)", 0, INT32_MAX));
+  }
+  p.push_back(integer_param("seq", "0", "header.seq", 0, double(INT64_MAX)));
+  p.push_back(text_param("channel", hg::channels::kJobRequest, "the channel"));
+  return p;
+}
+
+struct Command {
+  std::string name, summary;
+  std::vector<Param> params;
+};
+
+// Every command with its options, declared once: parsing, checks, --help and --help-markdown.
+std::vector<Command> commands() {
+  using namespace hg::runtime;
+  const double big = double(1LL << 40);
+  return {
+      {"job", "one job_request_t on HG_JOB_REQUEST (zero parameters mean \"configured default\")",
+       request_params("job")},
+      {"approve",
+       "APPROVE the plan the robot bridge holds AWAITING_APPROVAL, without the loops listed (their edge is "
+       "recorded as excluded by \"operator NAME\")",
+       request_params("approve")},
+      {"reject", "REJECT the plan held: the job ends REJECTED, nothing moves", request_params("reject")},
+      {"replan", "REPLAN a job awaiting approval on its outline with these parameters: the next plan revision",
+       request_params("replan")},
+      {"query", "QUERY: every process answers its last status of the job (of every job it holds without --job-id)",
+       request_params("query")},
+      {"sample",
+       "N rounds of well-formed messages of each type, seq S..S+N-1, every field a function of seq "
+       "(docs/monitoring.md), header.utime the time of sending",
+       {text_param("type", "", "T[,T...] or all (every type that has a channel) (required)"),
+        integer_param("count", "10", "rounds; 0: until SIGINT/SIGTERM", 0, big),
+        number_param("rate", "100", "rounds per second; 0: as fast as possible", 0, 1e6),
+        integer_param("start-seq", "0", "seq of the first round", 0, big),
+        text_param("channel", "", "the channel (default: the type's, runtime/channels.hpp)")}},
+      {"garbage",
+       "N messages that must not decode, in turn: random bytes, a valid message cut short, a valid message "
+       "with trailing bytes, a valid message whose header string length lies",
+       {text_param("channel", "", "the channel (required)"), integer_param("count", "20", "messages", 0, big),
+        number_param("rate", "100", "messages per second; 0: as fast as possible", 0, 1e6),
+        integer_param("seed", "1", "random seed", 0, double(INT64_MAX))}},
+      {"heartbeat",
+       "heartbeat_t on HG_HEARTBEAT until SIGINT/SIGTERM, state OK, for a process that has no LCM library of "
+       "its own (tools/supervisor announces itself so)",
+       {text_param("process", "", "the process's name (required)"),
+        integer_param("pid", "0", "its pid (0: the parent's)", 0, INT32_MAX),
+        number_param("rate", "1", "heartbeats per second", 0.01, 1000),
+        text_param("state-text", "", "the heartbeat's state_text")}},
+      {"json",
+       "one message of type T given as JSON in hg-lcm-dump's --full form (its \"msg\" object)",
+       {text_param("type", "", "the message type (required)"), text_param("channel", "", "the channel (required)"),
+        positional(text_param("json", "", "the message as JSON (required)"))}},
+  };
+}
+
+std::vector<Param> global_params() {
+  std::vector<Param> params = {hg::runtime::text_param(
+      "lcm-url", default_lcm_url(), "LCM provider [$LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0]")};
+  hg::runtime::set_value_names(params, {{"lcm-url", "URL"}});
+  return params;
+}
+
+void usage(std::FILE* f, const hg::runtime::Params& global) {
+  std::fputs(kUsageHead, f);
+  std::fputs("Options before COMMAND:\n", f);
+  global.print_options(f);
+  std::fputs("  --help, --help-markdown, --version this text, the options as Markdown tables, the version\n", f);
+  for (const Command& c : commands()) {
+    std::fprintf(f, "\n%s: %s\n", c.name.c_str(), c.summary.c_str());
+    hg::runtime::Params(c.params).print_options(f);
+  }
+}
+
+std::string markdown(const hg::runtime::Params& global) {
+  std::string md = global.markdown();
+  for (const Command& c : commands())
+    md += "\n### hg-lcm-send " + c.name + "\n\n" + c.summary + ".\n\n" + hg::runtime::Params(c.params).markdown();
+  return md;
+}
 
 struct Pacer {
   double rate;
@@ -108,80 +188,54 @@ std::vector<std::int16_t> loop_list(const std::string& text) {
   return out;
 }
 
-// The job parameters (START, REPLAN); false when `a` is none of them.
-bool job_option(const std::string& a, Args& args, hullgrind::job_request_t& m) {
-  if (a == "--part-id") m.part_id = args.value();
-  else if (a == "--tool-radius")
-    m.tool_radius = args.number(0, 1);
-  else if (a == "--chamfer-angle")
-    m.chamfer_angle = args.number(-1.6, 1.6);
-  else if (a == "--grind-speed")
-    m.grind_speed = args.number(0, 10);
-  else if (a == "--travel-speed")
-    m.travel_speed = args.number(0, 10);
-  else if (a == "--step")
-    m.step = args.number(0, 1);
-  else if (a == "--safe-height")
-    m.safe_height = args.number(0, 2);
-  else if (a == "--direction") {
-    std::string v = args.value();
-    if (v == "climb") m.direction = hullgrind::job_request_t::DIRECTION_CLIMB;
-    else if (v == "conventional")
-      m.direction = hullgrind::job_request_t::DIRECTION_CONVENTIONAL;
-    else
-      throw UsageError("--direction: '" + v + "' is not climb or conventional");
-  } else if (a == "--flipped")
-    m.flipped = args.flag();
-  else
-    return false;
-  return true;
+// The job parameters given (START, REPLAN) into the request; those not given stay 0, "configured default".
+void set_job_params(const hg::runtime::Params& p, hullgrind::job_request_t& m) {
+  auto number = [&](const char* name, double& to) {
+    if (p.given(name)) to = p.number(name);
+  };
+  m.part_id = p.text("part-id");
+  number("tool-radius", m.tool_radius), number("chamfer-angle", m.chamfer_angle);
+  number("grind-speed", m.grind_speed), number("travel-speed", m.travel_speed);
+  number("step", m.step), number("safe-height", m.safe_height);
+  if (p.given("direction"))
+    m.direction = p.text("direction") == "climb" ? hullgrind::job_request_t::DIRECTION_CLIMB
+                                                 : hullgrind::job_request_t::DIRECTION_CONVENTIONAL;
+  m.flipped = p.flag("flipped");
 }
 
 std::int8_t action_of(const std::string& v) {
   using R = hullgrind::job_request_t;
-  if (v == "start") return R::ACTION_START;
-  if (v == "abort") return R::ACTION_ABORT;
-  if (v == "reset") return R::ACTION_RESET;
-  throw UsageError("--action: '" + v + "' is not start, abort or reset");
+  return v == "abort" ? R::ACTION_ABORT : v == "reset" ? R::ACTION_RESET : R::ACTION_START;
 }
 
-// job, approve, reject, replan, query: one job_request_t on HG_JOB_REQUEST.
-int cmd_request(lcm::LCM& lcm, const std::string& command, Args& args) {
+// job, approve, reject, replan, query: the request the command line asks for. Throws UsageError.
+hullgrind::job_request_t request_of(const std::string& command, const hg::runtime::Params& p) {
   using R = hullgrind::job_request_t;
   R m{};
-  std::string channel = hg::channels::kJobRequest, by;
   m.action = command == "approve"  ? R::ACTION_APPROVE
              : command == "reject" ? R::ACTION_REJECT
              : command == "replan" ? R::ACTION_REPLAN
              : command == "query"  ? R::ACTION_QUERY
-                                   : R::ACTION_START;
-  bool have_id = false;
-  while (!args.done()) {
-    const std::string a = args.next();
-    const bool job_like = command == "job" || command == "replan";
-    if (a == "--job-id") m.job_id = args.value(), have_id = true;
-    else if (job_like && job_option(a, args, m))
-      continue;
-    else if (a == "--action" && command == "job")
-      m.action = action_of(args.value());
-    else if (a == "--by" && command != "query")
-      by = args.value();
-    else if (a == "--exclude-loops" && command == "approve")
-      m.excluded_loops = loop_list(args.value());
-    else if (a == "--revision" && command == "approve")
-      m.plan_revision = std::int32_t(args.integer(0, INT32_MAX));
-    else if (a == "--seq")
-      m.header.seq = args.integer(0, INT64_MAX);
-    else if (a == "--channel")
-      channel = args.value();
-    else
-      throw UsageError(command + ": unknown option '" + a + "'");
+                                   : action_of(p.text("action"));
+  m.job_id = p.text("job-id");
+  if (command == "job" || command == "replan") set_job_params(p, m);
+  const std::string by = p.find("by") ? p.text("by") : "";
+  if (command == "approve") {
+    if (p.given("exclude-loops")) m.excluded_loops = loop_list(p.text("exclude-loops"));
+    m.plan_revision = std::int32_t(p.integer("revision"));
   }
-  if (command != "query" && (!have_id || m.job_id.empty())) throw UsageError(command + ": --job-id is required");
+  m.header.seq = p.integer("seq");
+  if (command != "query" && m.job_id.empty()) throw UsageError(command + ": --job-id is required");
   if ((command == "approve" || command == "reject") && by.empty())
     throw UsageError(command + ": --by NAME is required (the record keeps who decided)");
   if (!by.empty()) m.actor = "operator " + by;
   m.num_excluded = std::int32_t(m.excluded_loops.size());
+  return m;
+}
+
+int cmd_request(lcm::LCM& lcm, const std::string& command, const hg::runtime::Params& p) {
+  hullgrind::job_request_t m = request_of(command, p);
+  const std::string channel = p.text("channel");
   m.header.utime = now_utime();
   if (lcm.publish(channel, &m) != 0) {
     std::fprintf(stderr, "hg-lcm-send: publish on %s failed\n", channel.c_str());
@@ -194,23 +248,14 @@ int cmd_request(lcm::LCM& lcm, const std::string& command, Args& args) {
 
 // A heartbeat_t for a process that has no LCM library of its own (the Python supervisor announces itself
 // on the bus with it), once per period until SIGINT/SIGTERM.
-int cmd_heartbeat(lcm::LCM& lcm, Args& args) {
+int cmd_heartbeat(lcm::LCM& lcm, const hg::runtime::Params& p) {
   hullgrind::heartbeat_t m{};
   m.state = hullgrind::heartbeat_t::STATE_OK;
   m.last_latency = -1;
-  double rate = 1;
-  while (!args.done()) {
-    std::string a = args.next();
-    if (a == "--process") m.process = args.value();
-    else if (a == "--pid")
-      m.pid = static_cast<int32_t>(args.integer(0, INT32_MAX));
-    else if (a == "--rate")
-      rate = args.number(0.01, 1000);
-    else if (a == "--state-text")
-      m.state_text = args.value();
-    else
-      throw UsageError("heartbeat: unknown option '" + a + "'");
-  }
+  m.process = p.text("process");
+  m.pid = static_cast<int32_t>(p.integer("pid"));
+  const double rate = p.number("rate");
+  m.state_text = p.text("state-text");
   if (m.process.empty()) throw UsageError("heartbeat: --process is required");
   if (m.pid == 0) m.pid = static_cast<int32_t>(getppid());
   const auto start = std::chrono::steady_clock::now();
@@ -243,24 +288,10 @@ std::vector<const Struct*> parse_types(const Schema& schema, const std::string& 
   return out;
 }
 
-int cmd_sample(lcm::LCM& lcm, const Schema& schema, Args& args) {
-  std::string type_list, channel;
-  long long count = 10, start_seq = 0;
-  double rate = 100;
-  while (!args.done()) {
-    std::string a = args.next();
-    if (a == "--type") type_list = args.value();
-    else if (a == "--count")
-      count = args.integer(0, 1LL << 40);
-    else if (a == "--rate")
-      rate = args.number(0, 1e6);
-    else if (a == "--start-seq")
-      start_seq = args.integer(0, 1LL << 40);
-    else if (a == "--channel")
-      channel = args.value();
-    else
-      throw UsageError("sample: unknown option '" + a + "'");
-  }
+int cmd_sample(lcm::LCM& lcm, const Schema& schema, const hg::runtime::Params& p) {
+  const std::string type_list = p.text("type"), channel = p.text("channel");
+  const long long count = p.integer("count"), start_seq = p.integer("start-seq");
+  const double rate = p.number("rate");
   if (type_list.empty()) throw UsageError("sample: --type is required");
   std::vector<const Struct*> types = parse_types(schema, type_list);
   Pacer pacer{rate};
@@ -309,23 +340,11 @@ std::vector<uint8_t> garbage_message(const Schema& schema, long long i, std::mt1
   }
 }
 
-int cmd_garbage(lcm::LCM& lcm, const Schema& schema, Args& args) {
-  std::string channel;
-  long long count = 20;
-  double rate = 100;
-  uint64_t seed = 1;
-  while (!args.done()) {
-    std::string a = args.next();
-    if (a == "--channel") channel = args.value();
-    else if (a == "--count")
-      count = args.integer(0, 1LL << 40);
-    else if (a == "--rate")
-      rate = args.number(0, 1e6);
-    else if (a == "--seed")
-      seed = static_cast<uint64_t>(args.integer(0, INT64_MAX));
-    else
-      throw UsageError("garbage: unknown option '" + a + "'");
-  }
+int cmd_garbage(lcm::LCM& lcm, const Schema& schema, const hg::runtime::Params& p) {
+  const std::string channel = p.text("channel");
+  const long long count = p.integer("count");
+  const double rate = p.number("rate");
+  const uint64_t seed = static_cast<uint64_t>(p.integer("seed"));
   if (channel.empty()) throw UsageError("garbage: --channel is required");
   for (const Struct* t : message_types(schema))
     if (t->members.empty() || t->members[0].type_name != "hullgrind.header_t")
@@ -342,18 +361,8 @@ int cmd_garbage(lcm::LCM& lcm, const Schema& schema, Args& args) {
   return 0;
 }
 
-int cmd_json(lcm::LCM& lcm, const Schema& schema, Args& args) {
-  std::string type, channel, text;
-  while (!args.done()) {
-    std::string a = args.next();
-    if (a == "--type") type = args.value();
-    else if (a == "--channel")
-      channel = args.value();
-    else if (a.rfind("--", 0) != 0 && text.empty())
-      text = a;
-    else
-      throw UsageError("json: unexpected argument '" + a + "'");
-  }
+int cmd_json(lcm::LCM& lcm, const Schema& schema, const hg::runtime::Params& p) {
+  const std::string type = p.text("type"), channel = p.text("channel"), text = p.text("json");
   if (type.empty() || channel.empty() || text.empty()) throw UsageError("json: needs --type, --channel and JSON");
   const Struct* t = schema.find(type);
   if (!t) throw UsageError("unknown type '" + type + "'");
@@ -371,51 +380,61 @@ int cmd_json(lcm::LCM& lcm, const Schema& schema, Args& args) {
   return 0;
 }
 
+// The command's own options (argv from the command word on); -1 to run, else the exit code.
+int parse_command(hg::runtime::Params& p, const std::vector<std::string>& rest, const std::string& command) {
+  std::vector<const char*> argv;
+  for (const std::string& a : rest) argv.push_back(a.c_str());
+  const auto help = [&](std::FILE* f, const hg::runtime::Params& params) {
+    std::fprintf(f, "usage: hg-lcm-send [--lcm-url URL] %s [options]\n", command.c_str());
+    params.print_options(f);
+  };
+  return hg::runtime::parse_tool(p, int(argv.size()), argv.data(), "hg-lcm-send " + command, help);
+}
+
+int run(const std::string& url, const std::string& command, const hg::runtime::Params& p) {
+  Schema schema = Schema::embedded();
+  check_schema_matches_generated(schema);
+  lcm::LCM lcm(url);
+  if (!lcm.good()) {
+    std::fprintf(stderr, "hg-lcm-send: cannot open LCM at %s\n", url.c_str());
+    return 1;
+  }
+  if (command == "heartbeat") return cmd_heartbeat(lcm, p);
+  if (command == "sample") return cmd_sample(lcm, schema, p);
+  if (command == "garbage") return cmd_garbage(lcm, schema, p);
+  if (command == "json") return cmd_json(lcm, schema, p);
+  return cmd_request(lcm, command, p);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-lcm-send")) return 0;
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  hg::runtime::Params global(global_params());
+  global.stop_at_command();
   try {
-    std::string url = default_lcm_url();
-    int first = 1;
-    while (first < argc && std::string(argv[first]).rfind("--", 0) == 0) {
-      std::string a = argv[first];
-      if (a == "--help") {
-        std::fputs(kUsage, stdout);
-        return 0;
-      } else if (a == "--lcm-url" && first + 1 < argc) {
-        url = argv[first + 1];
-        first += 2;
-      } else if (a.rfind("--lcm-url=", 0) == 0) {
-        url = a.substr(10);
-        first += 1;
-      } else {
-        throw UsageError("unknown option '" + a + "' (see --help)");
-      }
-    }
-    if (first >= argc) throw UsageError("no command (see --help)");
-    std::string command = argv[first];
-    Args args(argc, argv, first + 1);
-    Schema schema = Schema::embedded();
-    check_schema_matches_generated(schema);
-    const bool request =
-        command == "job" || command == "approve" || command == "reject" || command == "replan" || command == "query";
-    if (!request && command != "sample" && command != "garbage" && command != "json" && command != "heartbeat")
-      throw UsageError("unknown command '" + command + "' (see --help)");
-    lcm::LCM lcm(url);
-    if (!lcm.good()) {
-      std::fprintf(stderr, "hg-lcm-send: cannot open LCM at %s\n", url.c_str());
-      return 1;
-    }
-    if (request) return cmd_request(lcm, command, args);
-    if (command == "heartbeat") return cmd_heartbeat(lcm, args);
-    if (command == "sample") return cmd_sample(lcm, schema, args);
-    if (command == "garbage") return cmd_garbage(lcm, schema, args);
-    return cmd_json(lcm, schema, args);
+    using Action = hg::runtime::Params::Action;
+    const Action action = global.parse(argc, argv);
+    if (action == Action::HelpMarkdown) return std::fputs(markdown(global).c_str(), stdout), 0;
+    if (action != Action::Run) return hg::runtime::answer(action, "hg-lcm-send", global, usage);
+  } catch (const std::exception& e) {  // runtime::ConfigError: names the option
+    std::fprintf(stderr, "hg-lcm-send: %s (see --help)\n", e.what());
+    return 2;
+  }
+  try {
+    if (global.positional().empty()) throw UsageError("no command (see --help)");
+    const std::string command = global.positional()[0];
+    std::vector<Command> all = commands();
+    auto c = std::find_if(all.begin(), all.end(), [&](const Command& x) { return x.name == command; });
+    if (c == all.end()) throw UsageError("unknown command '" + command + "' (see --help)");
+    hg::runtime::Params p(c->params);
+    if (const int rc = parse_command(p, global.positional(), command); rc >= 0) return rc;
+    if (command != "heartbeat" && command != "sample" && command != "garbage" && command != "json")
+      request_of(command, p);  // a missing --job-id or --by is refused before LCM is opened
+    return run(global.text("lcm-url"), command, p);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "hg-lcm-send: %s\n", e.what());
     return 2;

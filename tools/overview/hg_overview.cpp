@@ -4,7 +4,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <sstream>
 #include <string>
 
@@ -13,7 +12,9 @@
 #include "path_planner/io.hpp"
 #include "runtime/path_file.hpp"
 #include "tools/overview/overview.hpp"
-#include "runtime/version.hpp"
+#include "path_planner/path_planner.hpp"
+#include "runtime/node.hpp"
+#include "runtime/params.hpp"
 
 namespace {
 
@@ -27,37 +28,56 @@ Reads a recorded run (tools/record) and writes, for one job (default: the last S
                      scale bar, frames, legend
   DIR/summary.json   stage timings (ms) and every job status
 The picture brings the path (robot base frame) back onto the plate with the camera-to-base calibration of
-the cell file the planner used; give the cell and the planner's settings as the run gave them:
-  --cell FILE            the cell file (docs/cell.md): calibration.camera-to-base [default: config/cell.yaml]
-  --planner-config FILE  the planner's config file [default: config/path_planner.yaml]
-  --NAME VALUE           any planner parameter (hg-plan --help lists them), e.g. --pixel-pitch 0.001342
-  --planner-args ARG...  the rest of the command line is the planner's own (as in the pipeline file, without
-                         the program): its --config, --cell and planner parameters are taken, other options
-                         skipped
+the cell file the planner used; give the cell and the planner's settings as the run gave them: --cell,
+--planner-config, any planner parameter (--NAME VALUE, e.g. --pixel-pitch 0.001342), or the planner's own
+command line after --planner-args (tools/run.sh passes the pipeline file's).
 The calibration used is printed; a grind path more than 5 mm off the outline's plane is warned about (on
 stderr and in the picture): the settings given are not the ones the planner ran with.
 Exit status: 0 the job is DONE, 1 it is not (or not in the log), 2 bad usage or unreadable log.
+
 )";
 
-bool is_planner_param(const std::string& name) {
-  for (const auto& p : hg::path_planner::planner_params())
-    if (p.name == name) return true;
-  return false;
+// hg-overview's own options, then every planner parameter (--NAME VALUE, as hg-plan takes them), then
+// --planner-args: the rest of the command line is the planner process's own.
+std::vector<hg::runtime::Param> overview_params() {
+  using namespace hg::runtime;
+  std::vector<Param> params = {
+      positional(text_param("log", "", "the recorded run (tools/record), an LCM log")),
+      text_param("out", "", "the folder to write (required)"),
+      text_param("job-id", "", "the job to draw (default: the last START request)"),
+      text_param("planner-config", "", "the planner's config file [default: config/path_planner.yaml]")};
+  set_value_names(params, {{"log", "LOG.lcmlog"}, {"out", "DIR"}, {"job-id", "J"}, {"planner-config", "FILE"}});
+  for (Param& p : hg::path_planner::planner_params()) params.push_back(std::move(p));
+  params.push_back(rest_param("planner-args",
+                              "the rest of the command line is the planner's own (as in the pipeline file, without the "
+                              "program), parsed as hg-path-planner parses it; its --config wins over --planner-config "
+                              "and its parameters over the --NAME VALUE above"));
+  return params;
 }
 
-// The planner's own command line: --config and planner parameters are kept, other options (the
-// process's: --lcm-url, ...) skipped with their value.
-void take_planner_args(int argc, char** argv, int first, std::string& config, std::map<std::string, std::string>& cli) {
-  for (int i = first; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--", 0) != 0) continue;
-    const bool has_value = i + 1 < argc && std::string(argv[i + 1]).rfind("--", 0) != 0;
-    const std::string value = has_value ? argv[i + 1] : "true";
-    if (a == "--config") config = value;
-    else if (is_planner_param(a.substr(2)))
-      cli[a.substr(2)] = value;
-    if (has_value) ++i;
+// The planner's parameters as the run gave them: --planner-args parsed with hg-path-planner's own declarations
+// (an option it does not know is an error, as it would be for the planner), its config file (else
+// --planner-config), and the planner parameters given to hg-overview (command line or its --config) that
+// --planner-args does not give.
+hg::runtime::Params planner_settings(const hg::runtime::Params& p) {
+  hg::runtime::Params planner(hg::runtime::process_params(hg::path_planner::process_info().params));
+  std::vector<std::string> args = p.rest("planner-args");
+  args.insert(args.begin(), "hg-path-planner");
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  try {
+    if (planner.parse(int(argv.size()), argv.data()) != hg::runtime::Params::Action::Run)
+      throw hg::runtime::ConfigError("command line: --help and --version are hg-overview's own");
+  } catch (const hg::runtime::ConfigError& e) {
+    throw hg::runtime::ConfigError(std::string("--planner-args: ") + e.what());
   }
+  if (planner.config().empty())
+    planner.use_config(hg::runtime::Config::load(
+        p.given("planner-config") ? p.text("planner-config") : hg::runtime::default_file("config/path_planner.yaml")));
+  for (const hg::runtime::Param& d : hg::path_planner::planner_params())
+    if (d.moved_to.empty() && p.given(d.name) && planner.origin(d.name) != "command line")
+      planner.set(d.name, p.text(d.name));
+  return planner;
 }
 
 // What the run did, as lines for a person: final state, sizes of cloud, outline and path, stage times.
@@ -77,49 +97,12 @@ void print_summary(const hg::overview::JobTrace& job, const nlohmann::ordered_js
               job.path ? "path.json, " : "");
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-overview")) return 0;
-  std::string log_path, out_dir, job_id, planner_config = hg::runtime::default_file("config/path_planner.yaml");
-  std::map<std::string, std::string> planner_cli;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "hg-overview: %s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "-h" || a == "--help") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (a == "--out")
-      out_dir = value();
-    else if (a == "--job-id")
-      job_id = value();
-    else if (a == "--planner-config")
-      planner_config = value();
-    else if (a == "--planner-args") {
-      take_planner_args(argc, argv, i + 1, planner_config, planner_cli);
-      break;
-    } else if (a.rfind("--", 0) == 0 && is_planner_param(a.substr(2)))
-      planner_cli[a.substr(2)] = value();
-    else if (!a.empty() && a[0] == '-') {
-      std::fprintf(stderr, "hg-overview: command line: unknown option %s (see --help)\n", a.c_str());
-      return 2;
-    } else
-      log_path = a;
-  }
-  if (log_path.empty() || out_dir.empty()) {
-    std::fprintf(stderr, "hg-overview: command line: give LOG.lcmlog and --out DIR (see --help)\n");
-    return 2;
-  }
+int run(const hg::runtime::Params& p) {
+  const std::string log_path = p.text("log"), out_dir = p.text("out"), job_id = p.text("job-id");
   try {
     // Camera -> base from the cell file, through the planner's own configuration code, as the run gave them.
-    const hg::runtime::Config cfg = hg::runtime::Config::load(planner_config);
-    auto planner = hg::path_planner::config_from(hg::path_planner::lookup_from(planner_cli, cfg));
+    const hg::runtime::Params planner_params = planner_settings(p);
+    auto planner = hg::path_planner::config_from(hg::path_planner::lookup_from(planner_params));
     auto log = hg::overview::read_run_log(log_path);
     auto job = hg::overview::trace_job(log, job_id);
     if (job.job_id.empty()) {
@@ -155,4 +138,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hg-overview: %s\n", e.what());
     return 2;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  hg::runtime::Params p(overview_params());
+  if (const int rc = hg::runtime::parse_tool(p, argc, argv, "hg-overview", hg::runtime::usage_with(kUsage)); rc >= 0)
+    return rc;
+  if (!p.given("log") || p.text("out").empty()) {
+    std::fprintf(stderr, "hg-overview: command line: give LOG.lcmlog and --out DIR (see --help)\n");
+    return 2;
+  }
+  return run(p);
 }

@@ -12,7 +12,7 @@
 
 #include "cloud_io/cloud_io.hpp"
 #include "outline_core/outline.hpp"
-#include "runtime/version.hpp"
+#include "runtime/params.hpp"
 
 using namespace hg::outline;
 
@@ -29,37 +29,41 @@ double median(std::vector<double> v) {
   return v.empty() ? 0 : v[v.size() / 2];
 }
 
+constexpr const char* kUsageHead =
+    "usage: hg-core-timing FILE [options]\n"
+    "Times the outline core's stages on a point-cloud file per insertion order (docs/BENCHMARKS.md).\n";
+
+std::vector<hg::runtime::Param> timing_params() {
+  using namespace hg::runtime;
+  std::vector<Param> params = {
+      positional(text_param("file", "", "the point-cloud file (xyz, csv, pcd, ply)")),
+      integer_param("runs", "5", "runs per insertion order (median)", 1, 1e6),
+      text_param("only", "", "only this insertion order (shuf-asis runs only when asked for)",
+                 {"scan-asis", "scan-hilbert", "scan-brio", "shuf-asis", "shuf-hilbert", "shuf-brio"}),
+      text_param("mode", "dshi", "the triangulation's point location", {"ordinary", "ds", "dshi"})};
+  set_value_names(params, {{"file", "FILE"}, {"runs", "N"}, {"only", "CONFIG"}, {"mode", "M"}});
+  return params;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-core-timing")) return 0;
-  const char* usage =
-      "usage: hg-core-timing FILE [--runs N] [--only CONFIG] [--mode M]\n"
-      "Times the outline core's stages on a point-cloud file per insertion order (docs/BENCHMARKS.md).\n";
-  for (int i = 1; i < argc; ++i)
-    if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) return std::fputs(usage, stdout), 0;
-  if (argc < 2 || argv[1][0] == '-') {  // one line (the failure contract, docs/RUNNING.md)
-    std::fprintf(stderr, "hg-core-timing: command line: %s%s (see --help)\n",
-                 argc < 2 ? "give FILE" : "unknown option ", argc < 2 ? "" : argv[1]);
+  hg::runtime::Params p(timing_params());
+  if (const int rc = hg::runtime::parse_tool(p, argc, argv, "hg-core-timing", hg::runtime::usage_with(kUsageHead));
+      rc >= 0)
+    return rc;
+  if (!p.given("file")) {  // one line (the failure contract, docs/RUNNING.md)
+    std::fprintf(stderr, "hg-core-timing: command line: give FILE (see --help)\n");
     return 2;
   }
-  std::string file = argv[1], only;
-  int runs = 5;
-  Mode mode = Mode::DSHI;
+  const std::string file = p.text("file"), only = p.given("only") ? p.text("only") : "";
+  const int runs = int(p.integer("runs"));
+  const Mode mode = parse_mode(p.text("mode"));
   std::vector<Vec2> scan, shuf;
   try {
-    for (int i = 2; i < argc; ++i) {
-      if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::atoi(argv[++i]);
-      else if (!std::strcmp(argv[i], "--only") && i + 1 < argc)
-        only = argv[++i];
-      else if (!std::strcmp(argv[i], "--mode") && i + 1 < argc)
-        mode = parse_mode(argv[++i]);
-      else
-        throw OutlineError(std::string("command line: unknown argument '") + argv[i] + "'");
-    }
     io::Cloud cloud = io::read_cloud_file(file);
     scan = io::to_plane(cloud, file).points;
-  } catch (const std::exception& e) {  // a bad command line or input file (ReadError names the file)
+  } catch (const std::exception& e) {  // a bad input file (ReadError names the file)
     std::fprintf(stderr, "hg-core-timing: %s\n", e.what());
     return 2;
   }

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -16,7 +16,7 @@
 #include "tools/bench/core/tilted_camera.hpp"
 #include "partgen/shapes.hpp"
 #include "outline_core/outline.hpp"
-#include "runtime/version.hpp"
+#include "runtime/params.hpp"
 
 using namespace hg::outline;
 
@@ -139,48 +139,53 @@ int tilted_table(const Options& base, double points) {
   return 0;
 }
 
+constexpr const char* kUsageHead =
+    "usage: hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode M] [--boundary] | --tilted POINTS\n"
+    "The automatic radius's table on generated plates (docs/outline-auto-radius.md).\n";
+
+std::vector<hg::runtime::Param> table_params() {
+  using namespace hg::runtime;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::vector<Param> params = {
+      text_param("size", "17k", "plate grid: 60 x 34, 170 x 100 or 1600 x 1000 points", {"2k", "17k", "1.6M"}),
+      integer_param("seeds", "4", "seeds per table cell", 1, 1e6),
+      number_param("k", "", "radius factor R = k x spacing (default: the automatic one)", 0, inf, true),
+      text_param("alpha-mode", "global", "one radius for the cloud, or one per triangle", {"global", "local"}),
+      flag_param("boundary", "the diameter-4 holes centred on grid points (exactly 3x3 gaps)"),
+      number_param("tilted", "",
+                   "instead: catalogue parts of about this many points seen by a tilted camera, "
+                   "global vs local mode",
+                   0, inf, true)};
+  set_value_names(params, {{"seeds", "N"}, {"k", "K"}, {"alpha-mode", "M"}, {"tilted", "POINTS"}});
+  return params;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-radius-table")) return 0;
-  const char* usage =
-      "usage: hg-radius-table [--size 2k|17k|1.6M] [--seeds N] [--k K] [--alpha-mode M] [--boundary] | --tilted POINTS\n"
-      "The automatic radius's table on generated plates (docs/outline-auto-radius.md).\n";
-  for (int i = 1; i < argc; ++i)
-    if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) return std::fputs(usage, stdout), 0;
-  std::string size = "17k";
-  int seeds = 4;
-  Options base;
-  bool boundary = false;
-  double tilted_points = 0;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--size") && i + 1 < argc) size = argv[++i];
-    else if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc)
-      seeds = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--k") && i + 1 < argc)
-      base.auto_factor = std::atof(argv[++i]);
-    else if (!std::strcmp(argv[i], "--alpha-mode") && i + 1 < argc)
-      base.alpha_mode = parse_alpha_mode(argv[++i]);
-    else if (!std::strcmp(argv[i], "--boundary"))
-      boundary = true;
-    else if (!std::strcmp(argv[i], "--tilted") && i + 1 < argc)
-      tilted_points = std::atof(argv[++i]);
-    else {  // one line (the failure contract of every program, docs/RUNNING.md)
-      std::fprintf(stderr, "hg-radius-table: command line: unknown option %s (see --help)\n", argv[i]);
-      return 2;
-    }
+  hg::runtime::Params p(table_params());
+  if (const int rc = hg::runtime::parse_tool(p, argc, argv, "hg-radius-table", hg::runtime::usage_with(kUsageHead));
+      rc >= 0)
+    return rc;
+  if (!p.positional().empty()) {
+    std::fprintf(stderr, "hg-radius-table: command line: unexpected argument '%s' (see --help)\n",
+                 p.positional()[0].c_str());
+    return 2;
   }
+  const std::string size = p.text("size");
+  const int seeds = int(p.integer("seeds"));
+  Options base;
+  if (p.given("k")) base.auto_factor = p.number("k");
+  base.alpha_mode = parse_alpha_mode(p.text("alpha-mode"));
+  const bool boundary = p.flag("boundary");
+  const double tilted_points = p.given("tilted") ? p.number("tilted") : 0;
   if (tilted_points > 0) return tilted_table(base, tilted_points);
   synth::PlateSpec spec;
   if (size == "2k") spec.W = 60, spec.H = 34, spec.hole_diameters = {4, 5, 8};
   else if (size == "17k")
     spec.W = 170, spec.H = 100, spec.hole_diameters = {4, 4, 4.5, 5, 6, 8, 12};
-  else if (size == "1.6M")
+  else  // 1.6M (the declaration's choices)
     spec.W = 1600, spec.H = 1000, spec.hole_diameters = {4, 4, 4, 4, 4.5, 4.5, 5, 5, 6, 8, 12, 20, 40};
-  else {
-    std::fprintf(stderr, "hg-radius-table: unknown size '%s'\n", size.c_str());
-    return 2;
-  }
   // --boundary: the diameter-4 holes centred on grid points, i.e. exactly 3x3 gaps.
   if (boundary) spec.holes_on_grid_points = true, spec.hole_diameters.assign(spec.hole_diameters.size(), 4.0);
   const Noise noises[] = {
