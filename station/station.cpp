@@ -239,6 +239,7 @@ std::shared_ptr<void> attach(runtime::Node& node) {
   st->sessions = std::make_unique<Sessions>(std::chrono::seconds(std::int64_t(node.param_double("session-timeout"))));
   LiveOptions lo;
   lo.camera_to_base = cell.cell.calibration.camera_to_base;
+  lo.camera_to_flange = cell.cell.calibration.camera_to_flange;
   lo.cloud_points = std::size_t(node.param_int("cloud-points"));
   st->live = std::make_unique<LiveState>(lo);
   st->history = std::make_unique<History>(node.param("jobs-dir"));
