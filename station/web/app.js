@@ -338,6 +338,7 @@ function renderJobLight() {
 }
 
 function onCloud(cloud) {
+  performance.mark("hg-cloud-received");  // tools/bench/station_bench.py: transfer vs. drawing
   state.cloud = cloud.xyz;
   if (state.scene) state.scene.setCloud(cloud.xyz);
   drawTopView();

@@ -1,9 +1,9 @@
 // The job's 3-D view (three.js r111 from Debian's libjs-three): the plate cloud coloured by height, the
 // outline (holes in another colour), the smoothed edge the planner measured coverage on, the tool path
 // coloured by kind, unreached stretches in red, the TCP.
-// What was drawn is on the container's data attributes (cloud and edge points, renders, TCP poses drawn) and
-// the first render of each cloud is the performance mark "hg-cloud-drawn": the browser tests and
-// tools/bench/station_bench.py read them.
+// What was drawn is on the container's data attributes (cloud and edge points, renders, TCP poses heard and
+// drawn); the first render of each cloud is the performance mark "hg-cloud-drawn", the first with cloud and
+// plan "hg-job-drawn": the browser tests and tools/bench/station_bench.py read them.
 import * as THREE from "/three/build/three.module.js";
 import { OrbitControls } from "/three/examples/jsm/controls/OrbitControls.js";
 
@@ -24,7 +24,7 @@ export class Scene3D {
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.addEventListener("change", () => this.render());
     this.groups = { cloud: new THREE.Group(), outline: new THREE.Group(), edge: new THREE.Group(), path: new THREE.Group() };
-    this.stats = { cloudPoints: 0, edgePoints: 0, renders: 0, tcpDraws: 0 };
+    this.stats = { cloudPoints: 0, edgePoints: 0, renders: 0, tcpPoses: 0, tcpDraws: 0 };
     this.cloudNew = false;
     this.tcpNew = false;
     for (const g of Object.values(this.groups)) this.scene.add(g);
@@ -56,11 +56,16 @@ export class Scene3D {
       this.stats.renders++;
       if (this.tcpNew) this.stats.tcpDraws++;
       if (this.cloudNew) performance.mark("hg-cloud-drawn");
+      if (!this.jobDrawn && this.stats.cloudPoints && this.groups.path.children.length) {
+        this.jobDrawn = true;  // the first frame with the cloud and the plan: the job view's first render
+        performance.mark("hg-job-drawn");
+      }
       this.tcpNew = this.cloudNew = false;
       const d = this.container.dataset;
       d.cloudPoints = this.stats.cloudPoints;
       d.edgePoints = this.stats.edgePoints;
       d.renders = this.stats.renders;
+      d.tcpPoses = this.stats.tcpPoses;
       d.tcpDraws = this.stats.tcpDraws;
     });
   }
@@ -150,6 +155,7 @@ export class Scene3D {
     this.tcp.position.set(xyz[0], xyz[1], xyz[2]);
     this.tcp.visible = true;
     this.tcpNew = true;
+    this.stats.tcpPoses++;
     this.render();
   }
 
