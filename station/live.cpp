@@ -64,7 +64,46 @@ Json stretch_polyline(const Json& xyz, double start, double length) {
   return out;
 }
 
+// The smoothed edge of a plan, one entry per run of points of one loop (edge_loop), base frame.
+Json edge_json(const hullgrind::grind_path_t& p) {
+  Json out = Json::array();
+  for (std::size_t i = 0; i < p.edge.size() && i < p.edge_loop.size(); ++i) {
+    if (out.empty() || out.back()["loop_index"] != p.edge_loop[i])
+      out.push_back({{"loop_index", p.edge_loop[i]}, {"xyz", Json::array()}});
+    out.back()["xyz"].insert(out.back()["xyz"].end(), {p.edge[i][0], p.edge[i][1], p.edge[i][2]});
+  }
+  return out;
+}
+
+// The closed polyline an unreached stretch of loop `loop` lies on: the plan's smoothed edge of that loop (the
+// stretch's arc length is measured along it), else the outline's loop.
+const Json* stretch_ring(const Json& edge, const Json* outline, int loop) {
+  for (const Json& e : edge)
+    if (e["loop_index"] == loop) return &e["xyz"];
+  if (outline && loop >= 0 && std::size_t(loop) < (*outline)["loops"].size()) return &(*outline)["loops"][loop]["xyz"];
+  return nullptr;
+}
+
 }  // namespace
+
+std::optional<Eigen::Isometry3d> capture_to_base(const LiveOptions& options, bool flange_valid, const double* position,
+                                                 const double* orientation, std::string& why) {
+  if (!options.camera_to_flange) return options.camera_to_base;
+  if (!flange_valid) {
+    why = "eye-in-hand cell: the capture carries no flange pose, so the plate cannot be placed";
+    return std::nullopt;
+  }
+  const Eigen::Vector3d t = vec3(position);
+  const Eigen::Quaterniond q(orientation[0], orientation[1], orientation[2], orientation[3]);
+  if (!t.allFinite() || !q.coeffs().allFinite() || std::abs(q.norm() - 1) > 1e-6) {
+    why = "eye-in-hand cell: the capture's flange pose is not a finite position and unit quaternion";
+    return std::nullopt;
+  }
+  Eigen::Isometry3d base_from_flange = Eigen::Isometry3d::Identity();
+  base_from_flange.linear() = q.toRotationMatrix();
+  base_from_flange.translation() = t;
+  return base_from_flange * *options.camera_to_flange;
+}
 
 std::string state_name(int state) {
   static const char* names[] = {"ACCEPTED",   "PLANNING", "PLANNED",     "RUNNING",           "DONE",
@@ -142,7 +181,7 @@ Json plan_json(const hullgrind::grind_path_t& p, const Json* outline) {
     kind.push_back(i < p.kind.size() ? p.kind[i] : 0);
     loop.push_back(i < p.loop_index.size() ? p.loop_index[i] : -1);
   }
-  Json coverage = Json::array(), unreached = Json::array();
+  Json coverage = Json::array(), unreached = Json::array(), edge = edge_json(p);
   for (const auto& c : p.coverage)
     coverage.push_back({{"loop_index", c.loop_index},
                         {"hole", c.hole},
@@ -152,9 +191,8 @@ Json plan_json(const hullgrind::grind_path_t& p, const Json* outline) {
                         {"reason", c.reason}});
   for (const auto& s : p.unreached) {
     Json j = stretch_json(s);
-    j["xyz"] = Json::array();
-    if (outline && s.loop_index >= 0 && std::size_t(s.loop_index) < (*outline)["loops"].size())
-      j["xyz"] = stretch_polyline((*outline)["loops"][s.loop_index]["xyz"], s.start, s.length);
+    const Json* ring = stretch_ring(edge, outline, s.loop_index);
+    j["xyz"] = ring ? stretch_polyline(*ring, s.start, s.length) : Json::array();
     unreached.push_back(std::move(j));
   }
   return {{"job_id", p.job_id},
@@ -166,6 +204,7 @@ Json plan_json(const hullgrind::grind_path_t& p, const Json* outline) {
           {"kind", kind},
           {"loop", loop},
           {"coverage", coverage},
+          {"edge", edge},
           {"unreached", unreached}};
 }
 
@@ -256,17 +295,31 @@ void LiveState::on_status(const hullgrind::job_status_t& js, std::int64_t recv) 
 }
 
 void LiveState::on_cloud(const hullgrind::plate_cloud_t& pc, std::int64_t recv) {
-  auto frame = std::make_shared<const std::string>(cloud_frame(pc, options_.camera_to_base, options_.cloud_points));
+  std::string why;
+  const auto to_base = capture_to_base(options_, pc.flange_valid, pc.flange_position, pc.flange_orientation, why);
+  std::shared_ptr<const std::string> frame;
+  if (to_base) frame = std::make_shared<const std::string>(cloud_frame(pc, *to_base, options_.cloud_points));
   std::lock_guard lock(mutex_);
   cloud_times_.push_back(recv);
   while (cloud_times_.size() > 10) cloud_times_.pop_front();
-  clouds_[pc.header.seq] = frame;
-  while (clouds_.size() > kKeptClouds) clouds_.erase(clouds_.begin());
-  push_event({{"type", "cloud"}, {"seq", pc.header.seq}, {"n", pc.n}, {"utime", recv}});
+  Json event = {{"type", "cloud"}, {"seq", pc.header.seq}, {"n", pc.n}, {"utime", recv}};
+  if (frame) {
+    clouds_[pc.header.seq] = frame;
+    while (clouds_.size() > kKeptClouds) clouds_.erase(clouds_.begin());
+  } else {
+    event["placement_error"] = why;  // not kept: drawn nowhere rather than in the wrong place
+  }
+  push_event(std::move(event));
 }
 
 void LiveState::on_outline(const hullgrind::outline_t& o, std::int64_t recv) {
-  Json j = outline_json(o, options_.camera_to_base);
+  std::string why;
+  const auto to_base = capture_to_base(options_, o.flange_valid, o.flange_position, o.flange_orientation, why);
+  Json j = outline_json(o, to_base.value_or(Eigen::Isometry3d::Identity()));
+  if (!to_base) {
+    j["loops"] = Json::array();  // drawn nowhere rather than in the wrong place
+    j["placement_error"] = why;
+  }
   j["utime"] = recv;
   std::lock_guard lock(mutex_);
   outlines_[o.header.seq] = std::move(j);

@@ -12,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,15 +38,27 @@ std::string cloud_frame(const hullgrind::plate_cloud_t& cloud, const Eigen::Isom
 
 // One outline in the base frame: {"seq", "cloud_seq", "loops": [{"hole", "xyz": [x,y,z,...]}], quality...}.
 Json outline_json(const hullgrind::outline_t& outline, const Eigen::Isometry3d& camera_to_base);
-// One plan (grind_path_t) for the page, with every unreached stretch as a polyline along its outline loop.
+// One plan (grind_path_t) for the page: waypoints, coverage, the smoothed edge per loop ("edge": [{"loop_index",
+// "xyz"}], base frame as the planner sent it) and every unreached stretch as a polyline along its loop's
+// smoothed edge (along the outline loop when the plan carries no edge for it).
 Json plan_json(const hullgrind::grind_path_t& path, const Json* outline);
 
 struct LiveOptions {
+  // The cell's mounting (cell file calibration): a fixed camera's camera-to-base, or for an eye-in-hand
+  // cell the camera-to-flange (then camera_to_base is not used).
   Eigen::Isometry3d camera_to_base = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Isometry3d> camera_to_flange;
   std::size_t cloud_points = 200000;
   std::size_t max_jobs = 200;
   std::size_t event_ring = 2000;
 };
+
+// Where the camera of one capture was in the base frame, as path_planner/mounting.cpp places an outline: the
+// cell's camera-to-base for a fixed camera; base<-flange x camera-to-flange with the capture's flange pose
+// (plate_cloud_t / outline_t flange_*) for an eye-in-hand cell. Empty, with `why`, when an eye-in-hand
+// capture has no usable flange pose: the page then draws nothing rather than a plate in the wrong place.
+std::optional<Eigen::Isometry3d> capture_to_base(const LiveOptions& options, bool flange_valid, const double* position,
+                                                 const double* orientation, std::string& why);
 
 class LiveState {
  public:

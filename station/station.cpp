@@ -240,6 +240,7 @@ std::shared_ptr<void> attach(runtime::Node& node) {
       std::make_unique<Sessions>(std::chrono::seconds(std::int64_t(node.params().number("session-timeout"))));
   LiveOptions lo;
   lo.camera_to_base = cell.cell.calibration.camera_to_base;
+  lo.camera_to_flange = cell.cell.calibration.camera_to_flange;
   lo.cloud_points = std::size_t(node.params().integer("cloud-points"));
   st->live = std::make_unique<LiveState>(lo);
   st->history = std::make_unique<History>(node.params().text("jobs-dir"));

@@ -111,7 +111,9 @@ async function loadCell() {
     ["fault", r.fault_code ? `${r.fault_code}: ${r.fault_text}` : "none"], ["age", `${r.age.toFixed(1)} s`]] : [["robot", "no status heard"]]);
   dl($("cell-camera"), [["plate clouds", c.camera_fps > 0 ? `${c.camera_fps.toFixed(2)} per s` : "none recently (job-triggered)"]]);
   const cal = c.cell.calibration;
-  dl($("cell-calibration"), [["file", c.cell.file], ["method", cal.method], ["date", cal.date],
+  // The file's name: the whole path (in the API's cell.file) is the machine's, not what a reader knows it by.
+  dl($("cell-calibration"), [["file", c.cell.file.split("/").pop()], ["mounting", cal.eye_in_hand ? "eye-in-hand" : "eye-to-hand"],
+    ["method", cal.method], ["date", cal.date],
     ["residuals", `RMS ${cal.rms_mm} mm, worst ${cal.worst_mm} mm (${cal.features} features)`],
     ["tool", `radius ${c.cell.tool.radius * 1000} mm`], ["max speed", `${c.cell.max_speed} m/s`]]);
   const faults = $("cell-faults");
@@ -189,7 +191,9 @@ function renderJob() {
   renderApproval(st, live);
   if (live) {
     state.scene.setOutline(live.outline);
+    state.scene.setEdge(live.plan && live.plan.edge);
     state.scene.setPlan(live.plan);
+    if (live.outline && live.outline.placement_error) banner(`outline ${live.outline.seq}: ${live.outline.placement_error}`);
   }
   drawTopView();
 }
@@ -215,6 +219,14 @@ function renderTimeline(statuses) {
       s.message + (s.actor ? ` [${s.actor}]` : "")]);
 }
 
+// The loops the operator ticked for exclusion, per job and plan revision: the approval table is drawn again
+// whenever the job's snapshot is fetched, and must not forget them.
+function excluded(plan) {
+  const key = `${plan.job_id} ${plan.revision}`;
+  if (!state.exclude || state.exclude.key !== key) state.exclude = { key, loops: new Set() };
+  return state.exclude.loops;
+}
+
 function renderApproval(st, live) {
   const box = $("approval");
   box.hidden = st !== "AWAITING_APPROVAL" || !live || !live.plan || !live.plan.coverage;
@@ -230,6 +242,8 @@ function renderApproval(st, live) {
     box.dataset.loop = c.loop_index;
     box.id = "exclude-" + c.loop_index;
     if (state.role !== "operator") box.disabled = true;
+    box.checked = excluded(plan).has(c.loop_index);
+    box.addEventListener("change", () => { if (box.checked) excluded(plan).add(c.loop_index); else excluded(plan).delete(c.loop_index); });
     row(tbody, [c.loop_index, c.hole ? "hole" : "outer", c.planned ? "yes" : "no", `${(c.edge_length * 1000).toFixed(1)} mm`,
       `${(100 * c.reached_length / (c.edge_length || 1)).toFixed(1)} %`, c.reason, box]);
   }
@@ -255,7 +269,7 @@ async function jobAction(action, body) {
 }
 
 function onApprove() {
-  const exclude = [...document.querySelectorAll("#approval-loops input.exclude:checked")].map((b) => Number(b.dataset.loop));
+  const exclude = [...excluded(state.job.live.plan)].sort((a, b) => a - b);
   jobAction("approve", { exclude_loops: exclude, plan_revision: state.job.live.plan.revision });
 }
 
@@ -288,6 +302,8 @@ function onEvent(ev) {
     } else refreshJobSoon();
   } else if ((ev.type === "path" && j && ev.job_id === j.job_id) || (ev.type === "outline" && j && j.live && !j.live.outline)) {
     refreshJobSoon();
+  } else if (ev.type === "cloud" && ev.placement_error) {
+    if (j) banner(`plate cloud ${ev.seq}: ${ev.placement_error}`);
   } else if (ev.type === "cloud" && j && !state.cloud) {
     state.live.requestCloud(j.job_id);
   } else if (ev.type === "robot") {
@@ -322,6 +338,7 @@ function renderJobLight() {
 }
 
 function onCloud(cloud) {
+  performance.mark("hg-cloud-received");  // tools/bench/station_bench.py: transfer vs. drawing
   state.cloud = cloud.xyz;
   if (state.scene) state.scene.setCloud(cloud.xyz);
   drawTopView();

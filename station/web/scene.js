@@ -1,10 +1,14 @@
 // The job's 3-D view (three.js r111 from Debian's libjs-three): the plate cloud coloured by height, the
-// outline (holes in another colour), the tool path coloured by kind, unreached stretches in red, the TCP.
+// outline (holes in another colour), the smoothed edge the planner measured coverage on, the tool path
+// coloured by kind, unreached stretches in red, the TCP.
+// What was drawn is on the container's data attributes (cloud and edge points, renders, TCP poses heard and
+// drawn); the first render of each cloud is the performance mark "hg-cloud-drawn", the first with cloud and
+// plan "hg-job-drawn": the browser tests and tools/bench/station_bench.py read them.
 import * as THREE from "/three/build/three.module.js";
 import { OrbitControls } from "/three/examples/jsm/controls/OrbitControls.js";
 
 export const KIND_COLOURS = [0x7f8fa6, 0x43a047, 0xff9800, 0x00acc1, 0x8e24aa, 0xbbbbbb];
-export const UNREACHED = 0xff1744, HOLE = 0x40c4ff, OUTER = 0xffffff;
+export const UNREACHED = 0xff1744, HOLE = 0x40c4ff, OUTER = 0xffffff, EDGE = 0xff40ff;
 
 export class Scene3D {
   constructor(container) {
@@ -19,7 +23,10 @@ export class Scene3D {
     this.camera.position.set(0.5, -1.2, 1.2);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.addEventListener("change", () => this.render());
-    this.groups = { cloud: new THREE.Group(), outline: new THREE.Group(), path: new THREE.Group() };
+    this.groups = { cloud: new THREE.Group(), outline: new THREE.Group(), edge: new THREE.Group(), path: new THREE.Group() };
+    this.stats = { cloudPoints: 0, edgePoints: 0, renders: 0, tcpPoses: 0, tcpDraws: 0 };
+    this.cloudNew = false;
+    this.tcpNew = false;
     for (const g of Object.values(this.groups)) this.scene.add(g);
     this.tcp = new THREE.Mesh(new THREE.SphereBufferGeometry(0.008, 16, 12), new THREE.MeshBasicMaterial({ color: 0xffff00 }));
     this.tcp.visible = false;
@@ -46,6 +53,20 @@ export class Scene3D {
     requestAnimationFrame(() => {
       this.pending = false;
       this.renderer.render(this.scene, this.camera);
+      this.stats.renders++;
+      if (this.tcpNew) this.stats.tcpDraws++;
+      if (this.cloudNew) performance.mark("hg-cloud-drawn");
+      if (!this.jobDrawn && this.stats.cloudPoints && this.groups.path.children.length) {
+        this.jobDrawn = true;  // the first frame with the cloud and the plan: the job view's first render
+        performance.mark("hg-job-drawn");
+      }
+      this.tcpNew = this.cloudNew = false;
+      const d = this.container.dataset;
+      d.cloudPoints = this.stats.cloudPoints;
+      d.edgePoints = this.stats.edgePoints;
+      d.renders = this.stats.renders;
+      d.tcpPoses = this.stats.tcpPoses;
+      d.tcpDraws = this.stats.tcpDraws;
     });
   }
 
@@ -73,6 +94,8 @@ export class Scene3D {
     geo.setAttribute("position", new THREE.BufferAttribute(xyz, 3));
     geo.setAttribute("color", new THREE.BufferAttribute(colours, 3));
     this.groups.cloud.add(new THREE.Points(geo, new THREE.PointsMaterial({ size: 2, sizeAttenuation: false, vertexColors: THREE.VertexColors })));
+    this.stats.cloudPoints = n;
+    this.cloudNew = true;
     this.frame(geo);
     this.render();
   }
@@ -97,6 +120,19 @@ export class Scene3D {
     this.render();
   }
 
+  // The smoothed edge the tool grinds (base frame, a closed ring per loop), drawn over the cloud like the
+  // outline: where the coverage and the unreached stretches are measured.
+  setEdge(edge) {
+    this.clear("edge");
+    let n = 0;
+    for (const e of edge || []) {
+      this.line("edge", e.xyz, EDGE, true);
+      n += e.xyz.length >= 6 ? e.xyz.length / 3 : 0;
+    }
+    this.stats.edgePoints = n;
+    this.render();
+  }
+
   // Consecutive waypoints of one kind as one line of that kind's colour (each stretch starts at the previous
   // waypoint, so the path has no gaps); unreached stretches on top, in red.
   setPlan(plan) {
@@ -118,6 +154,8 @@ export class Scene3D {
   setTcp(xyz) {
     this.tcp.position.set(xyz[0], xyz[1], xyz[2]);
     this.tcp.visible = true;
+    this.tcpNew = true;
+    this.stats.tcpPoses++;
     this.render();
   }
 

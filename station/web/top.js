@@ -1,5 +1,5 @@
 // The job's top view (x right, y up, robot base frame) on a 2-D canvas, with a scale bar in mm.
-import { KIND_COLOURS, UNREACHED, HOLE, OUTER } from "./scene.js";
+import { KIND_COLOURS, UNREACHED, HOLE, OUTER, EDGE } from "./scene.js";
 
 const css = (c) => "#" + c.toString(16).padStart(6, "0");
 
@@ -28,6 +28,7 @@ export function drawTop(canvas, { cloud, outline, plan, tcp }) {
     g.stroke();
   };
   for (const loop of (outline && outline.loops) || []) poly(loop.xyz, loop.hole ? HOLE : OUTER, true, 1);
+  for (const e of (plan && plan.edge) || []) poly(e.xyz, EDGE, true, 1);
   if (plan && plan.position) {
     const p = plan.position;
     for (let i = 1; i < plan.kind.length; i++) poly(p.slice(3 * (i - 1), 3 * i + 3), KIND_COLOURS[plan.kind[i]] || 0xffffff, false, 1.5);

@@ -29,6 +29,8 @@ sys.path.insert(0, os.path.join(HERE, "..", "e2e"))
 import e2e_pipeline as E  # noqa: E402
 
 from selenium import webdriver  # noqa: E402
+from selenium.common.exceptions import (ElementClickInterceptedException,  # noqa: E402
+                                        ElementNotInteractableException, StaleElementReferenceException)
 from selenium.webdriver.common.by import By  # noqa: E402
 from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
 
@@ -77,7 +79,7 @@ def browser():
     o.binary_location = "/usr/bin/chromium"
     for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-dev-shm-usage",
-                 "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--window-size=1400,1300",
+                 "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--window-size=1400,1400",
                  "--user-data-dir=" + tempfile.mkdtemp(prefix="hg-station-chromium-")):
         o.add_argument(flag)
     o.set_capability("goog:loggingPrefs", {"browser": "ALL"})
@@ -99,6 +101,19 @@ for (let i = 0; i < d.length; i += 4)
 return n;
 """
 
+# Pixels of the 3-D canvas in the smoothed edge's colour (0xff40ff, scene.js EDGE): red and blue high, green
+# low, which neither the height colours of the cloud (hue red..blue, never magenta) nor the path's kinds have.
+EDGE_PIXELS = """
+const c = document.querySelector('#job-3d canvas');
+if (!c || !c.width) return -1;
+const t = document.createElement('canvas'); t.width = c.width; t.height = c.height;
+const g = t.getContext('2d'); g.drawImage(c, 0, 0);
+const d = g.getImageData(0, 0, c.width, c.height).data;
+let n = 0;
+for (let i = 0; i < d.length; i += 4) if (d[i] > 200 && d[i + 2] > 200 && d[i + 1] < 120) n++;
+return n;
+"""
+
 
 class StationCase(unittest.TestCase):
     extra = {}
@@ -117,9 +132,15 @@ class StationCase(unittest.TestCase):
         add_user(users, OPERATOR, "operator", OPERATOR_PW)
         add_user(users, VIEWER, "viewer", VIEWER_PW)
         p.start()
+        # Every grind_path_t as hg-lcm-dump decodes it (counts of the arrays): what the page must draw.
+        cls.paths_file = os.path.join(p.dir, "grind_path.jsonl")
+        err = p._file("grind_path.err")
+        p._spawn([E.bin_path("hg-lcm-dump"), "--channels", "^HG_GRIND_PATH$", "--type", "grind_path_t"],
+                 stdout=open(cls.paths_file, "w"), stderr=err, stdin=subprocess.DEVNULL)
+        p.wait(lambda: "listening" in p.read(err.name), 30, "hg-lcm-dump listening on HG_GRIND_PATH")
         cls.wait_station()
         cls.driver = browser()
-        cls.driver.set_window_size(1400, 1300)
+        cls.driver.set_window_size(1400, 1400)  # the approval view down to its buttons in a screenshot
 
     @classmethod
     def extra_args(cls, extra):
@@ -159,8 +180,52 @@ class StationCase(unittest.TestCase):
         self.assertEqual(errors, [], "JavaScript errors in the console")
 
     # ---- helpers ----
+    # Waits are for states of the page, never fixed sleeps: the machine may be loaded. An element the page
+    # rebuilds while it is read (a table row, a list) is read again.
     def wait(self, cond, timeout=60, what="a condition"):
-        return WebDriverWait(self.driver, timeout, poll_frequency=0.2).until(lambda d: cond(d), "waited for " + what)
+        return WebDriverWait(self.driver, timeout, poll_frequency=0.2,
+                             ignored_exceptions=(StaleElementReferenceException,)).until(
+                                 lambda d: cond(d), "waited for " + what)
+
+    def click(self, id_, timeout=30):
+        """Clicks the element once it is shown and enabled (a button may appear a frame after the state that
+        calls for it: the approval box is drawn when the plan has been fetched)."""
+        def clicked(d):
+            e = self.by_id(id_)
+            if not (e.is_displayed() and e.is_enabled()):
+                return False
+            try:
+                e.click()
+            except (ElementNotInteractableException, ElementClickInterceptedException):
+                return False
+            return True
+        self.wait(clicked, timeout, "#%s shown and clicked" % id_)
+
+    def click_link(self, css, text):
+        """Clicks the link of that text among css (False while there is none)."""
+        links = [a for a in self.driver.find_elements(By.CSS_SELECTOR, css) if a.text == text]
+        if not links:
+            return False
+        links[0].click()
+        return True
+
+    def tick(self, id_):
+        """Ticks the checkbox if it is not; True once it is ticked."""
+        box = self.by_id(id_)
+        if not box.is_selected():
+            box.click()
+        return box.is_selected()
+
+    def path_messages(self, job):
+        """The grind_path_t messages of job heard on the bus (hg-lcm-dump's JSON), in order."""
+        out = []
+        with open(self.paths_file) as f:
+            for line in f:
+                if line.endswith("\n"):
+                    m = json.loads(line).get("msg", {})
+                    if m.get("job_id") == job:
+                        out.append(m)
+        return out
 
     def by_id(self, id_):
         return self.driver.find_element(By.ID, id_)
@@ -187,13 +252,13 @@ class StationCase(unittest.TestCase):
 
     def start_job(self, part, shot=None):
         before = self.by_id("job-id").text
-        self.by_id("nav-new").click()
+        self.click("nav-new")
         self.wait(lambda d: self.by_id("view-new").is_displayed(), 10, "the new-job view")
         self.by_id("new-part").clear()
         self.by_id("new-part").send_keys(part)
         if shot:
             self.shot(shot)
-        self.by_id("new-start").click()
+        self.click("new-start")
         self.wait(lambda d: self.by_id("view-job").is_displayed() and self.by_id("job-id").text.startswith("st-") and
                   self.by_id("job-id").text != before, 20, "the job view of the new job")
         return self.by_id("job-id").text
@@ -239,9 +304,12 @@ class StationBrowser(StationCase):
 
     def test_3_viewer_cannot_act(self):
         self.login_ok(VIEWER, VIEWER_PW)
+        # The cell file by its name, not the machine's absolute path to it.
+        self.wait(lambda d: "cell-sim.yaml" in d.execute_script(CELL_FILE), 20, "the cell file's name")
+        self.assertNotIn("/", self.driver.execute_script(CELL_FILE))
         self.shot("cell")
         self.assertFalse(self.by_id("reset").is_displayed())
-        self.by_id("nav-new").click()
+        self.click("nav-new")
         self.assertFalse(self.by_id("new-start").is_displayed())
         self.assertFalse(self.by_id("approve").is_displayed())
         cookie, csrf = api_login(VIEWER, VIEWER_PW)
@@ -269,16 +337,14 @@ class StationJobs(StationCase):
         self.wait_state(("RUNNING", "AWAITING_APPROVAL", "DONE"))
         self.shot("job-live")
         if self.job_state() == "AWAITING_APPROVAL":  # a cell that asks the operator
-            self.by_id("approve").click()
+            self.click("approve")
         self.wait(lambda d: "RUNNING" in self.job_state() or self.job_state() == "DONE", 60, "the run")
         self.wait_state("DONE", 180)
         width = self.driver.execute_script("return document.getElementById('job-progress-bar').style.width")
         self.assertEqual(width, "100%")
         self.shot("job-done")
-        self.by_id("nav-history").click()
-        link = self.wait(lambda d: [a for a in d.find_elements(By.CSS_SELECTOR, "#history-table a") if a.text == job],
-                         60, "the job in the history")
-        link[0].click()
+        self.click("nav-history")
+        self.wait(lambda d: self.click_link("#history-table a", job), 60, "the job in the history, clicked")
         names = self.wait(lambda d: [a.text.split(" ")[0] for a in d.find_elements(By.CSS_SELECTOR, "#hj-files a.download")
                                      if "path.json" in a.text] and
                           [a.text.split(" ")[0] for a in d.find_elements(By.CSS_SELECTOR, "#hj-files a.download")],
@@ -297,9 +363,9 @@ class StationJobs(StationCase):
         self.start_job("abort-plate")
         self.wait_state(("RUNNING", "AWAITING_APPROVAL"), 120)
         if self.job_state() == "AWAITING_APPROVAL":
-            self.by_id("approve").click()
+            self.click("approve")
             self.wait_state("RUNNING", 60)
-        self.by_id("job-abort").click()
+        self.click("job-abort")
         self.wait_state("ABORTED", 60)
 
     def test_6_fault_shown_and_reset(self):
@@ -307,7 +373,7 @@ class StationJobs(StationCase):
         job = self.start_job("fault-plate")
         self.wait_state(("RUNNING", "AWAITING_APPROVAL"), 120)
         if self.job_state() == "AWAITING_APPROVAL":
-            self.by_id("approve").click()
+            self.click("approve")
             self.wait_state("RUNNING", 60)
         # The simulated robot bridge's protective stop on demand (SIGUSR1, hg-robot-bridge --help), sent
         # while the robot itself reports this job running: the page's label alone may lag the robot.
@@ -320,11 +386,11 @@ class StationJobs(StationCase):
         self.wait(lambda d: "protective stop" in self.by_id("job-message").text, 15, "the fault's reason on the job view")
         robot = self.robot(cookie)
         self.assertEqual((robot["mode"], robot["fault_text"]), (3, "simulated protective stop"))
-        self.by_id("nav-cell").click()
+        self.click("nav-cell")
         faults = self.wait(lambda d: d.execute_script(FAULTS), 30, "the fault in the cell view")
         self.assertIn("robot: simulated protective stop", faults)
         self.shot("cell-fault")
-        self.by_id("reset").click()
+        self.click("reset")
         self.wait(lambda d: d.execute_script(FAULTS) == [], 30, "the fault cleared")
         self.assertEqual(self.robot(cookie)["mode"], 1)  # IDLE
 
@@ -334,6 +400,14 @@ class StationJobs(StationCase):
         assert status == 200, (status, body)
         return body["robot"] or {}
 
+
+# The calibration's "file" entry of the cell view.
+CELL_FILE = """const dt = [...document.querySelectorAll('#cell-calibration dt')].find((e) => e.textContent === 'file');
+return dt ? dt.nextElementSibling.textContent : '';"""
+
+# The approval table's rows, read in one go: [{loop, reached, ticked}].
+APPROVAL_ROWS = """return [...document.querySelectorAll('#approval-loops tbody tr')].map((tr) => ({
+  loop: Number(tr.cells[0].textContent), reached: tr.cells[4].textContent, ticked: tr.querySelector('input.exclude').checked}));"""
 
 # The cell view's faults (li.error; "none" is no fault), read in one go: the list is rebuilt on every update.
 FAULTS = "return [...document.querySelectorAll('#cell-faults li.error')].map((li) => li.textContent);"
@@ -367,8 +441,15 @@ class StationApproval(StationCase):
         self.wait_state("AWAITING_APPROVAL", 120)
         self.wait_drawn()
         self.wait(lambda d: d.find_elements(By.CSS_SELECTOR, "#approval-loops tbody tr"), 30, "the coverage per loop")
+        # The smoothed edge: as many points in the page's scene as the grind_path_t on the bus carries, and
+        # drawn (pixels of its colour on the canvas).
+        message = self.wait(lambda d: self.path_messages(job), 30, "the plan on the bus")[-1]
+        self.assertGreater(message["num_edge_points"], 100)
+        self.wait(lambda d: self.by_id("job-3d").get_attribute("data-edge-points") == str(message["num_edge_points"]),
+                  30, "the edge in the scene with the message's %d points" % message["num_edge_points"])
+        self.wait(lambda d: d.execute_script(EDGE_PIXELS) > 50, 30, "the edge's pixels on the canvas")
         self.shot("approval")
-        self.by_id("approve").click()
+        self.click("approve")
         self.wait_state("DONE", 180)
         cookie, _ = api_login(OPERATOR, OPERATOR_PW)
         status, body, _ = http("GET", "/api/jobs/" + job, cookie=cookie)
@@ -379,7 +460,7 @@ class StationApproval(StationCase):
         self.login_ok(OPERATOR, OPERATOR_PW)
         self.start_job("reject-plate")
         self.wait_state("AWAITING_APPROVAL", 120)
-        self.by_id("reject").click()
+        self.click("reject")
         self.wait_state("REJECTED", 60)
 
 
@@ -399,18 +480,21 @@ class StationLargerTool(StationCase):
         self.login_ok(OPERATOR, OPERATOR_PW)
         job = self.start_job("big-tool-plate")
         self.wait_state("AWAITING_APPROVAL", 120)
-        rows = self.wait(lambda d: d.find_elements(By.CSS_SELECTOR, "#approval-loops tbody tr"), 30, "coverage")
-        short = [r for r in rows if not r.text.split()[-1].startswith("100.0")]
-        unreached = [r.find_element(By.CSS_SELECTOR, "input.exclude") for r in rows if "100.0 %" not in r.text]
-        self.assertTrue(unreached, [r.text for r in rows])
-        for box in unreached:
-            box.click()
+        rows = self.wait(lambda d: d.execute_script(APPROVAL_ROWS), 30, "coverage")
+        short = sorted(r["loop"] for r in rows if r["reached"] != "100.0 %")
+        self.assertTrue(short, rows)
+        for loop in short:  # ticked, and still ticked after the page draws the table again
+            self.wait(lambda d: self.tick("exclude-%d" % loop), 30, "loop %d ticked" % loop)
+        self.wait(lambda d: sorted(r["loop"] for r in d.execute_script(APPROVAL_ROWS) if r["ticked"]) == short, 10,
+                  "the ticks kept")
         self.shot("approval-exclude")
-        self.by_id("approve").click()
+        self.click("approve")
         self.wait_state("DONE", 180)
         cookie, _ = api_login(OPERATOR, OPERATOR_PW)
         _, body, _ = http("GET", "/api/jobs/" + job, cookie=cookie)
-        self.assertTrue(any(e.get("excluded_loops") for e in body["record"]["events"]), short)
+        excluded = [e["excluded_loops"] for e in body["record"]["events"] if e.get("excluded_loops")]
+        self.assertTrue(excluded, body["record"]["events"][-5:])
+        self.assertEqual(sorted(excluded[0]), short)
 
     def test_2_without_exclusion_waits_and_reject(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
@@ -420,7 +504,7 @@ class StationLargerTool(StationCase):
         self.assertTrue([r for r in rows if "100.0 %" not in r.text], [r.text for r in rows])
         time.sleep(3)  # nothing approves it by itself: the job still waits for the operator
         self.assertEqual(self.job_state(), "AWAITING_APPROVAL")
-        self.by_id("reject").click()
+        self.click("reject")
         self.wait_state("REJECTED", 60)
         self.shot("rejected")
         cookie, _ = api_login(OPERATOR, OPERATOR_PW)

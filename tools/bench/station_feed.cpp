@@ -1,0 +1,121 @@
+// hg-bench-station-feed: the camera of tools/bench/station_bench.py. Reads one point cloud file (hg-gen's
+// 1.59 M-point preset high-4, binary PCD) and, for every START on HG_JOB_REQUEST, publishes it as one
+// plate_cloud_t on HG_PLATE_CLOUD, lying flat under the simulated cell's camera (config/cell-sim.yaml: at
+// 0.5, 0, 1.5 m looking down), centred on its optical axis. The pipeline's camera bridge renders clouds of
+// at most ~0.2 M points; this puts a cloud of the size the station's speed targets name through the same
+// outline service, planner, robot bridge and station. A benchmark tool, not a test.
+#include <lcm/lcm-cpp.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "cloud_io/cloud_io.hpp"
+#include "hullgrind/job_request_t.hpp"
+#include "hullgrind/plate_cloud_t.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/params.hpp"
+#include "runtime/version.hpp"
+
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+const char* kUsage =
+    "usage: hg-bench-station-feed --cloud FILE [--lcm-url URL] [--distance M]\n"
+    "Publishes FILE (.pcd/.ply/.xyz, metres) as one plate_cloud_t on HG_PLATE_CLOUD for every job_request_t\n"
+    "START heard on HG_JOB_REQUEST: the points' x, y as the plane's u, v, centred, the plane M metres (1.49)\n"
+    "from the camera along its optical axis. Runs until SIGINT/SIGTERM. For tools/bench/station_bench.py.\n";
+
+// The cloud as a plate_cloud_t in the camera frame: plane normal towards the camera (-z), u = camera x,
+// v = normal x u = -y (the bridge's convention), points centred on the optical axis.
+hullgrind::plate_cloud_t plate_cloud(const hg::outline::io::Cloud& c, double distance) {
+  double lo[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+  double hi[2] = {-lo[0], -lo[1]};
+  for (std::size_t i = 0; i < c.size(); ++i)
+    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], c.xyz[3 * i + k]), hi[k] = std::max(hi[k], c.xyz[3 * i + k]);
+  hullgrind::plate_cloud_t m{};
+  m.header.frame_id = "camera";
+  m.plane_origin[2] = distance;
+  m.plane_normal[2] = -1;
+  m.plane_u_axis[0] = 1;
+  m.plane_v_axis[1] = -1;
+  m.thickness = 0.01;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    m.u.push_back(float(c.xyz[3 * i] - 0.5 * (lo[0] + hi[0])));
+    m.v.push_back(float(c.xyz[3 * i + 1] - 0.5 * (lo[1] + hi[1])));
+  }
+  m.n = std::int32_t(m.u.size());
+  m.part.assign(m.u.size(), 0);
+  m.num_parts = 1;
+  return m;
+}
+
+struct Feed {
+  lcm::LCM* lcm;
+  hullgrind::plate_cloud_t cloud;
+  void on_request(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_request_t* r) {
+    if (r->action != hullgrind::job_request_t::ACTION_START) return;
+    cloud.header.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                             std::chrono::system_clock::now().time_since_epoch())
+                             .count();
+    cloud.source_frame_seq = cloud.header.seq;
+    lcm->publish(hg::channels::kPlateCloud, &cloud);
+    std::printf("published cloud %lld (%d points) for job %s\n", static_cast<long long>(cloud.header.seq), cloud.n,
+                r->job_id.c_str());
+    std::fflush(stdout);
+    ++cloud.header.seq;
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (hg::runtime::answer_version(argc, argv, "hg-bench-station-feed")) return 0;
+  std::string file, url;
+  double distance = 1.49;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (a == "--cloud" && i + 1 < argc) {
+      file = argv[++i];
+    } else if (a == "--lcm-url" && i + 1 < argc) {
+      url = argv[++i];
+    } else if (a == "--distance" && i + 1 < argc) {
+      distance = std::atof(argv[++i]);
+    } else {
+      std::fprintf(stderr, "hg-bench-station-feed: command line: unknown option %s (see --help)\n", a.c_str());
+      return hg::runtime::kExitBadInput;
+    }
+  }
+  if (file.empty()) {
+    std::fputs(kUsage, stderr);
+    return hg::runtime::kExitBadInput;
+  }
+  Feed feed{};
+  try {
+    feed.cloud = plate_cloud(hg::outline::io::read_cloud_file(file), distance);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hg-bench-station-feed: %s\n", e.what());
+    return hg::runtime::kExitBadInput;
+  }
+  lcm::LCM lcm(url);
+  if (!lcm.good()) {
+    std::fprintf(stderr, "hg-bench-station-feed: LCM failed to start (%s)\n", url.c_str());
+    return 1;
+  }
+  feed.lcm = &lcm;
+  lcm.subscribe(hg::channels::kJobRequest, &Feed::on_request, &feed);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::printf("listening: %d points from %s\n", feed.cloud.n, file.c_str());
+  std::fflush(stdout);
+  while (!g_stop) lcm.handleTimeout(200);
+  return 0;
+}
