@@ -49,8 +49,8 @@ hullgrind::plate_cloud_t cloud_of(bool shadow, int seq) {
   if (shadow) {
     const hg::test::Edge e = hg::test::longest_outer_edge(f.part_polygons.at(0));
     const double len = (e.b - e.a).norm();
-    hg::test::shadow_beside(f, hg::test::unmixed_frame("plate-hole-slot", "pm806", pose, 21), e, 0.2 * len,
-                            0.6 * len, 0.005);
+    hg::test::shadow_beside(f, hg::test::unmixed_frame("plate-hole-slot", "pm806", pose, 21), e, 0.2 * len, 0.6 * len,
+                            0.005);
   }
   hullgrind::plate_cloud_t c{};
   c.header.frame_id = "camera";

@@ -147,14 +147,15 @@ TEST(ToolsSchema, EveryTruncationAndTrailingByteIsAnError) {
 
 TEST(ToolsSchema, LyingLengthsAreRejectedBeforeAllocating) {
   // plate_cloud_t ends with: int32 n, float u[n], float v[n], int16 part[n], int16 num_parts, then the flange
-  // pose (boolean, 3 + 4 doubles: 57 bytes). With n = 0 the 6 bytes before the flange pose are n and
-  // num_parts; n is then set to values the bytes cannot hold.
+  // pose (boolean, 3 + 4 doubles: 57 bytes) and the frame's evidence (int32, double, boolean, 2 doubles: 29
+  // bytes). With n = 0 the 6 bytes before the flange pose are n and num_parts; n is then set to values the
+  // bytes cannot hold.
   const Struct* s = schema().find("plate_cloud_t");
   Json msg = sample_message(schema(), *s, 0, 0);
   msg["n"] = 0;
   msg["u"] = msg["v"] = msg["part"] = Json::array();
   std::vector<uint8_t> bytes = schema().encode(*s, msg);
-  std::size_t n_at = bytes.size() - 57 - 6;
+  std::size_t n_at = bytes.size() - 29 - 57 - 6;
   for (uint32_t lie : {0x7fffffffu, 0x80000000u, 0xffffffffu, 1u}) {
     std::vector<uint8_t> b = bytes;
     for (int k = 0; k < 4; ++k) b[n_at + k] = static_cast<uint8_t>(lie >> (24 - 8 * k));

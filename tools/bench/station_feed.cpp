@@ -60,9 +60,9 @@ struct Feed {
   hullgrind::plate_cloud_t cloud;
   void on_request(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_request_t* r) {
     if (r->action != hullgrind::job_request_t::ACTION_START) return;
-    cloud.header.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                             std::chrono::system_clock::now().time_since_epoch())
-                             .count();
+    cloud.header.utime =
+        std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+            .count();
     cloud.source_frame_seq = cloud.header.seq;
     lcm->publish(hg::channels::kPlateCloud, &cloud);
     std::printf("published cloud %lld (%d points) for job %s\n", static_cast<long long>(cloud.header.seq), cloud.n,
