@@ -65,14 +65,14 @@ const std::map<std::string, std::uint64_t> kBefore = {
 
 TEST(SceneUnchanged, EffectsOffGiveTheFramesOfBefore) {
   int compared = 0;
-  for (const std::string& scene : {"empty", "plate-hole-slot", "l-bracket", "knee-scallop", "collar-notch",
-                                   "ring-flange", "trapezoid-holes", "three-parts", "demo"})
-    for (const std::string profile : {"pm806", "lsr-l"})
+  for (const char* scene : {"empty", "plate-hole-slot", "l-bracket", "knee-scallop", "collar-notch", "ring-flange",
+                            "trapezoid-holes", "three-parts", "demo"})
+    for (const char* profile : {"pm806", "lsr-l"})
       for (std::uint64_t k = 0; k < 2; ++k) {
         const hg::sim::RenderedFrame f =
             hg::sim::render(hg::sim::scene_preset(scene), hg::sim::camera_profile(profile), k);
         const std::uint64_t h = fnv(f.truth_labels, fnv(f.depth));
-        const std::string key = scene + "@" + profile + "#" + std::to_string(k);
+        const std::string key = std::string(scene) + "@" + profile + "#" + std::to_string(k);
         const auto it = kBefore.find(key);
         if (it == kBefore.end()) {
           ADD_FAILURE() << key;
