@@ -156,7 +156,7 @@ TEST(ToolsSchema, LyingLengthsAreRejectedBeforeAllocating) {
   msg["u"] = msg["v"] = msg["part"] = Json::array();
   std::vector<uint8_t> bytes = schema().encode(*s, msg);
   std::size_t n_at = bytes.size() - 29 - 57 - 6;
-  for (uint32_t lie : {0x7fffffffu, 0x80000000u, 0xffffffffu, 1u}) {
+  for (uint32_t lie : {0x7fffffffu, 0x80000000u, 0xffffffffu, 23u}) {  // 23 floats: 4 bytes more than the 88 left
     std::vector<uint8_t> b = bytes;
     for (int k = 0; k < 4; ++k) b[n_at + k] = static_cast<uint8_t>(lie >> (24 - 8 * k));
     Decoded d = decode_message(schema(), b.data(), b.size(), {});
