@@ -116,6 +116,8 @@ def pipeline(E, tmp, cloud):
 
 def browser():
     from selenium import webdriver
+    # Debian's python3-selenium (4.8) has no webdriver.ChromeService; the chrome module's Service is in every 4.x.
+    from selenium.webdriver.chrome.service import Service
     o = webdriver.ChromeOptions()
     o.binary_location = "/usr/bin/chromium"
     for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -123,7 +125,7 @@ def browser():
                  "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--window-size=1400,1400",
                  "--user-data-dir=" + tempfile.mkdtemp(prefix="hg-station-bench-chromium-")):
         o.add_argument(flag)
-    service = webdriver.ChromeService(executable_path="/usr/bin/chromedriver")
+    service = Service(executable_path="/usr/bin/chromedriver")
     return webdriver.Chrome(service=service, options=o)
 
 
