@@ -125,6 +125,7 @@ def browser():
                  "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--window-size=1400,1400",
                  "--user-data-dir=" + tempfile.mkdtemp(prefix="hg-station-bench-chromium-")):
         o.add_argument(flag)
+    o.set_capability("goog:loggingPrefs", {"browser": "ALL"})  # printed if the page never draws
     service = Service(executable_path="/usr/bin/chromedriver")
     return webdriver.Chrome(service=service, options=o)
 
@@ -156,8 +157,13 @@ def first_renders(driver, job, runs):
     for i in range(runs):
         driver.get("about:blank")
         driver.get(URL + "/#job/" + job)
-        r = wait(lambda: (lambda m: m if m["drawn"] is not None else None)(driver.execute_script(MARKS)), 60,
-                 "the job view drawn (run %d)" % i)
+        try:
+            r = wait(lambda: (lambda m: m if m["drawn"] is not None else None)(driver.execute_script(MARKS)), 60,
+                     "the job view drawn (run %d)" % i)
+        except TimeoutError:
+            for e in driver.get_log("browser"):
+                print("  browser console: %s %s" % (e["level"], e["message"]), flush=True)
+            raise
         rows.append(r)
         print("  first render %d: %.0f ms (DOM ready %.0f, job JSON %.0f, cloud received %.0f, cloud drawn %.0f; "
               "%d points, %d edge points)" % (i + 1, r["drawn"], r["dom"], r["job_json"] or -1, r["cloud_received"] or -1,
