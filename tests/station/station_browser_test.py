@@ -140,7 +140,16 @@ class StationCase(unittest.TestCase):
         p.wait(lambda: "listening" in p.read(err.name), 30, "hg-lcm-dump listening on HG_GRIND_PATH")
         cls.wait_station()
         cls.driver = browser()
-        cls.driver.set_window_size(1400, 1400)  # the approval view down to its buttons in a screenshot
+        cls.viewport(1400, 1400)  # the approval view down to its buttons in a screenshot
+
+    @classmethod
+    def viewport(cls, width, height):
+        """The page's viewport (what a screenshot holds) at width x height: the window is that plus the
+        browser's own frame, measured once."""
+        d = cls.driver
+        d.set_window_size(width, height)
+        inner = d.execute_script("return [window.innerWidth, window.innerHeight]")
+        d.set_window_size(2 * width - inner[0], 2 * height - inner[1])
 
     @classmethod
     def extra_args(cls, extra):
