@@ -114,7 +114,9 @@ async function loadCell() {
   // The file's name: the whole path (in the API's cell.file) is the machine's, not what a reader knows it by.
   dl($("cell-calibration"), [["file", c.cell.file.split("/").pop()], ["mounting", cal.eye_in_hand ? "eye-in-hand" : "eye-to-hand"],
     ["method", cal.method], ["date", cal.date],
-    ["residuals", `RMS ${cal.rms_mm} mm, worst ${cal.worst_mm} mm (${cal.features} features)`],
+    // A hand-entered transform has no residuals: its zeros are not a perfect calibration.
+    ["residuals", cal.features > 0 ? `RMS ${cal.rms_mm} mm, worst ${cal.worst_mm} mm (${cal.features} features)`
+      : "none measured (no calibration features)"],
     ["tool", `radius ${c.cell.tool.radius * 1000} mm`], ["max speed", `${c.cell.max_speed} m/s`]]);
   const faults = $("cell-faults");
   faults.replaceChildren();
@@ -213,8 +215,10 @@ function drawTopView() {
 function renderTimeline(statuses) {
   const tbody = $("job-timeline").querySelector("tbody");
   tbody.replaceChildren();
-  const t0 = statuses.length ? statuses[0].utime : 0;
-  for (const s of statuses)
+  // In the order of the times shown: two processes' statuses of the same instant may arrive swapped.
+  const rows = [...statuses].sort((a, b) => a.utime - b.utime);
+  const t0 = rows.length ? rows[0].utime : 0;
+  for (const s of rows)
     row(tbody, [fmtTime(s.utime), ((s.utime - t0) / 1e6).toFixed(2), s.source, s.state,
       s.message + (s.actor ? ` [${s.actor}]` : "")]);
 }
@@ -296,7 +300,10 @@ function onEvent(ev) {
   if (ev.type === "status" && j && ev.job_id === j.job_id) {
     if (j.live) {  // update in place: the progress bar follows every status
       const rows = j.live.statuses, last = rows[rows.length - 1];
-      if (last && last.source === ev.source && last.state === ev.state) rows[rows.length - 1] = ev; else refreshJobSoon();
+      // A new source or state: a row of its own at once (the label, message and timeline agree), then the
+      // snapshot for what else changed with it (a plan, an outline).
+      if (last && last.source === ev.source && last.state === ev.state) rows[rows.length - 1] = ev;
+      else { rows.push(ev); refreshJobSoon(); }
       if (!ev.answer) j.live.state = ev.state;
       renderJobLight();
     } else refreshJobSoon();

@@ -314,8 +314,11 @@ class StationBrowser(StationCase):
     def test_3_viewer_cannot_act(self):
         self.login_ok(VIEWER, VIEWER_PW)
         # The cell file by its name, not the machine's absolute path to it.
-        self.wait(lambda d: "cell-sim.yaml" in d.execute_script(CELL_FILE), 20, "the cell file's name")
-        self.assertNotIn("/", self.driver.execute_script(CELL_FILE))
+        self.wait(lambda d: "cell-sim.yaml" in d.execute_script(CELL_ENTRY, "file"), 20, "the cell file's name")
+        self.assertNotIn("/", self.driver.execute_script(CELL_ENTRY, "file"))
+        # config/cell-sim.yaml's transform is entered by hand (method manual, 0 features): its zero residuals were
+        # never measured, and the page must not show them as a perfect calibration.
+        self.assertEqual(self.driver.execute_script(CELL_ENTRY, "residuals"), "none measured (no calibration features)")
         self.shot("cell")
         self.assertFalse(self.by_id("reset").is_displayed())
         self.click("nav-new")
@@ -349,6 +352,10 @@ class StationJobs(StationCase):
             self.click("approve")
         self.wait(lambda d: "RUNNING" in self.job_state() or self.job_state() == "DONE", 60, "the run")
         self.wait_state("DONE", 180)
+        # The label, the message and the timeline's last row tell the same state (a DONE label over the
+        # last waypoint's message would not).
+        self.wait(lambda d: d.execute_script(LAST_TIMELINE_ROW) == ["hg-robot-bridge", "DONE", self.by_id("job-message").text],
+                  10, "the timeline's last row DONE with the job's message (now %s)" % self.driver.execute_script(LAST_TIMELINE_ROW))
         width = self.driver.execute_script("return document.getElementById('job-progress-bar').style.width")
         self.assertEqual(width, "100%")
         self.shot("job-done")
@@ -410,9 +417,13 @@ class StationJobs(StationCase):
         return body["robot"] or {}
 
 
-# The calibration's "file" entry of the cell view.
-CELL_FILE = """const dt = [...document.querySelectorAll('#cell-calibration dt')].find((e) => e.textContent === 'file');
+# An entry of the cell view's calibration ("file", "residuals", ...).
+CELL_ENTRY = """const dt = [...document.querySelectorAll('#cell-calibration dt')].find((e) => e.textContent === arguments[0]);
 return dt ? dt.nextElementSibling.textContent : '';"""
+
+# The job timeline's last row: [source, state, message] (the message without the actor shown after it).
+LAST_TIMELINE_ROW = """const tr = [...document.querySelectorAll('#job-timeline tbody tr')].pop();
+return tr ? [tr.cells[2].textContent, tr.cells[3].textContent, tr.cells[4].textContent.replace(/ \\[[^\\]]*\\]$/, '')] : [];"""
 
 # The approval table's rows, read in one go: [{loop, reached, ticked}].
 APPROVAL_ROWS = """return [...document.querySelectorAll('#approval-loops tbody tr')].map((tr) => ({

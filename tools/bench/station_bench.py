@@ -97,8 +97,12 @@ def pipeline(E, tmp, cloud):
     cell = os.path.join(tmp, "cell-operator.yaml")
     with open(cell, "w") as f:
         f.write("\n".join(lines + ["approval: operator"]) + "\n")
+    # The outline of 1.59 M points takes the outline service seconds, more on a loaded machine: the planner
+    # waits for it longer than its 10 s default, the robot bridge for the path longer than its 60 s (this
+    # measures the station, not the outline).
     p = E.Pipeline("bench-station", lcm_url=LCM_URL, without=("camera",), variables={"CELL": cell},
-                   extra_args={"planner": ["--small-hole", "skip"]})
+                   extra_args={"planner": ["--small-hole", "skip", "--outline-timeout", "180"],
+                                               "robot": ["--path-timeout", "240"]})
     import tomllib
     with open(p.toml, "rb") as f:
         mine = tomllib.load(f)
