@@ -270,6 +270,9 @@ def bench(args):
             "cloud_points_drawn": renders[-1]["points"], "edge_points": renders[-1]["edge"],
             "poses": poses, "idle_cpu_percent": {"no page": quiet, "cell view open": cell},
             "loadavg": load})
+    except Exception:
+        print(p.diagnostics(), flush=True)  # which process lost or refused the job
+        raise
     finally:
         if driver:
             driver.quit()
