@@ -9,7 +9,7 @@ const STATES = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", 
   "AWAITING_APPROVAL", "APPROVED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN", "interrupted"];
 const TERMINAL = new Set(["DONE", "FAILED", "ABORTED", "REFUSED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN"]);
 
-const state = { user: null, role: null, live: null, scene: null, job: null, cloud: null, tcp: null, cell: null };
+const state = { user: null, role: null, live: null, scene: null, job: null, cloud: null, cloudJob: null, tcp: null, cell: null };
 
 function el(tag, text, cls) {
   const e = document.createElement(tag);
@@ -164,12 +164,36 @@ function hear(ev) {
 async function openJob(id) {
   if (!state.scene) state.scene = new Scene3D($("job-3d"));
   if (!id) { $("job-id").textContent = "(none: start one under New job)"; return; }
-  const j = await api.get("/api/jobs/" + encodeURIComponent(id));
-  if ((heard.get(id) || 0) > ((j.live && j.live.updated_utime) || 0)) refreshJobSoon();
+  // The cloud, the larger part of the first render, is asked for at once, while the job's JSON is fetched.
   const changed = !state.job || state.job.job_id !== id;
+  if (changed) askCloud(id);
+  let j;
+  try {
+    j = await api.get("/api/jobs/" + encodeURIComponent(id));
+  } catch (e) {
+    if (changed) askCloud(null);  // no such job: draw no cloud for it
+    throw e;
+  }
+  if ((heard.get(id) || 0) > ((j.live && j.live.updated_utime) || 0)) refreshJobSoon();
   state.job = { job_id: id, live: j.live, record: j.record };
-  if (changed) { state.cloud = null; state.live.requestCloud(id); }
+  askOutlineCloud(state.job);
   renderJob();
+}
+
+// The job whose cloud the 3-D and top views wait for (null: none; a frame that comes then is not drawn).
+function askCloud(id) {
+  state.cloud = null;
+  state.cloudJob = id;
+  if (id) state.live.requestCloud(id);
+}
+
+// A job opened before its capture got the newest cloud there was (another job's); once the job's outline
+// names its cloud, that one is asked for, once per cloud.
+function askOutlineCloud(j) {
+  const seq = j.live && j.live.outline ? j.live.outline.cloud_seq : undefined;
+  if (seq === undefined || !state.cloud || Number($("job-3d").dataset.cloudSeq) === seq || state.cloudAsked === seq) return;
+  state.cloudAsked = seq;
+  askCloud(j.job_id);
 }
 
 function jobState() {
@@ -312,7 +336,7 @@ function onEvent(ev) {
   } else if (ev.type === "cloud" && ev.placement_error) {
     if (j) banner(`plate cloud ${ev.seq}: ${ev.placement_error}`);
   } else if (ev.type === "cloud" && j && !state.cloud) {
-    state.live.requestCloud(j.job_id);
+    askCloud(j.job_id);
   } else if (ev.type === "robot") {
     if (ev.job_id && j && ev.job_id === j.job_id) {
       state.tcp = ev.tcp;
@@ -346,7 +370,9 @@ function renderJobLight() {
 
 function onCloud(cloud) {
   performance.mark("hg-cloud-received");  // tools/bench/station_bench.py: transfer vs. drawing
+  if (!state.cloudJob) return;
   state.cloud = cloud.xyz;
+  $("job-3d").dataset.cloudSeq = cloud.seq;  // the browser tests compare it with the job's outline
   if (state.scene) state.scene.setCloud(cloud.xyz);
   drawTopView();
 }

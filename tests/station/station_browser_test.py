@@ -376,11 +376,17 @@ class StationJobs(StationCase):
 
     def test_5_abort_while_running(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
-        self.start_job("abort-plate")
+        job = self.start_job("abort-plate")
         self.wait_state(("RUNNING", "AWAITING_APPROVAL"), 120)
         if self.job_state() == "AWAITING_APPROVAL":
             self.click("approve")
             self.wait_state("RUNNING", 60)
+        # Opened before its capture (the page then gets the newest cloud there is: the previous job's), the
+        # view ends on the cloud this job's outline was made from.
+        cookie, _ = api_login(OPERATOR, OPERATOR_PW)
+        seq = http("GET", "/api/jobs/" + job, cookie=cookie)[1]["live"]["outline"]["cloud_seq"]
+        self.wait(lambda d: self.by_id("job-3d").get_attribute("data-cloud-seq") == str(seq), 30,
+                  "the 3-D view on the job's own cloud %d (now %s)" % (seq, self.by_id("job-3d").get_attribute("data-cloud-seq")))
         self.click("job-abort")
         self.wait_state("ABORTED", 60)
 
