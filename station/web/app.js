@@ -335,8 +335,8 @@ function onEvent(ev) {
     refreshJobSoon();
   } else if (ev.type === "cloud" && ev.placement_error) {
     if (j) banner(`plate cloud ${ev.seq}: ${ev.placement_error}`);
-  } else if (ev.type === "cloud" && j && !state.cloud) {
-    askCloud(j.job_id);
+  } else if (ev.type === "cloud" && state.cloudJob && !state.cloud) {
+    askCloud(state.cloudJob);  // the job asked before the station had a cloud (its JSON may still be coming)
   } else if (ev.type === "robot") {
     if (ev.job_id && j && ev.job_id === j.job_id) {
       state.tcp = ev.tcp;

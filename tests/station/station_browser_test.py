@@ -281,8 +281,10 @@ class StationCase(unittest.TestCase):
         return self.job_state()
 
     def wait_drawn(self):
-        return self.wait(lambda d: (self.driver.execute_script(CANVAS_PIXELS) or 0) > 2000 and
-                         self.driver.execute_script(CANVAS_PIXELS), 60, "the 3-D view drawn")
+        """The 3-D view drawn with its cloud: the lines of outline and path alone would also colour pixels."""
+        return self.wait(lambda d: int(self.by_id("job-3d").get_attribute("data-cloud-points") or 0) > 1000 and
+                         (self.driver.execute_script(CANVAS_PIXELS) or 0) > 2000 and
+                         self.driver.execute_script(CANVAS_PIXELS), 60, "the 3-D view drawn with the cloud")
 
     def supervisor_pid(self, name):
         out = E.run([sys.executable, E.SUPERVISOR, "status-json", "--run-dir", os.path.join(self.pipeline.dir, "supervisor")],
