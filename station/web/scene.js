@@ -152,6 +152,17 @@ export class Scene3D {
     if (!this.framed) this.frame(geo);
   }
 
+  // A polyline's vertices as 5-pixel dots over everything: WebGL draws lines 1 pixel wide, too thin to see
+  // an unreached stretch in red next to the edge it lies on.
+  dots(group, xyz, colour) {
+    if (xyz.length < 3) return;
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute("position", new THREE.BufferAttribute(new Float32Array(xyz), 3));
+    const dots = new THREE.Points(geo, new THREE.PointsMaterial({ color: colour, size: 5, sizeAttenuation: false, depthTest: false }));
+    dots.renderOrder = 2;
+    this.groups[group].add(dots);
+  }
+
   setOutline(outline) {
     this.clear("outline");
     if (!outline || !outline.loops) return;
@@ -186,7 +197,10 @@ export class Scene3D {
       this.line("path", p.slice(3 * s, 3 * e + 3), KIND_COLOURS[kind[s + 1]] || 0xffffff, false);
       s = e;
     }
-    for (const u of plan.unreached || []) this.line("path", u.xyz, UNREACHED, false);
+    for (const u of plan.unreached || []) {
+      this.line("path", u.xyz, UNREACHED, false);
+      this.dots("path", u.xyz, UNREACHED);
+    }
     this.render();
   }
 
