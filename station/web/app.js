@@ -9,7 +9,7 @@ const STATES = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", 
   "AWAITING_APPROVAL", "APPROVED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN", "interrupted"];
 const TERMINAL = new Set(["DONE", "FAILED", "ABORTED", "REFUSED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN"]);
 
-const state = { user: null, role: null, live: null, scene: null, job: null, cloud: null, tcp: null, cell: null };
+const state = { user: null, role: null, live: null, scene: null, job: null, cloud: null, cloudJob: null, tcp: null, cell: null };
 
 function el(tag, text, cls) {
   const e = document.createElement(tag);
@@ -114,7 +114,9 @@ async function loadCell() {
   // The file's name: the whole path (in the API's cell.file) is the machine's, not what a reader knows it by.
   dl($("cell-calibration"), [["file", c.cell.file.split("/").pop()], ["mounting", cal.eye_in_hand ? "eye-in-hand" : "eye-to-hand"],
     ["method", cal.method], ["date", cal.date],
-    ["residuals", `RMS ${cal.rms_mm} mm, worst ${cal.worst_mm} mm (${cal.features} features)`],
+    // A hand-entered transform has no residuals: its zeros are not a perfect calibration.
+    ["residuals", cal.features > 0 ? `RMS ${cal.rms_mm} mm, worst ${cal.worst_mm} mm (${cal.features} features)`
+      : "none measured (no calibration features)"],
     ["tool", `radius ${c.cell.tool.radius * 1000} mm`], ["max speed", `${c.cell.max_speed} m/s`]]);
   const faults = $("cell-faults");
   faults.replaceChildren();
@@ -162,12 +164,36 @@ function hear(ev) {
 async function openJob(id) {
   if (!state.scene) state.scene = new Scene3D($("job-3d"));
   if (!id) { $("job-id").textContent = "(none: start one under New job)"; return; }
-  const j = await api.get("/api/jobs/" + encodeURIComponent(id));
-  if ((heard.get(id) || 0) > ((j.live && j.live.updated_utime) || 0)) refreshJobSoon();
+  // The cloud, the larger part of the first render, is asked for at once, while the job's JSON is fetched.
   const changed = !state.job || state.job.job_id !== id;
+  if (changed) askCloud(id);
+  let j;
+  try {
+    j = await api.get("/api/jobs/" + encodeURIComponent(id));
+  } catch (e) {
+    if (changed) askCloud(null);  // no such job: draw no cloud for it
+    throw e;
+  }
+  if ((heard.get(id) || 0) > ((j.live && j.live.updated_utime) || 0)) refreshJobSoon();
   state.job = { job_id: id, live: j.live, record: j.record };
-  if (changed) { state.cloud = null; state.live.requestCloud(id); }
+  askOutlineCloud(state.job);
   renderJob();
+}
+
+// The job whose cloud the 3-D and top views wait for (null: none; a frame that comes then is not drawn).
+function askCloud(id) {
+  state.cloud = null;
+  state.cloudJob = id;
+  if (id) state.live.requestCloud(id);
+}
+
+// A job opened before its capture got the newest cloud there was (another job's); once the job's outline
+// names its cloud, that one is asked for, once per cloud.
+function askOutlineCloud(j) {
+  const seq = j.live && j.live.outline ? j.live.outline.cloud_seq : undefined;
+  if (seq === undefined || !state.cloud || Number($("job-3d").dataset.cloudSeq) === seq || state.cloudAsked === seq) return;
+  state.cloudAsked = seq;
+  askCloud(j.job_id);
 }
 
 function jobState() {
@@ -213,8 +239,10 @@ function drawTopView() {
 function renderTimeline(statuses) {
   const tbody = $("job-timeline").querySelector("tbody");
   tbody.replaceChildren();
-  const t0 = statuses.length ? statuses[0].utime : 0;
-  for (const s of statuses)
+  // In the order of the times shown: two processes' statuses of the same instant may arrive swapped.
+  const rows = [...statuses].sort((a, b) => a.utime - b.utime);
+  const t0 = rows.length ? rows[0].utime : 0;
+  for (const s of rows)
     row(tbody, [fmtTime(s.utime), ((s.utime - t0) / 1e6).toFixed(2), s.source, s.state,
       s.message + (s.actor ? ` [${s.actor}]` : "")]);
 }
@@ -296,7 +324,10 @@ function onEvent(ev) {
   if (ev.type === "status" && j && ev.job_id === j.job_id) {
     if (j.live) {  // update in place: the progress bar follows every status
       const rows = j.live.statuses, last = rows[rows.length - 1];
-      if (last && last.source === ev.source && last.state === ev.state) rows[rows.length - 1] = ev; else refreshJobSoon();
+      // A new source or state: a row of its own at once (the label, message and timeline agree), then the
+      // snapshot for what else changed with it (a plan, an outline).
+      if (last && last.source === ev.source && last.state === ev.state) rows[rows.length - 1] = ev;
+      else { rows.push(ev); refreshJobSoon(); }
       if (!ev.answer) j.live.state = ev.state;
       renderJobLight();
     } else refreshJobSoon();
@@ -304,8 +335,8 @@ function onEvent(ev) {
     refreshJobSoon();
   } else if (ev.type === "cloud" && ev.placement_error) {
     if (j) banner(`plate cloud ${ev.seq}: ${ev.placement_error}`);
-  } else if (ev.type === "cloud" && j && !state.cloud) {
-    state.live.requestCloud(j.job_id);
+  } else if (ev.type === "cloud" && state.cloudJob && !state.cloud) {
+    askCloud(state.cloudJob);  // the job asked before the station had a cloud (its JSON may still be coming)
   } else if (ev.type === "robot") {
     if (ev.job_id && j && ev.job_id === j.job_id) {
       state.tcp = ev.tcp;
@@ -339,7 +370,9 @@ function renderJobLight() {
 
 function onCloud(cloud) {
   performance.mark("hg-cloud-received");  // tools/bench/station_bench.py: transfer vs. drawing
+  if (!state.cloudJob) return;
   state.cloud = cloud.xyz;
+  $("job-3d").dataset.cloudSeq = cloud.seq;  // the browser tests compare it with the job's outline
   if (state.scene) state.scene.setCloud(cloud.xyz);
   drawTopView();
 }

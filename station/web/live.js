@@ -6,15 +6,18 @@ export class Live {
     this.onCloud = onCloud;
     this.ws = null;
     this.closed = false;
+    this.wanted = null;  // the job whose cloud was asked for and has not come
   }
 
   open() {
     const proto = location.protocol === "https:" ? "wss:" : "ws:";
     const ws = new WebSocket(`${proto}//${location.host}/api/live`);
     ws.binaryType = "arraybuffer";
+    ws.onopen = () => this.sendWanted();  // a request made while (re)connecting, or lost with a dropped connection
     ws.onmessage = (m) => {
-      if (typeof m.data === "string") this.onEvent(JSON.parse(m.data));
-      else this.onCloud(parseCloud(m.data));
+      if (typeof m.data === "string") return this.onEvent(JSON.parse(m.data));
+      this.wanted = null;
+      this.onCloud(parseCloud(m.data));
     };
     ws.onclose = () => {
       this.ws = null;
@@ -23,9 +26,14 @@ export class Live {
     this.ws = ws;
   }
 
+  // The job's cloud, asked for until a cloud frame arrives: again on every new connection.
   requestCloud(jobId) {
-    if (this.ws && this.ws.readyState === WebSocket.OPEN) this.ws.send(JSON.stringify({ get: "cloud", job: jobId }));
-    else setTimeout(() => this.requestCloud(jobId), 300);
+    this.wanted = jobId;
+    this.sendWanted();
+  }
+
+  sendWanted() {
+    if (this.wanted && this.ws && this.ws.readyState === WebSocket.OPEN) this.ws.send(JSON.stringify({ get: "cloud", job: this.wanted }));
   }
 
   close() {

@@ -1,6 +1,6 @@
 // The job's 3-D view (three.js r111 from Debian's libjs-three): the plate cloud coloured by height, the
 // outline (holes in another colour), the smoothed edge the planner measured coverage on, the tool path
-// coloured by kind, unreached stretches in red, the TCP.
+// coloured by kind, unreached stretches in red, the TCP (a disc on a 2-D canvas over the WebGL one).
 // What was drawn is on the container's data attributes (cloud and edge points, renders, TCP poses heard and
 // drawn); the first render of each cloud is the performance mark "hg-cloud-drawn", the first with cloud and
 // plan "hg-job-drawn": the browser tests and tools/bench/station_bench.py read them.
@@ -17,6 +17,11 @@ export class Scene3D {
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     this.renderer.setClearColor(0x10161d);
     container.appendChild(this.renderer.domElement);
+    // The TCP on a 2-D canvas over the WebGL one: a pose (10..100 Hz) redraws one disc, not the 200 000-point
+    // scene (software GL on a cell PC without a GPU manages a few such frames a second).
+    this.overlay = document.createElement("canvas");
+    this.overlay.className = "tcp-overlay";
+    container.appendChild(this.overlay);
     this.scene = new THREE.Scene();
     this.camera = new THREE.PerspectiveCamera(40, 1, 0.01, 100);
     this.camera.up.set(0, 0, 1);
@@ -28,9 +33,7 @@ export class Scene3D {
     this.cloudNew = false;
     this.tcpNew = false;
     for (const g of Object.values(this.groups)) this.scene.add(g);
-    this.tcp = new THREE.Mesh(new THREE.SphereBufferGeometry(0.008, 16, 12), new THREE.MeshBasicMaterial({ color: 0xffff00 }));
-    this.tcp.visible = false;
-    this.scene.add(this.tcp);
+    this.tcp = null;  // the TCP's position, base frame (m)
     this.scene.add(new THREE.AxesHelper(0.1));
     this.framed = false;
     window.addEventListener("resize", () => this.resize());
@@ -40,6 +43,11 @@ export class Scene3D {
   resize() {
     const w = this.container.clientWidth || 560, h = this.container.clientHeight || 420;
     this.renderer.setSize(w, h);
+    const r = window.devicePixelRatio || 1;
+    this.overlay.width = Math.round(w * r);
+    this.overlay.height = Math.round(h * r);
+    this.overlay.style.width = w + "px";
+    this.overlay.style.height = h + "px";
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
     this.render();
@@ -54,20 +62,51 @@ export class Scene3D {
       this.pending = false;
       this.renderer.render(this.scene, this.camera);
       this.stats.renders++;
-      if (this.tcpNew) this.stats.tcpDraws++;
       if (this.cloudNew) performance.mark("hg-cloud-drawn");
       if (!this.jobDrawn && this.stats.cloudPoints && this.groups.path.children.length) {
         this.jobDrawn = true;  // the first frame with the cloud and the plan: the job view's first render
         performance.mark("hg-job-drawn");
       }
-      this.tcpNew = this.cloudNew = false;
-      const d = this.container.dataset;
-      d.cloudPoints = this.stats.cloudPoints;
-      d.edgePoints = this.stats.edgePoints;
-      d.renders = this.stats.renders;
-      d.tcpPoses = this.stats.tcpPoses;
-      d.tcpDraws = this.stats.tcpDraws;
+      this.cloudNew = false;
+      this.drawTcp();
     });
+  }
+
+  // The TCP alone, at most once per animation frame, unless a whole render is due in that frame anyway.
+  renderTcp() {
+    if (this.pending || this.tcpPending) return;
+    this.tcpPending = true;
+    requestAnimationFrame(() => {
+      this.tcpPending = false;
+      if (!this.pending) this.drawTcp();
+    });
+  }
+
+  // The TCP as a yellow disc at its projection through the 3-D view's camera; the counters on the dataset.
+  drawTcp() {
+    const o = this.overlay, g = o.getContext("2d");
+    g.clearRect(0, 0, o.width, o.height);
+    if (this.tcp) {
+      const v = new THREE.Vector3(this.tcp[0], this.tcp[1], this.tcp[2]).project(this.camera);
+      if (v.z > -1 && v.z < 1) {
+        const r = window.devicePixelRatio || 1;
+        g.fillStyle = "#ffff00";
+        g.strokeStyle = "#000";
+        g.lineWidth = r;
+        g.beginPath();
+        g.arc((v.x + 1) / 2 * o.width, (1 - v.y) / 2 * o.height, 5 * r, 0, 2 * Math.PI);
+        g.fill();
+        g.stroke();
+      }
+    }
+    if (this.tcpNew) this.stats.tcpDraws++;
+    this.tcpNew = false;
+    const d = this.container.dataset;
+    d.cloudPoints = this.stats.cloudPoints;
+    d.edgePoints = this.stats.edgePoints;
+    d.renders = this.stats.renders;
+    d.tcpPoses = this.stats.tcpPoses;
+    d.tcpDraws = this.stats.tcpDraws;
   }
 
   clear(group) {
@@ -113,6 +152,17 @@ export class Scene3D {
     if (!this.framed) this.frame(geo);
   }
 
+  // A polyline's vertices as 5-pixel dots over everything: WebGL draws lines 1 pixel wide, too thin to see
+  // an unreached stretch in red next to the edge it lies on.
+  dots(group, xyz, colour) {
+    if (xyz.length < 3) return;
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute("position", new THREE.BufferAttribute(new Float32Array(xyz), 3));
+    const dots = new THREE.Points(geo, new THREE.PointsMaterial({ color: colour, size: 5, sizeAttenuation: false, depthTest: false }));
+    dots.renderOrder = 2;
+    this.groups[group].add(dots);
+  }
+
   setOutline(outline) {
     this.clear("outline");
     if (!outline || !outline.loops) return;
@@ -147,16 +197,18 @@ export class Scene3D {
       this.line("path", p.slice(3 * s, 3 * e + 3), KIND_COLOURS[kind[s + 1]] || 0xffffff, false);
       s = e;
     }
-    for (const u of plan.unreached || []) this.line("path", u.xyz, UNREACHED, false);
+    for (const u of plan.unreached || []) {
+      this.line("path", u.xyz, UNREACHED, false);
+      this.dots("path", u.xyz, UNREACHED);
+    }
     this.render();
   }
 
   setTcp(xyz) {
-    this.tcp.position.set(xyz[0], xyz[1], xyz[2]);
-    this.tcp.visible = true;
+    this.tcp = xyz;
     this.tcpNew = true;
     this.stats.tcpPoses++;
-    this.render();
+    this.renderTcp();
   }
 
   frame(geo) {

@@ -3,12 +3,34 @@ import { KIND_COLOURS, UNREACHED, HOLE, OUTER, EDGE } from "./scene.js";
 
 const css = (c) => "#" + c.toString(16).padStart(6, "0");
 
+// Everything but the TCP is drawn once into a canvas of its own, kept on the canvas until the cloud, outline
+// or plan object changes: a pose (10..100 Hz) then costs one copy and one disc, not 40 000 points.
 export function drawTop(canvas, { cloud, outline, plan, tcp }) {
+  let layer = canvas.hgStatic;
+  if (!layer || layer.cloud !== cloud || layer.outline !== outline || layer.plan !== plan ||
+      layer.image.width !== canvas.width || layer.image.height !== canvas.height) {
+    layer = canvas.hgStatic = { cloud, outline, plan, image: document.createElement("canvas") };
+    layer.image.width = canvas.width;
+    layer.image.height = canvas.height;
+    layer.map = drawStatic(layer.image, cloud, outline, plan);
+  }
+  const g = canvas.getContext("2d");
+  g.drawImage(layer.image, 0, 0);
+  if (tcp && layer.map) {
+    g.fillStyle = "#ffff00";
+    g.beginPath();
+    g.arc(layer.map.X(tcp[0]), layer.map.Y(tcp[1]), 5, 0, 2 * Math.PI);
+    g.fill();
+  }
+}
+
+// The cloud, outline, edge and plan with the scale bar; answers the base frame -> pixel maps (null: empty).
+function drawStatic(canvas, cloud, outline, plan) {
   const g = canvas.getContext("2d");
   g.fillStyle = "#10161d";
   g.fillRect(0, 0, canvas.width, canvas.height);
   const box = bounds(cloud, outline, plan);
-  if (!box) return;
+  if (!box) return null;
   const pad = 30, sx = (canvas.width - 2 * pad) / (box.x1 - box.x0), sy = (canvas.height - 2 * pad) / (box.y1 - box.y0);
   const s = Math.min(sx, sy);
   const X = (x) => pad + (x - box.x0) * s, Y = (y) => canvas.height - pad - (y - box.y0) * s;
@@ -34,13 +56,8 @@ export function drawTop(canvas, { cloud, outline, plan, tcp }) {
     for (let i = 1; i < plan.kind.length; i++) poly(p.slice(3 * (i - 1), 3 * i + 3), KIND_COLOURS[plan.kind[i]] || 0xffffff, false, 1.5);
     for (const u of plan.unreached || []) poly(u.xyz, UNREACHED, false, 4);
   }
-  if (tcp) {
-    g.fillStyle = "#ffff00";
-    g.beginPath();
-    g.arc(X(tcp[0]), Y(tcp[1]), 5, 0, 2 * Math.PI);
-    g.fill();
-  }
   scaleBar(g, s, canvas.height);
+  return { X, Y };
 }
 
 function bounds(cloud, outline, plan) {

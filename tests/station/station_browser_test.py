@@ -140,7 +140,16 @@ class StationCase(unittest.TestCase):
         p.wait(lambda: "listening" in p.read(err.name), 30, "hg-lcm-dump listening on HG_GRIND_PATH")
         cls.wait_station()
         cls.driver = browser()
-        cls.driver.set_window_size(1400, 1400)  # the approval view down to its buttons in a screenshot
+        cls.viewport(1400, 1400)  # the approval view down to its buttons in a screenshot
+
+    @classmethod
+    def viewport(cls, width, height):
+        """The page's viewport (what a screenshot holds) at width x height: the window is that plus the
+        browser's own frame, measured once."""
+        d = cls.driver
+        d.set_window_size(width, height)
+        inner = d.execute_script("return [window.innerWidth, window.innerHeight]")
+        d.set_window_size(2 * width - inner[0], 2 * height - inner[1])
 
     @classmethod
     def extra_args(cls, extra):
@@ -272,8 +281,10 @@ class StationCase(unittest.TestCase):
         return self.job_state()
 
     def wait_drawn(self):
-        return self.wait(lambda d: (self.driver.execute_script(CANVAS_PIXELS) or 0) > 2000 and
-                         self.driver.execute_script(CANVAS_PIXELS), 60, "the 3-D view drawn")
+        """The 3-D view drawn with its cloud: the lines of outline and path alone would also colour pixels."""
+        return self.wait(lambda d: int(self.by_id("job-3d").get_attribute("data-cloud-points") or 0) > 1000 and
+                         (self.driver.execute_script(CANVAS_PIXELS) or 0) > 2000 and
+                         self.driver.execute_script(CANVAS_PIXELS), 60, "the 3-D view drawn with the cloud")
 
     def supervisor_pid(self, name):
         out = E.run([sys.executable, E.SUPERVISOR, "status-json", "--run-dir", os.path.join(self.pipeline.dir, "supervisor")],
@@ -305,8 +316,11 @@ class StationBrowser(StationCase):
     def test_3_viewer_cannot_act(self):
         self.login_ok(VIEWER, VIEWER_PW)
         # The cell file by its name, not the machine's absolute path to it.
-        self.wait(lambda d: "cell-sim.yaml" in d.execute_script(CELL_FILE), 20, "the cell file's name")
-        self.assertNotIn("/", self.driver.execute_script(CELL_FILE))
+        self.wait(lambda d: "cell-sim.yaml" in d.execute_script(CELL_ENTRY, "file"), 20, "the cell file's name")
+        self.assertNotIn("/", self.driver.execute_script(CELL_ENTRY, "file"))
+        # config/cell-sim.yaml's transform is entered by hand (method manual, 0 features): its zero residuals were
+        # never measured, and the page must not show them as a perfect calibration.
+        self.assertEqual(self.driver.execute_script(CELL_ENTRY, "residuals"), "none measured (no calibration features)")
         self.shot("cell")
         self.assertFalse(self.by_id("reset").is_displayed())
         self.click("nav-new")
@@ -340,6 +354,10 @@ class StationJobs(StationCase):
             self.click("approve")
         self.wait(lambda d: "RUNNING" in self.job_state() or self.job_state() == "DONE", 60, "the run")
         self.wait_state("DONE", 180)
+        # The label, the message and the timeline's last row tell the same state (a DONE label over the
+        # last waypoint's message would not).
+        self.wait(lambda d: d.execute_script(LAST_TIMELINE_ROW) == ["hg-robot-bridge", "DONE", self.by_id("job-message").text],
+                  10, "the timeline's last row DONE with the job's message (now %s)" % self.driver.execute_script(LAST_TIMELINE_ROW))
         width = self.driver.execute_script("return document.getElementById('job-progress-bar').style.width")
         self.assertEqual(width, "100%")
         self.shot("job-done")
@@ -360,11 +378,17 @@ class StationJobs(StationCase):
 
     def test_5_abort_while_running(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
-        self.start_job("abort-plate")
+        job = self.start_job("abort-plate")
         self.wait_state(("RUNNING", "AWAITING_APPROVAL"), 120)
         if self.job_state() == "AWAITING_APPROVAL":
             self.click("approve")
             self.wait_state("RUNNING", 60)
+        # Opened before its capture (the page then gets the newest cloud there is: the previous job's), the
+        # view ends on the cloud this job's outline was made from.
+        cookie, _ = api_login(OPERATOR, OPERATOR_PW)
+        seq = http("GET", "/api/jobs/" + job, cookie=cookie)[1]["live"]["outline"]["cloud_seq"]
+        self.wait(lambda d: self.by_id("job-3d").get_attribute("data-cloud-seq") == str(seq), 30,
+                  "the 3-D view on the job's own cloud %d (now %s)" % (seq, self.by_id("job-3d").get_attribute("data-cloud-seq")))
         self.click("job-abort")
         self.wait_state("ABORTED", 60)
 
@@ -401,9 +425,13 @@ class StationJobs(StationCase):
         return body["robot"] or {}
 
 
-# The calibration's "file" entry of the cell view.
-CELL_FILE = """const dt = [...document.querySelectorAll('#cell-calibration dt')].find((e) => e.textContent === 'file');
+# An entry of the cell view's calibration ("file", "residuals", ...).
+CELL_ENTRY = """const dt = [...document.querySelectorAll('#cell-calibration dt')].find((e) => e.textContent === arguments[0]);
 return dt ? dt.nextElementSibling.textContent : '';"""
+
+# The job timeline's last row: [source, state, message] (the message without the actor shown after it).
+LAST_TIMELINE_ROW = """const tr = [...document.querySelectorAll('#job-timeline tbody tr')].pop();
+return tr ? [tr.cells[2].textContent, tr.cells[3].textContent, tr.cells[4].textContent.replace(/ \\[[^\\]]*\\]$/, '')] : [];"""
 
 # The approval table's rows, read in one go: [{loop, reached, ticked}].
 APPROVAL_ROWS = """return [...document.querySelectorAll('#approval-loops tbody tr')].map((tr) => ({

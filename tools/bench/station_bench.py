@@ -97,8 +97,12 @@ def pipeline(E, tmp, cloud):
     cell = os.path.join(tmp, "cell-operator.yaml")
     with open(cell, "w") as f:
         f.write("\n".join(lines + ["approval: operator"]) + "\n")
+    # The outline of 1.59 M points takes the outline service seconds, more on a loaded machine: the planner
+    # waits for it longer than its 10 s default, the robot bridge for the path longer than its 60 s (this
+    # measures the station, not the outline).
     p = E.Pipeline("bench-station", lcm_url=LCM_URL, without=("camera",), variables={"CELL": cell},
-                   extra_args={"planner": ["--small-hole", "skip"]})
+                   extra_args={"planner": ["--small-hole", "skip", "--outline-timeout", "180"],
+                                               "robot": ["--path-timeout", "240"]})
     import tomllib
     with open(p.toml, "rb") as f:
         mine = tomllib.load(f)
@@ -116,6 +120,8 @@ def pipeline(E, tmp, cloud):
 
 def browser():
     from selenium import webdriver
+    # Debian's python3-selenium (4.8) has no webdriver.ChromeService; the chrome module's Service is in every 4.x.
+    from selenium.webdriver.chrome.service import Service
     o = webdriver.ChromeOptions()
     o.binary_location = "/usr/bin/chromium"
     for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -123,7 +129,8 @@ def browser():
                  "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--window-size=1400,1400",
                  "--user-data-dir=" + tempfile.mkdtemp(prefix="hg-station-bench-chromium-")):
         o.add_argument(flag)
-    service = webdriver.ChromeService(executable_path="/usr/bin/chromedriver")
+    o.set_capability("goog:loggingPrefs", {"browser": "ALL"})  # printed if the page never draws
+    service = Service(executable_path="/usr/bin/chromedriver")
     return webdriver.Chrome(service=service, options=o)
 
 
@@ -154,8 +161,13 @@ def first_renders(driver, job, runs):
     for i in range(runs):
         driver.get("about:blank")
         driver.get(URL + "/#job/" + job)
-        r = wait(lambda: (lambda m: m if m["drawn"] is not None else None)(driver.execute_script(MARKS)), 60,
-                 "the job view drawn (run %d)" % i)
+        try:
+            r = wait(lambda: (lambda m: m if m["drawn"] is not None else None)(driver.execute_script(MARKS)), 60,
+                     "the job view drawn (run %d)" % i)
+        except TimeoutError:
+            for e in driver.get_log("browser"):
+                print("  browser console: %s %s" % (e["level"], e["message"]), flush=True)
+            raise
         rows.append(r)
         print("  first render %d: %.0f ms (DOM ready %.0f, job JSON %.0f, cloud received %.0f, cloud drawn %.0f; "
               "%d points, %d edge points)" % (i + 1, r["drawn"], r["dom"], r["job_json"] or -1, r["cloud_received"] or -1,
@@ -258,6 +270,9 @@ def bench(args):
             "cloud_points_drawn": renders[-1]["points"], "edge_points": renders[-1]["edge"],
             "poses": poses, "idle_cpu_percent": {"no page": quiet, "cell view open": cell},
             "loadavg": load})
+    except Exception:
+        print(p.diagnostics(), flush=True)  # which process lost or refused the job
+        raise
     finally:
         if driver:
             driver.quit()
