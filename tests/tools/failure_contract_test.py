@@ -37,6 +37,7 @@ TABLE = {
     "hg-bench-camera": ([], []),
     "hg-bench-outline-service": ([], []),
     "hg-bench-rss": ([], []),
+    "hg-bench-station-feed": (["--cloud", MISSING + ".pcd"], [["--cloud", MISSING + ".pcd"]]),
     "hg-calibrate": (["verify", "--session", "{tmp}"], [["verify", "--session", MISSING]]),
     # Its input is a device or a folder that may come (back) later: a missing one is the heartbeat's ERROR state
     # and a retry, not an exit (tests/camera_bridge/process_test.cpp, MissingInputIsAnErrorStateNotACrash).
@@ -73,6 +74,7 @@ OUT_OF_RANGE = {
     "hg-bench": (["--runs", "0"], "--runs"),
     "hg-bench-camera": (["--frames", "0"], "--frames"),
     "hg-bench-outline-service": (["--runs", "0"], "--runs"),
+    "hg-bench-station-feed": (["--cloud", MISSING + ".pcd", "--distance", "0"], "--distance"),
     "hg-calibrate": (["verify", "--speed", "0"], "--speed"),
     "hg-camera-bridge": (["--ransac-iterations", "0"], "--ransac-iterations"),
     "hg-camera-render": (["--frames", "0"], "--frames"),

@@ -25,11 +25,21 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-const char* kUsage =
-    "usage: hg-bench-station-feed --cloud FILE [--lcm-url URL] [--distance M]\n"
+const char* kUsageHead =
+    "usage: hg-bench-station-feed --cloud FILE [options]\n"
     "Publishes FILE (.pcd/.ply/.xyz, metres) as one plate_cloud_t on HG_PLATE_CLOUD for every job_request_t\n"
-    "START heard on HG_JOB_REQUEST: the points' x, y as the plane's u, v, centred, the plane M metres (1.49)\n"
+    "START heard on HG_JOB_REQUEST: the points' x, y as the plane's u, v, centred, the plane --distance metres\n"
     "from the camera along its optical axis. Runs until SIGINT/SIGTERM. For tools/bench/station_bench.py.\n";
+
+std::vector<hg::runtime::Param> feed_params() {
+  using namespace hg::runtime;
+  std::vector<Param> params = {text_param("cloud", "", "point cloud file, .pcd/.ply/.xyz, metres (required)"),
+                               text_param("lcm-url", "", "LCM URL (default: $LCM_DEFAULT_URL, else LCM's)"),
+                               number_param("distance", "1.49", "camera to plane along the optical axis, m", 0,
+                                            std::numeric_limits<double>::infinity(), true)};
+  set_value_names(params, {{"cloud", "FILE"}, {"lcm-url", "URL"}, {"distance", "M"}});
+  return params;
+}
 
 // The cloud as a plate_cloud_t in the camera frame: plane normal towards the camera (-z), u = camera x,
 // v = normal x u = -y (the bridge's convention), points centred on the optical axis.
@@ -75,27 +85,16 @@ struct Feed {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (hg::runtime::answer_version(argc, argv, "hg-bench-station-feed")) return 0;
-  std::string file, url;
-  double distance = 1.49;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (a == "--cloud" && i + 1 < argc) {
-      file = argv[++i];
-    } else if (a == "--lcm-url" && i + 1 < argc) {
-      url = argv[++i];
-    } else if (a == "--distance" && i + 1 < argc) {
-      distance = std::atof(argv[++i]);
-    } else {
-      std::fprintf(stderr, "hg-bench-station-feed: command line: unknown option %s (see --help)\n", a.c_str());
-      return hg::runtime::kExitBadInput;
-    }
-  }
-  if (file.empty()) {
-    std::fputs(kUsage, stderr);
+  hg::runtime::Params p(feed_params());
+  if (const int rc =
+          hg::runtime::parse_tool(p, argc, argv, "hg-bench-station-feed", hg::runtime::usage_with(kUsageHead));
+      rc >= 0)
+    return rc;
+  const std::string file = p.text("cloud"), url = p.text("lcm-url");
+  const double distance = p.number("distance");
+  if (file.empty() || !p.positional().empty()) {
+    std::fprintf(stderr, "hg-bench-station-feed: command line: %s (see --help)\n",
+                 file.empty() ? "need --cloud FILE" : ("unexpected argument '" + p.positional()[0] + "'").c_str());
     return hg::runtime::kExitBadInput;
   }
   Feed feed{};
