@@ -20,7 +20,8 @@ bool basic_credentials(const std::string& header, std::string& user, std::string
   const std::string prefix = "Basic ";
   if (header.size() <= prefix.size() || header.size() > 4096 || header.compare(0, prefix.size(), prefix) != 0)
     return false;
-  const std::string coded = header.substr(prefix.size());
+  std::string coded = header.substr(prefix.size());
+  for (int pad = 0; pad < 2 && !coded.empty() && coded.back() == '='; ++pad) coded.pop_back();  // decode stops there
   std::string text(b64::decoded_size(coded.size()), '\0');
   auto [written, read] = b64::decode(text.data(), coded.data(), coded.size());
   if (read != coded.size()) return false;
