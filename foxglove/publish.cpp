@@ -1,7 +1,5 @@
 #include "foxglove/publish.hpp"
 
-#include <boost/beast/core/detail/base64.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
@@ -14,18 +12,33 @@ namespace hg::foxglove {
 
 namespace {
 
+// Standard base64 (RFC 4648) with or without padding; false on any other character.
+bool decode_base64(const std::string& coded, std::string& out) {
+  static const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::uint32_t bits = 0;
+  int nbits = 0;
+  std::size_t end = coded.size();
+  while (end > 0 && coded.size() - end < 2 && coded[end - 1] == '=') --end;
+  for (std::size_t i = 0; i < end; ++i) {
+    const auto v = alphabet.find(coded[i]);
+    if (v == std::string::npos) return false;
+    bits = (bits << 6) | std::uint32_t(v);
+    nbits += 6;
+    if (nbits >= 8) {
+      nbits -= 8;
+      out.push_back(char((bits >> nbits) & 0xFF));
+    }
+  }
+  return true;
+}
+
 // "Basic base64(user:password)" -> {user, password}; false if it is not that.
 bool basic_credentials(const std::string& header, std::string& user, std::string& password) {
-  namespace b64 = boost::beast::detail::base64;
   const std::string prefix = "Basic ";
   if (header.size() <= prefix.size() || header.size() > 4096 || header.compare(0, prefix.size(), prefix) != 0)
     return false;
-  std::string coded = header.substr(prefix.size());
-  for (int pad = 0; pad < 2 && !coded.empty() && coded.back() == '='; ++pad) coded.pop_back();  // decode stops there
-  std::string text(b64::decoded_size(coded.size()), '\0');
-  auto [written, read] = b64::decode(text.data(), coded.data(), coded.size());
-  if (read != coded.size()) return false;
-  text.resize(written);
+  std::string text;
+  if (!decode_base64(header.substr(prefix.size()), text)) return false;
   const auto colon = text.find(':');
   if (colon == std::string::npos) return false;
   user = text.substr(0, colon);
