@@ -7,6 +7,7 @@
 
 #include "hullgrind/grind_path_t.hpp"
 #include "hullgrind/job_status_t.hpp"
+#include "hullgrind/log_line_t.hpp"
 #include "hullgrind/outline_t.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
 #include "hullgrind/robot_status_t.hpp"
@@ -395,6 +396,18 @@ std::string log_json(const hullgrind::job_status_t& m) {
       .dump();
 }
 
+// A process's own log line (log_line_t) in foxglove.Log's levels (DEBUG 1, INFO 2, WARNING 3, ERROR 4).
+std::string log_json(const hullgrind::log_line_t& m) {
+  int level = std::clamp(int(m.level), 0, 3) + 1;
+  return Json{{"timestamp", time_json(m.header.utime)},
+              {"level", level},
+              {"message", m.text},
+              {"name", m.process},
+              {"file", ""},
+              {"line", 0}}
+      .dump();
+}
+
 }  // namespace
 
 void Bridge::derive(const lcmtools::Struct& type, const uint8_t* data, std::size_t size,
@@ -439,6 +452,12 @@ void Bridge::derive(const lcmtools::Struct& type, const uint8_t* data, std::size
     hullgrind::job_status_t m;
     if (!want(t)) return;
     if (!decode_generated(m, data, size)) throw DecodeError("job_status_t refused by its generated class");
+    c.outputs.push_back({t, log_json(m)});
+  } else if (name == "hullgrind.log_line_t") {
+    int t = well_known(kLog, "foxglove.Log", c);
+    hullgrind::log_line_t m;
+    if (!want(t)) return;
+    if (!decode_generated(m, data, size)) throw DecodeError("log_line_t refused by its generated class");
     c.outputs.push_back({t, log_json(m)});
   } else if (name == "hullgrind.robot_status_t") {
     int t = well_known(kTf, "foxglove.FrameTransform", c);

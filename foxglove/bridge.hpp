@@ -10,8 +10,8 @@
 //       /hg/grind_path     foxglove.SceneUpdate    HG_GRIND_PATH: entity grind_path, line segments coloured
 //                                                  by segment kind; entity smoothed_edge, one cyan line loop
 //                                                  per outline loop of the edge the tool grinds
-//       /hg/log            foxglove.Log            HG_JOB_STATUS as log lines (the processes' own log
-//                                                  lines are files in out/logs/, not on the bus)
+//       /hg/log            foxglove.Log            the processes' log lines (HG_LOG) and HG_JOB_STATUS as
+//                                                  log lines
 //       /tf                foxglove.FrameTransform base <- camera (the cell's calibration; eye-in-hand:
 //                                                  with the flange pose of the capture) with every plate
 //                                                  cloud, base <- tcp with every HG_ROBOT_STATUS

@@ -9,6 +9,8 @@
 #include "cell/cell.hpp"
 #include "hullgrind/heartbeat_t.hpp"
 #include "runtime/log.hpp"
+#include "foxglove/publish.hpp"
+#include "runtime/channels.hpp"
 #include "ws_server.hpp"
 
 namespace hg::foxglove {
@@ -73,7 +75,7 @@ class Live {
           "; " + c.peer + " dropped " + std::to_string(c.dropped);  // not "sent": the text would change every second
     }
     text += "; " + std::to_string(st.disconnected_garbage) + " closed for garbage; " + std::to_string(unknown_.load()) +
-            " messages of unknown type";
+            " messages of unknown type; " + std::to_string(st.bad_requests + st.timeouts) + " bad HTTP requests";
     node_.set_state(hullgrind::heartbeat_t::STATE_OK, text);
     (void)dropped_clients;
   }
@@ -179,8 +181,10 @@ runtime::ProcessInfo process_info() {
       "(encoding json; a channel of an unknown type is advertised once with encoding lcm, raw, and counted),\n"
       "plus the 3-D picture in Foxglove's schemas: /hg/plate/points (foxglove.PointCloud), /hg/outline and\n"
       "/hg/grind_path (foxglove.SceneUpdate), /tf (foxglove.FrameTransform: base <- camera from --cell, base\n"
-      "<- tcp from HG_ROBOT_STATUS), /hg/log (foxglove.Log: the job statuses). hg-mcap writes the same topics.\n"
-      "Open ws://HOST:PORT in Foxglove or Lichtblick. No client publishing. A slow client misses frames\n"
+      "<- tcp from HG_ROBOT_STATUS), /hg/log (foxglove.Log: log lines and job statuses). hg-mcap writes the same topics.\n"
+      "Open ws://HOST:PORT in Foxglove or Lichtblick. No client publishing unless --client-publish: then an\n"
+      "operator of --users-file (the station's users file) who logs in with HTTP Basic on the upgrade\n"
+      "(ws://USER:PASSWORD@HOST:PORT) may publish HG_JOB_REQUEST as JSON. A slow client misses frames\n"
       "(counted per client in the heartbeat's state text); a client sending garbage is disconnected with a\n"
       "close reason. Details: docs/foxglove.md.",
       {text_param("host", "127.0.0.1", "address to listen on (loopback: the cell's traffic stays on the machine)"),
@@ -191,6 +195,8 @@ runtime::ProcessInfo process_info() {
        text_param("base-frame", "robot_base", "parent frame of the camera transform"),
        text_param("camera-frame", "camera", "the camera's frame until a plate cloud names it"),
        integer_param("max-clients", "16", "clients served at once; more are refused", 1, 1000),
+       runtime::flag_param("client-publish", "offer clientPublish of HG_JOB_REQUEST to operators of --users-file"),
+       text_param("users-file", "", "the station's users file (--client-publish: who may publish)"),
        integer_param("client-queue-frames", "256", "messages queued per client before its frames are dropped", 1, 1e6),
        integer_param("client-queue-mb", "64", "MB queued per client before its frames are dropped", 1, 1e5),
        integer_param("queue-messages", "64", "LCM messages waiting for conversion before the oldest is dropped", 1,
@@ -199,13 +205,38 @@ runtime::ProcessInfo process_info() {
                      1e5)}};
 }
 
+namespace {
+
+// --client-publish: HG_JOB_REQUEST from the operators of the users file (publish.hpp).
+void enable_publishing(runtime::Node& node, WsServerOptions& s) {
+  const std::string users = node.params().text("users-file");
+  if (users.empty()) throw std::invalid_argument("client-publish needs users-file (the station's users file)");
+  std::shared_ptr<JobRequestGate> gate;
+  try {
+    gate = std::make_shared<JobRequestGate>(node, users);
+  } catch (const station::UsersError& e) {
+    throw std::invalid_argument(std::string("users-file: ") + e.what());
+  }
+  s.publish_topics = {channels::kJobRequest};
+  s.identify = [gate](const std::string& authorization, const std::string& peer) {
+    return gate->identify(authorization, peer);
+  };
+  s.on_publish = [gate](const WsClientChannel& c, const std::string& user, std::string_view payload) {
+    return gate->publish(c, user, payload);
+  };
+}
+
+}  // namespace
+
 std::shared_ptr<void> attach(runtime::Node& node) {
   WsServerOptions s;
   s.host = node.params().text("host");
   s.port = static_cast<int>(node.params().integer("port"));
   s.max_clients = static_cast<std::size_t>(node.params().integer("max-clients"));
+  s.max_connections = static_cast<int>(4 * s.max_clients);  // room for upgrades being read and 503s being sent
   s.queue_frames = static_cast<std::size_t>(node.params().integer("client-queue-frames"));
   s.queue_bytes = static_cast<std::size_t>(node.params().integer("client-queue-mb")) << 20;
+  if (node.params().flag("client-publish")) enable_publishing(node, s);
   auto live = std::make_shared<Live>(node, bridge_options(node), s,
                                      static_cast<std::size_t>(node.params().integer("queue-messages")),
                                      static_cast<std::size_t>(node.params().integer("queue-mb")) << 20);

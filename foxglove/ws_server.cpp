@@ -8,6 +8,8 @@
 #include <boost/beast/websocket.hpp>
 #include <nlohmann/json.hpp>
 
+#include "runtime/listener.hpp"
+
 #include <array>
 #include <chrono>
 #include <deque>
@@ -63,8 +65,9 @@ struct Session;
 
 struct WsServer::Impl {
   WsServerOptions opt;
-  net::io_context ioc;  // first: destroyed last, after the sessions its handlers hold
-  tcp::acceptor acceptor{ioc};
+  runtime::ListenerStats requests;
+  runtime::Listener listener;  // its io_context before the sessions: destroyed after them
+  net::io_context& ioc;
   std::map<int, WsChannel> channels;  // io thread
   std::map<int, std::pair<std::uint64_t, std::shared_ptr<const std::string>>> last;
   std::uint64_t session_id = 0;
@@ -74,7 +77,11 @@ struct WsServer::Impl {
   std::map<int, int> subscribers;  // channel -> clients subscribed
   std::atomic<std::uint64_t> garbage{0}, refused{0};
 
-  void accept();
+  explicit Impl(WsServerOptions o)
+      : opt(std::move(o)),
+        listener(runtime::ListenerOptions{opt.host, opt.port, "host", opt.max_connections}, requests),
+        ioc(listener.io()) {}
+  void on_accept(tcp::socket sock);
   void subscribers_changed(int channel, int delta) {
     std::lock_guard<std::mutex> lock(mu);
     if ((subscribers[channel] += delta) <= 0) subscribers.erase(channel);
@@ -101,8 +108,11 @@ struct Session : std::enable_shared_from_this<Session> {
   std::size_t queued_bytes = 0, queued_binary = 0;
   std::atomic<std::uint64_t> sent{0}, dropped{0};
   std::atomic<std::size_t> subscription_count{0};
+  runtime::Listener::Held held;
+  WsIdentity who;
+  std::map<std::uint32_t, WsClientChannel> client_channels;
 
-  Session(WsServer::Impl& s, tcp::socket sock) : srv(s), ws(std::move(sock)) {
+  Session(WsServer::Impl& s, tcp::socket sock) : srv(s), ws(std::move(sock)), held(s.listener) {
     beast::error_code ec;
     auto ep = beast::get_lowest_layer(ws).socket().remote_endpoint(ec);
     peer = ec ? "?" : ep.address().to_string() + ":" + std::to_string(ep.port());
@@ -133,6 +143,8 @@ struct Session : std::enable_shared_from_this<Session> {
   }
 
   void on_request(beast::error_code ec) {
+    if (ec && runtime::count_read_error(ec, srv.requests) == runtime::ReadFailure::Malformed)
+      return refuse(http::status::bad_request, "malformed HTTP request: " + ec.message());
     if (ec) return end();
     http::request<http::string_body> req = parser->release();
     if (!websocket::is_upgrade(req))
@@ -141,6 +153,10 @@ struct Session : std::enable_shared_from_this<Session> {
     std::string proto = choose_subprotocol(std::string(req[http::field::sec_websocket_protocol]));
     if (proto.empty())
       return refuse(http::status::bad_request, "subprotocol foxglove.websocket.v1 (or foxglove.sdk.v1) required");
+    if (srv.opt.on_publish && srv.opt.identify) {
+      who = srv.opt.identify(std::string(req[http::field::authorization]), peer.substr(0, peer.rfind(':')));
+      if (!who.refusal.empty()) return refuse(http::status::unauthorized, who.refusal);
+    }
     {
       std::lock_guard<std::mutex> lock(srv.mu);
       if (srv.sessions.size() > srv.opt.max_clients)  // this one is already in the list
@@ -159,10 +175,11 @@ struct Session : std::enable_shared_from_this<Session> {
   void on_accept(beast::error_code ec) {
     if (ec) return end();
     open = true;
+    const bool publishing = bool(srv.opt.on_publish);
     send_text(json{{"op", "serverInfo"},
                    {"name", srv.opt.name},
-                   {"capabilities", json::array()},
-                   {"supportedEncodings", json::array()},
+                   {"capabilities", publishing ? json::array({"clientPublish"}) : json::array()},
+                   {"supportedEncodings", publishing ? json::array({"json"}) : json::array()},
                    {"metadata", json::object()},
                    {"sessionId", std::to_string(srv.session_id)}}
                   .dump());
@@ -179,7 +196,12 @@ struct Session : std::enable_shared_from_this<Session> {
   void on_read(beast::error_code ec) {
     if (ec == websocket::error::buffer_overflow) ++srv.garbage;  // Beast closes with "message too big"
     if (ec) return end();
-    if (!ws.got_text()) return garbage("binary messages are not accepted: this server is read-only");
+    if (!ws.got_text()) {
+      std::string why = client_message();
+      buf.consume(buf.size());
+      if (!why.empty()) return garbage(why);
+      return read();
+    }
     std::string text = beast::buffers_to_string(buf.data());
     buf.consume(buf.size());
     json msg = json::parse(text, nullptr, false);
@@ -190,11 +212,61 @@ struct Session : std::enable_shared_from_this<Session> {
     if (!closing) read();
   }
 
+  // A binary frame: clientPublish (opcode 1, channel id, payload) on a channel this client advertised;
+  // returns why it is not the protocol ("" when it is). A refused message is answered with a status.
+  std::string client_message() {
+    if (!srv.opt.on_publish) return "binary messages are not accepted: this server is read-only";
+    std::string data = beast::buffers_to_string(buf.data());
+    if (data.size() < 5 || data[0] != 1) return "a binary message must be clientPublish (opcode 1)";
+    std::uint32_t id = 0;
+    for (int i = 0; i < 4; ++i) id |= std::uint32_t(std::uint8_t(data[1 + i])) << (8 * i);
+    auto it = client_channels.find(id);
+    if (it == client_channels.end()) return "clientPublish on channel " + std::to_string(id) + ", not advertised";
+    std::string why = srv.opt.on_publish(it->second, who.user, std::string_view(data).substr(5));
+    if (!why.empty()) send_text(status_json(2, why));
+    return "";
+  }
+
+  std::string client_advertise(const json& msg) {
+    if (!msg.contains("channels") || !msg["channels"].is_array()) return "advertise without channels[]";
+    for (const json& c : msg["channels"]) {
+      if (!c.is_object() || !c.contains("id") || !c["id"].is_number_unsigned() ||
+          c["id"].get<std::uint64_t>() > 0xFFFFFFFFu || !c.contains("topic") || !c["topic"].is_string() ||
+          !c.contains("encoding") || !c["encoding"].is_string())
+        return "advertise: each channel needs an unsigned 32-bit id, a topic and an encoding";
+      WsClientChannel ch{c["id"].get<std::uint32_t>(), c["topic"], c["encoding"], c.value("schemaName", "")};
+      std::string refused;
+      if (!who.may_publish)
+        refused = "publishing needs an operator's login (HTTP Basic with a user of the station's users file)";
+      else if (!srv.opt.publish_topics.count(ch.topic))
+        refused = "'" + ch.topic.substr(0, 40) + "' may not be published (only HG_JOB_REQUEST)";
+      else if (ch.encoding != "json")
+        refused = "encoding '" + ch.encoding.substr(0, 20) + "': only json is accepted";
+      if (!refused.empty()) {
+        send_text(status_json(2, refused));
+        continue;
+      }
+      client_channels[ch.id] = std::move(ch);
+    }
+    return "";
+  }
+
+  std::string client_unadvertise(const json& msg) {
+    if (!msg.contains("channelIds") || !msg["channelIds"].is_array()) return "unadvertise without channelIds[]";
+    for (const json& id : msg["channelIds"]) {
+      if (!id.is_number_unsigned()) return "unadvertise: channel ids are unsigned integers";
+      client_channels.erase(id.get<std::uint32_t>());
+    }
+    return "";
+  }
+
   // One client operation; returns why it is not the protocol ("" when it is).
   std::string handle(const json& msg) {
     const std::string op = msg["op"];
     if (op == "subscribe") return subscribe(msg);
     if (op == "unsubscribe") return unsubscribe(msg);
+    if (op == "advertise" && srv.opt.on_publish) return client_advertise(msg);
+    if (op == "unadvertise" && srv.opt.on_publish) return client_unadvertise(msg);
     static const std::set<std::string> unsupported = {"advertise",
                                                       "unadvertise",
                                                       "getParameters",
@@ -345,47 +417,27 @@ void WsServer::Impl::remove(const Session* s) {
     }
 }
 
-void WsServer::Impl::accept() {
-  acceptor.async_accept([this](beast::error_code ec, tcp::socket sock) {
-    if (ec) {
-      if (ec != net::error::operation_aborted) accept();
-      return;
-    }
-    auto s = std::make_shared<Session>(*this, std::move(sock));
-    {
-      std::lock_guard<std::mutex> lock(mu);
-      sessions.push_back(s);
-    }
-    s->start();
-    accept();
-  });
+void WsServer::Impl::on_accept(tcp::socket sock) {
+  auto s = std::make_shared<Session>(*this, std::move(sock));
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    sessions.push_back(s);
+  }
+  s->start();
 }
 
-WsServer::WsServer(WsServerOptions options) : impl_(std::make_shared<Impl>()) {
-  impl_->opt = std::move(options);
+WsServer::WsServer(WsServerOptions options) : impl_(std::make_shared<Impl>(std::move(options))) {
   impl_->session_id = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
-  beast::error_code ec;
-  tcp::endpoint ep(net::ip::make_address(impl_->opt.host, ec), static_cast<unsigned short>(impl_->opt.port));
-  if (ec) throw std::invalid_argument("host '" + impl_->opt.host + "' is not an IP address (--host)");
-  auto& a = impl_->acceptor;
-  a.open(ep.protocol(), ec);
-  if (!ec) a.set_option(net::socket_base::reuse_address(true), ec);
-  if (!ec) a.bind(ep, ec);
-  if (!ec) a.listen(net::socket_base::max_listen_connections, ec);
-  if (ec)
-    throw std::runtime_error("cannot listen on " + impl_->opt.host + ":" + std::to_string(impl_->opt.port) + ": " +
-                             ec.message());
-  port_ = a.local_endpoint().port();
-  impl_->accept();
-  thread_ = std::thread([impl = impl_] { impl->ioc.run(); });
+  impl_->listener.start([impl = impl_.get()](tcp::socket sock) { impl->on_accept(std::move(sock)); });
 }
 
 WsServer::~WsServer() {
-  impl_->ioc.stop();
-  thread_.join();
+  impl_->listener.stop();
   std::lock_guard<std::mutex> lock(impl_->mu);
   impl_->sessions.clear();
 }
+
+int WsServer::bound_port() const { return impl_->listener.port(); }
 
 void WsServer::advertise(std::vector<WsChannel> channels) {
   net::post(impl_->ioc, [impl = impl_, channels = std::move(channels)] {
@@ -441,6 +493,9 @@ WsStats WsServer::stats() const {
     st.clients.push_back(WsClientStats{s->peer, s->sent.load(), s->dropped.load(), s->subscription_count.load()});
   st.disconnected_garbage = impl_->garbage.load();
   st.refused = impl_->refused.load();
+  st.bad_requests = impl_->requests.bad_requests.load();
+  st.timeouts = impl_->requests.timeouts.load();
+  st.refused_connections = impl_->requests.refused_connections.load();
   return st;
 }
 

@@ -19,5 +19,6 @@ inline constexpr const char* kRobotStatus =
     "HG_ROBOT_STATUS";  // robot_status_t    robot_bridge -> path_planner, dds_gateway
 inline constexpr const char* kRobotMove = "HG_ROBOT_MOVE";  // robot_move_t      hg-calibrate -> robot_bridge
 inline constexpr const char* kHeartbeat = "HG_HEARTBEAT";  // heartbeat_t       every process -> supervisor, dds_gateway
+inline constexpr const char* kLog = "HG_LOG";              // log_line_t        every process -> foxglove, record
 
 }  // namespace hg::channels

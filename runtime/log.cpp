@@ -1,4 +1,5 @@
 #include "runtime/log.hpp"
+#include "runtime/log_sink.hpp"
 
 #include <cstdarg>
 #include <cstdio>
@@ -11,6 +12,21 @@ namespace {
 std::string g_name = "hullgrind";
 Level g_level = Level::Info;
 std::mutex g_mutex;
+std::mutex g_sink_mutex;  // held while the sink runs
+LogSink g_sink;
+thread_local bool t_in_sink = false;
+
+void to_sink(Level level, std::int64_t utime, const char* text) {
+  if (t_in_sink) return;
+  std::lock_guard lock(g_sink_mutex);
+  if (!g_sink) return;
+  t_in_sink = true;
+  try {
+    g_sink(level, utime, text);
+  } catch (...) {  // a log line never ends a process
+  }
+  t_in_sink = false;
+}
 
 const char* level_name(Level l) {
   switch (l) {
@@ -28,6 +44,11 @@ void set_process_name(const std::string& name) {
   g_name = name;
 }
 void set_log_level(Level level) { g_level = level; }
+
+void set_log_sink(LogSink sink) {
+  std::lock_guard lock(g_sink_mutex);
+  g_sink = std::move(sink);
+}
 
 Level parse_level(const std::string& t) {
   if (t == "debug") return Level::Debug;
@@ -50,9 +71,12 @@ void logf(Level level, const char* fmt, ...) {
   gmtime_r(&tv.tv_sec, &utc);
   char stamp[40];
   strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%S", &utc);
-  std::lock_guard lock(g_mutex);
-  fprintf(stderr, "%s.%03dZ %s %s: %s\n", stamp, int(tv.tv_usec / 1000), level_name(level), g_name.c_str(), text);
-  fflush(stderr);
+  {
+    std::lock_guard lock(g_mutex);
+    fprintf(stderr, "%s.%03dZ %s %s: %s\n", stamp, int(tv.tv_usec / 1000), level_name(level), g_name.c_str(), text);
+    fflush(stderr);
+  }
+  to_sink(level, std::int64_t(tv.tv_sec) * 1000000 + tv.tv_usec, text);
 }
 
 bool RateLimiter::allow(std::uint64_t& suppressed) {

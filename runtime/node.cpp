@@ -12,7 +12,9 @@
 #include <unistd.h>
 
 #include "hullgrind/heartbeat_t.hpp"
+#include "hullgrind/log_line_t.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/log_sink.hpp"
 
 namespace hg::runtime {
 namespace {
@@ -65,11 +67,25 @@ lcm::LCM& Node::open_lcm() {
            lcm_url_.c_str());
       std::exit(1);
     }
+    // Every log line on HG_LOG as well. Not through publish(): a log line is not the process's output (not
+    // counted in `published`), and a failure to publish it is not logged again.
+    set_log_sink([this](Level level, std::int64_t utime, const char* text) {
+      hullgrind::log_line_t m{};
+      fill_header(channels::kLog, m.header.seq, utime);
+      m.header.utime = utime;
+      m.process = info_.name;
+      m.pid = int32_t(getpid());
+      m.level = std::int8_t(level);
+      m.text = text;
+      lcm_->publish(channels::kLog, &m);
+    });
   });
   return *lcm_;
 }
 
-Node::~Node() = default;
+Node::~Node() {
+  if (lcm_) set_log_sink(nullptr);  // waits for a line being published
+}
 
 void Node::print_usage(std::FILE* out) const {
   std::fprintf(out, "usage: %s [options]\n\n%s\n", info_.name.c_str(), info_.summary.c_str());

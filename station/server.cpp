@@ -147,14 +147,14 @@ struct Server::Impl {
   Api& api;
   const LiveState& live;
   ServerStats stats;
-  asio::io_context io{1};
   std::optional<asio::ssl::context> tls;
-  tcp::acceptor acceptor{io};
-  std::thread thread;
-  std::atomic<int> connections{0};
+  runtime::Listener listener;
 
-  Impl(ServerConfig c, Api& a, const LiveState& l) : config(std::move(c)), api(a), live(l) {}
-  void accept();
+  Impl(ServerConfig c, Api& a, const LiveState& l)
+      : config(std::move(c)),
+        api(a),
+        live(l),
+        listener(runtime::ListenerOptions{config.address, config.port, "address", config.max_connections}, stats) {}
   void on_accept(tcp::socket socket);
 };
 
@@ -164,10 +164,8 @@ namespace {
 template <class Stream>
 class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
  public:
-  HttpSession(Stream&& stream, Server::Impl& server) : stream_(std::move(stream)), server_(server) {
-    ++server_.connections;
-  }
-  ~HttpSession() { --server_.connections; }
+  HttpSession(Stream&& stream, Server::Impl& server)
+      : stream_(std::move(stream)), server_(server), held_(server.listener) {}
 
   void read(bool first) {
     parser_.emplace();
@@ -189,20 +187,13 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   }
 
   void fail(beast::error_code ec) {
-    if (ec == http::error::end_of_stream || ec == asio::error::eof) return shutdown();
-    if (ec == beast::error::timeout) {
-      ++server_.stats.timeouts;
-      return shutdown();
+    switch (runtime::count_read_error(ec, server_.stats)) {
+      case runtime::ReadFailure::TooLarge:
+        return reply(json_error(413, "the body is over " + std::to_string(server_.config.max_body) + " bytes"), false);
+      case runtime::ReadFailure::Malformed:
+        return reply(json_error(400, "malformed HTTP request: " + ec.message()), false);
+      default: return shutdown();
     }
-    if (ec == http::error::body_limit) {
-      ++server_.stats.too_large;
-      return reply(json_error(413, "the body is over " + std::to_string(server_.config.max_body) + " bytes"), false);
-    }
-    if (ec.category() == http::make_error_code(http::error::bad_target).category()) {
-      ++server_.stats.bad_requests;
-      return reply(json_error(400, "malformed HTTP request: " + ec.message()), false);
-    }
-    shutdown();
   }
 
   void on_read(beast::error_code ec) {
@@ -290,25 +281,12 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   bool keep_alive_ = false;
+  runtime::Listener::Held held_;
 };
 
 }  // namespace
 
-void Server::Impl::accept() {
-  acceptor.async_accept([this](beast::error_code ec, tcp::socket socket) {
-    if (ec == asio::error::operation_aborted) return;
-    if (!ec) on_accept(std::move(socket));
-    accept();
-  });
-}
-
 void Server::Impl::on_accept(tcp::socket socket) {
-  if (connections >= config.max_connections) {
-    ++stats.refused_connections;
-    beast::error_code ec;
-    socket.close(ec);
-    return;
-  }
   if (!tls) {
     std::make_shared<HttpSession<beast::tcp_stream>>(beast::tcp_stream(std::move(socket)), *this)->read(true);
     return;
@@ -336,45 +314,17 @@ Server::Server(ServerConfig config, Api& api, const LiveState& live)
     impl_->tls->use_certificate_chain_file(c.tls_cert);
     impl_->tls->use_private_key_file(c.tls_key, asio::ssl::context::pem);
   }
-  beast::error_code ec;
-  const auto address = asio::ip::make_address(c.address, ec);
-  if (ec) throw std::invalid_argument("address: '" + c.address + "' is not an IP address");
-  const tcp::endpoint ep(address, static_cast<unsigned short>(c.port));
-  impl_->acceptor.open(ep.protocol(), ec);
-  if (!ec) impl_->acceptor.set_option(asio::socket_base::reuse_address(true), ec);
-  if (!ec) impl_->acceptor.bind(ep, ec);
-  if (!ec) impl_->acceptor.listen(asio::socket_base::max_listen_connections, ec);
-  if (ec)
-    throw std::runtime_error("cannot listen on " + c.address + ":" + std::to_string(c.port) + ": " + ec.message());
 }
 
 Server::~Server() { stop(); }
 
 void Server::start() {
-  impl_->accept();
-  impl_->thread = std::thread([this] {
-    for (;;) {
-      try {
-        impl_->io.run();
-        return;
-      } catch (const std::exception& e) {  // never let one connection's exception end the server
-        logf(Level::Error, "server: %s", e.what());
-      }
-    }
-  });
+  impl_->listener.start([impl = impl_.get()](tcp::socket socket) { impl->on_accept(std::move(socket)); });
 }
 
-void Server::stop() {
-  if (!impl_->thread.joinable()) return;
-  asio::post(impl_->io, [this] {
-    beast::error_code ec;
-    impl_->acceptor.close(ec);
-    impl_->io.stop();
-  });
-  impl_->thread.join();
-}
+void Server::stop() { impl_->listener.stop(); }
 
-int Server::port() const { return impl_->acceptor.local_endpoint().port(); }
+int Server::port() const { return impl_->listener.port(); }
 const ServerStats& Server::stats() const { return impl_->stats; }
 
 }  // namespace hg::station

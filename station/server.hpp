@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "runtime/listener.hpp"
 #include "station/api.hpp"
 #include "station/live.hpp"
 
@@ -26,9 +27,9 @@ struct ServerConfig {
   int max_websockets = 16;
 };
 
-struct ServerStats {
-  std::atomic<std::int64_t> requests{0}, bad_requests{0}, too_large{0}, timeouts{0}, refused_connections{0},
-      websockets{0}, websocket_drops{0};
+// bad_requests, too_large, timeouts, refused_connections: runtime::ListenerStats.
+struct ServerStats : runtime::ListenerStats {
+  std::atomic<std::int64_t> requests{0}, websockets{0}, websocket_drops{0};
 };
 
 class Server {

@@ -7,6 +7,9 @@
 //   - each /hg/plate/points must give the plate's points back: as many as HG_PLATE_CLOUD's n decimated to
 //     --max-points, the same bounding box as the cloud's (u, v) on its plane;
 //   - each /hg/grind_path must show its grind_path_t's smoothed edge (scene_check.js);
+//   - every process log line received on HG_LOG (log_line_t) must also come as a foxglove.Log on /hg/log
+//     with its process, level, time and text; the lines go to RESULT.json for the test to find them in
+//     the processes' own log files;
 //   - probes: foxglove.sdk.v1 is accepted; no subprotocol is refused; text garbage, binary data and a bad
 //     subscribe are each closed with code 1008 and a reason; a client that stops reading (paused socket)
 //     must show dropped frames in hg-foxglove's heartbeat.
@@ -23,7 +26,10 @@ const { checkSmoothedEdge, outlineColors } = require("./scene_check");
 const [url, resultFile, stopFile] = process.argv.slice(2);
 const maxPoints = process.argv.includes("--max-points") ? Number(process.argv[process.argv.indexOf("--max-points") + 1]) : 200000;
 const result = { advertised: [], counts: {}, invalid: [], clouds_checked: 0, cloud_failures: [], heartbeat: "",
-                 probes: {}, raw: 0, errors: [], paths_checked: 0, edge_points: 0, path_failures: [] };
+                 probes: {}, raw: 0, errors: [], paths_checked: 0, edge_points: 0, path_failures: [],
+                 log_lines: [], log_unshown: [] };
+const logShown = new Set();  // "process|utime|level|text" of each /hg/log line
+const logKey = (name, utime, level, text) => `${name}|${utime}|${level}|${text}`;
 const ajv = new Ajv({ strict: false });
 const official = {};
 for (const [name, s] of Object.entries(foxgloveSchemas)) official["foxglove." + name] = ajv.compile(s);
@@ -138,6 +144,10 @@ function main() {
       }
     }
     if (ch.schemaName === "hullgrind.heartbeat_t" && msg.process === "hg-foxglove") result.heartbeat = msg.state_text;
+    if (ch.schemaName === "hullgrind.log_line_t")
+      result.log_lines.push({ process: msg.process, pid: msg.pid, level: msg.level, text: msg.text, utime: msg.header.utime });
+    if (ch.topic === "/hg/log")
+      logShown.add(logKey(msg.name, msg.timestamp.sec * 1e6 + msg.timestamp.nsec / 1e3, msg.level, msg.message));
   });
   client.on("error", (e) => result.errors.push(String(e && e.message)));
   return client;
@@ -150,6 +160,8 @@ function main() {
   const timer = setInterval(() => {
     if (!fs.existsSync(stopFile)) return;
     clearInterval(timer);
+    for (const l of result.log_lines)
+      if (!logShown.has(logKey(l.process, l.utime, l.level + 1, l.text))) result.log_unshown.push(l);
     fs.writeFileSync(resultFile, JSON.stringify(result, null, 1));
     client.close();
     slow.terminate();

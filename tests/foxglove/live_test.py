@@ -61,6 +61,7 @@ class FoxgloveLive(unittest.TestCase):
             p.stop()
             skipped = self.check_mcap(p)
             self.check(r, log_channels(p.log), skipped)
+            self.check_log_lines(r, p)
             ok = True
         finally:
             if client and client.poll() is None:
@@ -108,6 +109,23 @@ class FoxgloveLive(unittest.TestCase):
         garbage = int(r["heartbeat"].split(" closed for garbage")[0].split("; ")[-1])
         self.assertGreaterEqual(garbage, 3, r["heartbeat"])
         self.assertIn(" dropped ", r["heartbeat"])  # per client; the drops themselves: foxglove_ws_server_test
+
+    def check_log_lines(self, r, p):
+        """The processes' log lines on the bus (HG_LOG) came to the client as log_line_t and as foxglove.Log on
+        /hg/log, and each is a line of its process's own log file (the supervisor's logs/, from stderr)."""
+        self.assertEqual(r["log_unshown"], [], "log lines on HG_LOG without their /hg/log line")
+        logs = ""
+        for name in os.listdir(os.path.join(p.dir, "logs")):
+            with open(os.path.join(p.dir, "logs", name), errors="replace") as f:
+                logs += f.read()
+        levels = ["DEBUG", "INFO ", "WARN ", "ERROR"]
+        for line in r["log_lines"]:
+            self.assertIn(" %s %s: %s\n" % (levels[line["level"]], line["process"], line["text"]), logs,
+                          "a log line on the bus that is in no process's log file")
+        seen = {line["process"] for line in r["log_lines"]}
+        for proc in ("hg-camera-bridge", "hg-outline-service", "hg-path-planner", "hg-robot-bridge", "hg-foxglove"):
+            self.assertIn(proc, seen, "no log line of %s on the bus" % proc)
+        print("%d log lines of %s on the bus, each in its process's log file" % (len(r["log_lines"]), sorted(seen)))
 
     def check_mcap(self, p):
         mcap = os.path.join(p.dir, "run.mcap")

@@ -10,7 +10,8 @@
 //     against Foxglove's own schemas (@foxglove/schemas);
 //   - the derived topics: one /hg/plate/points per plate cloud, whose packed points match the cloud (count
 //     with hg-mcap's decimation, bounding box), one /hg/outline, /hg/grind_path, /hg/log per message;
-//     each /hg/grind_path shows its path's smoothed edge (scene_check.js).
+//     each /hg/grind_path shows its path's smoothed edge (scene_check.js); a /hg/log line of a process's
+//     log line (HG_LOG) has its process, level, time and text.
 // usage: mcap_check.js FILE.mcap LOG.lcmlog [LOG.lcmlog...] [--max-points N] [--expect-tf] [--skip CHANNEL#EVENT]...
 // (--skip: an event hg-mcap reported as not decoding, left out of the expectation; one log only)
 // Exit 0 when every check passes, 1 with the reasons otherwise.
@@ -106,9 +107,23 @@ function cloudActual(pc) {
 }
 
 const seenOutlineColors = new Set();
-let pathsChecked = 0;
+let pathsChecked = 0, logLinesChecked = 0;
 
-function checkDerived(topic, json, lastCloud, maxPoints, lastPath) {
+// A /hg/log line made of a process's log line (log_line_t) says what that line says; foxglove.Log's levels
+// are log_line_t's plus one (DEBUG 1 .. ERROR 4), a level outside LEVEL_* as the nearest one.
+function checkLogLine(json, line) {
+  const t = line.header.utime;
+  const level = Math.min(Math.max(line.level, 0), 3) + 1;
+  check(json.name === line.process && json.message === line.text && json.level === level &&
+        json.timestamp.sec === Math.floor(t / 1e6) && json.timestamp.nsec === (t % 1e6) * 1000,
+        `/hg/log: ${JSON.stringify(json)} is not the log line ${JSON.stringify(line)}`);
+  ++logLinesChecked;
+}
+
+function checkDerived(topic, json, lastCloud, maxPoints, lastPath, lastLogSource) {
+  if (topic === "/hg/log" && check(lastLogSource, "/hg/log before any HG_JOB_STATUS or HG_LOG") &&
+      lastLogSource.type === "hullgrind.log_line_t")
+    checkLogLine(json, lastLogSource.json);
   if (topic === "/hg/outline") for (const c of outlineColors(json)) seenOutlineColors.add(c);
   if (topic === "/hg/grind_path" && check(lastPath, "/hg/grind_path before any HG_GRIND_PATH")) {
     for (const f of checkSmoothedEdge(json, lastPath, [...seenOutlineColors])) check(false, `/hg/grind_path: ${f}`);
@@ -175,7 +190,7 @@ async function main() {
 
   const lcmTopics = new Set(events.map((e) => e.channel));
   const perTopic = new Map();
-  let ev = 0, lastCloud = null, lastPath = null, validated = 0;
+  let ev = 0, lastCloud = null, lastPath = null, lastLogSource = null, validated = 0;
   for (const m of messages) {
     const ch = channels.get(m.channelId);
     perTopic.set(ch.topic, (perTopic.get(ch.topic) || 0) + 1);
@@ -203,7 +218,9 @@ async function main() {
     ++validated;
     if (schema.name === "hullgrind.plate_cloud_t") lastCloud = json;
     if (schema.name === "hullgrind.grind_path_t") lastPath = json;
-    checkDerived(ch.topic, json, lastCloud, maxPoints, lastPath);
+    if (schema.name === "hullgrind.job_status_t" || schema.name === "hullgrind.log_line_t")
+      lastLogSource = { type: schema.name, json };
+    checkDerived(ch.topic, json, lastCloud, maxPoints, lastPath, lastLogSource);
   }
 
   // Counts: every LCM channel exactly as in the log; the derived topics one per source message.
@@ -214,10 +231,13 @@ async function main() {
     const ch = channels.get(m.channelId);
     return lcmTopics.has(ch.topic) && schemas.get(ch.schemaId) && schemas.get(ch.schemaId).name === name;
   }).length;
-  const derived = { "/hg/plate/points": "hullgrind.plate_cloud_t", "/hg/outline": "hullgrind.outline_t",
-                    "/hg/grind_path": "hullgrind.grind_path_t", "/hg/log": "hullgrind.job_status_t" };
-  for (const [topic, type] of Object.entries(derived))
-    check((perTopic.get(topic) || 0) === typeCount(type), `${topic}: ${perTopic.get(topic) || 0} messages, ${typeCount(type)} ${type}`);
+  const derived = { "/hg/plate/points": ["hullgrind.plate_cloud_t"], "/hg/outline": ["hullgrind.outline_t"],
+                    "/hg/grind_path": ["hullgrind.grind_path_t"],
+                    "/hg/log": ["hullgrind.job_status_t", "hullgrind.log_line_t"] };
+  for (const [topic, types] of Object.entries(derived)) {
+    const n = types.reduce((sum, type) => sum + typeCount(type), 0);
+    check((perTopic.get(topic) || 0) === n, `${topic}: ${perTopic.get(topic) || 0} messages, ${n} ${types.join(" + ")}`);
+  }
   const tfWant = typeCount("hullgrind.robot_status_t") + (expectTf ? typeCount("hullgrind.plate_cloud_t") : 0);
   check((perTopic.get("/tf") || 0) === tfWant, `/tf: ${perTopic.get("/tf") || 0} transforms, expected ${tfWant}`);
   for (const t of perTopic.keys()) check(lcmTopics.has(t) || t in derived || t === "/tf", `unexpected topic ${t}`);
@@ -228,7 +248,8 @@ async function main() {
     process.exit(1);
   }
   console.log(`mcap_check: ${file}: ok: ${messages.length} messages (${validated} JSON validated), ` +
-              `${reader.chunkIndexes.length} chunks, ${pathsChecked} smoothed edges checked; ${summary}`);
+              `${reader.chunkIndexes.length} chunks, ${pathsChecked} smoothed edges checked, ` +
+              `${logLinesChecked} log lines checked; ${summary}`);
 }
 
 main().catch((e) => {

@@ -3,6 +3,7 @@
 config/pipeline.toml running on this machine under tools/supervisor, in a network namespace of its own.
 
   tools/bench/pipeline_latency.py [--profile pm806|lsr-l ...] [--frames 50] [--bin BUILD/bin] [--keep]
+                                  [--foxglove-clients N]
 
 For each profile: the shipped pipeline with the camera on the synthetic source of that profile in job
 trigger mode (it renders a frame when a job asks, so no renderer runs in the background and steals CPU
@@ -23,6 +24,10 @@ here (LCM log format and the few header fields needed, decoded by hand):
   stages   = cloud utime -> cloud logged (segmentation + send), cloud -> outline logged (outline
              service), outline -> path logged (planner).
 
+--foxglove-clients N connects N Foxglove viewers to the pipeline's hg-foxglove (tools/bench/foxglove_client.js:
+@foxglove/ws-protocol's client from build/npm, subscribed to every channel, the full-size clouds included)
+before the first job: the stage times with and without them are the live server's cost (issue 25).
+
 Prints medians (and 90th percentiles) per profile, the load average before and after, and a JSON line.
 Targets (issue 8): median <= 60 ms at 1280x960 (pm806), <= 250 ms at 2048x1536 (lsr-l). Not a test.
 """
@@ -32,6 +37,7 @@ import json
 import os
 import shutil
 import struct
+import subprocess
 import sys
 import tempfile
 import time
@@ -143,7 +149,25 @@ def loadavg():
         return " ".join(f.read().split()[:3])
 
 
-def bench_profile(E, profile, frames, warmup):
+def start_clients(n):
+    """n Foxglove viewers on ws://127.0.0.1:8765, each subscribed to every channel once advertised."""
+    npm = os.environ.get("HG_NPM_DIR", os.path.join(SRC, "build", "npm"))
+    env = dict(os.environ, NODE_PATH=os.path.join(npm, "node_modules"))
+    return [subprocess.Popen(["node", os.path.join(HERE, "foxglove_client.js")], stdout=subprocess.PIPE, text=True, env=env)
+            for _ in range(n)]
+
+
+def stop_clients(clients):
+    """What each client received: {topic: {messages, bytes}}."""
+    got = []
+    for c in clients:
+        c.terminate()
+        out, _ = c.communicate(timeout=30)
+        got.append(json.loads(out.strip().splitlines()[-1]) if out.strip() else {})
+    return got
+
+
+def bench_profile(E, profile, frames, warmup, n_clients=0):
     """Runs the jobs; returns the pipeline (its run directory holds run.lcmlog), the measured job ids and
     the load averages before and after."""
     import tomllib
@@ -169,8 +193,11 @@ def bench_profile(E, profile, frames, warmup):
     p.names = ["camera"] + p.names
     load_before = loadavg()
     jobs = ["bench-%s-%03d" % (profile, i) for i in range(warmup + frames)]
+    clients = []
     try:
         p.start()
+        clients = start_clients(n_clients)
+        time.sleep(2 if clients else 0)  # connected and subscribed before the first job
         for job in jobs:
             p.send(job)
             final = p.wait_final(job, 120)
@@ -182,9 +209,15 @@ def bench_profile(E, profile, frames, warmup):
         time.sleep(0.5)  # lcm-logger flushes every 100 ms
     finally:
         load_after = loadavg()
+        received = stop_clients(clients)
         p.stop()
         for f in p.files:
             f.close()
+    for i, got in enumerate(received):
+        points = got.get("/hg/plate/points", {})
+        print("foxglove client %d: %d messages, %.0f MB; /hg/plate/points %d, HG_PLATE_CLOUD %d" % (
+            i + 1, sum(t["messages"] for t in got.values()), sum(t["bytes"] for t in got.values()) / 1e6,
+            points.get("messages", 0), got.get("HG_PLATE_CLOUD", {}).get("messages", 0)))
     return p, jobs[warmup:], load_before, load_after
 
 
@@ -219,6 +252,8 @@ def main():
     ap.add_argument("--warmup", type=int, default=2, help="jobs before the measured ones, not counted [2]")
     ap.add_argument("--bin", default=os.path.join(SRC, "build", "bin"), help="the build's bin directory [build/bin]")
     ap.add_argument("--keep", action="store_true", help="keep the run directories (logs, run.lcmlog)")
+    ap.add_argument("--foxglove-clients", type=int, default=0,
+                    help="Foxglove viewers connected to hg-foxglove during the jobs [0]")
     a = ap.parse_args()
     if os.environ.get("HG_IN_NETNS") != "1":  # LCM stays in a namespace of its own
         os.execv(os.path.join(SRC, "tests", "netns.sh"), [os.path.join(SRC, "tests", "netns.sh"), sys.executable] + sys.argv)
@@ -226,7 +261,7 @@ def main():
     import e2e_pipeline as E
     results = []
     for profile in a.profile or ["pm806", "lsr-l"]:
-        p, jobs, before, after = bench_profile(E, profile, a.frames, a.warmup)
+        p, jobs, before, after = bench_profile(E, profile, a.frames, a.warmup, a.foxglove_clients)
         rows = analyse(p.log, jobs)
         if a.keep:
             print("run directory: " + p.dir)
@@ -234,7 +269,7 @@ def main():
             shutil.rmtree(p.dir, ignore_errors=True)
         med = {k: percentile([r[k] for r in rows], 0.5) for k in ("latency", "render", "cloud", "outline", "plan")}
         p90 = percentile([r["latency"] for r in rows], 0.9)
-        res = {"profile": profile, "size": SIZE[profile], "frames": len(rows), "of": len(jobs),
+        res = {"profile": profile, "size": SIZE[profile], "foxglove_clients": a.foxglove_clients, "frames": len(rows), "of": len(jobs),
                "median_ms": round(med["latency"], 1), "p90_ms": round(p90, 1),
                "median_render_ms": round(med["render"], 1),
                "median_without_render_ms": round(percentile([r["latency"] - r["render"] for r in rows], 0.5), 1),

@@ -78,10 +78,12 @@ Json sample_message(const Schema& schema, const Struct& type, int64_t seq, int64
 std::string default_channel(const Struct& type) {
   namespace ch = hg::channels;
   static const std::map<std::string, const char*> table = {
-      {"depth_frame_t", ch::kDepth},    {"plate_cloud_t", ch::kPlateCloud},   {"outline_t", ch::kOutline},
-      {"part_pose_t", ch::kPartPose},   {"grind_path_t", ch::kGrindPath},     {"job_request_t", ch::kJobRequest},
-      {"job_status_t", ch::kJobStatus}, {"robot_status_t", ch::kRobotStatus}, {"robot_move_t", ch::kRobotMove},
-      {"heartbeat_t", ch::kHeartbeat}};
+      {"depth_frame_t", ch::kDepth},    {"plate_cloud_t", ch::kPlateCloud},
+      {"outline_t", ch::kOutline},      {"part_pose_t", ch::kPartPose},
+      {"grind_path_t", ch::kGrindPath}, {"job_request_t", ch::kJobRequest},
+      {"job_status_t", ch::kJobStatus}, {"robot_status_t", ch::kRobotStatus},
+      {"robot_move_t", ch::kRobotMove}, {"heartbeat_t", ch::kHeartbeat},
+      {"log_line_t", ch::kLog}};
   auto it = table.find(type.name);
   return it == table.end() ? std::string() : std::string(it->second);
 }
