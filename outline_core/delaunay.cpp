@@ -134,14 +134,15 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
     double o[3];
     int negatives = 0, first_neg = -1, second_neg = -1;
     bool zero = false;
-    for (int i = 0; i < 3; ++i) {
-      if (3 * t + i == from) {
+    const std::uint32_t entered = from - 3 * t;  // 0..2: the edge we came through; otherwise none
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      if (i == entered) {
         o[i] = 1;
         continue;
       }
       o[i] = orient(v[i], v[i == 2 ? 0 : i + 1], p);
       if (o[i] < 0) {
-        (negatives++ == 0 ? first_neg : second_neg) = i;
+        (negatives++ == 0 ? first_neg : second_neg) = static_cast<int>(i);
       } else if (o[i] == 0) {
         zero = true;
       }
@@ -264,33 +265,43 @@ void Builder::insert(std::uint32_t v) {
 
   // Star the cavity from p: new triangle j = (boundary_from_[j], boundary_from_[j + 1], v), in the cavity's slots and
   // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
-  cavity_[cavity_size_] = slots_;  // room is kept: the cavity holds m - 2 entries, the arrays at least m + 6
-  cavity_[cavity_size_ + 1] = slots_ + 1;
+  // Room is kept: the cavity holds m - 2 entries, the arrays at least m + 5 (dig_cavity): the two new slots
+  // and a copy of entry 0 after the last (no wrap-around test in the loop) fit.
+  std::uint32_t* cav = cavity_.data();
+  std::uint32_t* from = boundary_from_.data();
+  const std::uint32_t* out = boundary_twin_.data();
+  cav[cavity_size_] = slots_;
+  cav[cavity_size_ + 1] = slots_ + 1;
+  cav[m] = cav[0];
+  from[m] = from[0];
   slots_ += 2;
   std::uint32_t* tri = T_.tri.data();
   std::uint32_t* twin = T_.twin.data();
   float* nn2 = T_.nn2.data();
+  float nn2_v = nn2[v];
   std::uint32_t finite_new = kNone;
+  std::uint32_t t_prev = cav[m - 1];
   for (std::size_t j = 0; j < m; ++j) {
-    const std::size_t jn = j + 1 == m ? 0 : j + 1, jp = j == 0 ? m - 1 : j - 1;
-    const std::uint32_t t = cavity_[j], a = boundary_from_[j], b = boundary_from_[jn], o = boundary_twin_[j];
+    const std::uint32_t t = cav[j], a = from[j], b = from[j + 1], o = out[j];
     tri[3 * t] = a;
     tri[3 * t + 1] = b;
     tri[3 * t + 2] = v;
     twin[3 * t] = o;
     twin[o] = 3 * t;
-    twin[3 * t + 1] = 3 * cavity_[jn] + 2;
-    twin[3 * t + 2] = 3 * cavity_[jp] + 1;
+    twin[3 * t + 1] = 3 * cav[j + 1] + 2;
+    twin[3 * t + 2] = 3 * t_prev + 1;
+    t_prev = t;
     if (a != ghost_) {
       // v's new Delaunay neighbours: the nearest neighbour of either end is found when the later of the
       // two is inserted (a final Delaunay edge is an edge of every intermediate triangulation).
       const double dx = xy_[a].x - p.x, dy = xy_[a].y - p.y;
       const float d2 = static_cast<float>(dx * dx + dy * dy);
-      nn2[v] = std::min(nn2[v], d2);
+      nn2_v = std::min(nn2_v, d2);
       nn2[a] = std::min(nn2[a], d2);
       if (finite_new == kNone && b != ghost_) finite_new = t;
     }
   }
+  nn2[v] = nn2_v;
   last_ = finite_new;
   if (mode_ == Mode::DS) {
     // The fixed start may have been in the cavity: keep a finite triangle incident to ds_vertex_.
