@@ -75,6 +75,8 @@ class Builder {
   // Index (0..2) of the finite half-edge of a ghost triangle, kNone for a finite triangle.
   std::uint32_t ghost_edge(std::uint32_t t) const {
     const std::uint32_t* v = &T_.tri[3 * t];
+    if (std::max(std::max(v[0], v[1]), v[2]) != ghost_) [[likely]]  // ghost_ is the largest vertex id
+      return kNone;
     if (v[0] == ghost_) return 1;
     if (v[1] == ghost_) return 2;
     if (v[2] == ghost_) return 0;
@@ -93,7 +95,7 @@ class Builder {
     const std::uint32_t* tri = T_.tri.data();
     const std::uint32_t t = g / 3, i = g - 3 * t;
     const std::uint32_t b = tri[g], a = tri[3 * t + (i == 2 ? 0 : i + 1)], c = tri[3 * t + (i == 0 ? 2 : i - 1)];
-    if (c == ghost_ || a == ghost_ || b == ghost_) [[unlikely]] {
+    if (std::max(std::max(a, b), c) == ghost_) [[unlikely]] {  // ghost_ is the largest vertex id
       const std::uint32_t u = c == ghost_ ? b : (a == ghost_ ? c : a),
                           v = c == ghost_ ? a : (a == ghost_ ? b : c);  // finite edge u -> v
       ++orients;
@@ -205,7 +207,7 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   std::uint32_t* ba = boundary_from_.data();
   std::uint32_t* bo = boundary_twin_.data();
   std::uint32_t* st = stack_.data();
-  std::size_t nc = 0, nb = 0, ns = 0;
+  std::size_t nc = 0, nb = 0, ns = 0, room = cavity_.size();
   cav[nc++] = t0;
   st[ns++] = 3 * t0 + 2;
   st[ns++] = 3 * t0 + 1;
@@ -215,9 +217,10 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
     const std::uint32_t g = twin[h];
     ++visits;
     if (conflict_across(g, p, orients, incircles)) {
-      if (nc + 8 > cavity_.size()) [[unlikely]] {
+      if (nc + 8 > room) [[unlikely]] {
         grow_scratch(nc + 8);
         cav = cavity_.data(), ba = boundary_from_.data(), bo = boundary_twin_.data(), st = stack_.data();
+        room = cavity_.size();
       }
       const std::uint32_t t = g / 3, i = g - 3 * t;
       cav[nc++] = t;
@@ -280,6 +283,13 @@ void Builder::insert(std::uint32_t v) {
   float* nn2 = T_.nn2.data();
   float nn2_v = nn2[v];
   std::uint32_t finite_new = kNone;
+  // DSHI's start for the next insertion: of the new triangles around v, the one whose angle at v holds the
+  // direction to the next point (vertex v + 1: ids are the insertion order), so the walk starts next to
+  // it. A plain floating-point choice: any start is correct, this one only shortens the walk.
+  const Vec2 q = xy_[v + 1 < T_.ghost ? v + 1 : v];
+  const double qx = q.x - p.x, qy = q.y - p.y;
+  std::uint32_t toward = kNone;
+  bool left_of_prev = false;  // the direction to the next point is left of v -> a for the previous a (finite)
   std::uint32_t t_prev = cav[m - 1];
   for (std::size_t j = 0; j < m; ++j) {
     const std::uint32_t t = cav[j], a = from[j], b = from[j + 1], o = out[j];
@@ -290,7 +300,6 @@ void Builder::insert(std::uint32_t v) {
     twin[o] = 3 * t;
     twin[3 * t + 1] = 3 * cav[j + 1] + 2;
     twin[3 * t + 2] = 3 * t_prev + 1;
-    t_prev = t;
     if (a != ghost_) {
       // v's new Delaunay neighbours: the nearest neighbour of either end is found when the later of the
       // two is inserted (a final Delaunay edge is an edge of every intermediate triangulation).
@@ -299,8 +308,15 @@ void Builder::insert(std::uint32_t v) {
       nn2_v = std::min(nn2_v, d2);
       nn2[a] = std::min(nn2[a], d2);
       if (finite_new == kNone && b != ghost_) finite_new = t;
+      const bool left = dx * qy - dy * qx >= 0;
+      if (left_of_prev && !left) toward = t_prev;  // triangle j - 1 = (a_{j-1}, a_j, v) holds the direction
+      left_of_prev = left;
+    } else {
+      left_of_prev = false;
     }
+    t_prev = t;
   }
+  if (toward != kNone) finite_new = toward;
   nn2[v] = nn2_v;
   last_ = finite_new;
   if (mode_ == Mode::DS) {
