@@ -57,8 +57,8 @@ class Builder {
     return orient_xy(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
   }
   double incircle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec2& p) const {
-    const Vec2 &A = xy_[a], &B = xy_[b], &C = xy_[c];
-    return pred::incircle(A.x, A.y, B.x, B.y, C.x, C.y, p.x, p.y);
+    static_assert(sizeof(Vec2) == 2 * sizeof(double));  // x and y consecutive: loaded as one pair
+    return pred::incircle_at(&xy_[a].x, &xy_[b].x, &xy_[c].x, &p.x);
   }
   // p strictly between u and v, given that the three are collinear.
   bool strictly_between(std::uint32_t u, std::uint32_t v, const Vec2& p) const {
