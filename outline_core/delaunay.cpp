@@ -110,6 +110,7 @@ class Builder {
   std::uint32_t scan_for_conflict(const Vec2& p);
   void find_duplicate_by_scan(const Vec2& p);
   void dig_cavity(std::uint32_t t0, const Vec2& p, bool count);
+  void star_cavity(std::uint32_t v, const Vec2& p);
   void insert(std::uint32_t v);
 };
 
@@ -266,6 +267,24 @@ void Builder::insert(std::uint32_t v) {
   const std::size_t m = boundary_size_;  // a disk of m - 2 triangles has m boundary edges
   T_.stats.cavity_triangles += cavity_size_;
 
+  star_cavity(v, p);
+  if (mode_ == Mode::DS) {
+    // The fixed start may have been in the cavity: keep a finite triangle incident to ds_vertex_.
+    const std::uint32_t* w = T_.tri.data() + 3 * ds_tri_;
+    const bool ok = (w[0] == ds_vertex_ || w[1] == ds_vertex_ || w[2] == ds_vertex_) && ghost_edge(ds_tri_) == kNone;
+    if (!ok)
+      for (std::size_t j = 0; j < m; ++j) {
+        const std::uint32_t a = boundary_from_[j], b = boundary_from_[j + 1 == m ? 0 : j + 1];
+        if ((a == ds_vertex_ || b == ds_vertex_) && a != ghost_ && b != ghost_) ds_tri_ = cavity_[j];
+      }
+  }
+  ++T_.inserted;
+}
+
+// Replaces the cavity by the fan of new triangles around v (the boundary edges to v) and picks DSHI's next
+// start among them.
+void Builder::star_cavity(std::uint32_t v, const Vec2& p) {
+  const std::size_t m = boundary_size_;  // a disk of m - 2 triangles has m boundary edges
   // Star the cavity from p: new triangle j = (boundary_from_[j], boundary_from_[j + 1], v), in the cavity's slots and
   // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
   // Room is kept: the cavity holds m - 2 entries, the arrays at least m + 5 (dig_cavity): the two new slots
@@ -319,17 +338,6 @@ void Builder::insert(std::uint32_t v) {
   if (toward != kNone) finite_new = toward;
   nn2[v] = nn2_v;
   last_ = finite_new;
-  if (mode_ == Mode::DS) {
-    // The fixed start may have been in the cavity: keep a finite triangle incident to ds_vertex_.
-    const std::uint32_t* w = tri + 3 * ds_tri_;
-    const bool ok = (w[0] == ds_vertex_ || w[1] == ds_vertex_ || w[2] == ds_vertex_) && ghost_edge(ds_tri_) == kNone;
-    if (!ok)
-      for (std::size_t j = 0; j < m; ++j) {
-        const std::uint32_t a = boundary_from_[j], b = boundary_from_[j + 1 == m ? 0 : j + 1];
-        if ((a == ds_vertex_ || b == ds_vertex_) && a != ghost_ && b != ghost_) ds_tri_ = cavity_[j];
-      }
-  }
-  ++T_.inserted;
 }
 
 void Builder::run(std::size_t n) {
