@@ -102,18 +102,28 @@ std::uint32_t select_rank(std::vector<std::uint32_t>& keys, std::size_t rank) {
     std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(rank), keys.end());
     return keys[rank];
   }
-  // Most significant digit first: the keys sharing the element's digits so far are compacted to the front.
-  std::uint32_t result = 0;
-  for (int shift = 24; shift >= 0; shift -= 8) {
+  // Bits above the highest one in which two keys differ are common to all (areas of one cloud share their
+  // exponent): the digits start there, 8 bits each, most significant first; the keys sharing the element's
+  // digits so far are compacted to the front.
+  const std::uint32_t first = keys[0];
+  std::uint32_t differ = 0;
+  for (std::size_t i = 0; i < n; ++i) differ |= keys[i] ^ first;
+  if (differ == 0) return first;
+  const int top = 31 - __builtin_clz(differ);
+  std::uint32_t result = top == 31 ? 0 : first & ~((std::uint32_t{2} << top) - 1);
+  for (int hi = top; hi >= 0;) {
+    const int shift = std::max(hi - 7, 0);
+    const std::uint32_t mask = (std::uint32_t{2} << (hi - shift)) - 1;
     std::size_t hist[256] = {};
-    for (std::size_t i = 0; i < n; ++i) ++hist[(keys[i] >> shift) & 0xffu];
+    for (std::size_t i = 0; i < n; ++i) ++hist[(keys[i] >> shift) & mask];
     std::uint32_t d = 0;
     while (rank >= hist[d]) rank -= hist[d++];
     result |= d << shift;
-    if (hist[d] == n) continue;  // all keys share this digit: nothing to drop
+    hi = shift - 1;
+    if (hist[d] == n || hi < 0) continue;  // all keys share this digit (or the last digit): nothing to drop
     std::size_t m = 0;
     for (std::size_t i = 0; i < n; ++i)
-      if (((keys[i] >> shift) & 0xffu) == d) keys[m++] = keys[i];
+      if (((keys[i] >> shift) & mask) == d) keys[m++] = keys[i];
     n = m;
   }
   return result;
@@ -251,9 +261,11 @@ TriangleScan scan_triangles(const Triangulation& T, std::size_t histogram_from) 
     buckets.reserve(slots);
   // The three vertices of a triangle are scattered over the coordinate array: fetching those of a few
   // triangles ahead overlaps the cache misses that otherwise dominate this pass.
-  constexpr std::size_t kAhead = 8;
+  // A small cloud's coordinates stay in the cache (kPrefetchFrom triangles: 512 KB of points): no prefetch.
+  constexpr std::size_t kAhead = 8, kPrefetchFrom = 65536;
+  const bool prefetch = slots >= kPrefetchFrom;
   for (std::size_t t = 0; t < slots; ++t) {
-    if (t + kAhead < slots)
+    if (prefetch && t + kAhead < slots)
       for (int i = 0; i < 3; ++i) {
         const std::uint32_t v = T.tri[3 * (t + kAhead) + i];
         if (v != T.ghost) __builtin_prefetch(&T.xy[v]);

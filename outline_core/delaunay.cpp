@@ -57,8 +57,8 @@ class Builder {
     return orient_xy(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
   }
   double incircle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec2& p) const {
-    const Vec2 &A = xy_[a], &B = xy_[b], &C = xy_[c];
-    return pred::incircle(A.x, A.y, B.x, B.y, C.x, C.y, p.x, p.y);
+    static_assert(sizeof(Vec2) == 2 * sizeof(double));  // x and y consecutive: loaded as one pair
+    return pred::incircle_at(&xy_[a].x, &xy_[b].x, &xy_[c].x, &p.x);
   }
   // p strictly between u and v, given that the three are collinear.
   bool strictly_between(std::uint32_t u, std::uint32_t v, const Vec2& p) const {
@@ -75,6 +75,8 @@ class Builder {
   // Index (0..2) of the finite half-edge of a ghost triangle, kNone for a finite triangle.
   std::uint32_t ghost_edge(std::uint32_t t) const {
     const std::uint32_t* v = &T_.tri[3 * t];
+    if (std::max(std::max(v[0], v[1]), v[2]) != ghost_) [[likely]]  // ghost_ is the largest vertex id
+      return kNone;
     if (v[0] == ghost_) return 1;
     if (v[1] == ghost_) return 2;
     if (v[2] == ghost_) return 0;
@@ -93,7 +95,7 @@ class Builder {
     const std::uint32_t* tri = T_.tri.data();
     const std::uint32_t t = g / 3, i = g - 3 * t;
     const std::uint32_t b = tri[g], a = tri[3 * t + (i == 2 ? 0 : i + 1)], c = tri[3 * t + (i == 0 ? 2 : i - 1)];
-    if (c == ghost_ || a == ghost_ || b == ghost_) [[unlikely]] {
+    if (std::max(std::max(a, b), c) == ghost_) [[unlikely]] {  // ghost_ is the largest vertex id
       const std::uint32_t u = c == ghost_ ? b : (a == ghost_ ? c : a),
                           v = c == ghost_ ? a : (a == ghost_ ? b : c);  // finite edge u -> v
       ++orients;
@@ -108,6 +110,7 @@ class Builder {
   std::uint32_t scan_for_conflict(const Vec2& p);
   void find_duplicate_by_scan(const Vec2& p);
   void dig_cavity(std::uint32_t t0, const Vec2& p, bool count);
+  void star_cavity(std::uint32_t v, const Vec2& p);
   void insert(std::uint32_t v);
 };
 
@@ -134,14 +137,15 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
     double o[3];
     int negatives = 0, first_neg = -1, second_neg = -1;
     bool zero = false;
-    for (int i = 0; i < 3; ++i) {
-      if (3 * t + i == from) {
+    const std::uint32_t entered = from - 3 * t;  // 0..2: the edge we came through; otherwise none
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      if (i == entered) {
         o[i] = 1;
         continue;
       }
       o[i] = orient(v[i], v[i == 2 ? 0 : i + 1], p);
       if (o[i] < 0) {
-        (negatives++ == 0 ? first_neg : second_neg) = i;
+        (negatives++ == 0 ? first_neg : second_neg) = static_cast<int>(i);
       } else if (o[i] == 0) {
         zero = true;
       }
@@ -204,7 +208,7 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   std::uint32_t* ba = boundary_from_.data();
   std::uint32_t* bo = boundary_twin_.data();
   std::uint32_t* st = stack_.data();
-  std::size_t nc = 0, nb = 0, ns = 0;
+  std::size_t nc = 0, nb = 0, ns = 0, room = cavity_.size();
   cav[nc++] = t0;
   st[ns++] = 3 * t0 + 2;
   st[ns++] = 3 * t0 + 1;
@@ -214,9 +218,10 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
     const std::uint32_t g = twin[h];
     ++visits;
     if (conflict_across(g, p, orients, incircles)) {
-      if (nc + 8 > cavity_.size()) [[unlikely]] {
+      if (nc + 8 > room) [[unlikely]] {
         grow_scratch(nc + 8);
         cav = cavity_.data(), ba = boundary_from_.data(), bo = boundary_twin_.data(), st = stack_.data();
+        room = cavity_.size();
       }
       const std::uint32_t t = g / 3, i = g - 3 * t;
       cav[nc++] = t;
@@ -262,39 +267,10 @@ void Builder::insert(std::uint32_t v) {
   const std::size_t m = boundary_size_;  // a disk of m - 2 triangles has m boundary edges
   T_.stats.cavity_triangles += cavity_size_;
 
-  // Star the cavity from p: new triangle j = (boundary_from_[j], boundary_from_[j + 1], v), in the cavity's slots and
-  // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
-  cavity_[cavity_size_] = slots_;  // room is kept: the cavity holds m - 2 entries, the arrays at least m + 6
-  cavity_[cavity_size_ + 1] = slots_ + 1;
-  slots_ += 2;
-  std::uint32_t* tri = T_.tri.data();
-  std::uint32_t* twin = T_.twin.data();
-  float* nn2 = T_.nn2.data();
-  std::uint32_t finite_new = kNone;
-  for (std::size_t j = 0; j < m; ++j) {
-    const std::size_t jn = j + 1 == m ? 0 : j + 1, jp = j == 0 ? m - 1 : j - 1;
-    const std::uint32_t t = cavity_[j], a = boundary_from_[j], b = boundary_from_[jn], o = boundary_twin_[j];
-    tri[3 * t] = a;
-    tri[3 * t + 1] = b;
-    tri[3 * t + 2] = v;
-    twin[3 * t] = o;
-    twin[o] = 3 * t;
-    twin[3 * t + 1] = 3 * cavity_[jn] + 2;
-    twin[3 * t + 2] = 3 * cavity_[jp] + 1;
-    if (a != ghost_) {
-      // v's new Delaunay neighbours: the nearest neighbour of either end is found when the later of the
-      // two is inserted (a final Delaunay edge is an edge of every intermediate triangulation).
-      const double dx = xy_[a].x - p.x, dy = xy_[a].y - p.y;
-      const float d2 = static_cast<float>(dx * dx + dy * dy);
-      nn2[v] = std::min(nn2[v], d2);
-      nn2[a] = std::min(nn2[a], d2);
-      if (finite_new == kNone && b != ghost_) finite_new = t;
-    }
-  }
-  last_ = finite_new;
+  star_cavity(v, p);
   if (mode_ == Mode::DS) {
     // The fixed start may have been in the cavity: keep a finite triangle incident to ds_vertex_.
-    const std::uint32_t* w = tri + 3 * ds_tri_;
+    const std::uint32_t* w = T_.tri.data() + 3 * ds_tri_;
     const bool ok = (w[0] == ds_vertex_ || w[1] == ds_vertex_ || w[2] == ds_vertex_) && ghost_edge(ds_tri_) == kNone;
     if (!ok)
       for (std::size_t j = 0; j < m; ++j) {
@@ -303,6 +279,65 @@ void Builder::insert(std::uint32_t v) {
       }
   }
   ++T_.inserted;
+}
+
+// Replaces the cavity by the fan of new triangles around v (the boundary edges to v) and picks DSHI's next
+// start among them.
+void Builder::star_cavity(std::uint32_t v, const Vec2& p) {
+  const std::size_t m = boundary_size_;  // a disk of m - 2 triangles has m boundary edges
+  // Star the cavity from p: new triangle j = (boundary_from_[j], boundary_from_[j + 1], v), in the cavity's slots and
+  // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
+  // Room is kept: the cavity holds m - 2 entries, the arrays at least m + 5 (dig_cavity): the two new slots
+  // and a copy of entry 0 after the last (no wrap-around test in the loop) fit.
+  std::uint32_t* cav = cavity_.data();
+  std::uint32_t* from = boundary_from_.data();
+  const std::uint32_t* out = boundary_twin_.data();
+  cav[cavity_size_] = slots_;
+  cav[cavity_size_ + 1] = slots_ + 1;
+  cav[m] = cav[0];
+  from[m] = from[0];
+  slots_ += 2;
+  std::uint32_t* tri = T_.tri.data();
+  std::uint32_t* twin = T_.twin.data();
+  float* nn2 = T_.nn2.data();
+  float nn2_v = nn2[v];
+  std::uint32_t finite_new = kNone;
+  // DSHI's start for the next insertion: of the new triangles around v, the one whose angle at v holds the
+  // direction to the next point (vertex v + 1: ids are the insertion order), so the walk starts next to
+  // it. A plain floating-point choice: any start is correct, this one only shortens the walk.
+  const Vec2 q = xy_[v + 1 < T_.ghost ? v + 1 : v];
+  const double qx = q.x - p.x, qy = q.y - p.y;
+  std::uint32_t toward = kNone;
+  bool left_of_prev = false;  // the direction to the next point is left of v -> a for the previous a (finite)
+  std::uint32_t t_prev = cav[m - 1];
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::uint32_t t = cav[j], a = from[j], b = from[j + 1], o = out[j];
+    tri[3 * t] = a;
+    tri[3 * t + 1] = b;
+    tri[3 * t + 2] = v;
+    twin[3 * t] = o;
+    twin[o] = 3 * t;
+    twin[3 * t + 1] = 3 * cav[j + 1] + 2;
+    twin[3 * t + 2] = 3 * t_prev + 1;
+    if (a != ghost_) {
+      // v's new Delaunay neighbours: the nearest neighbour of either end is found when the later of the
+      // two is inserted (a final Delaunay edge is an edge of every intermediate triangulation).
+      const double dx = xy_[a].x - p.x, dy = xy_[a].y - p.y;
+      const float d2 = static_cast<float>(dx * dx + dy * dy);
+      nn2_v = std::min(nn2_v, d2);
+      nn2[a] = std::min(nn2[a], d2);
+      if (finite_new == kNone && b != ghost_) finite_new = t;
+      const bool left = dx * qy - dy * qx >= 0;
+      if (left_of_prev && !left) toward = t_prev;  // triangle j - 1 = (a_{j-1}, a_j, v) holds the direction
+      left_of_prev = left;
+    } else {
+      left_of_prev = false;
+    }
+    t_prev = t;
+  }
+  if (toward != kNone) finite_new = toward;
+  nn2[v] = nn2_v;
+  last_ = finite_new;
 }
 
 void Builder::run(std::size_t n) {

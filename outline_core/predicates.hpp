@@ -54,22 +54,50 @@ inline double orient2d(double ax, double ay, double bx, double by, double cx, do
   return orient2d_exact(ax, ay, bx, by, cx, cy);
 }
 
+using v2 = double __attribute__((vector_size(16)));  // an (x, y) pair: SSE2 on x86-64 (baseline)
+using v2i = long long __attribute__((vector_size(16)));
+
+inline v2 lanes_lo(v2 u, v2 w) { return __builtin_shufflevector(u, w, 0, 2); }  // (u0, w0)
+inline v2 lanes_hi(v2 u, v2 w) { return __builtin_shufflevector(u, w, 1, 3); }  // (u1, w1)
+inline v2 swapped(v2 u) { return __builtin_shufflevector(u, u, 1, 0); }
+inline v2 magnitude(v2 u) {  // |u| per lane: the sign bits cleared
+  const v2i keep = {0x7fffffffffffffffLL, 0x7fffffffffffffffLL};
+  return reinterpret_cast<v2>(reinterpret_cast<v2i>(u) & keep);
+}
+
 // > 0: d strictly inside the circle through a, b, c (a, b, c counter-clockwise); < 0 outside; 0 on it.
-inline double incircle(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
-  const double adx = ax - dx, ady = ay - dy, bdx = bx - dx, bdy = by - dy, cdx = cx - dx, cdy = cy - dy;
-  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-  const double cdxady = cdx * ady, adxcdy = adx * cdy;
-  const double adxbdy = adx * bdy, bdxady = bdx * ady;
-  const double alift = adx * adx + ady * ady;
-  const double blift = bdx * bdx + bdy * bdy;
-  const double clift = cdx * cdx + cdy * cdy;
-  const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
-                           (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
-                           (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
+// The filter works on (x, y) pairs, arranged so that the a and b terms share one vector operation: the same
+// operations on the same operands as the scalar formula
+//   det = alift (bdx cdy - cdx bdy) + blift (cdx ady - adx cdy) + clift (adx bdy - bdx ady),
+// in the same order, so the same rounded values and the same error bound (Shewchuk's incircle permanent).
+inline double incircle_pairs(v2 A, v2 B, v2 C, v2 D) {
+  const v2 a = A - D, b = B - D, c = C - D;  // (adx, ady), (bdx, bdy), (cdx, cdy)
+  const v2 bc = b * swapped(c);              // (bdx cdy, bdy cdx)
+  const v2 ca = c * swapped(a);              // (cdx ady, cdy adx)
+  const v2 ab = a * swapped(b);              // (adx bdy, ady bdx)
+  const v2 aa = a * a, bb = b * b, cc = c * c;
+  const v2 lift_ab = lanes_lo(aa, bb) + lanes_hi(aa, bb);   // (alift, blift)
+  const v2 cross_ab = lanes_lo(bc, ca) - lanes_hi(bc, ca);  // (bdx cdy - cdx bdy, cdx ady - adx cdy)
+  const v2 perm_ab = magnitude(lanes_lo(bc, ca)) + magnitude(lanes_hi(bc, ca));
+  const double clift = cc[0] + cc[1];
+  const v2 terms = lift_ab * cross_ab, perms = perm_ab * lift_ab;
+  const double det = terms[0] + terms[1] + clift * (ab[0] - ab[1]);
+  const v2 abs_ab = magnitude(ab);
+  const double permanent = perms[0] + perms[1] + (abs_ab[0] + abs_ab[1]) * clift;
   const double bound = kIncircleBound * permanent;
   if (det > bound || -det > bound) return det;
-  return incircle_exact(ax, ay, bx, by, cx, cy, dx, dy);
+  return incircle_exact(A[0], A[1], B[0], B[1], C[0], C[1], D[0], D[1]);
+}
+
+inline double incircle(double ax, double ay, double bx, double by, double cx, double cy, double dx, double dy) {
+  return incircle_pairs(v2{ax, ay}, v2{bx, by}, v2{cx, cy}, v2{dx, dy});
+}
+
+// The same on points stored as two consecutive doubles (x, y): loaded as pairs.
+using v2_unaligned = double __attribute__((vector_size(16), aligned(8), may_alias));
+inline double incircle_at(const double* a, const double* b, const double* c, const double* d) {
+  auto load = [](const double* u) -> v2 { return *reinterpret_cast<const v2_unaligned*>(u); };
+  return incircle_pairs(load(a), load(b), load(c), load(d));
 }
 
 // Sign of (circumradius of a, b, c)^2 - R^2 for a non-degenerate triangle: > 0 exactly when r > R.

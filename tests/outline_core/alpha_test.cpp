@@ -407,14 +407,16 @@ TEST(OutlineAlpha, CircumradiusClassesGiveTheSameDecisionsAsThePredicateAlone) {
 }
 
 TEST(OutlineAlpha, RadixSelectionEqualsNthElement) {
-  // select_rank against std::nth_element on keys with many ties, narrow and full 32-bit ranges, every size
-  // from a handful (the nth_element path) to tens of thousands.
+  // select_rank against std::nth_element on keys with many ties, narrow and full 32-bit ranges, with and
+  // without common high bits, every size from a handful (the nth_element path) to tens of thousands.
   for (std::uint64_t seed = 1; seed <= 60; ++seed) {
     std::mt19937_64 rng(seed);
     const std::size_t n = 1 + rng() % (seed < 30 ? 200 : 40000);
     const std::uint32_t mask = seed % 3 == 0 ? 0xffffffffu : (seed % 3 == 1 ? 0x3ffu : 0x7ff00fffu);
     std::vector<std::uint32_t> keys(n);
-    for (auto& k : keys) k = static_cast<std::uint32_t>(rng()) & mask;
+    // Half the seeds share high bits (as the areas of one cloud share their exponent).
+    const std::uint32_t common = seed % 2 == 0 ? 0x5a5a5a5au & ~mask : 0;
+    for (auto& k : keys) k = common | (static_cast<std::uint32_t>(rng()) & mask);
     for (std::size_t rank : {std::size_t{0}, n / 2, n - 1, static_cast<std::size_t>(rng() % n)}) {
       std::vector<std::uint32_t> a = keys, b = keys;
       std::nth_element(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(rank), b.end());
