@@ -88,6 +88,20 @@ bool fillet_at_corner(const SmoothContext& c, const Pieces& p, long pa_seq, std:
   return fillet;
 }
 
+// A line and a circle beside a candidate that a circle tangent to the line explains, its vertices as well as
+// the greedy fit explains a piece (no window mean beyond the tolerance): a straight running into its tangent
+// arc (a slot's end), not a corner. The free circle fitted to a part of an arc is off in centre and radius
+// by the noise, and a line that a circle of radius R crosses a depth d deep meets it at acos(1 - d / R), about
+// sqrt(2 d / R): d at the tolerance (1.2 mm at pm806) makes 19 deg at R20, above 0.6 corner_angle, from noise
+// alone. The corner stays where the tangent hypothesis misfits (a real corner bends the vertices off it).
+bool tangent_arc_at_corner(const SmoothContext& c, const Primitive& pa, const Primitive& pb) {
+  thread_local std::vector<double> scratch;
+  if (pa.circle == pb.circle) return false;
+  Primitive arc = pa.circle ? pa : pb;
+  refit_tangent(c.u, arc, {pa.circle ? &pb : &pa});
+  return worst_window_mean(c.u, arc, arc.first, arc.last, c.win, scratch) <= c.tolerance;
+}
+
 // Corner positions from the primitives on both sides; the corners (indices) that they do not confirm.
 std::vector<int> unconfirmed(const SmoothContext& c, const Pieces& p, Corners& corners) {
   std::vector<int> drop;
@@ -110,7 +124,7 @@ std::vector<int> unconfirmed(const SmoothContext& c, const Pieces& p, Corners& c
         met ? closest_vertex(c, corners[k].vertex, gap + 2 * c.unit, x) : std::numeric_limits<double>::max();
     const bool fillet = met && fillet_at_corner(c, p, pa_seq, drop);
     if (!met || (x - near).norm() > gap + 2 * c.unit / std::sin(interior / 2) || angle < 0.6 * c.corner_angle ||
-        closest > 0.5 * gap + c.unit || fillet)
+        closest > 0.5 * gap + c.unit || fillet || tangent_arc_at_corner(c, pa, pb))
       drop.push_back(k);
     else
       corners[k].at = x;

@@ -37,10 +37,14 @@ Joint joint_of(const SmoothContext& c, const Piece& a, const Piece& b) {
   if (a.fillet) return {true, project(c, pa, a.fillet->t1), project(c, pb, a.fillet->t2)};
   const Vec2 ea = project(c, pa, u.at(pa.last)), sb = project(c, pb, u.at(pb.first));
   const Vec2 near = 0.5 * (ea + sb);
-  // A tangent pair meets at the tangent point wherever the noise put the split between their vertices.
+  // Two pieces of a run meet where their primitives meet wherever the noise put the split between their
+  // vertices: no corner lies between them, and the greedy fit runs past the true junction (a circle keeps
+  // explaining a straight's first vertices within the tolerance) by up to half the shorter piece. Tangent
+  // pairs and pairs left free alike (a straight too short to hold its arc tangent): without a joint the two
+  // pieces' own ends are bridged by a chord that turns twice by more than a corner, a notch the round tool
+  // cannot enter in an edge that is smooth there.
   const double reach =
-      3 * c.unit + (ea - sb).norm() +
-      (a.tangent_next ? 0.5 * std::min(u.S(pa.last) - u.S(pa.first), u.S(pb.last) - u.S(pb.first)) : 0);
+      3 * c.unit + (ea - sb).norm() + 0.5 * std::min(u.S(pa.last) - u.S(pa.first), u.S(pb.last) - u.S(pb.first));
   Vec2 x;
   bool ok = intersect(pa, pb, c.pitch, c.bias_scale, near, x) && (x - near).norm() <= reach;
   if (!ok && pa.circle != pb.circle) {
