@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "realistic_scan.hpp"
+#include "realistic_grind.hpp"
 
 using namespace hg::test;
 
@@ -18,13 +18,22 @@ namespace {
 
 struct Row {
   int scans = 0, ok = 0, outer_min = 1 << 30, outer_max = 0, truth_holes = 0, found_min = 1 << 30, extra_max = 0;
-  int poor = 0, extra_total = 0, lost_total = 0;
+  int poor = 0, extra_total = 0, lost_total = 0, planned = 0;
+  double grind_rms_sum = 0, grind_rms_max = 0, grind_max = 0;
+  std::string why_not;  // the first plan's failure
   double area_err_max = 0, area_err_sum = 0, rms_sum = 0, rms_max = 0, haus_max = 0, haus_sum = 0;
   double area_min = 1e9, area_max = 0, area_sum = 0, hole_spread = 0, edge_dropout_max = 0, gap_max = 0;
   std::vector<std::vector<double>> holes;  // per true cut-out, its areas over the scans
 };
 
-void add(Row& w, const Accuracy& a) {
+void add(Row& w, const Accuracy& a, const GrindAccuracy& g) {
+  if (g.planned) {
+    ++w.planned;
+    w.grind_rms_sum += g.rms, w.grind_rms_max = std::max(w.grind_rms_max, g.rms),
+                              w.grind_max = std::max(w.grind_max, g.max);
+  } else if (w.why_not.empty()) {
+    w.why_not = g.reason;
+  }
   ++w.scans;
   w.truth_holes = a.truth_holes;
   w.poor += a.quality == hullgrind::outline_t::QUALITY_POOR;
@@ -61,20 +70,24 @@ void print_header() {
   std::printf(
       "| part | profile | scans | outer loops | cut-outs: true / found (min) / lost / extra (total) | plate area "
       "error: mean / max | area spread (max-min)/mean | hole area spread (max dev. from mean) | edge RMS mean / max "
-      "(mm) | Hausdorff mean / max (mm) | POOR | edge in dropout max / largest gap max (mm) |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "(mm) | Hausdorff mean / max (mm) | POOR | edge in dropout max / largest gap max (mm) | planned | grind edge RMS "
+      "mean / max (mm) | grind edge Hausdorff max (mm) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 void print_row(const std::string& part, const std::string& profile, const Row& w) {
   const double n = std::max(1, w.ok), mean_area = w.area_sum / n;
   std::printf(
       "| %s | %s | %d%s | %d..%d | %d / %d / %d / %d | %+.2f %% / %.2f %% | %.2f %% | %.2f %% | %.2f / %.2f | %.2f / "
-      "%.2f | %d | %.1f %% / %.1f |\n",
+      "%.2f | %d | %.1f %% / %.1f | %d | %.2f / %.2f | %.2f |\n",
       part.c_str(), profile.c_str(), w.scans,
       w.ok < w.scans ? (" (" + std::to_string(w.scans - w.ok) + " no loop)").c_str() : "", w.outer_min, w.outer_max,
       w.truth_holes, w.found_min, w.lost_total, w.extra_total, 100 * w.area_err_sum / n, 100 * w.area_err_max,
       100 * (w.area_max - w.area_min) / mean_area, 100 * hole_spread(w), 1e3 * w.rms_sum / n, 1e3 * w.rms_max,
-      1e3 * w.haus_sum / n, 1e3 * w.haus_max, w.poor, 100 * w.edge_dropout_max, 1e3 * w.gap_max);
+      1e3 * w.haus_sum / n, 1e3 * w.haus_max, w.poor, 100 * w.edge_dropout_max, 1e3 * w.gap_max, w.planned,
+      1e3 * w.grind_rms_sum / std::max(1, w.planned), 1e3 * w.grind_rms_max, 1e3 * w.grind_max);
+  if (!w.why_not.empty())
+    std::fprintf(stderr, "%s@%s: not planned: %s\n", part.c_str(), profile.c_str(), w.why_not.c_str());
   std::fflush(stdout);
 }
 
@@ -94,12 +107,17 @@ std::vector<Pose> poses(int n, std::uint64_t seed) {
 }
 
 void run_poses(int n, const std::vector<std::string>& profiles) {
+  const hg::path_planner::PlannerConfig planner = make_run_planner();
   print_header();
   for (const auto& shape : hg::partgen::shape_names())
     for (const auto& profile : profiles) {
       Row w;
       const auto ps = poses(n, case_seed(shape + "/poses"));
-      for (int i = 0; i < n; ++i) add(w, realistic_scan(shape, profile, ps[i], case_seed(shape + profile) + i));
+      for (int i = 0; i < n; ++i) {
+        const hg::sim::RenderedFrame f = realistic_frame(shape, profile, ps[i], case_seed(shape + profile) + i);
+        const Scan s = scan(f, hg::camera_bridge::SegmentParams{}, shipped_rules(), f.intensity);
+        add(w, measure(s, f), grind_edge(s.outline, f, planner));
+      }
       print_row(shape, profile, w);
     }
 }
@@ -120,6 +138,7 @@ hg::sim::SensorEffects only(const std::string& effect) {
 }
 
 void run_effects(int n, const std::vector<std::string>& profiles) {
+  const hg::path_planner::PlannerConfig planner = make_run_planner();
   std::printf("Effects alone (%d pose(s) per part and profile, the same poses for every effect):\n\n", n);
   print_header();
   for (const char* effect : {"none", "incidence", "specular", "mixed", "shadow", "table", "warp", "all"})
@@ -131,9 +150,10 @@ void run_effects(int n, const std::vector<std::string>& profiles) {
           hg::sim::SceneSpec spec = part_scene(shape, ps[i], case_seed(shape + profile) + i);
           spec.effects = only(effect);
           const hg::sim::RenderedFrame f = hg::sim::render(spec, hg::sim::camera_profile(profile), 0);
-          Accuracy a = measure(scan(f, hg::camera_bridge::SegmentParams{}, shipped_rules(), f.intensity), f);
+          const Scan s = scan(f, hg::camera_bridge::SegmentParams{}, shipped_rules(), f.intensity);
+          Accuracy a = measure(s, f);
           a.hole_areas.clear();  // the parts differ: no hole spread over them
-          add(w, a);
+          add(w, a, grind_edge(s.outline, f, planner));
         }
       }
       w.area_min = w.area_max = 0;  // nor an area spread
