@@ -30,8 +30,19 @@ struct GrindAccuracy {
   double rms = 0, max = 0;  // the smoothed edge to the true edge (max: symmetric Hausdorff), metres
 };
 
+// The simulated cell's table in its robot's base frame: its camera_to_base is calibrated for the pm806
+// profile's mount (1.5 m); a camera mounted elsewhere (lsr-l: 2.0 m) over the same table needs its own.
+inline Eigen::Isometry3d base_from_table(const path_planner::PlannerConfig& sim_cell_config) {
+  const sim::RenderedFrame pm806 = sim::render(sim::scene_preset("empty"), sim::camera_profile("pm806"), 0);
+  return sim_cell_config.camera_to_base * pm806.camera_from_table;
+}
+
+// `config`: make_run_planner()'s, with camera_to_base calibrated for the frame's camera (`table_to_base`:
+// base_from_table() of it).
 inline GrindAccuracy grind_edge(const hullgrind::outline_t& o, const sim::RenderedFrame& f,
-                                const path_planner::PlannerConfig& cfg) {
+                                const path_planner::PlannerConfig& config, const Eigen::Isometry3d& table_to_base) {
+  path_planner::PlannerConfig cfg = config;
+  cfg.camera_to_base = table_to_base * f.camera_from_table.inverse();
   GrindAccuracy g;
   const path_planner::PlanResult r = path_planner::plan(path_planner::from_lcm(o), {}, cfg, std::nullopt);
   g.planned = r.ok, g.reason = r.reason, g.loops_planned = r.loops_planned, g.unreached = r.unreached_length;

@@ -108,6 +108,7 @@ std::vector<Pose> poses(int n, std::uint64_t seed) {
 
 void run_poses(int n, const std::vector<std::string>& profiles) {
   const hg::path_planner::PlannerConfig planner = make_run_planner();
+  const Eigen::Isometry3d table_to_base = base_from_table(planner);
   print_header();
   for (const auto& shape : hg::partgen::shape_names())
     for (const auto& profile : profiles) {
@@ -116,7 +117,7 @@ void run_poses(int n, const std::vector<std::string>& profiles) {
       for (int i = 0; i < n; ++i) {
         const hg::sim::RenderedFrame f = realistic_frame(shape, profile, ps[i], case_seed(shape + profile) + i);
         const Scan s = scan(f, hg::camera_bridge::SegmentParams{}, shipped_rules(), f.intensity);
-        add(w, measure(s, f), grind_edge(s.outline, f, planner));
+        add(w, measure(s, f), grind_edge(s.outline, f, planner, table_to_base));
       }
       print_row(shape, profile, w);
     }
@@ -139,6 +140,7 @@ hg::sim::SensorEffects only(const std::string& effect) {
 
 void run_effects(int n, const std::vector<std::string>& profiles) {
   const hg::path_planner::PlannerConfig planner = make_run_planner();
+  const Eigen::Isometry3d table_to_base = base_from_table(planner);
   std::printf("Effects alone (%d pose(s) per part and profile, the same poses for every effect):\n\n", n);
   print_header();
   for (const char* effect : {"none", "incidence", "specular", "mixed", "shadow", "table", "warp", "all"})
@@ -153,7 +155,7 @@ void run_effects(int n, const std::vector<std::string>& profiles) {
           const Scan s = scan(f, hg::camera_bridge::SegmentParams{}, shipped_rules(), f.intensity);
           Accuracy a = measure(s, f);
           a.hole_areas.clear();  // the parts differ: no hole spread over them
-          add(w, a, grind_edge(s.outline, f, planner));
+          add(w, a, grind_edge(s.outline, f, planner, table_to_base));
         }
       }
       w.area_min = w.area_max = 0;  // nor an area spread
