@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <limits>
-#include <optional>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -374,34 +373,6 @@ bool fit_top_planes(const PartPixels& pts, int K, int largest, const Eigen::Vect
   return true;
 }
 
-// Mixed pixels (docs/cameras.md, "Mixed pixels"): a footprint across the edge returns the return-weighted
-// mean of the plate's and the table's depth, so its height above the table, as a share of the plate's height
-// there, is the steel's share of its return. For a footprint symmetric about the pixel centre cut by a
-// straight edge, the centre lies on the steel exactly when the steel covers at least half the footprint:
-// with equal returns, when that share is at least 1/2 (the intensity image gives no better weights: its
-// glints are not in the depth's weighting). Such a pixel is a steel pixel like every other pixel whose centre
-// is on the steel, so the kept centres end half a pixel short of the edge all round, outer edge and cut-out
-// rims alike (into the cut-out), which is what the planner's edge compensation restores
-// (docs/path_planner.md).
-constexpr double kMixedSteelShare = 0.5;
-
-// The point pixel i stands for on its part's top plane, or nothing: where its line of sight meets the
-// plane, for a pixel on the plane (within the tolerance) and for a mixed pixel below it whose centre is on
-// the steel. The measured point lies on that line, farther along it the lower it is: projected straight
-// down it would move sideways, outward on one side of the part and inward on the other.
-std::optional<Eigen::Vector3d> top_point(const PartPixels& pts, std::size_t i, const TopPlanes& top,
-                                         const Plane& table) {
-  const Eigen::Vector3d p = pts.point(i);
-  const double offset = top.offset[pts.part[i]], below = offset - top.normal.dot(p);
-  const double along = offset / top.normal.dot(p);  // the plane's distance from the camera, as a share of p's
-  if (-below > top.tol || !(along > 0)) return std::nullopt;
-  const Eigen::Vector3d q = p * along;
-  if (below <= top.tol) return q;
-  const double plate = table.n.dot(q) - table.offset, here = table.n.dot(p) - table.offset;
-  if (!(plate > 0) || here < kMixedSteelShare * plate) return std::nullopt;
-  return q;
-}
-
 // The plate frame (origin on the largest part's top plane, u along the camera's x where possible) and
 // the in-plane coordinates of the points on the top planes, in scan-line (gathered) order.
 void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& table, Segmentation& out) {
@@ -419,9 +390,8 @@ void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& 
   out.part.reserve(npts);
   out.pixel.reserve(npts);
   for (std::size_t i = 0; i < npts; ++i) {
-    const std::optional<Eigen::Vector3d> p = top_point(pts, i, top, table);
-    if (!p) continue;
-    const Eigen::Vector3d q = *p - out.origin;  // orthogonal projection = in-plane coordinates
+    if (!top.holds(pts, i)) continue;
+    const Eigen::Vector3d q = pts.point(i) - out.origin;  // orthogonal projection = in-plane coordinates
     out.u.push_back(static_cast<float>(q.dot(out.u_axis)));
     out.v.push_back(static_cast<float>(q.dot(out.v_axis)));
     out.part.push_back(static_cast<std::int16_t>(pts.part[i]));
