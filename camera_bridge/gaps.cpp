@@ -108,9 +108,10 @@ void decide(std::vector<Gap>& gaps, double pixel_size, const SegmentParams& P, b
   }
 }
 
-// The dropout pixels as points on their part's top plane, merged into the points in scan order.
-void fill(const std::vector<Gap>& gaps, const cv::Mat& cc, const camera::Intrinsics& in, const PlatePlanes& pl,
-          Segmentation& out) {
+// The pixels of `to_fill` (0 none, k + 1: part k) as points on their part's top plane, merged into the
+// points in scan order; `patch` (CV_32S) numbers the patch each belongs to, `area` gets each patch's area.
+void fill(const cv::Mat& to_fill, const cv::Mat& patch, const camera::Intrinsics& in, const PlatePlanes& pl,
+          std::vector<double>& area, Segmentation& out) {
   Segmentation merged;
   const std::size_t n = out.size();
   std::size_t i = 0;
@@ -118,15 +119,14 @@ void fill(const std::vector<Gap>& gaps, const cv::Mat& cc, const camera::Intrins
     merged.u.push_back(out.u[j]), merged.v.push_back(out.v[j]), merged.part.push_back(out.part[j]);
     merged.pixel.push_back(out.pixel[j]), merged.filled.push_back(0);
   };
-  std::vector<double> area(gaps.size(), 0);
-  const int W = cc.cols;
-  for (int r = 0; r < cc.rows; ++r) {
-    const int* cr = cc.ptr<int>(r);
+  const int W = to_fill.cols;
+  for (int r = 0; r < to_fill.rows; ++r) {
+    const std::uint8_t* fr = to_fill.ptr<std::uint8_t>(r);
     for (int c = 0; c < W; ++c) {
-      if (!cr[c] || !gaps[cr[c]].dropout) continue;
+      if (!fr[c]) continue;
       const int px = r * W + c;
       for (; i < n && out.pixel[i] < px; ++i) take(i);
-      const int k = gaps[cr[c]].part;
+      const int k = fr[c] - 1;
       const Eigen::Vector3d d = ray(in, c, r);
       const double nd = pl.top_normal.dot(d), t = pl.top_offset[k] / nd;
       const Eigen::Vector3d q = t * d - out.origin;
@@ -135,14 +135,36 @@ void fill(const std::vector<Gap>& gaps, const cv::Mat& cc, const camera::Intrins
       merged.part.push_back(static_cast<std::int16_t>(k));
       merged.pixel.push_back(px);
       merged.filled.push_back(1);
-      area[cr[c]] += t * t / (in.fx * in.fy * std::abs(nd));  // the pixel's footprint on the plane
+      area[patch.ptr<int>(r)[c]] += t * t / (in.fx * in.fy * std::abs(nd));  // the pixel's footprint
     }
   }
   for (; i < n; ++i) take(i);
-  for (std::size_t k = 1; k < gaps.size(); ++k)
-    if (gaps[k].dropout && gaps[k].pixels >= 2) ++out.dropout_filled, out.dropout_filled_area += area[k];
   out.u = std::move(merged.u), out.v = std::move(merged.v), out.part = std::move(merged.part);
   out.pixel = std::move(merged.pixel), out.filled = std::move(merged.filled);
+}
+
+// Fills the dropout gaps and the glints (pixels of `to_fill` already set) and counts the patches of two
+// pixels or more (single missing pixels leave no hole in an outline): each dropout gap, each 8-connected
+// patch of glint.
+void count_and_fill(const std::vector<Gap>& gaps, const cv::Mat& cc, const cv::Mat& glint, const camera::Intrinsics& in,
+                    const PlatePlanes& pl, cv::Mat& to_fill, Segmentation& out) {
+  cv::Mat glints, stats, centroids;
+  const int n_glints = cv::connectedComponentsWithStats(glint, glints, stats, centroids, 8, CV_32S);
+  cv::Mat patch = glints.clone();  // glint patches 1..n_glints - 1, then the gaps after them
+  for (int r = 0; r < cc.rows; ++r) {
+    const int* cr = cc.ptr<int>(r);
+    for (int c = 0; c < cc.cols; ++c)
+      if (cr[c] && gaps[cr[c]].dropout) {
+        to_fill.ptr<std::uint8_t>(r)[c] = static_cast<std::uint8_t>(gaps[cr[c]].part + 1);
+        patch.ptr<int>(r)[c] = n_glints - 1 + cr[c];
+      }
+  }
+  std::vector<double> area(n_glints + gaps.size(), 0);
+  fill(to_fill, patch, in, pl, area, out);
+  for (int k = 1; k < n_glints; ++k)
+    if (stats.at<int>(k, cv::CC_STAT_AREA) >= 2) ++out.dropout_filled, out.dropout_filled_area += area[k];
+  for (std::size_t k = 1; k < gaps.size(); ++k)
+    if (gaps[k].dropout && gaps[k].pixels >= 2) ++out.dropout_filled, out.dropout_filled_area += area[n_glints - 1 + k];
 }
 
 // Cumulative length along a closed contour (plate-plane points), from a polyline through every 4th point
@@ -225,17 +247,29 @@ void assess_edge(const cv::Mat& depth, const camera::Intrinsics& in, const Plate
 
 }  // namespace
 
+cv::Mat saturated_no_return(const cv::Mat& depth, const cv::Mat& intensity) {
+  cv::Mat out = cv::Mat::zeros(depth.size(), CV_8UC1);
+  if (intensity.empty() || intensity.size() != depth.size()) return out;
+  if (intensity.type() != CV_8UC1 && intensity.type() != CV_16UC1) return out;
+  const double full = intensity.type() == CV_8UC1 ? 255 : 65535;
+  return (intensity >= full) & (depth == 0);
+}
+
 void fill_gaps_and_assess_edge(const cv::Mat& depth, const cv::Mat& intensity, const camera::Intrinsics& in,
                                const PlatePlanes& pl, const SegmentParams& P, Segmentation& out) {
   if (P.fill_dropout) {
     const cv::Mat light = intensity_of(intensity, depth);
     const float lit = lit_level(light, out);
-    cv::Mat cc;
-    std::vector<Gap> gaps = read_gaps(depth, light, lit, in, pl, point_image(out, depth.size()), cc);
+    cv::Mat pts = point_image(out, depth.size()), to_fill = cv::Mat::zeros(depth.size(), CV_8UC1), cc;
+    // Saturated pixels of a part's mask: steel (gaps.hpp), points of that part before the gaps are read.
+    const cv::Mat glint = saturated_no_return(depth, intensity) & (out.labels > 0) & (pts == 0);
+    out.labels.copyTo(to_fill, glint);
+    out.labels.copyTo(pts, glint);
+    std::vector<Gap> gaps = read_gaps(depth, light, lit, in, pl, pts, cc);
     // A pixel's size on the plate near the optical axis.
     const double pixel_size = std::abs(pl.top_offset.front() / pl.top_normal.z()) / in.fx;
     decide(gaps, pixel_size, P, !light.empty(), out);
-    fill(gaps, cc, in, pl, out);
+    count_and_fill(gaps, cc, glint, in, pl, to_fill, out);
   } else {
     out.filled.assign(out.size(), 0);
   }

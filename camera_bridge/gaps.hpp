@@ -9,6 +9,12 @@
 // image, dark (no light came back from it). Every other gap is dropout: no return from steel that is
 // there. It is filled with points on the part's top plane, so no consumer takes it for a hole.
 //
+// Saturation: a pixel without depth whose intensity is at full scale (255 in an 8-bit image, 65535 in a
+// 16-bit one) received more light than the sensor can decode: a specular glint from a surface that is
+// there. Inside a part's mask (segment() adds such pixels to it, so a glint across a plate does not cut
+// it in two, nor one across its edge bite into it) it is steel and filled like dropout, wherever it lies,
+// edge included; the table beside it, which returned, then shows where the plate ends.
+//
 // The edge: along each part's outer contour, a pixel is seen when a pixel just outside it returned (the
 // table, a mixed pixel, a side wall: the drop from plate to table is in the frame) and in dropout or
 // shadow when none did (off the image counts as none): there the scan does not show where the plate ends.
@@ -29,6 +35,10 @@ struct PlatePlanes {
   Eigen::Vector3d top_normal;  // the parts' top planes: top_normal . p = top_offset[k]
   std::vector<double> top_offset;
 };
+
+// CV_8UC1, 255 where `depth` has no return and `intensity` (CV_8UC1 or CV_16UC1 of the depth's size) is
+// saturated; all zero without such an image.
+cv::Mat saturated_no_return(const cv::Mat& depth, const cv::Mat& intensity);
 
 // Fills the dropout gaps of `out` (points merged in scan order, Segmentation::filled set for them) and
 // measures the outer edge; sets the evidence fields of `out`. `intensity`: empty, or CV_8UC1 / CV_16UC1 of

@@ -421,6 +421,7 @@ Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const S
   // Scratch images kept per thread: allocating ~6 MB afresh each frame costs page faults every time.
   thread_local cv::Mat mask, nodata, cc;
   height_band_mask(depth, ray, table, P, mask, nodata);
+  mask |= saturated_no_return(depth, intensity);  // a glint is steel at no known height (gaps.hpp)
   open_and_close(mask, nodata, P);
   const Components comp = label_components(mask, cc);
   // A pixel's footprint on the table, near the optical axis.

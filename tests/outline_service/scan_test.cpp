@@ -227,6 +227,45 @@ TEST(ScanEvidence, IntensitySaysSteelWhereTheDepthSaysNothing) {
   EXPECT_LT(with_light.cloud.dropout_filled_area, 1.25 * M_PI * 1e-4);
 }
 
+// A specular glint: a band of saturated pixels (no depth, intensity at full scale) 30 mm wide across the
+// whole plate, edge to edge, as a ground strip under the projector's lobe gives. Depth alone loses the band
+// (the part splits, the bridge keeps one piece); with the intensity image the band is steel: one outer
+// loop, the same cut-outs, the plate's area within 0.5 % of the frame before the band, the band counted as
+// filled dropout.
+TEST(ScanEvidence, ASaturatedBandAcrossThePlateIsSteel) {
+  for (const char* profile : {"pm806", "lsr-l"}) {
+    hg::sim::RenderedFrame f = rendered_frame("plate-hole-slot", profile, {0.03, -0.02, 0.4}, 23);
+    const auto& poly = f.part_polygons.at(0);
+    Eigen::Vector2d lo = poly.outer[0], hi = poly.outer[0];
+    for (const auto& q : poly.outer) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    const double x0 = 0.5 * (lo.x() + hi.x()) - 0.015;  // the band: 30 mm of table x, the plate's middle
+    const FrameGeometry g(f);
+    const double top = f.part_thickness.at(0);
+    const Scan reference = scan(f, SegmentParams{}, shipped_rules());
+    cv::Mat light(f.depth.size(), CV_8UC1);
+    int band = 0;
+    for (int r = 0; r < f.depth.rows; ++r)
+      for (int c = 0; c < f.depth.cols; ++c) {
+        const bool steel = f.truth_labels.ptr<std::uint8_t>(r)[c] != 0;
+        const double x = g.on_table(c, r, top).x();
+        const bool in_band = steel && x >= x0 && x <= x0 + 0.030;
+        light.ptr<std::uint8_t>(r)[c] = in_band ? 255 : steel ? 180 : 120;
+        if (in_band) f.depth.ptr<std::uint16_t>(r)[c] = 0, ++band;
+      }
+    const std::string what = std::string("plate-hole-slot@") + profile;
+    const Scan depth_only = scan(f, SegmentParams{}, shipped_rules());
+    EXPECT_LT(plate_area(depth_only.outline), 0.9 * plate_area(reference.outline)) << what << ": the band is lost";
+    const Scan s = scan(f, SegmentParams{}, shipped_rules(), light);
+    ASSERT_EQ(s.outline.status, +hullgrind::outline_t::STATUS_OK) << s.outline.error_text;
+    EXPECT_EQ(count_loops(s.outline, false), 1) << what;
+    expect_true_holes(s.outline, f, 0.03, what + " with the band", &reference.outline);
+    EXPECT_NEAR(plate_area(s.outline), plate_area(reference.outline), 0.005 * plate_area(reference.outline)) << what;
+    const double px = g.pixel_size(), band_area = band * px * px;
+    EXPECT_GE(s.cloud.dropout_filled, 1) << what;
+    EXPECT_GT(s.cloud.dropout_filled_area, 0.9 * band_area) << what;
+  }
+}
+
 // The repeatability property (issue 23 §2) for one part and profile, on frames from `source`: the same part
 // at `poses` (moved, turned, flipped) gives the same loop count, the plate's area within 0.5 % and every
 // hole's area within 3 % of their means.
