@@ -88,7 +88,7 @@ json request_json(const hullgrind::job_request_t& r) {
           {"job_id", r.job_id},
           {"part_id", r.part_id},
           {"tool_radius", r.tool_radius},
-          {"chamfer_angle", r.chamfer_angle},
+          {"tilt", r.tilt},
           {"grind_speed", r.grind_speed},
           {"travel_speed", r.travel_speed},
           {"step", r.step},

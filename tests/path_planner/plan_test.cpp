@@ -39,7 +39,7 @@ TEST(PathPlannerPlan, EveryLoopGroundAtTheToolRadius) {
   const OutlineInput in = plate_with_hole(0.02);
   JobParams jp;  // zero: defaults
   jp.tool_radius = 0;
-  jp.chamfer_angle = 0;
+  jp.tilt = 0;
   jp.grind_speed = 0;
   jp.travel_speed = 0;
   jp.step = 0;
@@ -59,7 +59,7 @@ TEST(PathPlannerPlan, EveryLoopGroundAtTheToolRadius) {
     EXPECT_NEAR(p.z(), 0, 1e-12);
     EXPECT_NEAR(ring_dist(p.head<2>(), in.loops[w.loop].points), cfg.defaults.tool_radius, 2e-5);
     const double tilt = std::acos(std::clamp(w.orientation.toRotationMatrix().col(2).dot(Vec3(0, 0, -1)), -1.0, 1.0));
-    EXPECT_NEAR(tilt, cfg.defaults.chamfer_angle, 1e-9);
+    EXPECT_NEAR(tilt, cfg.defaults.tilt, 1e-9);
   }
   EXPECT_GT(grind[0], 100);
   EXPECT_GT(grind[1], 10);

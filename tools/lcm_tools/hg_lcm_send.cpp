@@ -18,6 +18,7 @@
 #include "hullgrind/job_request_t.hpp"
 #include "registry.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/quantities.hpp"
 #include "sample.hpp"
 #include "runtime/params.hpp"
 
