@@ -180,12 +180,7 @@ hullgrind::job_request_t to_lcm(const hgdds_JobRequest& r) {
   m.job_id = r.job_id ? r.job_id : "";
   m.part_id = r.part_id ? r.part_id : "";
   m.action = r.action;
-  m.tool_radius = r.tool_radius;
-  m.tilt = r.tilt;
-  m.grind_speed = r.grind_speed;
-  m.travel_speed = r.travel_speed;
-  m.step = r.step;
-  m.safe_height = r.safe_height;
+  quantity::for_each_job_quantity([](const quantity::Quantity&, double& to, double from) { to = from; }, m, r);
   m.direction = r.direction;
   m.flipped = r.flipped;
   m.actor = r.actor ? r.actor : "";
@@ -253,16 +248,15 @@ std::string check_job_request(const hgdds_JobRequest& r, const JobLimits& limits
   if (r.excluded_loops._length > 0 && !r.excluded_loops._buffer) return "excluded_loops has no data";
   for (std::uint32_t i = 0; i < r.excluded_loops._length; ++i)
     if (r.excluded_loops._buffer[i] < 0) return "excluded loop " + std::to_string(i) + " is negative";
-  if (r.direction != hullgrind::job_request_t::DIRECTION_CLIMB &&
-      r.direction != hullgrind::job_request_t::DIRECTION_CONVENTIONAL)
+  if (!job::direction_from_wire(r.direction))
     return "direction " + std::to_string(int(r.direction)) + " is not CLIMB (0) or CONVENTIONAL (1)";
-  const std::pair<const quantity::Quantity&, double> values[] = {
-      {quantity::kToolRadius, r.tool_radius}, {quantity::kTilt, r.tilt},
-      {quantity::kGrindSpeed, r.grind_speed}, {quantity::kTravelSpeed, r.travel_speed},
-      {quantity::kStep, r.step},              {quantity::kSafeHeight, r.safe_height}};
-  for (const auto& [q, v] : values)
-    if (std::string why = check_quantity(q, v); !why.empty()) return why;
-  return "";
+  std::string why;
+  quantity::for_each_job_quantity(
+      [&why](const quantity::Quantity& q, double v) {
+        if (why.empty()) why = check_quantity(q, v);
+      },
+      r);
+  return why;
 }
 
 }  // namespace hg::dds_gateway

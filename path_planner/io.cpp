@@ -14,16 +14,6 @@ namespace hg::path_planner {
 using runtime::ConfigError;
 using runtime::Param;
 
-namespace {
-
-// A job quantity's parameter (runtime/quantities.hpp): its key, unit, range and meaning from the one table.
-Param job_param(const quantity::Quantity& q, const char* default_value, const std::string& note) {
-  return runtime::number_param(quantity::key(q), default_value,
-                               std::string(q.what) + ", " + q.unit + " (" + note + ")", q.min, q.max);
-}
-
-}  // namespace
-
 std::vector<Param> planner_params() {
   using runtime::flag_param;
   using runtime::number_param;
@@ -33,11 +23,11 @@ std::vector<Param> planner_params() {
   const bool open = true;  // the range's lower end is excluded: the value must be > min
   std::vector<Param> params = {
       cell::cell_param(),
-      job_param(quantity::kGrindSpeed, "0.02", "job default; <= the cell's max-speed"),
-      job_param(quantity::kTravelSpeed, "0.2", "job default; <= the cell's max-speed"),
-      job_param(quantity::kStep, "0.002", "job default"),
-      job_param(quantity::kSafeHeight, "0.05", "job default"),
-      text_param("direction", "climb", "hg-plan; a job request carries its own", {"climb", "conventional"}),
+      runtime::quantity_param(quantity::kGrindSpeed, "0.02", "job default; <= the cell's max-speed"),
+      runtime::quantity_param(quantity::kTravelSpeed, "0.2", "job default; <= the cell's max-speed"),
+      runtime::quantity_param(quantity::kStep, "0.002", "job default"),
+      runtime::quantity_param(quantity::kSafeHeight, "0.05", "job default"),
+      text_param("direction", "climb", "hg-plan; a job request carries its own", job::direction_names()),
       flag_param("flipped", "plan for the flipped part (hg-plan; a job request carries its own)"),
       Param{"spindle-clockwise", "true", "spindle turns clockwise seen from above (decides what climb means)", false,
             runtime::ParamType::Flag},

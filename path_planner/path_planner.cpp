@@ -57,12 +57,7 @@ static_assert(hullgrind::job_request_t::DIRECTION_CLIMB == std::int8_t(Direction
 
 JobParams job_params(const hullgrind::job_request_t& req) {
   JobParams jp;
-  jp.tool_radius = req.tool_radius;
-  jp.tilt = req.tilt;
-  jp.grind_speed = req.grind_speed;
-  jp.travel_speed = req.travel_speed;
-  jp.step = req.step;
-  jp.safe_height = req.safe_height;
+  quantity::for_each_job_quantity([](const quantity::Quantity&, double& to, double from) { to = from; }, jp, req);
   jp.direction = job::direction_from_wire(req.direction).value_or(Direction::Climb);
   jp.flipped = req.flipped;
   return jp;

@@ -9,22 +9,18 @@
 namespace hg::path_planner {
 
 std::string resolve_params(const JobParams& req, const JobParams& def, JobParams& out) {
-  auto pick = [](double r, double d) { return r == 0 ? d : r; };
-  out.tool_radius = pick(req.tool_radius, def.tool_radius);
-  out.tilt = pick(req.tilt, def.tilt);
-  out.grind_speed = pick(req.grind_speed, def.grind_speed);
-  out.travel_speed = pick(req.travel_speed, def.travel_speed);
-  out.step = pick(req.step, def.step);
-  out.safe_height = pick(req.safe_height, def.safe_height);
+  // Zero takes the default; the ranges are the job quantities' (runtime/quantities.hpp), which every reader
+  // checks. The first quantity out of range is the reason.
+  std::string why;
+  quantity::for_each_job_quantity(
+      [&why](const quantity::Quantity& q, double& o, double r, double d) {
+        o = r == 0 ? d : r;
+        if (why.empty()) why = quantity::out_of_range(q, o);
+      },
+      out, req, def);
   out.direction = req.direction;
   out.flipped = req.flipped;
-  // The ranges are the job quantities' (runtime/quantities.hpp), the same every reader checks.
-  const std::pair<const quantity::Quantity&, double> values[] = {
-      {quantity::kToolRadius, out.tool_radius}, {quantity::kTilt, out.tilt},
-      {quantity::kGrindSpeed, out.grind_speed}, {quantity::kTravelSpeed, out.travel_speed},
-      {quantity::kStep, out.step},              {quantity::kSafeHeight, out.safe_height}};
-  for (const auto& [q, v] : values)
-    if (std::string why = quantity::out_of_range(q, v); !why.empty()) return why;
+  if (!why.empty()) return why;
   if (!job::direction_from_wire(std::int8_t(out.direction))) return "direction must be 0 (climb) or 1 (conventional)";
   return "";
 }
@@ -41,8 +37,8 @@ std::string check_job_within_cell(const JobParams& p, const PlannerConfig& cfg) 
   if (p.travel_speed > cfg.limits.max_speed)
     return "travel_speed " + num(p.travel_speed) + " m/s exceeds " + cell + " max-speed " + num(cfg.limits.max_speed);
   if (!cfg.cell_file.empty() && p.tool_radius > cfg.defaults.tool_radius)  // the mounted tool (a worn one is smaller)
-    return "tool_radius " + num(p.tool_radius) + " m exceeds " + cell + " tool.radius " + num(cfg.defaults.tool_radius) +
-           " (the mounted tool)";
+    return "tool_radius " + num(p.tool_radius) + " m exceeds " + cell + " tool.radius " +
+           num(cfg.defaults.tool_radius) + " (the mounted tool)";
   return "";
 }
 

@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace hg::quantity {
 
@@ -33,15 +34,31 @@ struct Quantity {
 inline constexpr Quantity kToolRadius{"tool_radius", "m", 0.001, 0.2, "effective tool radius at the contact"};
 // The tool's tilt away from the vertical, leaning out over the air side toward the edge normal. 80 deg at
 // most: the disc must still touch the edge with its rim, not its face.
-inline constexpr Quantity kTilt{"tilt", "rad", 0, 1.3962634015954636, "tool tilt toward the edge normal (at most 80 deg)"};
+inline constexpr Quantity kTilt{"tilt", "rad", 0, 1.3962634015954636,
+                                "tool tilt toward the edge normal (at most 80 deg)"};
 inline constexpr Quantity kGrindSpeed{"grind_speed", "m/s", 1e-4, 0.5, "TCP speed along the edge"};
 inline constexpr Quantity kTravelSpeed{"travel_speed", "m/s", 1e-4, 2.0, "air-move speed"};
 inline constexpr Quantity kStep{"step", "m", 1e-4, 0.05, "resampling step along the path"};
 inline constexpr Quantity kSafeHeight{"safe_height", "m", 1e-3, 0.5, "approach/retract height above the plate"};
 
 // Every quantity above, in the order of job_request_t.
-inline constexpr const Quantity* kJobQuantities[] = {&kToolRadius, &kGrindSpeed, &kTravelSpeed,
-                                                     &kStep,       &kSafeHeight, &kTilt};
+inline constexpr const Quantity* kJobQuantities[] = {&kToolRadius,  &kTilt, &kGrindSpeed,
+                                                     &kTravelSpeed, &kStep, &kSafeHeight};
+
+// Calls f(quantity, field of each job...) for each job quantity, on objects of any type whose fields carry
+// the quantities' names (job_request_t, the DDS JobRequest, the planner's JobParams): the one mapping of a
+// name to its field, so a reader checks or copies every quantity without listing them again.
+//   for_each_job_quantity([](const Quantity& q, double v) { ... }, request);
+//   for_each_job_quantity([](const Quantity&, double& to, double from) { to = from; }, params, request);
+template <class F, class... Jobs>
+void for_each_job_quantity(F&& f, Jobs&... jobs) {
+  f(kToolRadius, jobs.tool_radius...);
+  f(kTilt, jobs.tilt...);
+  f(kGrindSpeed, jobs.grind_speed...);
+  f(kTravelSpeed, jobs.travel_speed...);
+  f(kStep, jobs.step...);
+  f(kSafeHeight, jobs.safe_height...);
+}
 
 // "tool-radius": the parameter and YAML key of a quantity.
 inline std::string key(const Quantity& q) {
@@ -82,9 +99,7 @@ inline constexpr int kKindCount = 6;
 inline constexpr const char* kKindNames[kKindCount] = {"approach", "lead_in", "grind", "lead_out", "retract", "travel"};
 
 // Name of a kind ("unknown" outside 0..5).
-inline const char* kind_name(std::int8_t kind) {
-  return kind >= 0 && kind < kKindCount ? kKindNames[kind] : "unknown";
-}
+inline const char* kind_name(std::int8_t kind) { return kind >= 0 && kind < kKindCount ? kKindNames[kind] : "unknown"; }
 inline std::optional<std::int8_t> kind_from_name(const std::string& name) {
   for (std::int8_t k = 0; k < kKindCount; ++k)
     if (name == kKindNames[k]) return k;
@@ -95,18 +110,23 @@ inline std::optional<std::int8_t> kind_from_name(const std::string& name) {
 
 namespace hg::job {
 
-// Which way the tool travels along the edge (job_request_t.direction; the planner's `direction`).
+// Which way the tool travels along the edge (job_request_t.direction, DIRECTION_*; the `direction` option of
+// the planner, hg-lcm-send and the station, by name).
 enum class Direction : std::int8_t { Climb = 0, Conventional = 1 };
-inline const char* direction_name(Direction d) { return d == Direction::Conventional ? "conventional" : "climb"; }
-inline std::optional<Direction> direction_from_name(const std::string& name) {
-  if (name == "climb") return Direction::Climb;
-  if (name == "conventional") return Direction::Conventional;
-  return std::nullopt;
-}
+inline constexpr const char* kDirectionNames[] = {"climb", "conventional"};  // by wire value
+
+inline const char* direction_name(Direction d) { return kDirectionNames[d == Direction::Conventional ? 1 : 0]; }
 // The direction of a wire value, or nothing when it is none (a request is checked, never cast).
 inline std::optional<Direction> direction_from_wire(std::int8_t v) {
   if (v == std::int8_t(Direction::Climb)) return Direction::Climb;
   if (v == std::int8_t(Direction::Conventional)) return Direction::Conventional;
+  return std::nullopt;
+}
+// The names, for a parameter's choices.
+inline std::vector<std::string> direction_names() { return {kDirectionNames[0], kDirectionNames[1]}; }
+inline std::optional<Direction> direction_from_name(const std::string& name) {
+  for (std::int8_t v = 0; v < 2; ++v)
+    if (name == kDirectionNames[v]) return direction_from_wire(v);
   return std::nullopt;
 }
 
