@@ -68,25 +68,36 @@ inline std::string key(const Quantity& q) {
   return k;
 }
 
+// The shortest of %g and %.17g that reads back exactly: 0.001, 1.3962634015954636.
+inline std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  if (std::strtod(buf, nullptr) != v) std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
 // "[0.001, 0.2] m": the range as every message states it.
 inline std::string range_text(const Quantity& q) {
-  auto num = [](double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    std::string s = buf;
-    // The shortest of %.17g and %g that reads back exactly.
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return std::strtod(buf, nullptr) == v ? std::string(buf) : s;
-  };
-  return "[" + num(q.min) + ", " + num(q.max) + "] " + q.unit;
+  std::string s = "[";
+  s += number_text(q.min);
+  s += ", ";
+  s += number_text(q.max);
+  s += "] ";
+  s += q.unit;
+  return s;
 }
 
 // Empty when v is in q's range; else "tilt 1.5 rad is outside [0, 1.3962634015954636] rad".
 inline std::string out_of_range(const Quantity& q, double v) {
   if (q.contains(v)) return "";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return std::string(q.name) + " " + buf + " " + q.unit + " is outside " + range_text(q);
+  std::string s = q.name;
+  s += " ";
+  s += number_text(v);
+  s += " ";
+  s += q.unit;
+  s += " is outside ";
+  s += range_text(q);
+  return s;
 }
 
 }  // namespace hg::quantity
