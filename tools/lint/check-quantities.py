@@ -81,10 +81,13 @@ def main(argv):
     if len(argv) > 1 and argv[1] == "--help":
         print(__doc__.strip())
         return 0
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     if len(argv) > 1 and argv[1] == "--version":
-        print("check-quantities.py 1")
+        with open(os.path.join(repo, "CMakeLists.txt")) as f:  # the one place the version is written
+            version = re.search(r"project\(hullgrind VERSION ([0-9.]+)", f.read()).group(1)
+        print("check-quantities.py " + version)
         return 0
-    root = argv[1] if len(argv) > 1 else os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    root = argv[1] if len(argv) > 1 else repo
     bad = list(findings(root))
     for b in bad:
         print(b)
