@@ -152,9 +152,9 @@ Eigen::Quaterniond tool_orientation(const Vec2& tangent, const Vec2& away_normal
 
 // ---- 5. sequencing: ordering, start points, leads, approach/retract ----
 // The waypoint kinds: runtime/quantities.hpp (grind_path_t.kind).
-using waypoint::Kind;
 using waypoint::kApproach;
 using waypoint::kGrind;
+using waypoint::Kind;
 using waypoint::kLeadIn;
 using waypoint::kLeadOut;
 using waypoint::kRetract;
@@ -274,7 +274,7 @@ std::string describe_unreached(const LoopCoverage& coverage, const Eigen::Isomet
 
 // ---- composition ----
 struct JobParams {
-  double tool_radius = 0.01;       // quantity::kToolRadius
+  double tool_radius = 0.01;         // quantity::kToolRadius
   double tilt = 0.7853981633974483;  // quantity::kTilt (45 deg)
   double grind_speed = 0.02;
   double travel_speed = 0.2;

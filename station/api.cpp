@@ -84,7 +84,8 @@ std::string quantity_option(const Json& options, const quantity::Quantity& q, do
   if (!it->is_number()) return std::string("options.") + q.name + ": must be a number";
   const double v = it->get<double>();
   if (std::string why = quantity::out_of_range(q, v); !why.empty()) return "options." + why;
-  if (v > max) return std::string("options.") + q.name + ": " + number_text(v) + " exceeds the cell's " + number_text(max);
+  if (v > max)
+    return std::string("options.") + q.name + ": " + number_text(v) + " exceeds the cell's " + number_text(max);
   out = v;
   return "";
 }
@@ -147,11 +148,10 @@ std::string apply_options(const Json& options, const OptionLimits& limits, job_r
     if (!known.count(key))
       return "options." + key + ": unknown (grind_speed, travel_speed, step, safe_height, direction)";
   const double inf = std::numeric_limits<double>::infinity();
-  for (const std::string& e :
-       {quantity_option(options, quantity::kGrindSpeed, limits.max_speed, req.grind_speed),
-        quantity_option(options, quantity::kTravelSpeed, limits.max_speed, req.travel_speed),
-        quantity_option(options, quantity::kStep, inf, req.step),
-        quantity_option(options, quantity::kSafeHeight, inf, req.safe_height)})
+  for (const std::string& e : {quantity_option(options, quantity::kGrindSpeed, limits.max_speed, req.grind_speed),
+                               quantity_option(options, quantity::kTravelSpeed, limits.max_speed, req.travel_speed),
+                               quantity_option(options, quantity::kStep, inf, req.step),
+                               quantity_option(options, quantity::kSafeHeight, inf, req.safe_height)})
     if (!e.empty()) return e;
   auto dir = options.find("direction");
   if (dir != options.end() && !dir->is_null()) {

@@ -67,9 +67,8 @@ TEST(DdsGatewayCheck, ParameterRangesAreTheQuantitiesAndZeroMeansDefault) {
       r.*p.field = ok;
       EXPECT_EQ(check_job_request(r, lim), "") << ok;
     }
-    for (double bad :
-         {above(p.hi), p.lo > 0 ? below(p.lo) : -1e-9, std::numeric_limits<double>::infinity(),
-          std::numeric_limits<double>::quiet_NaN()}) {
+    for (double bad : {above(p.hi), p.lo > 0 ? below(p.lo) : -1e-9, std::numeric_limits<double>::infinity(),
+                       std::numeric_limits<double>::quiet_NaN()}) {
       r.*p.field = bad;
       std::string why = check_job_request(r, lim);
       EXPECT_EQ(why.rfind(p.name, 0), 0u) << bad << ": " << why;

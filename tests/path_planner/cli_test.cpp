@@ -120,7 +120,7 @@ TEST(PathPlannerCli, ConfigFileErrorsNameTheFileAndKey) {
   } cases[] = {
       {"safe_height: 0.05\n", "line 1: key 'safe_height': old spelling of 'safe-height'"},
       {"grind-speed: 0.02\nsafe-heigt: 0.05\n", "line 2: key 'safe-heigt': unknown key (nearest known: 'safe-height')"},
-      {"step: -0.01\n", "key 'step': -0.01 is out of range ([0.0001, 0.05])"},  // the quantity's one range
+      {"step: -0.01\n", "key 'step': -0.01 is out of range ([1e-04, 0.05])"},  // the quantity's one range
       // The tool is the cell's: no parameter (runtime/quantities.hpp names it tool_radius, tilt).
       {"tool-radius: 0.01\n",
        "key 'tool-radius': moved: it lives in the cell file (--cell, default config/cell.yaml), key tool.radius"},
