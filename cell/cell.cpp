@@ -1,5 +1,6 @@
 #include "cell/cell.hpp"
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -7,8 +8,11 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include <yaml-cpp/yaml.h>
+
+#include "runtime/quantities.hpp"
 
 namespace hg::cell {
 namespace {
@@ -117,6 +121,22 @@ OutlineRules read_outline_rules(const YAML::Node& n, const std::string& where) {
   return o;
 }
 
+// A frame name as messages carry it (header.frame_id): letters, digits, _ - . and /, not empty.
+bool valid_frame_name(const std::string& name) {
+  if (name.empty() || name.size() > 64) return false;
+  for (char ch : name)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-' && ch != '.' && ch != '/') return false;
+  return true;
+}
+
+Frames read_frames(const YAML::Node& n, const std::string& where) {
+  Frames f;
+  if (!n) return f;
+  only_keys(n, {"base"}, where, "frames.");
+  if (n["base"]) f.base = text(n["base"], where, "frames.base");
+  return f;
+}
+
 YAML::Node seq(const Eigen::Vector3d& v) {
   YAML::Node n;
   for (int i = 0; i < 3; ++i) n.push_back(v[i]);
@@ -177,8 +197,11 @@ void validate(const Cell& c, const std::string& where) {
     fail(where, "table-z", "must lie in the workspace's z range");
   if (!(c.max_speed > 0)) fail(where, "max-speed", "must be > 0");
   if (!(c.max_accel > 0)) fail(where, "max-accel", "must be > 0");
-  if (!(c.tool.radius > 0)) fail(where, "tool.radius", "must be > 0");
-  if (!(std::abs(c.tool.tilt) < M_PI / 2)) fail(where, "tool.tilt", "must be within (-pi/2, pi/2)");
+  // The tool's ranges are the job quantities' (runtime/quantities.hpp), which every reader of a job checks.
+  for (const auto& [key, q, v] : {std::tuple{"tool.radius", &quantity::kToolRadius, c.tool.radius},
+                                  std::tuple{"tool.tilt", &quantity::kTilt, c.tool.tilt}})
+    if (!q->contains(v)) fail(where, key, "must be within " + quantity::range_text(*q));
+  if (!valid_frame_name(c.frames.base)) fail(where, "frames.base", "'" + c.frames.base + "' is no frame name");
   if ((c.home.array() < c.workspace_min.array()).any() || (c.home.array() > c.workspace_max.array()).any() ||
       !(c.home.z() > c.table_z))
     fail(where, "home", "must lie inside the workspace and above the table");
@@ -198,7 +221,8 @@ Cell read_cell(const std::string& path) {
     throw CellError(path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
   only_keys(root,
-            {"calibration", "table-z", "workspace", "max-speed", "max-accel", "tool", "home", "approval", "outline"},
+            {"calibration", "table-z", "workspace", "max-speed", "max-accel", "tool", "home", "approval", "outline",
+             "frames"},
             path, "");
   Cell c;
   c.calibration = read_calibration(need(root, "calibration", path, ""), path);
@@ -220,6 +244,7 @@ Cell read_cell(const std::string& path) {
     c.approval = v == "auto" ? Approval::Auto : Approval::Operator;
   }
   c.outline = read_outline_rules(root["outline"], path);
+  c.frames = read_frames(root["frames"], path);
   validate(c, path);
   return c;
 }
@@ -253,6 +278,7 @@ std::string write_cell(const std::string& path, const Cell& c) {
   root["outline"]["min-part-area"] = c.outline.min_part_area;
   root["outline"]["max-edge-dropout"] = c.outline.max_edge_dropout;
   root["outline"]["max-edge-gap"] = c.outline.max_edge_gap;
+  root["frames"]["base"] = c.frames.base;
   out << root;
 
   namespace fs = std::filesystem;

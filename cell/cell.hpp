@@ -36,8 +36,14 @@ struct Calibration {
 };
 
 struct Tool {
-  double radius = 0.01;  // m
-  double tilt = 0;       // rad, toward the edge normal
+  double radius = 0.01;  // m, quantity::kToolRadius (runtime/quantities.hpp)
+  double tilt = 0;       // rad, toward the edge normal, quantity::kTilt
+};
+
+// The names of the cell's frames (key `frames`), in one place: every path, the workspace, the table and home
+// are in the base frame, and a path in another frame is refused by the robot bridge.
+struct Frames {
+  std::string base = "robot_base";  // key frames.base; absent: robot_base
 };
 
 // Who approves a plan before the robot moves (key `approval`): an operator always, or the cell's policy for a
@@ -62,6 +68,7 @@ struct Cell {
   Eigen::Vector3d home = Eigen::Vector3d::Zero();
   Approval approval = Approval::Operator;  // optional key, default operator
   OutlineRules outline;                    // optional section, defaults above
+  Frames frames;                           // optional section
 };
 
 // Reads and validates a cell file. Throws CellError naming the file and the key: missing or unknown keys,

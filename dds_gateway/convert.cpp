@@ -3,6 +3,9 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <utility>
+
+#include "runtime/quantities.hpp"
 
 namespace hg::dds_gateway {
 
@@ -177,12 +180,7 @@ hullgrind::job_request_t to_lcm(const hgdds_JobRequest& r) {
   m.job_id = r.job_id ? r.job_id : "";
   m.part_id = r.part_id ? r.part_id : "";
   m.action = r.action;
-  m.tool_radius = r.tool_radius;
-  m.chamfer_angle = r.chamfer_angle;
-  m.grind_speed = r.grind_speed;
-  m.travel_speed = r.travel_speed;
-  m.step = r.step;
-  m.safe_height = r.safe_height;
+  quantity::for_each_job_quantity([](const quantity::Quantity&, double& to, double from) { to = from; }, m, r);
   m.direction = r.direction;
   m.flipped = r.flipped;
   m.actor = r.actor ? r.actor : "";
@@ -209,19 +207,12 @@ bool id_char(char c) {
          c == ':' || c == '-';
 }
 
-// "" if v is 0 (the default) or within [lo, hi]; else why not.
-std::string check_range(const char* name, double v, double lo, double hi, const char* unit) {
-  std::ostringstream why;
-  if (!std::isfinite(v)) {
-    why << name << " is not a finite number";
-    return why.str();
-  }
+// "" if v is 0 (the default) or within the quantity's range; else why not.
+std::string check_quantity(const quantity::Quantity& q, double v) {
+  if (!std::isfinite(v)) return std::string(q.name) + " is not a finite number";
   if (v == 0) return "";
-  if (v < lo || v > hi) {
-    why << name << " " << v << " " << unit << " is outside [" << lo << ", " << hi << "] (0 = default)";
-    return why.str();
-  }
-  return "";
+  const std::string why = quantity::out_of_range(q, v);
+  return why.empty() ? why : why + " (0 = default)";
 }
 
 }  // namespace
@@ -257,24 +248,15 @@ std::string check_job_request(const hgdds_JobRequest& r, const JobLimits& limits
   if (r.excluded_loops._length > 0 && !r.excluded_loops._buffer) return "excluded_loops has no data";
   for (std::uint32_t i = 0; i < r.excluded_loops._length; ++i)
     if (r.excluded_loops._buffer[i] < 0) return "excluded loop " + std::to_string(i) + " is negative";
-  if (r.direction != hullgrind::job_request_t::DIRECTION_CLIMB &&
-      r.direction != hullgrind::job_request_t::DIRECTION_CONVENTIONAL)
+  if (!job::direction_from_wire(r.direction))
     return "direction " + std::to_string(int(r.direction)) + " is not CLIMB (0) or CONVENTIONAL (1)";
-  const struct {
-    const char* name;
-    double v, lo, hi;
-    const char* unit;
-  } ranges[] = {
-      {"tool_radius", r.tool_radius, 1e-3, limits.max_tool_radius, "m"},
-      {"chamfer_angle", r.chamfer_angle, 0, limits.max_chamfer_angle, "rad"},
-      {"grind_speed", r.grind_speed, 1e-4, limits.max_grind_speed, "m/s"},
-      {"travel_speed", r.travel_speed, 1e-4, limits.max_travel_speed, "m/s"},
-      {"step", r.step, limits.min_step, limits.max_step, "m"},
-      {"safe_height", r.safe_height, 1e-3, limits.max_safe_height, "m"},
-  };
-  for (const auto& c : ranges)
-    if (std::string why = check_range(c.name, c.v, c.lo, c.hi, c.unit); !why.empty()) return why;
-  return "";
+  std::string why;
+  quantity::for_each_job_quantity(
+      [&why](const quantity::Quantity& q, double v) {
+        if (why.empty()) why = check_quantity(q, v);
+      },
+      r);
+  return why;
 }
 
 }  // namespace hg::dds_gateway

@@ -42,16 +42,12 @@ hgdds_Health to_dds(const hullgrind::heartbeat_t& m);
 // A checked request as it goes onto LCM (header.seq left 0: the publisher numbers it).
 hullgrind::job_request_t to_lcm(const hgdds_JobRequest& r);
 
-// Accepted ranges of job request parameters. 0 always means "the configured default".
+// Accepted lengths of a job request's texts. The job quantities (tool_radius, tilt, speeds, step,
+// safe_height) are checked against their one range, runtime/quantities.hpp; 0 always means "the configured
+// default".
 struct JobLimits {
-  std::size_t max_job_id = 64;              // job id: 1..max_job_id characters of [A-Za-z0-9._:-]
-  std::size_t max_part_id = 128;            // part id: free text, printable, at most this many bytes
-  double max_tool_radius = 0.2;             // m
-  double max_chamfer_angle = 1.0472;        // rad (60 degrees)
-  double max_grind_speed = 0.5;             // m/s
-  double max_travel_speed = 2.0;            // m/s
-  double min_step = 1e-4, max_step = 0.05;  // m
-  double max_safe_height = 0.5;             // m
+  std::size_t max_job_id = 64;    // job id: 1..max_job_id characters of [A-Za-z0-9._:-]
+  std::size_t max_part_id = 128;  // part id: free text, printable, at most this many bytes
 };
 
 // Empty if the request may go onto LCM; else why not (one sentence naming the field and the value).

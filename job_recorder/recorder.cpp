@@ -8,6 +8,7 @@
 #include "runtime/job_ledger.hpp"
 #include "runtime/log.hpp"
 #include "runtime/path_file.hpp"
+#include "runtime/quantities.hpp"
 #include "cloud_io/outline_message.hpp"
 
 namespace hg::job_recorder {
@@ -84,20 +85,17 @@ std::string iso_time(std::int64_t utime) {
 }
 
 json request_json(const hullgrind::job_request_t& r) {
-  return {{"action", runtime::job_action_name(r.action)},
-          {"job_id", r.job_id},
-          {"part_id", r.part_id},
-          {"tool_radius", r.tool_radius},
-          {"chamfer_angle", r.chamfer_angle},
-          {"grind_speed", r.grind_speed},
-          {"travel_speed", r.travel_speed},
-          {"step", r.step},
-          {"safe_height", r.safe_height},
-          {"direction", r.direction == hullgrind::job_request_t::DIRECTION_CONVENTIONAL ? "conventional" : "climb"},
-          {"flipped", r.flipped},
-          {"actor", r.actor},
-          {"plan_revision", r.plan_revision},
-          {"excluded_loops", r.excluded_loops}};
+  const auto direction = job::direction_from_wire(r.direction);
+  json j = {{"action", runtime::job_action_name(r.action)},
+            {"job_id", r.job_id},
+            {"part_id", r.part_id},
+            {"direction", direction ? job::direction_name(*direction) : "unknown"},
+            {"flipped", r.flipped},
+            {"actor", r.actor},
+            {"plan_revision", r.plan_revision},
+            {"excluded_loops", r.excluded_loops}};
+  quantity::for_each_job_quantity([&j](const quantity::Quantity& q, double v) { j[q.name] = v; }, r);
+  return j;
 }
 
 Recorder::Recorder(fs::path root, std::int64_t now_utime) : root_(std::move(root)) {

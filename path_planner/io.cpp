@@ -23,19 +23,11 @@ std::vector<Param> planner_params() {
   const bool open = true;  // the range's lower end is excluded: the value must be > min
   std::vector<Param> params = {
       cell::cell_param(),
-      number_param("tool-radius", "",
-                   "effective tool radius, m (job default); default: the cell's tool.radius, which it must equal", 0,
-                   inf, open),
-      number_param("chamfer-angle", "",
-                   "tool tilt toward the edge normal, rad (job default; at most 80 deg); default: the cell's "
-                   "tool.tilt, which it must equal",
-                   0, 1.3962634015954636),
-      number_param("grind-speed", "0.02", "TCP speed along the edge, m/s (job default; <= the cell's max-speed)", 0,
-                   inf, open),
-      number_param("travel-speed", "0.2", "air-move speed, m/s (job default; <= the cell's max-speed)", 0, inf, open),
-      number_param("step", "0.002", "resampling step along the path, m (job default)", 0, inf, open),
-      number_param("safe-height", "0.05", "approach/retract height above the plate, m (job default)", 0, inf, open),
-      text_param("direction", "climb", "hg-plan; a job request carries its own", {"climb", "conventional"}),
+      runtime::quantity_param(quantity::kGrindSpeed, "0.02", "job default; <= the cell's max-speed"),
+      runtime::quantity_param(quantity::kTravelSpeed, "0.2", "job default; <= the cell's max-speed"),
+      runtime::quantity_param(quantity::kStep, "0.002", "job default"),
+      runtime::quantity_param(quantity::kSafeHeight, "0.05", "job default"),
+      text_param("direction", "climb", "hg-plan; a job request carries its own", job::direction_names()),
       flag_param("flipped", "plan for the flipped part (hg-plan; a job request carries its own)"),
       Param{"spindle-clockwise", "true", "spindle turns clockwise seen from above (decides what climb means)", false,
             runtime::ParamType::Flag},
@@ -67,7 +59,7 @@ std::vector<Param> planner_params() {
                  "a hole too small for the tool, or edge out of its reach: fail (job FAILED), skip (planned, warning)",
                  {"fail", "skip"}),
       number_param("coverage-tolerance", "0.0002",
-                   "every edge point must be within tool-radius + this of the grind path, m", 0, inf, open),
+                   "every edge point must be within the tool radius + this of the grind path, m", 0, inf, open),
       number_param("resample-chord-error", "1e-5", "largest distance of a resampled chord from the offset ring, m", 0,
                    inf, open),
       numbers_param("plane-origin", "0,0,1.19",
@@ -75,10 +67,9 @@ std::vector<Param> planner_params() {
       numbers_param("plane-u", "1,0,0", "... u axis"),
       numbers_param("plane-v", "0,-1,0", "... v axis"),
       numbers_param("plane-normal", "0,0,-1", "... normal (u, v, normal right-handed)"),
-      text_param("base-frame", "robot_base", "name of the robot base frame in the path"),
       text_param("outline-frame", "",
                  "hg-plan: frame of the outline file's plane: camera (the cell's camera-to-base applied), robot_base "
-                 "(the base-frame: none applied); default: the file's \"frame\" (cloud or none: camera)"),
+                 "(the cell's frames.base: none applied); default: the file's \"frame\" (cloud or none: camera)"),
       number_param(
           "outline-max-age", "2.0",
           "hg-path-planner: a job starts on the latest outline if it arrived at most this long ago (s), else on the next",
@@ -112,24 +103,20 @@ Vec3 vec3(const runtime::Params& P, const std::string& key) {
   return Vec3(v[0], v[1], v[2]);
 }
 
-// The job defaults: the tool is the cell's (a value given must equal it), speeds within the cell's max-speed.
+// The job defaults: the tool is the cell's, speeds within the cell's max-speed.
 JobParams job_defaults(const runtime::Params& P, const cell::LoadedCell& cell) {
   const cell::Cell& c = cell.cell;
   JobParams d;
-  d.tool_radius = P.given("tool-radius") ? P.number("tool-radius") : c.tool.radius;
-  cell::refuse_unequal(P, "tool-radius", d.tool_radius, cell, "tool.radius", c.tool.radius);
-  d.chamfer_angle = P.given("chamfer-angle") ? P.number("chamfer-angle") : c.tool.tilt;
-  cell::refuse_unequal(P, "chamfer-angle", d.chamfer_angle, cell, "tool.tilt", c.tool.tilt);
-  if (!(d.chamfer_angle >= 0 && d.chamfer_angle <= P.find("chamfer-angle")->max))
-    throw runtime::ConfigError(cell.file + ": tool.tilt: " + std::to_string(d.chamfer_angle) +
-                               " rad is outside the planner's chamfer-angle range [0, 80 deg]");
+  // The tool is the cell's (tool.radius, tool.tilt, in their ranges by the cell's own check): no parameter.
+  d.tool_radius = c.tool.radius;
+  d.tilt = c.tool.tilt;
   d.grind_speed = P.number("grind-speed");
   d.travel_speed = P.number("travel-speed");
   for (const char* speed : {"grind-speed", "travel-speed", "approach-speed"})
     cell::refuse_above(P, speed, P.number(speed), cell, "max-speed", c.max_speed);
   d.step = P.number("step");
   d.safe_height = P.number("safe-height");
-  d.direction = P.text("direction") == "conventional" ? Direction::Conventional : Direction::Climb;
+  d.direction = job::direction_from_name(P.text("direction")).value_or(Direction::Climb);  // one of its choices
   d.flipped = P.flag("flipped");
   return d;
 }
@@ -145,7 +132,10 @@ std::vector<Param> moved_planner_keys() {
                               {"workspace-max", "workspace.max"},
                               {"table-z", "table-z"},
                               {"max-speed", "max-speed"},
-                              {"max-accel", "max-accel"}});
+                              {"max-accel", "max-accel"},
+                              {"tool-radius", "tool.radius"},
+                              {"chamfer-angle", "tool.tilt"},
+                              {"base-frame", "frames.base"}});
 }
 
 PlannerConfig config_from(const ParamLookup& L) { return config_from(L, cell::load_cell(*L.params)); }
@@ -173,11 +163,10 @@ PlannerConfig config_from(const ParamLookup& L, const cell::LoadedCell& cell) {
   if (cell.cell.calibration.mounting == cell::Mounting::EyeInHand)
     c.camera_to_flange = cell.cell.calibration.camera_to_flange;
   c.default_plane = {vec3(P, "plane-origin"), vec3(P, "plane-u"), vec3(P, "plane-v"), vec3(P, "plane-normal")};
-  c.base_frame = P.text("base-frame");
+  c.base_frame = cell.cell.frames.base;
   c.home = cell.cell.home;
   c.limits = cell::limits_of(cell.cell);
   c.cell_file = cell.file;
-  c.max_tool_radius = cell.cell.tool.radius;
   return c;
 }
 
@@ -259,7 +248,7 @@ OutlineFrame resolve_outline_frame(const std::string& file_frame, const std::str
     f.camera_to_base = cfg.camera_to_base;
   } else {
     throw ConfigError("outline frame '" + f.used + "' is neither camera nor " + cfg.base_frame +
-                      " (the base-frame); give --outline-frame camera or --outline-frame " + cfg.base_frame);
+                      " (the cell's frames.base); give --outline-frame camera or --outline-frame " + cfg.base_frame);
   }
   return f;
 }
@@ -388,7 +377,7 @@ hullgrind::grind_path_t to_lcm(const PlanResult& r, const std::string& job_id, s
     g.loop_index[i] = w.loop;
   }
   g.tool_radius = r.params.tool_radius;
-  g.tilt = r.params.chamfer_angle;
+  g.tilt = r.params.tilt;
   g.flipped = r.params.flipped;
   g.revision = revision;
   for (const LoopCoverage& c : r.coverage) {

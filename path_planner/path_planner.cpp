@@ -35,7 +35,7 @@ runtime::ProcessInfo process_info() {
       "on the next one, publishes grind_path_t on HG_GRIND_PATH and then PLANNED, or FAILED with the reason\n"
       "(outline with an error status, bad outline, hole too small for the tool, validation). Zero-valued job\n"
       "parameters take the configured defaults below. The cell file (--cell, docs/cell.md) gives the\n"
-      "camera-to-base calibration, the tool (the default tool-radius and chamfer-angle), the limits every path\n"
+      "camera-to-base calibration, the tool (a job's default tool_radius and tilt), the limits every path\n"
       "is validated against and home; a value given here that contradicts it stops the start (exit 2), a job\n"
       "asking for more (a speed above max-speed, a tool larger than the cell's) is FAILED. The path starts at\n"
       "the loop point nearest to the robot's TCP (HG_ROBOT_STATUS) or to the cell's home until it is heard.\n"
@@ -51,15 +51,14 @@ runtime::ProcessInfo process_info() {
 
 namespace {
 
+// The wire's direction constants are runtime/quantities.hpp's Direction, value for value.
+static_assert(hullgrind::job_request_t::DIRECTION_CLIMB == std::int8_t(Direction::Climb) &&
+              hullgrind::job_request_t::DIRECTION_CONVENTIONAL == std::int8_t(Direction::Conventional));
+
 JobParams job_params(const hullgrind::job_request_t& req) {
   JobParams jp;
-  jp.tool_radius = req.tool_radius;
-  jp.chamfer_angle = req.chamfer_angle;
-  jp.grind_speed = req.grind_speed;
-  jp.travel_speed = req.travel_speed;
-  jp.step = req.step;
-  jp.safe_height = req.safe_height;
-  jp.direction = Direction(req.direction);
+  quantity::for_each_job_quantity([](const quantity::Quantity&, double& to, double from) { to = from; }, jp, req);
+  jp.direction = job::direction_from_wire(req.direction).value_or(Direction::Climb);
   jp.flipped = req.flipped;
   return jp;
 }
@@ -198,6 +197,10 @@ class Planner {
     PlannerConfig cfg = cfg_;  // eye-in-hand: placed with this outline's flange pose
     if (std::string why = place_outline(m, cfg); !why.empty()) {
       r.reason = std::move(why);
+      return r;
+    }
+    if (!job::direction_from_wire(req.direction)) {
+      r.reason = "direction " + std::to_string(int(req.direction)) + " is not CLIMB (0) or CONVENTIONAL (1)";
       return r;
     }
     try {

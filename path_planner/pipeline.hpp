@@ -22,6 +22,7 @@
 
 #include "motion/motion.hpp"
 #include "polygon/polygon.hpp"
+#include "runtime/quantities.hpp"
 
 namespace hg::path_planner {
 
@@ -138,7 +139,7 @@ struct SampledRing {
 SampledRing resample_ring(const Ring& ring, double step, double corner_angle, double chord_error = 0);
 
 // ---- 4. orientation ----
-enum class Direction : std::int8_t { Climb = 0, Conventional = 1 };
+using job::Direction;  // runtime/quantities.hpp: one declaration with the job request's
 // True when the loop is travelled against its canonical direction (material on the right). Climb with a
 // spindle turning clockwise seen from above puts the material on the right of travel (G41): outer loops
 // clockwise, holes counter-clockwise; conventional is the reverse.
@@ -150,7 +151,14 @@ bool travel_reversed(Direction direction, bool spindle_clockwise);
 Eigen::Quaterniond tool_orientation(const Vec2& tangent, const Vec2& away_normal, double tilt);
 
 // ---- 5. sequencing: ordering, start points, leads, approach/retract ----
-enum Kind : std::int8_t { kApproach = 0, kLeadIn = 1, kGrind = 2, kLeadOut = 3, kRetract = 4, kTravel = 5 };
+// The waypoint kinds: runtime/quantities.hpp (grind_path_t.kind).
+using waypoint::kApproach;
+using waypoint::kGrind;
+using waypoint::Kind;
+using waypoint::kLeadIn;
+using waypoint::kLeadOut;
+using waypoint::kRetract;
+using waypoint::kTravel;
 struct PlateWaypoint {
   Vec3 position;  // plate frame
   Eigen::Quaterniond orientation;
@@ -266,8 +274,8 @@ std::string describe_unreached(const LoopCoverage& coverage, const Eigen::Isomet
 
 // ---- composition ----
 struct JobParams {
-  double tool_radius = 0.01;
-  double chamfer_angle = 0.7853981633974483;  // 45 deg
+  double tool_radius = 0.01;         // quantity::kToolRadius
+  double tilt = 0.7853981633974483;  // quantity::kTilt (45 deg)
   double grind_speed = 0.02;
   double travel_speed = 0.2;
   double step = 0.002;
@@ -297,10 +305,9 @@ struct PlannerConfig {
   Vec3 home = Vec3(0.5, 0, 0.3);  // base frame; start reference when the robot's position is unknown
   std::string base_frame = "robot_base";
   Limits limits;
-  // From the cell file (config_from): its name for messages, and the mounted tool's radius, which a job may
-  // not exceed (0: no such check, a config built in code).
+  // From the cell file (config_from): its name for messages. With a cell, defaults.tool_radius is the mounted
+  // tool's, which a job may not exceed; a config built in code (no cell file) has no such check.
   std::string cell_file;
-  double max_tool_radius = 0;
 };
 struct PlanResult {
   bool ok = false;
@@ -319,10 +326,12 @@ struct PlanResult {
   Eigen::Isometry3d plate_to_base = Eigen::Isometry3d::Identity();  // plate frame of the coverage -> base
   double seconds = 0;                                               // planning time
 };
-// Fills zero-valued job parameters from the defaults; returns a reason when a parameter is unusable.
+// Fills zero-valued job parameters from the defaults; returns a reason when a parameter is outside its range
+// (runtime/quantities.hpp, the one every reader checks) or the direction is none.
 std::string resolve_params(const JobParams& requested, const JobParams& defaults, JobParams& out);
-// Empty when the job's parameters are within the cell (speeds <= limits.max_speed, tool radius <=
-// max_tool_radius); else the reason, naming the cell file and key.
+// Empty when the job's parameters are within the cell (speeds <= limits.max_speed, tool radius <= the
+// mounted tool's, defaults.tool_radius, when the config came from a cell file); else the reason, naming the
+// cell file and key.
 std::string check_job_within_cell(const JobParams& params, const PlannerConfig& config);
 PlanResult plan(OutlineInput outline, const JobParams& params, const PlannerConfig& config,
                 const std::optional<Vec3>& robot_position_base);

@@ -9,25 +9,19 @@
 namespace hg::path_planner {
 
 std::string resolve_params(const JobParams& req, const JobParams& def, JobParams& out) {
-  auto pick = [](double r, double d) { return r == 0 ? d : r; };
-  out.tool_radius = pick(req.tool_radius, def.tool_radius);
-  out.chamfer_angle = pick(req.chamfer_angle, def.chamfer_angle);
-  out.grind_speed = pick(req.grind_speed, def.grind_speed);
-  out.travel_speed = pick(req.travel_speed, def.travel_speed);
-  out.step = pick(req.step, def.step);
-  out.safe_height = pick(req.safe_height, def.safe_height);
+  // Zero takes the default; the ranges are the job quantities' (runtime/quantities.hpp), which every reader
+  // checks. The first quantity out of range is the reason.
+  std::string why;
+  quantity::for_each_job_quantity(
+      [&why](const quantity::Quantity& q, double& o, double r, double d) {
+        o = r == 0 ? d : r;
+        if (why.empty()) why = quantity::out_of_range(q, o);
+      },
+      out, req, def);
   out.direction = req.direction;
   out.flipped = req.flipped;
-  auto positive = [](double v) { return std::isfinite(v) && v > 0; };
-  if (!positive(out.tool_radius)) return "tool_radius must be > 0 m";
-  if (!std::isfinite(out.chamfer_angle) || out.chamfer_angle < 0 || out.chamfer_angle > 80 * M_PI / 180)
-    return "chamfer_angle must be within [0, 80] degrees (given in radians)";
-  if (!positive(out.grind_speed)) return "grind_speed must be > 0 m/s";
-  if (!positive(out.travel_speed)) return "travel_speed must be > 0 m/s";
-  if (!positive(out.step)) return "step must be > 0 m";
-  if (!positive(out.safe_height)) return "safe_height must be > 0 m";
-  if (out.direction != Direction::Climb && out.direction != Direction::Conventional)
-    return "direction must be 0 (climb) or 1 (conventional)";
+  if (!why.empty()) return why;
+  if (!job::direction_from_wire(std::int8_t(out.direction))) return "direction must be 0 (climb) or 1 (conventional)";
   return "";
 }
 
@@ -42,9 +36,9 @@ std::string check_job_within_cell(const JobParams& p, const PlannerConfig& cfg) 
     return "grind_speed " + num(p.grind_speed) + " m/s exceeds " + cell + " max-speed " + num(cfg.limits.max_speed);
   if (p.travel_speed > cfg.limits.max_speed)
     return "travel_speed " + num(p.travel_speed) + " m/s exceeds " + cell + " max-speed " + num(cfg.limits.max_speed);
-  if (cfg.max_tool_radius > 0 && p.tool_radius > cfg.max_tool_radius)
-    return "tool_radius " + num(p.tool_radius) + " m exceeds " + cell + " tool.radius " + num(cfg.max_tool_radius) +
-           " (the mounted tool)";
+  if (!cfg.cell_file.empty() && p.tool_radius > cfg.defaults.tool_radius)  // the mounted tool (a worn one is smaller)
+    return "tool_radius " + num(p.tool_radius) + " m exceeds " + cell + " tool.radius " +
+           num(cfg.defaults.tool_radius) + " (the mounted tool)";
   return "";
 }
 
@@ -131,7 +125,7 @@ namespace {
 // The sequencing step's options: the job's parameters and the cell's configuration.
 SequenceOptions sequence_options(const JobParams& P, const PlannerConfig& cfg) {
   SequenceOptions so;
-  so.tilt = P.chamfer_angle;
+  so.tilt = P.tilt;
   so.grind_speed = P.grind_speed;
   so.travel_speed = P.travel_speed;
   so.approach_speed = std::min(cfg.approach_speed, P.travel_speed);

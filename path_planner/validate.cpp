@@ -99,10 +99,8 @@ std::string validate(const std::vector<Waypoint>& path, const Limits& L, const V
     speed.push_back(w.speed);
   }
   if (const auto fault = motion::first_corner_fault(position, speed, start, L.max_accel)) {
-    static const char* kind_names[] = {"approach", "lead_in", "grind", "lead_out", "retract", "travel"};
-    const std::int8_t k = path[fault->waypoint].kind;
     const std::string at =
-        "waypoint " + std::to_string(fault->waypoint) + " (" + (k >= 0 && k < 6 ? kind_names[k] : "unknown") + "): ";
+        "waypoint " + std::to_string(fault->waypoint) + " (" + waypoint::kind_name(path[fault->waypoint].kind) + "): ";
     if (fault->radius == 0) return at + "the path reverses here (corner radius 0): no speed can take it";
     return at +
            fmt("the corner (radius %.6f mm) at %.6f m/s needs %.6f m/s^2", fault->radius * 1e3, fault->speed,

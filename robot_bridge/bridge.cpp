@@ -287,7 +287,9 @@ void Bridge::on_grind_path(const hullgrind::grind_path_t& msg, double now) {
 // the cell's policy (every edge reached, approval auto) or held for an operator.
 void Bridge::take_plan(const hullgrind::grind_path_t& msg, double now) {
   const RobotState& st = driver_->state();
-  std::string why = st.pose_valid ? check_path(from_lcm(msg), st.tcp, cfg_.limits) : "the robot's TCP pose is unknown";
+  std::string why = check_frame(from_lcm(msg), cfg_.frame);
+  if (why.empty())
+    why = st.pose_valid ? check_path(from_lcm(msg), st.tcp, cfg_.limits) : "the robot's TCP pose is unknown";
   held_ = msg;
   excluded_.clear();
   actor_.clear();

@@ -38,7 +38,7 @@ namespace hg::robot_bridge {
 struct BridgeConfig {
   Limits limits;
   std::string source = "hg-robot-bridge";  // job_status_t.source
-  std::string frame = "robot_base";        // robot_status_t header.frame_id
+  std::string frame = "robot_base";        // the cell's frames.base: robot_status_t header.frame_id, every path's
   double path_timeout = 60;                // seconds an accepted job waits for its path before it FAILS
   double progress_period = 0.2;            // RUNNING reports at most this often (seconds)
   std::string state_file;                  // remembers the running job across a crash; "" = off

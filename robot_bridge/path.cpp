@@ -48,6 +48,11 @@ std::string check_point(const Vec3& p, const Limits& lim, const std::string& wha
 
 }  // namespace
 
+std::string check_frame(const Path& path, const std::string& base_frame) {
+  if (path.frame == base_frame) return "";
+  return "the path is in frame '" + path.frame + "', not the cell's base frame '" + base_frame + "' (frames.base)";
+}
+
 std::string check_path(const Path& path, const Pose& start, const Limits& lim) {
   const std::size_t n = path.size();
   if (n == 0) return "the path has no waypoints";

@@ -51,6 +51,9 @@ using Limits = motion::Limits;
 // 0 < speed <= max_speed, and the corner rule of motion/motion.hpp (the lateral acceleration v^2 / r of
 // every corner at its commanded speed within max_accel; a reversal is refused).
 std::string check_path(const Path& path, const Pose& start, const Limits& limits);
+// Empty when the path is in the cell's base frame (frames.base); else why not: its positions would be read in
+// the wrong frame. Checked before check_path by everything that runs or exports a path.
+std::string check_frame(const Path& path, const std::string& base_frame);
 
 // Time-parametrised motion along the polyline start -> waypoint 0 -> ... -> waypoint n-1, at rest at both
 // ends. Each segment runs at its commanded speed; speed changes are trapezoidal with tangential

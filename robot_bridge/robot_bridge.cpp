@@ -78,7 +78,6 @@ runtime::ProcessInfo process_info() {
            runtime::ParamType::Number, 0, std::numeric_limits<double>::infinity(), true},
           {"state-file", "",
            "file remembering the running job and HG_RUN_ID across a crash (a restart reports it ABORTED and holds FAULT)"},
-          {"frame", "robot_base", "robot base frame name (robot_status_t header.frame_id)"},
           {"jobs-dir", "",
            "the job history (hg-job-recorder's --dir): a START of a job it holds as ended or started before is "
            "answered with that state and never run; \"\" = off"},
@@ -118,7 +117,8 @@ runtime::ProcessInfo process_info() {
                                                 {"table-z", "table-z"},
                                                 {"max-speed", "max-speed"},
                                                 {"max-accel", "max-accel"},
-                                                {"sim-home", "home"}}))
+                                                {"sim-home", "home"},
+                                                {"frame", "frames.base"}}))
     info.params.push_back(std::move(p));
   return info;
 }
@@ -182,7 +182,7 @@ class Process {
     cfg.export_file = node.params().text("export");
     cfg.jobs_dir = node.params().text("jobs-dir");
     cfg.auto_approve = cell.cell.approval == cell::Approval::Auto;
-    cfg.frame = node.params().text("frame");
+    cfg.frame = cell.cell.frames.base;
     cfg.source = node.name();
     cfg.script = script_from(node.params(), cell);
     const std::string driver = node.params().text("driver");
@@ -244,7 +244,9 @@ int export_script(const runtime::Params& params, const std::string& path_file, c
   if (path.size() == 0) throw std::invalid_argument(path_file + ": no waypoints");
   // Offline the robot's pose is unknown: check from the first waypoint.
   const Pose start{path.position[0], path.orientation[0]};
-  if (std::string why = check_path(path, start, cell::limits_of(cell.cell)); !why.empty()) {
+  std::string why = check_frame(path, cell.cell.frames.base);
+  if (why.empty()) why = check_path(path, start, cell::limits_of(cell.cell));
+  if (!why.empty()) {
     logf(Level::Error, "%s: refused: %s", path_file.c_str(), why.c_str());
     return 1;
   }

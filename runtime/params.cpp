@@ -103,6 +103,10 @@ Param number_param(std::string name, std::string def, std::string help, double m
 Param integer_param(std::string name, std::string def, std::string help, double min, double max) {
   return Param{std::move(name), std::move(def), std::move(help), false, ParamType::Integer, min, max};
 }
+Param quantity_param(const quantity::Quantity& q, std::string def, const std::string& note) {
+  return number_param(quantity::key(q), std::move(def), std::string(q.what) + ", " + q.unit + " (" + note + ")", q.min,
+                      q.max);
+}
 Param numbers_param(std::string name, std::string def, std::string help) {
   return Param{std::move(name), std::move(def), std::move(help), false, ParamType::Numbers};
 }

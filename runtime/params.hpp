@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "runtime/config.hpp"
+#include "runtime/quantities.hpp"
 
 namespace hg::runtime {
 
@@ -52,6 +53,9 @@ Param integer_param(std::string name, std::string def, std::string help,
                     double min = -std::numeric_limits<double>::infinity(),
                     double max = std::numeric_limits<double>::infinity());
 Param numbers_param(std::string name, std::string def, std::string help);
+// A job quantity as a parameter (runtime/quantities.hpp): its key, meaning, unit and one range, and `note`
+// (what the parameter is for: "job default"): quantity_param(quantity::kStep, "0.002", "job default").
+Param quantity_param(const quantity::Quantity& q, std::string def, const std::string& note);
 Param flag_param(std::string name, std::string help);
 // An argument by position (see Param::positional): positional(integer_param("runs", "21", "...", 1)).
 Param positional(Param p);

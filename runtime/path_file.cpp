@@ -1,5 +1,7 @@
 #include "runtime/path_file.hpp"
 
+#include "runtime/quantities.hpp"
+
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -8,8 +10,14 @@ namespace hg::path_file {
 
 namespace {
 
-constexpr const char* kKinds[] = {"approach", "lead_in", "grind", "lead_out", "retract", "travel"};
-constexpr int kKindCount = 6;
+using waypoint::kKindCount;
+// The wire constants of grind_path_t.lcm are the kinds of runtime/quantities.hpp, value for value.
+static_assert(hullgrind::grind_path_t::KIND_APPROACH == waypoint::kApproach &&
+              hullgrind::grind_path_t::KIND_LEAD_IN == waypoint::kLeadIn &&
+              hullgrind::grind_path_t::KIND_GRIND == waypoint::kGrind &&
+              hullgrind::grind_path_t::KIND_LEAD_OUT == waypoint::kLeadOut &&
+              hullgrind::grind_path_t::KIND_RETRACT == waypoint::kRetract &&
+              hullgrind::grind_path_t::KIND_TRAVEL == waypoint::kTravel && kKindCount == 6);
 
 struct SchemaError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -31,7 +39,7 @@ std::int8_t kind_of(const nlohmann::json& k, const std::string& where) {
   if (k.is_number_integer() && k.get<std::int64_t>() >= 0 && k.get<std::int64_t>() < kKindCount)
     return std::int8_t(k.get<std::int64_t>());  // the KIND_* number itself
   std::string names;
-  for (const char* n : kKinds) names += std::string(names.empty() ? "" : ", ") + n;
+  for (const char* n : waypoint::kKindNames) names += std::string(names.empty() ? "" : ", ") + n;
   throw SchemaError(where + ": unknown kind " + k.dump() + " (one of " + names + ", or its number 0..5)");
 }
 
@@ -61,13 +69,9 @@ void read_waypoint(const nlohmann::json& w, const std::string& where, hullgrind:
 
 }  // namespace
 
-const char* kind_name(std::int8_t kind) { return kind >= 0 && kind < kKindCount ? kKinds[kind] : "unknown"; }
+const char* kind_name(std::int8_t kind) { return waypoint::kind_name(kind); }
 
-std::optional<std::int8_t> kind_from_name(const std::string& name) {
-  for (std::int8_t k = 0; k < kKindCount; ++k)
-    if (name == kKinds[k]) return k;
-  return std::nullopt;
-}
+std::optional<std::int8_t> kind_from_name(const std::string& name) { return waypoint::kind_from_name(name); }
 
 nlohmann::ordered_json to_json(const hullgrind::grind_path_t& p) {
   nlohmann::ordered_json j;

@@ -1,9 +1,12 @@
 #include "station/api.hpp"
 
+#include "runtime/quantities.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <optional>
 
 namespace hg::station {
 
@@ -73,14 +76,16 @@ std::string number_text(double v) {
   return buf;
 }
 
-// A finite number in (0, max] under `key`, or an error text naming it.
-std::string positive(const Json& options, const char* key, double max, double& out) {
-  auto it = options.find(key);
+// A job quantity under its name (runtime/quantities.hpp): within its one range and at most `max` (the cell's
+// limit), or an error text naming it.
+std::string quantity_option(const Json& options, const quantity::Quantity& q, double max, double& out) {
+  auto it = options.find(q.name);
   if (it == options.end() || it->is_null()) return "";
-  if (!it->is_number()) return std::string("options.") + key + ": must be a number";
+  if (!it->is_number()) return std::string("options.") + q.name + ": must be a number";
   const double v = it->get<double>();
-  if (!std::isfinite(v) || !(v > 0) || v > max)
-    return std::string("options.") + key + ": " + number_text(v) + " is outside (0, " + number_text(max) + "]";
+  if (std::string why = quantity::out_of_range(q, v); !why.empty()) return "options." + why;
+  if (v > max)
+    return std::string("options.") + q.name + ": " + number_text(v) + " exceeds the cell's " + number_text(max);
   out = v;
   return "";
 }
@@ -143,18 +148,16 @@ std::string apply_options(const Json& options, const OptionLimits& limits, job_r
     if (!known.count(key))
       return "options." + key + ": unknown (grind_speed, travel_speed, step, safe_height, direction)";
   const double inf = std::numeric_limits<double>::infinity();
-  for (const std::string& e :
-       {positive(options, "grind_speed", limits.max_speed, req.grind_speed),
-        positive(options, "travel_speed", limits.max_speed, req.travel_speed), positive(options, "step", inf, req.step),
-        positive(options, "safe_height", inf, req.safe_height)})
+  for (const std::string& e : {quantity_option(options, quantity::kGrindSpeed, limits.max_speed, req.grind_speed),
+                               quantity_option(options, quantity::kTravelSpeed, limits.max_speed, req.travel_speed),
+                               quantity_option(options, quantity::kStep, inf, req.step),
+                               quantity_option(options, quantity::kSafeHeight, inf, req.safe_height)})
     if (!e.empty()) return e;
   auto dir = options.find("direction");
   if (dir != options.end() && !dir->is_null()) {
-    if (*dir == "climb") req.direction = job_request_t::DIRECTION_CLIMB;
-    else if (*dir == "conventional")
-      req.direction = job_request_t::DIRECTION_CONVENTIONAL;
-    else
-      return "options.direction: must be \"climb\" or \"conventional\"";
+    const auto d = dir->is_string() ? job::direction_from_name(dir->get<std::string>()) : std::nullopt;
+    if (!d) return "options.direction: must be \"climb\" or \"conventional\"";
+    req.direction = std::int8_t(*d);
   }
   return "";
 }

@@ -113,7 +113,7 @@ TEST(CellAgreement, PlannerAndBridgeReadTheSameLimits) {
     EXPECT_EQ(cfg.camera_to_base.matrix(), c.calibration.camera_to_base.matrix());
     EXPECT_EQ(cfg.home, c.home);
     EXPECT_EQ(cfg.defaults.tool_radius, c.tool.radius);
-    EXPECT_EQ(cfg.defaults.chamfer_angle, c.tool.tilt);
+    EXPECT_EQ(cfg.defaults.tilt, c.tool.tilt);
   }
 }
 
@@ -136,7 +136,7 @@ TEST(CellAgreement, TheBridgeAcceptsEveryPathThePlannerValidates) {
     for (int job = 0; job < 3; ++job) {
       const pp::OutlineInput in = random_plate(rng, height - c.table_z - 0.01);
       pp::JobParams jp;  // as a job request: zeros take the defaults (the cell's tool); a fast feed
-      jp.tool_radius = jp.chamfer_angle = jp.travel_speed = jp.step = jp.safe_height = 0;
+      jp.tool_radius = jp.tilt = jp.travel_speed = jp.step = jp.safe_height = 0;
       jp.grind_speed = c.max_speed * (0.2 + 0.8 * u(rng));
       const Vector3d robot(c.workspace_min.x() + 0.2 + u(rng), 0.4 * (u(rng) - 0.5), c.table_z + 0.1 + 0.3 * u(rng));
       const pp::PlanResult r = pp::plan(in, jp, cfg, robot);

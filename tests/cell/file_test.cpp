@@ -1,4 +1,5 @@
 // The cell file: round trip of random cells, dated backups, and errors that name the file and the key.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -8,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "cell/cell.hpp"
+#include "runtime/quantities.hpp"
 
 namespace fs = std::filesystem;
 using hg::cell::Cell;
@@ -45,7 +47,8 @@ Cell random_cell(std::mt19937_64& rng) {
   c.max_speed = 0.2 + 0.1 * std::abs(u(rng));
   c.max_accel = 1 + std::abs(u(rng));
   c.tool.radius = 0.01 + 0.005 * std::abs(u(rng));
-  c.tool.tilt = 0.7 * u(rng);
+  c.tool.tilt = 0.7 * std::abs(u(rng));  // tilts lean out over the air side: [0, 80 deg]
+  c.frames.base = rng() % 2 ? "robot_base" : "ur10e/base_link." + std::to_string(rng() % 100);
   c.home = Eigen::Vector3d(0.5 * u(rng), 0.5 * u(rng), 0.3 + 0.1 * std::abs(u(rng)));
   c.approval = rng() % 2 ? hg::cell::Approval::Auto : hg::cell::Approval::Operator;
   return c;
@@ -104,6 +107,7 @@ TEST(Cell, RandomCellsSurviveAWriteAndARead) {
     EXPECT_EQ(r.max_accel, c.max_accel);
     EXPECT_EQ(r.tool.radius, c.tool.radius);
     EXPECT_EQ(r.tool.tilt, c.tool.tilt);
+    EXPECT_EQ(r.frames.base, c.frames.base);
     EXPECT_EQ(r.home, c.home);
     EXPECT_EQ(r.approval, c.approval);
   }
@@ -183,6 +187,13 @@ TEST(Cell, ErrorsNameTheFileAndTheKey) {
        f + "calibration.mounting: 'on-the-wall' is neither eye-to-hand nor eye-in-hand"},
       {"  mounting: eye-to-hand", "  mounting: eye-in-hand",
        f + "calibration.camera-to-flange: missing: calibration.mounting eye-in-hand needs it"},
+      {"  radius: 0.01", "  radius: 0.25", f + "tool.radius: must be within [0.001, 0.2] m"},
+      {"  radius: 0.01", "  radius: 0", f + "tool.radius: must be within [0.001, 0.2] m"},
+      {"  tilt: 0.7853981633974483", "  tilt: -0.1", f + "tool.tilt: must be within [0, 1.3962634015954636] rad"},
+      {"  tilt: 0.7853981633974483", "  tilt: 1.4", f + "tool.tilt: must be within [0, 1.3962634015954636] rad"},
+      {"  base: robot_base", "  base: robot base", f + "frames.base: 'robot base' is no frame name"},
+      {"  base: robot_base", "  base: ''", f + "frames.base: '' is no frame name"},
+      {"  base: robot_base", "  base: robot_base\n  tool: tcp", f + "frames.tool: unknown key"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.to);
@@ -200,4 +211,38 @@ TEST(Cell, ErrorsNameTheFileAndTheKey) {
   } catch (const CellError& e) {
     EXPECT_STREQ(e.what(), "/nonexistent/cell.yaml: cannot open");
   }
+}
+
+// The tool's keys take the job quantities' ranges (runtime/quantities.hpp), the ones the planner, the DDS
+// gateway and hg-lcm-send check: both ends in, the next double beyond either end out (below 0: -1e-9), naming
+// the key.
+TEST(Cell, TheToolKeysTakeTheJobQuantitiesRanges) {
+  namespace qn = hg::quantity;
+  const fs::path p = scratch("tool_range.yaml");
+  struct Key {
+    std::string line, key;
+    const qn::Quantity& q;
+  } keys[] = {{"  radius: 0.01", "radius", qn::kToolRadius}, {"  tilt: 0.7853981633974483", "tilt", qn::kTilt}};
+  auto yaml = [](double v) { return qn::number_text(v); };
+  for (const Key& k : keys) {
+    SCOPED_TRACE(k.key);
+    for (double v : {k.q.min, k.q.max, 0.5 * (k.q.min + k.q.max)}) {
+      EXPECT_EQ(error_of(cell_text(k.line, "  " + k.key + ": " + yaml(v)), p), "") << v;
+      const Cell c = hg::cell::read_cell(p.string());
+      EXPECT_EQ(k.key == "radius" ? c.tool.radius : c.tool.tilt, v);
+    }
+    for (double v : {k.q.min > 0 ? std::nextafter(k.q.min, -1.0) : -1e-9, std::nextafter(k.q.max, 10.0)})
+      EXPECT_EQ(error_of(cell_text(k.line, "  " + k.key + ": " + yaml(v)), p),
+                p.string() + ": tool." + k.key + ": must be within " + qn::range_text(k.q))
+          << v;
+  }
+}
+
+// Without a frames section the base frame is robot_base, the name every shipped file and message used.
+TEST(Cell, TheBaseFrameDefaultsToRobotBase) {
+  const fs::path p = scratch("frames.yaml");
+  EXPECT_EQ(error_of(cell_text("frames:\n  base: robot_base", ""), p), "");
+  EXPECT_EQ(hg::cell::read_cell(p.string()).frames.base, "robot_base");
+  EXPECT_EQ(error_of(cell_text("  base: robot_base", "  base: ur/base_link"), p), "");
+  EXPECT_EQ(hg::cell::read_cell(p.string()).frames.base, "ur/base_link");
 }

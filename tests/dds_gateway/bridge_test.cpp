@@ -295,7 +295,7 @@ TEST_F(DdsGatewayBridge, JobRequestFromDdsAppearsOnLcm) {
   r.header.utime = 1712345678000000;
   r.action = hullgrind::job_request_t::ACTION_START;
   r.tool_radius = 0.025;
-  r.chamfer_angle = 0.5;
+  r.tilt = 0.5;
   r.grind_speed = 0.05;
   r.travel_speed = 0.3;
   r.step = 0.002;
@@ -310,7 +310,7 @@ TEST_F(DdsGatewayBridge, JobRequestFromDdsAppearsOnLcm) {
   EXPECT_EQ(m.header.utime, 1712345678000000);
   EXPECT_EQ(m.action, +hullgrind::job_request_t::ACTION_START);
   EXPECT_EQ(m.tool_radius, 0.025);
-  EXPECT_EQ(m.chamfer_angle, 0.5);
+  EXPECT_EQ(m.tilt, 0.5);
   EXPECT_EQ(m.grind_speed, 0.05);
   EXPECT_EQ(m.travel_speed, 0.3);
   EXPECT_EQ(m.step, 0.002);

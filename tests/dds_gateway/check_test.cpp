@@ -2,10 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <string>
 
 #include "dds_gateway/convert.hpp"
+#include "runtime/quantities.hpp"
 
 using hg::dds_gateway::check_job_request;
 using hg::dds_gateway::JobLimits;
@@ -25,6 +27,7 @@ struct Req {
 };
 
 double above(double v) { return std::nextafter(v, std::numeric_limits<double>::infinity()); }
+double below(double v) { return std::nextafter(v, -std::numeric_limits<double>::infinity()); }
 
 TEST(DdsGatewayCheck, AllDefaultsAndEveryIdCharacterAreAccepted) {
   Req q;
@@ -40,18 +43,22 @@ TEST(DdsGatewayCheck, AllDefaultsAndEveryIdCharacterAreAccepted) {
   }
 }
 
-TEST(DdsGatewayCheck, ParameterRangesAreInclusiveAndZeroMeansDefault) {
+// The gateway checks every job quantity against its one range (runtime/quantities.hpp): both ends in, just
+// outside either end out, 0 the default.
+TEST(DdsGatewayCheck, ParameterRangesAreTheQuantitiesAndZeroMeansDefault) {
+  namespace qn = hg::quantity;
   JobLimits lim;
   struct P {
     const char* name;
     double hgdds_JobRequest::*field;
     double lo, hi;
-  } params[] = {{"tool_radius", &hgdds_JobRequest::tool_radius, 1e-3, lim.max_tool_radius},
-                {"chamfer_angle", &hgdds_JobRequest::chamfer_angle, 0, lim.max_chamfer_angle},
-                {"grind_speed", &hgdds_JobRequest::grind_speed, 1e-4, lim.max_grind_speed},
-                {"travel_speed", &hgdds_JobRequest::travel_speed, 1e-4, lim.max_travel_speed},
-                {"step", &hgdds_JobRequest::step, lim.min_step, lim.max_step},
-                {"safe_height", &hgdds_JobRequest::safe_height, 1e-3, lim.max_safe_height}};
+  } params[] = {{"tool_radius", &hgdds_JobRequest::tool_radius, qn::kToolRadius.min, qn::kToolRadius.max},
+                {"tilt", &hgdds_JobRequest::tilt, qn::kTilt.min, qn::kTilt.max},
+                {"grind_speed", &hgdds_JobRequest::grind_speed, qn::kGrindSpeed.min, qn::kGrindSpeed.max},
+                {"travel_speed", &hgdds_JobRequest::travel_speed, qn::kTravelSpeed.min, qn::kTravelSpeed.max},
+                {"step", &hgdds_JobRequest::step, qn::kStep.min, qn::kStep.max},
+                {"safe_height", &hgdds_JobRequest::safe_height, qn::kSafeHeight.min, qn::kSafeHeight.max}};
+  EXPECT_EQ(std::size(params), std::size(qn::kJobQuantities));
   for (const P& p : params) {
     SCOPED_TRACE(p.name);
     Req q;
@@ -60,8 +67,8 @@ TEST(DdsGatewayCheck, ParameterRangesAreInclusiveAndZeroMeansDefault) {
       r.*p.field = ok;
       EXPECT_EQ(check_job_request(r, lim), "") << ok;
     }
-    for (double bad :
-         {above(p.hi), -1e-9, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+    for (double bad : {above(p.hi), p.lo > 0 ? below(p.lo) : -1e-9, std::numeric_limits<double>::infinity(),
+                       std::numeric_limits<double>::quiet_NaN()}) {
       r.*p.field = bad;
       std::string why = check_job_request(r, lim);
       EXPECT_EQ(why.rfind(p.name, 0), 0u) << bad << ": " << why;

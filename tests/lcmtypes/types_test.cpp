@@ -199,7 +199,7 @@ TEST(LcmTypes, JobRequestAndStatus) {
   r.job_id = "j1";
   r.part_id = "bracket";
   r.action = hullgrind::job_request_t::ACTION_START;
-  r.tool_radius = 0.02, r.chamfer_angle = 0.5, r.grind_speed = 0.03, r.travel_speed = 0.2, r.step = 0.002;
+  r.tool_radius = 0.02, r.tilt = 0.5, r.grind_speed = 0.03, r.travel_speed = 0.2, r.step = 0.002;
   r.safe_height = 0.05;
   r.direction = hullgrind::job_request_t::DIRECTION_CONVENTIONAL;
   r.flipped = false;

@@ -118,9 +118,12 @@ TEST(PathPlannerCli, ConfigFileErrorsNameTheFileAndKey) {
   struct Case {
     std::string yaml, expected;
   } cases[] = {
-      {"tool_radius: 0.01\n", "line 1: key 'tool_radius': old spelling of 'tool-radius'"},
-      {"grind-speed: 0.02\ntool-radus: 0.01\n", "line 2: key 'tool-radus': unknown key (nearest known: 'tool-radius')"},
-      {"tool-radius: -0.01\n", "key 'tool-radius': -0.01 is out of range (> 0)"},
+      {"safe_height: 0.05\n", "line 1: key 'safe_height': old spelling of 'safe-height'"},
+      {"grind-speed: 0.02\nsafe-heigt: 0.05\n", "line 2: key 'safe-heigt': unknown key (nearest known: 'safe-height')"},
+      {"step: -0.01\n", "key 'step': -0.01 is out of range ([1e-04, 0.05])"},  // the quantity's one range
+      // The tool is the cell's: no parameter (runtime/quantities.hpp names it tool_radius, tilt).
+      {"tool-radius: 0.01\n",
+       "key 'tool-radius': moved: it lives in the cell file (--cell, default config/cell.yaml), key tool.radius"},
       {"spindle-clockwise: sometimes\n", "key 'spindle-clockwise': 'sometimes' is not true or false"},
       {"camera-xyz: [0.5, 0, 1.2]\n",
        "key 'camera-xyz': moved: it lives in the cell file (--cell, default "
@@ -136,8 +139,8 @@ TEST(PathPlannerCli, ConfigFileErrorsNameTheFileAndKey) {
     EXPECT_NE(out.find(c.expected), std::string::npos) << out;
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;  // one line
   }
-  EXPECT_EQ(run(tmp("outline.json") + " --tool_radius 0.005", &out), 2);
-  EXPECT_NE(out.find("--tool_radius is the old spelling of --tool-radius"), std::string::npos) << out;
+  EXPECT_EQ(run(tmp("outline.json") + " --safe_height 0.05", &out), 2);
+  EXPECT_NE(out.find("--safe_height is the old spelling of --safe-height"), std::string::npos) << out;
   // Precedence: the file's value over the default, the command line's over the file's (the grind speed: the
   // fastest grind waypoint; corners only lower it).
   write(tmp("r.yaml"), "grind-speed: 0.015\nsmall-hole: skip\n");
@@ -179,8 +182,12 @@ TEST(PathPlannerCli, ContradictingTheCellExits2NamingBoth) {
       {"--travel-speed 0.4", "command line: --travel-speed: 0.4 exceeds " + c + " max-speed 0.25"},
       {"--grind-speed 0.26", "command line: --grind-speed: 0.26 exceeds " + c + " max-speed 0.25"},
       {"--approach-speed 1", "command line: --approach-speed: 1 exceeds " + c + " max-speed 0.25"},
-      {"--tool-radius 0.005", "command line: --tool-radius: 0.005 contradicts " + c + " tool.radius 0.01"},
-      {"--chamfer-angle 0.5", "command line: --chamfer-angle: 0.5 contradicts " + c + " tool.tilt 0.7853981633974483"},
+      {"--tool-radius 0.005",
+       "--tool-radius moved: it lives in the cell file (--cell, default config/cell.yaml), key tool.radius"},
+      {"--chamfer-angle 0.5",
+       "--chamfer-angle moved: it lives in the cell file (--cell, default config/cell.yaml), key tool.tilt"},
+      {"--base-frame base",
+       "--base-frame moved: it lives in the cell file (--cell, default config/cell.yaml), key frames.base"},
       {"--max-speed 0.1",
        "--max-speed moved: it lives in the cell file (--cell, default config/cell.yaml), key max-speed"},
       {"--table-z -0.5", "--table-z moved: it lives in the cell file (--cell, default config/cell.yaml), key table-z"},
@@ -197,10 +204,7 @@ TEST(PathPlannerCli, ContradictingTheCellExits2NamingBoth) {
             std::string::npos)
       << out;
   // Equal to the cell is no contradiction.
-  EXPECT_EQ(
-      run("--tool-radius 0.01 --travel-speed 0.25 --small-hole skip " + tmp("outline.json") + " -o " + tmp("eq.json"),
-          &out),
-      0)
+  EXPECT_EQ(run("--travel-speed 0.25 --small-hole skip " + tmp("outline.json") + " -o " + tmp("eq.json"), &out), 0)
       << out;
   // A broken cell file: exit 2, the file and the key.
   std::string text = slurp_file(c);

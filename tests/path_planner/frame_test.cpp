@@ -55,7 +55,7 @@ TEST(PathPlannerFrame, CameraToBaseIsTheCellsCalibration) {
               std::string::npos)
         << e.what();
   }
-  EXPECT_THROW(config_from(lookup({{"tool-radius", "-1"}})), hg::runtime::ConfigError);
+  EXPECT_THROW(config_from(lookup({{"step", "-1"}})), hg::runtime::ConfigError);
 }
 
 TEST(PathPlannerFrame, NormalPointingDownIsTurnedUpWithoutMovingThePlate) {

@@ -1,6 +1,8 @@
 // Unit tests of plan(), the composition of the steps, against independent (analytic) expectations.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "tests/path_planner/step_shapes.hpp"
 
 namespace {
@@ -39,7 +41,7 @@ TEST(PathPlannerPlan, EveryLoopGroundAtTheToolRadius) {
   const OutlineInput in = plate_with_hole(0.02);
   JobParams jp;  // zero: defaults
   jp.tool_radius = 0;
-  jp.chamfer_angle = 0;
+  jp.tilt = 0;
   jp.grind_speed = 0;
   jp.travel_speed = 0;
   jp.step = 0;
@@ -59,7 +61,7 @@ TEST(PathPlannerPlan, EveryLoopGroundAtTheToolRadius) {
     EXPECT_NEAR(p.z(), 0, 1e-12);
     EXPECT_NEAR(ring_dist(p.head<2>(), in.loops[w.loop].points), cfg.defaults.tool_radius, 2e-5);
     const double tilt = std::acos(std::clamp(w.orientation.toRotationMatrix().col(2).dot(Vec3(0, 0, -1)), -1.0, 1.0));
-    EXPECT_NEAR(tilt, cfg.defaults.chamfer_angle, 1e-9);
+    EXPECT_NEAR(tilt, cfg.defaults.tilt, 1e-9);
   }
   EXPECT_GT(grind[0], 100);
   EXPECT_GT(grind[1], 10);
@@ -108,7 +110,41 @@ TEST(PathPlannerPlan, OutOfWorkspaceAndBadInputFail) {
   JobParams neg;
   neg.tool_radius = -0.01;
   r = plan(plate_with_hole(0.02), neg, simple_config(), std::nullopt);
-  EXPECT_EQ(r.reason, "tool_radius must be > 0 m");
+  EXPECT_EQ(r.reason, "tool_radius -0.01 m is outside [0.001, 0.2] m");
+}
+
+// A job's quantities are checked against their one range (runtime/quantities.hpp), the range the cell, the
+// DDS gateway and hg-lcm-send check: both ends in, beyond either end the reason names the quantity.
+TEST(PathPlannerPlan, EveryJobQuantityIsCheckedAgainstItsOneRange) {
+  namespace qn = hg::quantity;
+  const JobParams defaults;
+  int checked = 0;
+  for (int which = 0; which < 6; ++which) {
+    for (int end = 0; end < 4; ++end) {  // min, max, just below min, just above max
+      JobParams req;
+      std::string name, expected;
+      int i = 0;
+      qn::for_each_job_quantity(
+          [&](const qn::Quantity& q, double& v) {
+            if (i++ != which) return;
+            const double below = q.min > 0 ? std::nextafter(q.min, -1.0) : -1e-9;
+            v = end == 0 ? q.min : end == 1 ? q.max : end == 2 ? below : std::nextafter(q.max, 10.0);
+            name = q.name;
+            if (end >= 2) expected = std::string(q.name) + " " + qn::number_text(v) + " " + q.unit + " is outside [";
+          },
+          req);
+      JobParams out;
+      const std::string why = resolve_params(req, defaults, out);
+      SCOPED_TRACE(name + " end " + std::to_string(end));
+      if (expected.empty()) {
+        EXPECT_EQ(why, "");
+      } else {
+        EXPECT_EQ(why.rfind(expected, 0), 0u) << why;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 24);
 }
 
 TEST(PathPlannerPlan, FlippedPathIsTheMirrorImage) {

@@ -96,7 +96,7 @@ class ReplayCameraLog(unittest.TestCase):
         worst, where = 0.0, None
         errors = []
         for i, w in enumerate(grind):
-            # Orientation: a unit quaternion whose tool axis is tilted by the chamfer angle from the plate's
+            # Orientation: a unit quaternion whose tool axis is tilted by the tilt from the plate's
             # normal (the table frame's z in the base frame).
             qw, qx, qy, qz = w["orientation"]
             self.assertAlmostEqual(qw * qw + qx * qx + qy * qy + qz * qz, 1.0, places=9)
@@ -108,7 +108,7 @@ class ReplayCameraLog(unittest.TestCase):
             n = [table_z_in_base[j] - origin_in_base[j] for j in range(3)]
             cosang = abs(zx * n[0] + zy * n[1] + zz * n[2]) / math.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
             self.assertAlmostEqual(math.degrees(math.acos(min(1.0, cosang))), math.degrees(tilt), delta=1.0,
-                                   msg="waypoint %d: tool axis not tilted by the chamfer angle" % i)
+                                   msg="waypoint %d: tool axis not tilted by the tilt" % i)
             q = G.apply(base_to_table, w["position"])
             ds = [G.ring_dist(q, r) for r in rings]
             k = min(range(len(rings)), key=lambda j: ds[j])

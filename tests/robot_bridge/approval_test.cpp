@@ -325,3 +325,31 @@ TEST(RobotBridgeApproval, TheJobHistoryKeepsAnEndedJobFromRunningAgain) {
   EXPECT_EQ(h.last().state, +job_status_t::STATE_ACCEPTED);
   fs::remove_all(jobs);
 }
+
+// The bridge runs a path only in the cell's base frame (frames.base, BridgeConfig::frame): a path in another
+// frame is REFUSED before anything moves, naming both frames; the same path in the configured frame runs.
+TEST(RobotBridgeApproval, APathInAnotherFrameIsRefusedAndNothingMoves) {
+  for (const std::string base : {"robot_base", "ur10e/base_link"}) {
+    BridgeConfig cfg = auto_cfg();
+    cfg.frame = base;
+    for (const std::string frame : {std::string("camera"), std::string(""), std::string("robot_base"), base}) {
+      SCOPED_TRACE(base + " / " + frame);
+      Harness h({}, cfg);
+      h.send("fr", job_request_t::ACTION_START);
+      grind_path_t p = loops_path("fr", kThree);
+      p.frame = frame;
+      h.path(p);
+      if (frame == base) {
+        EXPECT_TRUE(h.run_until("fr", job_status_t::STATE_DONE)) << h.last().message;
+        continue;
+      }
+      EXPECT_EQ(h.last().state, +job_status_t::STATE_REFUSED) << h.last().message;
+      EXPECT_NE(h.last().message.find("the path is in frame '" + frame + "', not the cell's base frame '" + base +
+                                      "' (frames.base)"),
+                std::string::npos)
+          << h.last().message;
+      h.tick(200);
+      EXPECT_FALSE(robot_moved(h));
+    }
+  }
+}

@@ -22,8 +22,8 @@ HEADER = """# Parameters
 
 Every parameter of the processes and of the tools built on the same parameter handling, as each program
 declares it (`PROGRAM --help-markdown` prints its table; `PROGRAM --help` says the same in words). Keys are
-kebab-case, the same on the command line (`--tool-radius 0.01`, lists as `0.5,0,1.2`) and in a `--config`
-YAML file (`tool-radius: 0.01`, lists as `[0.5, 0, 1.2]`, booleans `true`/`false`); the command line wins
+kebab-case, the same on the command line (`--grind-speed 0.02`, lists as `0.5,0,1.2`) and in a `--config`
+YAML file (`grind-speed: 0.02`, lists as `[0.5, 0, 1.2]`, booleans `true`/`false`); the command line wins
 over the file, the file over the default. Generated: `tests/tools/parameters_doc_test.py` checks that this
 page matches the programs.
 

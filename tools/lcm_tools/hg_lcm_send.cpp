@@ -18,6 +18,7 @@
 #include "hullgrind/job_request_t.hpp"
 #include "registry.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/quantities.hpp"
 #include "sample.hpp"
 #include "runtime/params.hpp"
 
@@ -34,18 +35,18 @@ Publishes hullgrind messages; COMMAND --help lists only that command's options.
 
 using hg::runtime::Param;
 
-// The job parameters of job and replan (zero or not given: "configured default").
+// The job parameters of job and replan (not given: 0, "configured default"); the quantities' ranges are the
+// ones the planner and the DDS gateway check (runtime/quantities.hpp).
 std::vector<Param> job_params() {
   using namespace hg::runtime;
-  return {text_param("part-id", "", "the part"),
-          number_param("tool-radius", "", "tool radius, m", 0, 1),
-          number_param("chamfer-angle", "", "tool tilt, rad", -1.6, 1.6),
-          number_param("grind-speed", "", "TCP speed along the edge, m/s", 0, 10),
-          number_param("travel-speed", "", "air-move speed, m/s", 0, 10),
-          number_param("step", "", "resampling step, m", 0, 1),
-          number_param("safe-height", "", "approach/retract height, m", 0, 2),
-          text_param("direction", "", "grinding direction", {"climb", "conventional"}),
-          flag_param("flipped", "plan for the flipped part")};
+  std::vector<Param> p = {text_param("part-id", "", "the part")};
+  const hullgrind::job_request_t fields{};
+  hg::quantity::for_each_job_quantity(
+      [&p](const hg::quantity::Quantity& q, double) { p.push_back(quantity_param(q, "", "not given: the default")); },
+      fields);
+  p.push_back(text_param("direction", "", "grinding direction", hg::job::direction_names()));
+  p.push_back(flag_param("flipped", "plan for the flipped part"));
+  return p;
 }
 
 // job, approve, reject, replan, query: one job_request_t on HG_JOB_REQUEST.
@@ -190,16 +191,13 @@ std::vector<std::int16_t> loop_list(const std::string& text) {
 
 // The job parameters given (START, REPLAN) into the request; those not given stay 0, "configured default".
 void set_job_params(const hg::runtime::Params& p, hullgrind::job_request_t& m) {
-  auto number = [&](const char* name, double& to) {
-    if (p.given(name)) to = p.number(name);
-  };
   m.part_id = p.text("part-id");
-  number("tool-radius", m.tool_radius), number("chamfer-angle", m.chamfer_angle);
-  number("grind-speed", m.grind_speed), number("travel-speed", m.travel_speed);
-  number("step", m.step), number("safe-height", m.safe_height);
-  if (p.given("direction"))
-    m.direction = p.text("direction") == "climb" ? hullgrind::job_request_t::DIRECTION_CLIMB
-                                                 : hullgrind::job_request_t::DIRECTION_CONVENTIONAL;
+  hg::quantity::for_each_job_quantity(
+      [&p](const hg::quantity::Quantity& q, double& to) {
+        if (p.given(hg::quantity::key(q))) to = p.number(hg::quantity::key(q));
+      },
+      m);
+  if (p.given("direction")) m.direction = std::int8_t(*hg::job::direction_from_name(p.text("direction")));
   m.flipped = p.flag("flipped");
 }
 
