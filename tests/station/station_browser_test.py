@@ -114,6 +114,19 @@ for (let i = 0; i < d.length; i += 4) if (d[i] > 200 && d[i + 2] > 200 && d[i + 
 return n;
 """
 
+# Pixels of a 2-D canvas (by id) near a colour: the history's overview of the recorded path (grind 0xff9800,
+# scene.js KIND_COLOURS) and outline (holes 0x40c4ff, scene.js HOLE); neither is the background or the bar.
+COLOUR_PIXELS = """
+const c = document.getElementById(arguments[0]);
+if (!c || !c.width) return -1;
+const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data, rgb = arguments[1];
+let n = 0;
+for (let i = 0; i < d.length; i += 4)
+  if (Math.abs(d[i] - rgb[0]) + Math.abs(d[i + 1] - rgb[1]) + Math.abs(d[i + 2] - rgb[2]) < 60) n++;
+return n;
+"""
+GRIND_RGB, HOLE_RGB = [0xff, 0x98, 0x00], [0x40, 0xc4, 0xff]
+
 
 class StationCase(unittest.TestCase):
     extra = {}
@@ -245,6 +258,11 @@ class StationCase(unittest.TestCase):
             self.driver.execute_script("window.scrollTo(0, 0)")  # the view's title and state, not the last click
             self.driver.save_screenshot(os.path.join(SHOTS, name + ".png"))
 
+    def shot_element(self, id_, name):
+        if SHOTS:
+            os.makedirs(SHOTS, exist_ok=True)
+            self.by_id(id_).screenshot(os.path.join(SHOTS, name + ".png"))
+
     def login(self, user, password):
         d = self.driver
         d.get(URL + "/api/session")  # a page without script: no live connection left to fail on logout
@@ -375,6 +393,18 @@ class StationJobs(StationCase):
         self.assertEqual(status, 200)
         self.assertEqual(body["job_id"], job)
         self.assertGreater(len(body["waypoints"]), 10)
+        # The overview drawn from the record: the path's grind segments and the outline's holes on their
+        # canvases, the path's waypoint count the one path.json holds.
+        self.wait(lambda d: self.by_id("hj-overview").get_attribute("data-drawn"), 30, "the overview drawn")
+        self.assertEqual(self.by_id("hj-overview").get_attribute("data-drawn"),
+                         "path %d waypoints, frame %s" % (len(body["waypoints"]), body["frame"] or "?"))
+        self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-overview", GRIND_RGB), 200)
+        self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-outline", HOLE_RGB), 50)
+        self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-overview", [0x10, 0x16, 0x1d]), 100000)
+        self.assertTrue(self.by_id("hj-overview-none").get_attribute("hidden"))
+        self.driver.execute_script("document.getElementById('hj-overview').scrollIntoView()")
+        self.shot_element("hj-overview", "history-overview")
+        self.shot_element("hj-outline", "history-outline")
 
     def test_5_abort_while_running(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
