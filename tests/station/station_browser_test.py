@@ -507,12 +507,42 @@ class StationApproval(StationCase):
                   30, "the edge in the scene with the message's %d points" % message["num_edge_points"])
         self.wait(lambda d: d.execute_script(EDGE_PIXELS) > 50, 30, "the edge's pixels on the canvas")
         self.shot("approval")
+        self.replan_grind_speed(job, 0.03)
         self.click("approve")
         self.wait_state("DONE", 180)
         cookie, _ = api_login(OPERATOR, OPERATOR_PW)
         status, body, _ = http("GET", "/api/jobs/" + job, cookie=cookie)
         events = body["record"]["events"]
         self.assertTrue(any(e.get("actor") == "operator " + OPERATOR for e in events), events[-5:])
+
+    def grind_speeds(self, job, cookie):
+        """The recorded path's revision and its grind waypoints' speeds (path.json through the API)."""
+        status, job_body, _ = http("GET", "/api/jobs/" + job, cookie=cookie)
+        self.assertEqual(status, 200)
+        status, path, _ = http("GET", "/api/jobs/%s/files/path.json" % job, cookie=cookie)
+        self.assertEqual(status, 200)
+        return (job_body["record"]["job"]["path"]["revision"],
+                sorted({round(w["speed"], 6) for w in path["waypoints"] if w["kind"] == "grind"}))
+
+    def replan_grind_speed(self, job, speed):
+        """Re-plan by clicks with another grind speed (within the cell's max-speed, tool unchanged): the page
+        shows the next revision awaiting approval, and the recorded path of that revision grinds at it."""
+        cookie, _ = api_login(OPERATOR, OPERATOR_PW)
+        revision = int(self.by_id("approval-revision").text)
+        before = self.wait(lambda d: self.grind_speeds(job, cookie)[0] == revision and self.grind_speeds(job, cookie),
+                           30, "revision %d recorded" % revision)[1]
+        self.assertNotIn(speed, before)
+        self.by_id("replan-grind-speed").clear()
+        self.by_id("replan-grind-speed").send_keys(str(speed))
+        self.click("replan")
+        self.wait(lambda d: self.by_id("approval-result").text == "replan sent", 20, "the re-plan sent")
+        self.wait(lambda d: self.by_id("approval-revision").text == str(revision + 1), 60,
+                  "the approval of revision %d (shown: %s)" % (revision + 1, self.by_id("approval-revision").text))
+        self.assertEqual(self.job_state(), "AWAITING_APPROVAL")
+        self.wait(lambda d: d.find_elements(By.CSS_SELECTOR, "#approval-loops tbody tr"), 30, "the new plan's coverage")
+        after = self.wait(lambda d: self.grind_speeds(job, cookie)[0] == revision + 1 and self.grind_speeds(job, cookie),
+                          30, "revision %d recorded" % (revision + 1))[1]
+        self.assertEqual(max(after), speed)
 
     def test_2_reject(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
