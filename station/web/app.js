@@ -469,7 +469,7 @@ function alongLoop(xyz, start, length) {
   for (let i = 0; i < n; i++) perimeter += d(i, (i + 1) % n);
   if (!(perimeter > 0)) return out;
   let s = 0, end = start + Math.min(length, perimeter);
-  for (let k = 0; k < 2 * n && s <= end; k++) {
+  for (let k = 0; k < 2 * n && s < end; k++) {
     const i = k % n, j = (k + 1) % n, seg = d(i, j);
     const at = (t) => [xyz[3 * i] + t * (xyz[3 * j] - xyz[3 * i]), xyz[3 * i + 1] + t * (xyz[3 * j + 1] - xyz[3 * i + 1]), 0];
     if (s + seg >= start && seg > 0) {
