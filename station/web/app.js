@@ -453,6 +453,7 @@ async function drawRecordOverview(id, record) {
   pathCanvas.dataset.drawn = outlineCanvas.dataset.drawn = "";
   const plan = path && { position: path.waypoints.flatMap((w) => w.position), kind: path.waypoints.map((w) => KIND_NAMES.indexOf(w.kind)) };
   drawTop(pathCanvas, { plan });
+  $("hj-path-frame").textContent = (path && path.frame) || "?";
   if (path) pathCanvas.dataset.drawn = `path ${path.waypoints.length} waypoints, frame ${path.frame || "?"}`;
   const loops = outline ? outline.loops.map((l) => ({ hole: l.hole, xyz: l.points.flatMap((p) => [p[0], p[1], 0]) })) : [];
   const unreached = ((record && record.job.unground) || []).filter((u) => loops[u.loop])

@@ -398,6 +398,7 @@ class StationJobs(StationCase):
         self.wait(lambda d: self.by_id("hj-overview").get_attribute("data-drawn"), 30, "the overview drawn")
         self.assertEqual(self.by_id("hj-overview").get_attribute("data-drawn"),
                          "path %d waypoints, frame %s" % (len(body["waypoints"]), body["frame"] or "?"))
+        self.assertEqual(self.by_id("hj-path-frame").text, body["frame"])
         self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-overview", GRIND_RGB), 200)
         self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-outline", HOLE_RGB), 50)
         self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-overview", [0x10, 0x16, 0x1d]), 100000)
