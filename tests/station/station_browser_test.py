@@ -125,7 +125,7 @@ for (let i = 0; i < d.length; i += 4)
   if (Math.abs(d[i] - rgb[0]) + Math.abs(d[i + 1] - rgb[1]) + Math.abs(d[i + 2] - rgb[2]) < 60) n++;
 return n;
 """
-GRIND_RGB, HOLE_RGB = [0xff, 0x98, 0x00], [0x40, 0xc4, 0xff]
+GRIND_RGB, HOLE_RGB, UNREACHED_RGB = [0xff, 0x98, 0x00], [0x40, 0xc4, 0xff], [0xff, 0x17, 0x44]
 
 
 class StationCase(unittest.TestCase):
@@ -584,6 +584,17 @@ class StationLargerTool(StationCase):
         excluded = [e["excluded_loops"] for e in body["record"]["events"] if e.get("excluded_loops")]
         self.assertTrue(excluded, body["record"]["events"][-5:])
         self.assertEqual(sorted(excluded[0]), short)
+        # The history's overview of this job: job.json's unground stretches (the excluded loop's) in red on
+        # the recorded outline.
+        rec = body["record"]["job"]
+        self.assertTrue(rec["unground"], rec)
+        self.driver.execute_script("location.hash = arguments[0]", "#history/" + job)
+        want = "outline %d loops, %d unground stretches" % (rec["outline"]["loops"], len(rec["unground"]))
+        self.wait(lambda d: self.by_id("hj-outline").get_attribute("data-drawn") == want, 30,
+                  "the outline drawn with %s (now %s)" % (want, self.by_id("hj-outline").get_attribute("data-drawn")))
+        self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-outline", UNREACHED_RGB), 50)
+        self.driver.execute_script("document.getElementById('hj-outline').scrollIntoView()")
+        self.shot_element("hj-outline", "history-outline-unground")
 
     def test_2_without_exclusion_waits_and_reject(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
