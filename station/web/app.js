@@ -438,6 +438,8 @@ async function openRecord(id) {
 // (path.json, its own frame) and the outline (outline.json, in its plate plane: the record holds no
 // calibration to put it in the base frame) with the stretches job.json says were left unground.
 const KIND_NAMES = ["approach", "lead_in", "grind", "lead_out", "retract", "travel"];
+// Causes whose stretch is the whole loop (its length the smoothed edge's, shorter than the outline's ragged one).
+const WHOLE_LOOP = new Set(["EXCLUDED", "TOO_SMALL"]);
 async function drawRecordOverview(id, record) {
   const names = new Set(((record && record.files) || []).map((f) => f.name));
   const file = async (name) => {
@@ -457,7 +459,7 @@ async function drawRecordOverview(id, record) {
   if (path) pathCanvas.dataset.drawn = `path ${path.waypoints.length} waypoints, frame ${path.frame || "?"}`;
   const loops = outline ? outline.loops.map((l) => ({ hole: l.hole, xyz: l.points.flatMap((p) => [p[0], p[1], 0]) })) : [];
   const unreached = ((record && record.job.unground) || []).filter((u) => loops[u.loop])
-    .map((u) => ({ xyz: alongLoop(loops[u.loop].xyz, u.start, u.length) }));
+    .map((u) => ({ xyz: alongLoop(loops[u.loop].xyz, u.start, WHOLE_LOOP.has(u.cause) ? Infinity : u.length) }));
   drawTop(outlineCanvas, { outline: outline && { loops }, plan: { position: [], kind: [], unreached } });
   if (outline) outlineCanvas.dataset.drawn = `outline ${loops.length} loops, ${unreached.length} unground stretches`;
 }
