@@ -4,10 +4,11 @@ tools/supervisor). Runs in a network namespace of its own (CTest: tests/netns.sh
 
 StationBrowser: log in, wrong password, a viewer (no buttons, the API's 403), a POST without the CSRF
 token. StationJobs: a job started by clicks drawn in 3-D (the canvas's pixels read) that ends DONE and is
-found in the history with its downloads, ABORT while RUNNING, a robot fault shown with its reason and
-cleared by RESET.
-StationApproval (the job protocol: a cell with `approval: operator`): AWAITING_APPROVAL, approve, DONE;
-a larger tool: exclude the unreachable loop, DONE with the exclusion in the record; the same job rejected.
+found in the history with its downloads and the overview drawn from the record (pixels read), ABORT while
+RUNNING, a robot fault shown with its reason and cleared by RESET.
+StationApproval (the job protocol: a cell with `approval: operator`): AWAITING_APPROVAL, re-plan by clicks
+at another grind speed, approve, DONE; a larger tool: exclude the unreachable loop, DONE with the exclusion
+in the record and red in the history's overview; the same job rejected.
 No scenario may leave a JavaScript error in the browser's console.
 
 HG_STATION_SHOTS=DIR writes a screenshot of each view there (docs/station/ holds the ones docs/station.md shows)."""
