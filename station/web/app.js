@@ -424,6 +424,7 @@ async function openRecord(id) {
     li.appendChild(a);
     files.appendChild(li);
   }
+  await drawRecordOverview(id, r.record);
   const tbody = $("hj-events").querySelector("tbody");
   tbody.replaceChildren();
   for (const e of r.record ? r.record.events : [])
@@ -431,6 +432,56 @@ async function openRecord(id) {
   const open = el("a", "open the live view");
   open.href = "#job/" + encodeURIComponent(id);
   files.appendChild(el("li")).appendChild(open);
+}
+
+// The overview from the record alone (a job heard before the station started has no live data): the path
+// (path.json, its own frame) and the outline (outline.json, in its plate plane: the record holds no
+// calibration to put it in the base frame) with the stretches job.json says were left unground.
+const KIND_NAMES = ["approach", "lead_in", "grind", "lead_out", "retract", "travel"];
+// Causes whose stretch is the whole loop (its length the smoothed edge's, shorter than the outline's ragged one).
+const WHOLE_LOOP = new Set(["EXCLUDED", "TOO_SMALL"]);
+async function drawRecordOverview(id, record) {
+  const names = new Set(((record && record.files) || []).map((f) => f.name));
+  const file = async (name) => {
+    if (!names.has(name)) return null;
+    const d = await api.get(`/api/jobs/${encodeURIComponent(id)}/files/${name}`);
+    return typeof d === "string" ? JSON.parse(d) : d;
+  };
+  const [path, outline] = await Promise.all([file("path.json"), file("outline.json")]);
+  const none = $("hj-overview-none");
+  none.hidden = !!(path && outline);
+  none.textContent = `The record holds no ${[path ? "" : "path.json", outline ? "" : "outline.json"].filter(Boolean).join(" and ")}: not drawn.`;
+  const pathCanvas = $("hj-overview"), outlineCanvas = $("hj-outline");
+  pathCanvas.dataset.drawn = outlineCanvas.dataset.drawn = "";
+  const plan = path && { position: path.waypoints.flatMap((w) => w.position), kind: path.waypoints.map((w) => KIND_NAMES.indexOf(w.kind)) };
+  drawTop(pathCanvas, { plan });
+  $("hj-path-frame").textContent = (path && path.frame) || "?";
+  if (path) pathCanvas.dataset.drawn = `path ${path.waypoints.length} waypoints, frame ${path.frame || "?"}`;
+  const loops = outline ? outline.loops.map((l) => ({ hole: l.hole, xyz: l.points.flatMap((p) => [p[0], p[1], 0]) })) : [];
+  const unreached = ((record && record.job.unground) || []).filter((u) => loops[u.loop])
+    .map((u) => ({ xyz: alongLoop(loops[u.loop].xyz, u.start, WHOLE_LOOP.has(u.cause) ? Infinity : u.length) }));
+  drawTop(outlineCanvas, { outline: outline && { loops }, plan: { position: [], kind: [], unreached } });
+  if (outline) outlineCanvas.dataset.drawn = `outline ${loops.length} loops, ${unreached.length} unground stretches`;
+}
+
+// The points of a closed loop (xyz flat) from arc length `start` over `length` (wrapping past the first vertex).
+function alongLoop(xyz, start, length) {
+  const n = xyz.length / 3, out = [];
+  const d = (i, j) => Math.hypot(xyz[3 * j] - xyz[3 * i], xyz[3 * j + 1] - xyz[3 * i + 1]);
+  let perimeter = 0;
+  for (let i = 0; i < n; i++) perimeter += d(i, (i + 1) % n);
+  if (!(perimeter > 0)) return out;
+  let s = 0, end = start + Math.min(length, perimeter);
+  for (let k = 0; k < 2 * n && s < end; k++) {
+    const i = k % n, j = (k + 1) % n, seg = d(i, j);
+    const at = (t) => [xyz[3 * i] + t * (xyz[3 * j] - xyz[3 * i]), xyz[3 * i + 1] + t * (xyz[3 * j + 1] - xyz[3 * i + 1]), 0];
+    if (s + seg >= start && seg > 0) {
+      if (!out.length) out.push(...at((start - s) / seg));
+      out.push(...at(Math.min(1, (end - s) / seg)));
+    }
+    s += seg;
+  }
+  return out;
 }
 
 // ---- start ----

@@ -4,10 +4,11 @@ tools/supervisor). Runs in a network namespace of its own (CTest: tests/netns.sh
 
 StationBrowser: log in, wrong password, a viewer (no buttons, the API's 403), a POST without the CSRF
 token. StationJobs: a job started by clicks drawn in 3-D (the canvas's pixels read) that ends DONE and is
-found in the history with its downloads, ABORT while RUNNING, a robot fault shown with its reason and
-cleared by RESET.
-StationApproval (the job protocol: a cell with `approval: operator`): AWAITING_APPROVAL, approve, DONE;
-a larger tool: exclude the unreachable loop, DONE with the exclusion in the record; the same job rejected.
+found in the history with its downloads and the overview drawn from the record (pixels read), ABORT while
+RUNNING, a robot fault shown with its reason and cleared by RESET.
+StationApproval (the job protocol: a cell with `approval: operator`): AWAITING_APPROVAL, re-plan by clicks
+at another grind speed, approve, DONE; a larger tool: exclude the unreachable loop, DONE with the exclusion
+in the record and red in the history's overview; the same job rejected.
 No scenario may leave a JavaScript error in the browser's console.
 
 HG_STATION_SHOTS=DIR writes a screenshot of each view there (docs/station/ holds the ones docs/station.md shows)."""
@@ -113,6 +114,19 @@ let n = 0;
 for (let i = 0; i < d.length; i += 4) if (d[i] > 200 && d[i + 2] > 200 && d[i + 1] < 120) n++;
 return n;
 """
+
+# Pixels of a 2-D canvas (by id) near a colour: the history's overview of the recorded path (grind 0xff9800,
+# scene.js KIND_COLOURS) and outline (holes 0x40c4ff, scene.js HOLE); neither is the background or the bar.
+COLOUR_PIXELS = """
+const c = document.getElementById(arguments[0]);
+if (!c || !c.width) return -1;
+const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data, rgb = arguments[1];
+let n = 0;
+for (let i = 0; i < d.length; i += 4)
+  if (Math.abs(d[i] - rgb[0]) + Math.abs(d[i + 1] - rgb[1]) + Math.abs(d[i + 2] - rgb[2]) < 60) n++;
+return n;
+"""
+GRIND_RGB, HOLE_RGB, UNREACHED_RGB = [0xff, 0x98, 0x00], [0x40, 0xc4, 0xff], [0xff, 0x17, 0x44]
 
 
 class StationCase(unittest.TestCase):
@@ -245,6 +259,11 @@ class StationCase(unittest.TestCase):
             self.driver.execute_script("window.scrollTo(0, 0)")  # the view's title and state, not the last click
             self.driver.save_screenshot(os.path.join(SHOTS, name + ".png"))
 
+    def shot_element(self, id_, name):
+        if SHOTS:
+            os.makedirs(SHOTS, exist_ok=True)
+            self.by_id(id_).screenshot(os.path.join(SHOTS, name + ".png"))
+
     def login(self, user, password):
         d = self.driver
         d.get(URL + "/api/session")  # a page without script: no live connection left to fail on logout
@@ -375,6 +394,19 @@ class StationJobs(StationCase):
         self.assertEqual(status, 200)
         self.assertEqual(body["job_id"], job)
         self.assertGreater(len(body["waypoints"]), 10)
+        # The overview drawn from the record: the path's grind segments and the outline's holes on their
+        # canvases, the path's waypoint count the one path.json holds.
+        self.wait(lambda d: self.by_id("hj-overview").get_attribute("data-drawn"), 30, "the overview drawn")
+        self.assertEqual(self.by_id("hj-overview").get_attribute("data-drawn"),
+                         "path %d waypoints, frame %s" % (len(body["waypoints"]), body["frame"] or "?"))
+        self.assertEqual(self.by_id("hj-path-frame").text, body["frame"])
+        self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-overview", GRIND_RGB), 200)
+        self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-outline", HOLE_RGB), 50)
+        self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-overview", [0x10, 0x16, 0x1d]), 100000)
+        self.assertTrue(self.by_id("hj-overview-none").get_attribute("hidden"))
+        self.driver.execute_script("document.getElementById('hj-overview').scrollIntoView()")
+        self.shot_element("hj-overview", "history-overview")
+        self.shot_element("hj-outline", "history-outline")
 
     def test_5_abort_while_running(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
@@ -477,12 +509,42 @@ class StationApproval(StationCase):
                   30, "the edge in the scene with the message's %d points" % message["num_edge_points"])
         self.wait(lambda d: d.execute_script(EDGE_PIXELS) > 50, 30, "the edge's pixels on the canvas")
         self.shot("approval")
+        self.replan_grind_speed(job, 0.03)
         self.click("approve")
         self.wait_state("DONE", 180)
         cookie, _ = api_login(OPERATOR, OPERATOR_PW)
         status, body, _ = http("GET", "/api/jobs/" + job, cookie=cookie)
         events = body["record"]["events"]
         self.assertTrue(any(e.get("actor") == "operator " + OPERATOR for e in events), events[-5:])
+
+    def grind_speeds(self, job, cookie):
+        """The recorded path's revision and its grind waypoints' speeds (path.json through the API)."""
+        status, job_body, _ = http("GET", "/api/jobs/" + job, cookie=cookie)
+        self.assertEqual(status, 200)
+        status, path, _ = http("GET", "/api/jobs/%s/files/path.json" % job, cookie=cookie)
+        self.assertEqual(status, 200)
+        return (job_body["record"]["job"]["path"]["revision"],
+                sorted({round(w["speed"], 6) for w in path["waypoints"] if w["kind"] == "grind"}))
+
+    def replan_grind_speed(self, job, speed):
+        """Re-plan by clicks with another grind speed (within the cell's max-speed, tool unchanged): the page
+        shows the next revision awaiting approval, and the recorded path of that revision grinds at it."""
+        cookie, _ = api_login(OPERATOR, OPERATOR_PW)
+        revision = int(self.by_id("approval-revision").text)
+        before = self.wait(lambda d: self.grind_speeds(job, cookie)[0] == revision and self.grind_speeds(job, cookie),
+                           30, "revision %d recorded" % revision)[1]
+        self.assertNotIn(speed, before)
+        self.by_id("replan-grind-speed").clear()
+        self.by_id("replan-grind-speed").send_keys(str(speed))
+        self.click("replan")
+        self.wait(lambda d: self.by_id("approval-result").text == "replan sent", 20, "the re-plan sent")
+        self.wait(lambda d: self.by_id("approval-revision").text == str(revision + 1), 60,
+                  "the approval of revision %d (shown: %s)" % (revision + 1, self.by_id("approval-revision").text))
+        self.assertEqual(self.job_state(), "AWAITING_APPROVAL")
+        self.wait(lambda d: d.find_elements(By.CSS_SELECTOR, "#approval-loops tbody tr"), 30, "the new plan's coverage")
+        after = self.wait(lambda d: self.grind_speeds(job, cookie)[0] == revision + 1 and self.grind_speeds(job, cookie),
+                          30, "revision %d recorded" % (revision + 1))[1]
+        self.assertEqual(max(after), speed)
 
     def test_2_reject(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
@@ -523,6 +585,17 @@ class StationLargerTool(StationCase):
         excluded = [e["excluded_loops"] for e in body["record"]["events"] if e.get("excluded_loops")]
         self.assertTrue(excluded, body["record"]["events"][-5:])
         self.assertEqual(sorted(excluded[0]), short)
+        # The history's overview of this job: job.json's unground stretches (the excluded loop's) in red on
+        # the recorded outline.
+        rec = body["record"]["job"]
+        self.assertTrue(rec["unground"], rec)
+        self.driver.execute_script("location.hash = arguments[0]", "#history/" + job)
+        want = "outline %d loops, %d unground stretches" % (rec["outline"]["loops"], len(rec["unground"]))
+        self.wait(lambda d: self.by_id("hj-outline").get_attribute("data-drawn") == want, 30,
+                  "the outline drawn with %s (now %s)" % (want, self.by_id("hj-outline").get_attribute("data-drawn")))
+        self.assertGreater(self.driver.execute_script(COLOUR_PIXELS, "hj-outline", UNREACHED_RGB), 50)
+        self.driver.execute_script("document.getElementById('hj-outline').scrollIntoView()")
+        self.shot_element("hj-outline", "history-outline-unground")
 
     def test_2_without_exclusion_waits_and_reject(self):
         self.login_ok(OPERATOR, OPERATOR_PW)
