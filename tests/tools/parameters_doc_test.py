@@ -13,8 +13,8 @@ DOC = os.path.join(SRC, "docs", "PARAMETERS.md")
 PROGRAMS = ["hg-camera-bridge", "hg-outline-service", "hg-path-planner", "hg-robot-bridge", "hg-dds-gateway",
             "hg-job-recorder", "hg-foxglove", "hg-station", "hg-station-user", "hg-plan", "hg-outline", "hg-robot-export",
             "hg-gen", "hg-calibrate", "hg-mcap", "hg-overview", "hg-lcm-dump", "hg-lcm-send", "hg-camera-render",
-            "hg-fake-genicam", "hg-bench", "hg-bench-camera", "hg-bench-outline-service", "hg-plan-bench",
-            "hg-core-timing", "hg-radius-table"]
+            "hg-fake-genicam", "hg-bench", "hg-bench-camera", "hg-bench-outline-service", "hg-bench-station-feed",
+            "hg-plan-bench", "hg-core-timing", "hg-radius-table"]
 # The programs without options of their own (not runtime::Params): the page names them and says why. Every user
 # program (HG_PROGRAMS, from CMake) is in one list or the other.
 OWN_OPTIONS = ["hg-bench-rss"]
