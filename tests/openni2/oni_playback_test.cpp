@@ -34,6 +34,7 @@ std::string record(const std::string& uri, const std::string& name, int frames) 
     if (stream.readFrame(&f) != openni::STATUS_OK) break;
     if (f.getFrameIndex() >= frames) break;
   }
+  f.release();    // the frame belongs to the stream: held past stream.destroy(), its release reads freed memory
   stream.stop();  // no frame after this one; then the recorder writes what it has queued and closes
   recorder.stop();
   recorder.destroy();

@@ -142,6 +142,7 @@ TEST(OpenNI2VirtualDevice, OtherDepthUnitIsRecountedFromTheSameFrame) {
           std::uint16_t(std::min<long>(std::lround(native.at<std::uint16_t>(y, x) * ratio), 65534));
   const cv::Mat got(f.getHeight(), f.getWidth(), CV_16UC1, const_cast<void*>(f.getData()), f.getStrideInBytes());
   EXPECT_EQ(differing_pixels(got, want), 0);
+  f.release();  // the frame belongs to the stream: released before the stream is destroyed
   stream.stop();
   stream.destroy();
   device.close();
