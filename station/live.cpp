@@ -168,8 +168,16 @@ Json outline_json(const hullgrind::outline_t& o, const Eigen::Isometry3d& camera
           {"points_read", o.points_read},
           {"quality", o.quality},
           {"quality_text", o.quality_text},
+          {"edge_dropout_fraction", o.edge_dropout_fraction},
+          {"largest_edge_gap", o.largest_edge_gap},
           {"holes_dropped", o.holes_dropped},
+          {"holes_dropped_area", o.holes_dropped_area},
+          {"fragments_dropped", o.fragments_dropped},
+          {"fragments_dropped_area", o.fragments_dropped_area},
+          {"dropped_text", o.dropped_text},
           {"point_spacing", o.point_spacing},
+          {"alpha_mode", o.alpha_mode},
+          {"alpha_automatic", o.alpha_automatic},
           {"compute_time", o.compute_time},
           {"loops", loops}};
 }

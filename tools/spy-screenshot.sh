@@ -9,7 +9,7 @@ source "$here/version.sh"
 hg_answer spy-screenshot "$0" "$@"
 repo="$(dirname "$here")"
 if [[ "${HG_IN_NETNS:-}" != "1" ]]; then
-  exec "$repo/tests/netns.sh" "$0" "$@"
+  exec "$repo/tests/netns.sh" --own-pids "$0" "$@"
 fi
 out="$(realpath -m "${1:-$repo/docs/spy.png}")"
 build="${HG_BUILD_DIR:-$repo/build}"

@@ -214,6 +214,7 @@ function renderJob() {
   $("job-progress-bar").style.width = `${100 * (st === "DONE" ? 1 : running !== null ? running : 0)}%`;
   $("job-abort").hidden = TERMINAL.has(st);
   renderTimeline(live ? live.statuses : []);
+  renderScan(live && live.outline);
   renderApproval(st, live);
   if (live) {
     state.scene.setOutline(live.outline);
@@ -234,6 +235,37 @@ function drawTopView() {
     const live = state.job && state.job.live;
     drawTop($("job-top"), { cloud: state.cloud, outline: live && live.outline, plan: live && live.plan, tcp: state.tcp });
   });
+}
+
+// outline_t's QUALITY_*: what the outline service judged of the scan's edge against the cell's limits.
+const VERDICT = { 0: "not assessed", 1: "OK", 2: "POOR: rescan" };
+const mm = (m) => `${(m * 1000).toFixed(1)} mm`;
+const mm2 = (m2) => `${(m2 * 1e6).toFixed(0)} mm²`;
+
+// The outline's scan-quality figures, so that an operator sees why a job ended NEEDS_RESCAN (or what was
+// filled and dropped on the way to a plan).
+function renderScan(o) {
+  const dl = $("job-scan"), verdict = $("job-scan-verdict");
+  dl.replaceChildren();
+  verdict.textContent = o ? VERDICT[o.quality] || `quality ${o.quality}` : "no outline yet";
+  verdict.className = "verdict q" + (o ? o.quality : "");
+  if (!o) return;
+  const entries = [
+    ["edge in dropout or shadow", `${(100 * o.edge_dropout_fraction).toFixed(1)} %`],
+    ["largest gap along the edge", mm(o.largest_edge_gap)],
+    ["why", o.quality_text || "-"],
+    ["gaps filled or dropped", `${o.holes_dropped} (${mm2(o.holes_dropped_area)})`],
+    ["fragments dropped", `${o.fragments_dropped} (${mm2(o.fragments_dropped_area)})`],
+    ["dropped", o.dropped_text || "-"],
+    ["points", o.points_read],
+    ["point spacing h", mm(o.point_spacing)],
+    ["alpha radius R", `${mm(o.alpha_radius)} (${o.alpha_automatic ? "automatic" : "given"}, ${o.alpha_mode || "-"})`],
+  ];
+  for (const [k, v] of entries) {
+    const dt = el("dt", k);
+    dt.dataset.key = k;
+    dl.append(dt, el("dd", v));
+  }
 }
 
 function renderTimeline(statuses) {

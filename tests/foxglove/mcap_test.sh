@@ -12,7 +12,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 src="${HG_SOURCE_DIR:-$(cd "$here/../.." && pwd)}"
 source "$src/tools/version.sh"
 hg_answer mcap_test.sh "$0" "$@"
-if [[ "${HG_IN_NETNS:-}" != "1" ]]; then exec "$src/tests/netns.sh" "$0" "$@"; fi
+if [[ "${HG_IN_NETNS:-}" != "1" ]]; then exec "$src/tests/netns.sh" --own-pids "$0" "$@"; fi
 bin="${HG_BIN_DIR:-$src/build/bin}"
 export NODE_PATH="${HG_NPM_DIR:-$src/build/npm}/node_modules"
 check="node $here/mcap_check.js"

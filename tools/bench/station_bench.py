@@ -330,7 +330,7 @@ def main():
     args = ap.parse_args()
     if os.environ.get("HG_IN_NETNS") != "1":
         os.execv(os.path.join(SRC, "tests", "netns.sh"),
-                 [os.path.join(SRC, "tests", "netns.sh"), "/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
+                 [os.path.join(SRC, "tests", "netns.sh"), "--own-pids", "/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
     bench(args)
 
 

@@ -12,7 +12,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/../../.." && pwd)"
 source "$repo/tools/version.sh"
 hg_answer make-logs.sh "$0" "$@"
-if [[ "${HG_IN_NETNS:-}" != "1" ]]; then exec "$repo/tests/netns.sh" "$0" "$@"; fi
+if [[ "${HG_IN_NETNS:-}" != "1" ]]; then exec "$repo/tests/netns.sh" --own-pids "$0" "$@"; fi
 bin="${HG_BUILD_DIR:-$repo/build}/bin"
 data="$repo/tests/data"
 
