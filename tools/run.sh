@@ -94,7 +94,7 @@ while [[ $# -gt 0 ]]; do
     --job-id) need_value "$@"; JOB_ID=$2; shift 2 ;;
     --timeout) need_value "$@"; TIMEOUT=$2; shift 2 ;;
     --offline) offline; exit $? ;;
-    --station) shift; exec "$ROOT/tools/station.sh" "$@" ;;
+    --station) shift; exec "$ROOT/tools/station.sh" --out "$(absolute "$OUT")" --pipeline "$PIPELINE" ${CELL:+--cell "$CELL"} "$@" ;;
     -h|--help) usage; exit 0 ;;
     *) echo "run.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac

@@ -6,23 +6,31 @@
 # this machine's browser at http://127.0.0.1:PORT (default 8080) through a Unix socket (tools/station-forward):
 # LCM stays inside the namespace. On the first start it makes the user `operator` (role operator) with a
 # generated password, written to OUT/station/first-password (mode 0600) and printed once.
-#   tools/station.sh [--pipeline FILE] [--port PORT]
+#   tools/station.sh [--out DIR] [--pipeline FILE] [--cell FILE] [--port PORT]
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
 hg_answer station.sh "$0" "$@"
+CALLER=$PWD  # relative --out, --pipeline and --cell are relative to where it was started
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 BIN=${BIN:-$ROOT/build/bin}
-OUT=$ROOT/out  # the pipeline files name ../out/ (the station's users, the recorder's jobs)
+OUT=${OUT:-$ROOT/out}  # ${OUT} of the pipeline file: the station's users, the recorder's jobs, the logs
 PIPELINE=$ROOT/config/pipeline.toml
+CELL=''
 PORT=8080
+absolute() { [[ $1 == /* ]] && echo "$1" || echo "$CALLER/$1"; }
 while [[ $# -gt 0 ]]; do
+  case "$1" in --out | --pipeline | --cell | --port) [[ $# -ge 2 ]] || { echo "station.sh: $1 needs a value" >&2; exit 2; } ;; esac
   case "$1" in
-    --pipeline) PIPELINE=$(realpath "$2"); shift 2 ;;
+    --out) OUT=$(absolute "$2"); shift 2 ;;
+    --pipeline) PIPELINE=$(realpath "$(absolute "$2")"); shift 2 ;;
+    --cell) CELL=$(absolute "$2"); shift 2 ;;
     --port) PORT=$2; shift 2 ;;
-    *) echo "station.sh: unknown option $1 (--pipeline FILE, --port PORT)" >&2; exit 2 ;;
+    *) echo "station.sh: unknown option $1 (--out DIR, --pipeline FILE, --cell FILE, --port PORT)" >&2; exit 2 ;;
   esac
 done
+[[ $PORT =~ ^[0-9]+$ ]] || { echo "station.sh: --port must be a port number, not '$PORT'" >&2; exit 2; }
+[[ -z $CELL || -f $CELL ]] || { echo "station.sh: --cell $CELL: no such file" >&2; exit 2; }
 SOCK=$OUT/station/http.sock
 mkdir -p "$OUT/station"
 chmod 700 "$OUT/station"
@@ -35,7 +43,7 @@ if [[ "${HG_IN_NETNS:-}" != "1" ]]; then
   sleep 0.3
   kill -0 $fwd 2>/dev/null || { cat "$OUT/station/forward-host.log" >&2; echo "station.sh: cannot listen on 127.0.0.1:$PORT" >&2; exit 1; }
   export HG_RUN_ID=${HG_RUN_ID:-run-$(date -u +%Y%m%dT%H%M%S)-$$}
-  "$ROOT/tests/netns.sh" "$0" --pipeline "$PIPELINE" --port "$PORT" || true
+  "$ROOT/tests/netns.sh" "$0" --out "$OUT" --pipeline "$PIPELINE" ${CELL:+--cell "$CELL"} --port "$PORT" || true
   exit 0
 fi
 
@@ -55,7 +63,7 @@ rm -rf "$OUT/logs" "$OUT/supervisor"
 if grep -q dds-security "$PIPELINE" && [[ ! -f "$OUT/dds-security/governance.p7s" ]]; then
   "$ROOT/tools/make-dds-security.sh" "$OUT/dds-security" >/dev/null
 fi
-"$ROOT/tools/supervisor" run "$PIPELINE" >"$OUT/supervisor.out" 2>"$OUT/supervisor.log" &
+"$ROOT/tools/supervisor" run --out "$OUT" ${CELL:+--set "CELL=$CELL"} "$PIPELINE" >"$OUT/supervisor.out" 2>"$OUT/supervisor.log" &
 pids=("$!")
 "$ROOT/tools/station-forward" --listen-unix "$SOCK" --to-tcp "127.0.0.1:8080" >"$OUT/station/forward-netns.log" 2>&1 &
 pids+=("$!")
