@@ -52,6 +52,15 @@ class PipelineFiles(unittest.TestCase):
         # The outline service, planner, robot bridge, Foxglove server and station in each file.
         self.assertGreaterEqual(readers, 2 * 5)
 
+    def test_every_output_is_under_the_output_folder(self):
+        # One pipeline per output folder: nothing of a run is written beside another run's (no ../out/).
+        for path in sorted(glob.glob(os.path.join(SRC, "config", "pipeline*.toml"))):
+            with open(path, "rb") as f:
+                doc = tomllib.load(f)
+            args = [a for p in doc["process"] for a in p["command"]] + [str(v) for v in doc["supervisor"].values()]
+            with self.subTest(file=os.path.basename(path)):
+                self.assertEqual([a for a in args if "../out" in a], [])
+
     def test_reads_cell_tells_readers_from_others(self):
         # The probe itself: the planner reads one, the job recorder does not.
         self.assertTrue(reads_cell("hg-path-planner"))
