@@ -174,35 +174,41 @@ int run_profile(const std::vector<Vec2>& scan, Mode mode, int threads, int runs)
   return 0;
 }
 
-// Wall time of one default one-thread outline, ms.
-double one_outline_ms(const std::vector<Vec2>& pts, const Options& o) {
-  const auto t0 = std::chrono::steady_clock::now();
+// Wall and thread CPU time (user + system) of one default one-thread outline, ms.
+StageCost one_outline(const std::vector<Vec2>& pts, const Options& o) {
+  const Mark a = Mark::now();
   const Result r = compute_outline(pts, o);
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return between(a, Mark::now());
 }
 
 // One outline alone, then two at once (each the whole cloud, on its own thread): with the two at once
 // taking `together`, a perfect split of one outline over the two cores would take together / 2, so
-// together / (2 alone) is the best ratio of 2 threads to 1 that any design reaches here.
+// together / (2 alone) is the best ratio of 2 threads to 1 that any design reaches here. The CPU times
+// say the same on a loaded machine, where the wall times do not: a copy's CPU time grows when the other
+// core's work slows it (shared caches, memory, a shared physical core).
 int run_pair(const std::vector<Vec2>& scan, Mode mode, int runs) {
   Options o;
   o.mode = mode;
   o.order = Order::Brio;
   o.threads = 1;
-  std::vector<double> alone, together;
+  std::vector<double> alone, together, cpu_alone, cpu_together;
   for (int k = 0; k < runs; ++k) {
-    alone.push_back(one_outline_ms(scan, o));
-    double a = 0, b = 0;
-    std::thread other([&] { a = one_outline_ms(scan, o); });
-    b = one_outline_ms(scan, o);
+    const StageCost one = one_outline(scan, o);
+    alone.push_back(one.wall_ms), cpu_alone.push_back(one.cpu_ms());
+    StageCost a, b;
+    std::thread other([&] { a = one_outline(scan, o); });
+    b = one_outline(scan, o);
     other.join();
-    together.push_back(std::max(a, b));
+    together.push_back(std::max(a.wall_ms, b.wall_ms));
+    cpu_together.push_back(a.cpu_ms()), cpu_together.push_back(b.cpu_ms());
   }
-  const double m1 = median(alone), m2 = median(together);
+  const double m1 = median(alone), m2 = median(together), c1 = median(cpu_alone), c2 = median(cpu_together);
+  std::printf("pair: %zu points, %d runs (medians)\n", scan.size(), runs);
   std::printf(
-      "pair: %zu points, %d runs: one outline alone %.1f ms, two at once %.1f ms (the slower), "
-      "two at once / alone %.2f, best 2-thread / 1-thread ratio %.2f (medians)\n",
-      scan.size(), runs, m1, m2, m2 / m1, m2 / (2 * m1));
+      "  wall: one outline alone %.1f ms, two at once %.1f ms (the slower): %.2f x, best 2-thread / 1-thread "
+      "ratio %.2f\n",
+      m1, m2, m2 / m1, m2 / (2 * m1));
+  std::printf("  thread CPU: alone %.1f ms, each of two at once %.1f ms: %.2f x\n", c1, c2, c2 / c1);
   return 0;
 }
 
