@@ -371,16 +371,13 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
 
 // The strip's owned vertices in cells of size `cell` over the box (counting sort). Merged duplicates
 // are indexed too (T.vrep is gone by now; a duplicate's circle test is its representative's).
-void index_owned(Strip& s, double cell, double miny, double maxy) {
+void index_owned(Strip& s, double cell, const Box& box) {
   auto for_owned = [&](auto f) {
     for (std::uint32_t v = 0; v < s.T.xy.size(); ++v)
       if (s.owns_x(s.at(v).x)) f(v);
   };
-  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0;
-  for_owned([&](std::uint32_t v) {
-    const double x = s.at(v).x;
-    x0 = std::min(x0, x), x1 = std::max(x1, x);
-  });
+  // The owned x range within the box (no pass to find the owned vertices' own range).
+  const double x0 = std::max(s.lo, box.minx), x1 = std::min(s.hi, box.maxx), miny = box.miny, maxy = box.maxy;
   if (!(x1 >= x0)) return;
   s.cx0 = x0, s.cy0 = miny, s.cell = cell;
   s.nx = static_cast<std::size_t>((x1 - x0) / cell) + 1, s.ny = static_cast<std::size_t>((maxy - miny) / cell) + 1;
@@ -609,7 +606,7 @@ bool merge_surveys(std::vector<Strip>& strips, const Options& options, const Spl
   lap.to(survey.profile.merge);
   auto cells = [&](std::size_t i) {
     Lap l;
-    index_owned(strips[i], margin / 2, box.miny, box.maxy);
+    index_owned(strips[i], margin / 2, box);
     l.to(strips[i].cost.cells);
   };
   auto check = [&](std::size_t i) {
