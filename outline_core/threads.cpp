@@ -225,6 +225,10 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
   // reads two per half-edge, and nn2 and vrep are gone by now, so the bytes fit under the strips' peak.
   std::vector<std::uint8_t> trusted(T.slots(), 0);
   const std::size_t slots = T.slots();
+  // The measure and the deep test read the translated coordinates: the measure takes differences only
+  // (the same values as from the input's), and the strip's ends translated round far below the deep
+  // test's slack (0.25 % of M; coordinates are below 1e9 M).
+  const double lo_t = s.lo - T.origin.x, hi_t = s.hi - T.origin.x;
   for (std::size_t t = 0; t < slots; ++t) {
     // The vertices are scattered over xy: fetching a few triangles ahead overlaps the cache misses, as
     // scan_triangles does (the same pass on one thread).
@@ -233,15 +237,16 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
         if (const std::uint32_t w = T.tri[3 * (t + kAhead) + i]; w != T.ghost) __builtin_prefetch(&T.xy[w]);
     if (T.is_ghost(t)) continue;
     const std::uint32_t* v = &T.tri[3 * t];
-    const Vec2 a = at(v[0]), b = at(v[1]), c = at(v[2]);
-    const TriangleMeasure m = measure_triangle(a, b, c, s.scan.scale2);
+    const Vec2 &pa = T.xy[v[0]], &pb = T.xy[v[1]], &pc = T.xy[v[2]];
+    const TriangleMeasure m = measure_triangle(pa, pb, pc, s.scan.scale2);
     s.scan.rclass[t] = m.rclass;
-    if (deep_inside(a, b, c, m, s.lo, s.hi, deep)) {
+    if (deep_inside(pa, pb, pc, m, lo_t, hi_t, deep)) {
       trusted[t] = 1;
       s.areas.add(m.area);
       if (keep) s.kept.push_back({T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]});
       continue;
     }
+    const Vec2 a = at(v[0]), b = at(v[1]), c = at(v[2]);
     const Circle k = circle_of(a, b, c);
     const int sl = left_open ? 1 : circumcentre_side(a, b, c, k, s.lo);
     const int sh = right_open ? -1 : circumcentre_side(a, b, c, k, s.hi);
@@ -256,10 +261,12 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
     s.areas.add(m.area);
     if (keep) s.kept.push_back({T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]});
   }
+  // The frontier, found from the other side: the triangles not trusted here (ghosts, the other strips',
+  // the untrusted) are a few percent of the slots.
   for (std::uint32_t t = 0; t < slots; ++t) {
-    if (!trusted[t]) continue;
-    for (std::uint32_t h = 3 * t; h < 3 * t + 3; ++h)
-      if (!trusted[T.twin[h] / 3]) {
+    if (trusted[t]) continue;
+    for (std::uint32_t g = 3 * t; g < 3 * t + 3; ++g)
+      if (const std::uint32_t h = T.twin[g]; trusted[h / 3]) {
         const std::uint32_t u = T.tri[h], w = T.tri[Triangulation::next(h)];
         s.frontier.push_back({{T.ids[u], at(u)}, {T.ids[w], at(w)}});
       }
