@@ -38,7 +38,9 @@ double median(std::vector<double> v) {
 
 constexpr const char* kUsageHead =
     "usage: hg-core-timing FILE [options]\n"
-    "Times the outline core's stages on a point-cloud file per insertion order (docs/BENCHMARKS.md).\n";
+    "Times the outline core's stages on a point-cloud file per insertion order; with --profile, what each\n"
+    "stage costs each thread; with --pair, two one-thread outlines at once against one alone\n"
+    "(docs/outline-core-performance.md, docs/BENCHMARKS-core.md).\n";
 
 std::vector<hg::runtime::Param> timing_params() {
   using namespace hg::runtime;
