@@ -139,21 +139,6 @@ double median_distance(std::span<const float> squared) {
 
 AreaHistogram::AreaHistogram() = default;
 
-bool AreaHistogram::bucket_of(double area, std::uint32_t& bucket) {
-  if (!float_key(static_cast<float>(area), bucket)) return false;
-  bucket >>= 12;
-  return true;
-}
-
-void AreaHistogram::add(double area) {
-  std::uint32_t b;
-  if (!bucket_of(area, b)) return;
-  if (hist_.empty()) [[unlikely]]
-    hist_.assign(kBuckets, 0);
-  ++hist_[b];
-  ++used_;
-}
-
 void AreaHistogram::merge(const AreaHistogram& other) {
   if (other.hist_.empty()) return;
   if (hist_.empty()) hist_.assign(kBuckets, 0);

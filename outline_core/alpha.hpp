@@ -51,8 +51,22 @@ class AreaHistogram {
  public:
   AreaHistogram();
   // The bucket of an area (its float's top 20 bits); false for a non-finite area.
-  static bool bucket_of(double area, std::uint32_t& bucket);
-  void add(double area);  // non-finite areas are not counted
+  // Inline: a pass over millions of triangles adds each one's area.
+  static bool bucket_of(double area, std::uint32_t& bucket) {
+    const float f = static_cast<float>(area);
+    if (!std::isfinite(f)) return false;
+    std::memcpy(&bucket, &f, 4);
+    bucket = (bucket & 0x7fffffffu) >> 12;  // -0.0f as +0.0f
+    return true;
+  }
+  void add(double area) {  // non-finite areas are not counted
+    std::uint32_t b;
+    if (!bucket_of(area, b)) return;
+    if (hist_.empty()) [[unlikely]]
+      hist_.assign(kBuckets, 0);
+    ++hist_[b];
+    ++used_;
+  }
   void merge(const AreaHistogram& other);
   std::size_t count() const { return used_; }
   std::size_t bucket_at(std::size_t rank) const;  // the bucket holding the element of this rank (< count)
