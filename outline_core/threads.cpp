@@ -222,7 +222,7 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
   s.scan.scale2 = class_scale(T);
   s.scan.rclass.assign(T.slots(), 0);  // 0: a ghost triangle's class
   // Counted here and proven (untrusted ones are checked later). Bytes, not bits: the frontier pass below
-  // reads two per half-edge, and nn2 and vrep are gone by now, so the bytes fit under the strips' peak.
+  // reads them at random, and nn2 and vrep are gone by now, so the bytes fit under the strips' peak.
   std::vector<std::uint8_t> trusted(T.slots(), 0);
   const std::size_t slots = T.slots();
   // The measure and the deep test read the translated coordinates: the measure takes differences only
