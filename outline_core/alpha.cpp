@@ -139,21 +139,6 @@ double median_distance(std::span<const float> squared) {
 
 AreaHistogram::AreaHistogram() = default;
 
-bool AreaHistogram::bucket_of(double area, std::uint32_t& bucket) {
-  if (!float_key(static_cast<float>(area), bucket)) return false;
-  bucket >>= 12;
-  return true;
-}
-
-void AreaHistogram::add(double area) {
-  std::uint32_t b;
-  if (!bucket_of(area, b)) return;
-  if (hist_.empty()) [[unlikely]]
-    hist_.assign(kBuckets, 0);
-  ++hist_[b];
-  ++used_;
-}
-
 void AreaHistogram::merge(const AreaHistogram& other) {
   if (other.hist_.empty()) return;
   if (hist_.empty()) hist_.assign(kBuckets, 0);
@@ -177,51 +162,11 @@ double AreaHistogram::spacing_of(std::size_t bucket) {
 namespace {
 
 constexpr std::uint8_t kGhostClass = 0;  // rclass of a ghost triangle slot
-constexpr std::uint8_t kUndecided = 255;
-
-// Class of q = r^2 / scale2 > 0 from its bits: 16 per octave (exponent and top 4 mantissa bits), 1 at
-// q < 2^-8 ... 254 at q >= 2^7.9. Monotone in q; a class spans 3-6 % of q.
-std::uint8_t r2_class(double q) {
-  if (!(q > 0)) return 1;
-  std::uint64_t bits;
-  std::memcpy(&bits, &q, 8);
-  const long c = static_cast<long>(bits >> 48) - 1023L * 16 + 128;
-  return static_cast<std::uint8_t>(std::clamp(c, 1L, 254L));
-}
-
-// Twice the signed area with `c` as the pivot, as orient2d computes it.
-inline double twice_area(const Vec2& a, const Vec2& b, const Vec2& c) {
-  return (a.x - c.x) * (b.y - c.y) - (a.y - c.y) * (b.x - c.x);
-}
-
-// Area and circumradius class of a finite counter-clockwise triangle. The area is the middle of the
-// three pivots' values, a function of the vertex set (the same for every insertion order, whatever
-// rotation the triangle is stored in), without data-dependent branches. The class is kUndecided unless
-// r^2 is accurate to about 2e-6 relative (|D| far above its rounding bound, no overflow or underflow);
-// it needs no such symmetry (it only skips the exact predicate where the decision is certain).
-[[gnu::always_inline]] inline TriangleMeasure measure(const Vec2& a, const Vec2& b, const Vec2& c, double scale2) {
-  const double da = twice_area(b, c, a), db = twice_area(c, a, b), dc = twice_area(a, b, c);
-  const double mid = std::max(std::min(da, db), std::min(std::max(da, db), dc));
-  TriangleMeasure m{std::fabs(mid) / 2, kUndecided};
-  const double abx = a.x - b.x, aby = a.y - b.y, bcx = b.x - c.x, bcy = b.y - c.y, cax = c.x - a.x, cay = c.y - a.y;
-  const double N = (abx * abx + aby * aby) * (bcx * bcx + bcy * bcy) * (cax * cax + cay * cay);
-  const double errD =
-      pred::kOrientBound * (std::fabs((a.x - c.x) * (b.y - c.y)) + std::fabs((a.y - c.y) * (b.x - c.x)));
-  const double den = 4 * (dc * dc) * scale2;
-  if (std::fabs(dc) > 1e6 * errD && std::isnormal(N) && std::isnormal(den)) {
-    const double q = N / den;
-    if (std::isnormal(q)) m.rclass = r2_class(q);
-  }
-  return m;
-}
+constexpr std::uint8_t kUndecided = kUndecidedClass;
 
 }  // namespace
 
-double triangle_area(const Vec2& a, const Vec2& b, const Vec2& c) { return measure(a, b, c, 0).area; }
-
-TriangleMeasure measure_triangle(const Vec2& a, const Vec2& b, const Vec2& c, double scale2) {
-  return measure(a, b, c, scale2);
-}
+double triangle_area(const Vec2& a, const Vec2& b, const Vec2& c) { return measure_triangle(a, b, c, 0).area; }
 
 double class_scale(const Triangulation& T) {
   // The box of the inserted vertices is that of all (a merged duplicate has its representative's coordinates).
@@ -271,7 +216,8 @@ TriangleScan scan_triangles(const Triangulation& T, std::size_t histogram_from) 
         if (v != T.ghost) __builtin_prefetch(&T.xy[v]);
       }
     if (T.is_ghost(t)) continue;
-    const TriangleMeasure m = measure(T.xy[T.tri[3 * t]], T.xy[T.tri[3 * t + 1]], T.xy[T.tri[3 * t + 2]], scan.scale2);
+    const TriangleMeasure m =
+        measure_triangle(T.xy[T.tri[3 * t]], T.xy[T.tri[3 * t + 1]], T.xy[T.tri[3 * t + 2]], scan.scale2);
     if (histogram) {
       median->add(m.area);
     } else if (std::uint32_t b; AreaHistogram::bucket_of(m.area, b)) {
@@ -292,7 +238,8 @@ std::vector<float> local_spacing(const Triangulation& T) {
   std::vector<float> area(slots, std::numeric_limits<float>::infinity());
   for (std::size_t t = 0; t < slots; ++t)
     if (!T.is_ghost(t)) {
-      area[t] = static_cast<float>(measure(T.xy[T.tri[3 * t]], T.xy[T.tri[3 * t + 1]], T.xy[T.tri[3 * t + 2]], 0).area);
+      area[t] = static_cast<float>(
+          measure_triangle(T.xy[T.tri[3 * t]], T.xy[T.tri[3 * t + 1]], T.xy[T.tri[3 * t + 2]], 0).area);
     }
   std::vector<std::uint32_t> out(n, kNone);  // one half-edge leaving each vertex
   for (std::uint32_t h = 0; h < T.tri.size(); ++h)

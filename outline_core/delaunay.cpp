@@ -370,8 +370,8 @@ void Builder::run(std::size_t n) {
   // A triangulation of n + 1 vertices (the ghost included) on the sphere has 2 (n + 1) - 4 triangles:
   // every slot is allocated once, no growth during the insertion.
   const std::size_t max_slots = 2 * n + 2;
-  T_.tri.assign(3 * max_slots, 0);
-  T_.twin.assign(3 * max_slots, 0);
+  T_.tri.resize(3 * max_slots);  // uninitialised (SlotArray): a slot is written when first used
+  T_.twin.resize(3 * max_slots);
   const std::uint32_t init_tri[12] = {a, b, c, b, a, ghost_, c, b, ghost_, a, c, ghost_};
   const std::uint32_t init_twin[12] = {3, 6, 9, 0, 11, 7, 1, 5, 10, 2, 8, 4};
   std::copy(init_tri, init_tri + 12, T_.tri.begin());

@@ -21,9 +21,13 @@
 // Delaunay triangulation of the points, hull included.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <new>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "order.hpp"  // insertion_order
@@ -41,6 +45,33 @@ struct DelaunayStats {
   std::uint64_t search_cost() const { return locate_visits + cavity_visits; }
 };
 
+// An allocator whose vectors leave new elements uninitialised (resize would zero them): the triangle
+// arrays are written slot by slot as the insertion uses them, and the kernel zeroes fresh pages anyway,
+// so zeroing them first was one more pass over 24 bytes a point.
+template <class E>
+struct NoInitAllocator {
+  using value_type = E;
+  NoInitAllocator() = default;
+  template <class U>
+  NoInitAllocator(const NoInitAllocator<U>&) noexcept {}
+  E* allocate(std::size_t n) { return std::allocator<E>().allocate(n); }
+  void deallocate(E* p, std::size_t n) noexcept { std::allocator<E>().deallocate(p, n); }
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... A>
+  void construct(U* p, A&&... a) {
+    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+  }
+  template <class U>
+  bool operator==(const NoInitAllocator<U>&) const noexcept {
+    return true;
+  }
+};
+// Triangle slots: tri and twin (only the slots in use are ever read).
+using SlotArray = std::vector<std::uint32_t, NoInitAllocator<std::uint32_t>>;
+
 struct Triangulation {
   Vec2 origin;                     // the translation: xy[v] = input[ids[v]] - origin, exactly (often 0)
   std::vector<Vec2> xy;            // translated coordinates, by vertex id (insertion order), finite points only
@@ -49,8 +80,8 @@ struct Triangulation {
   std::uint32_t ghost = 0;         // the vertex at infinity (= xy.size())
   // Triangle t has vertices tri[3t], tri[3t+1], tri[3t+2], counter-clockwise for finite triangles.
   // Half-edge h = 3t+i runs from tri[h] to tri[next(h)]; twin[h] is the same edge in the neighbour.
-  std::vector<std::uint32_t> tri;
-  std::vector<std::uint32_t> twin;
+  SlotArray tri;
+  SlotArray twin;
   // vrep[v] = v for an inserted vertex; for a merged duplicate, the vertex it was merged into (whose
   // input index is the smallest of the equal points: the order is stable).
   std::vector<std::uint32_t> vrep;

@@ -17,6 +17,8 @@
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
+#include <sys/resource.h>
+
 #include <thread>
 #include <unordered_set>
 
@@ -33,6 +35,7 @@ namespace {
 constexpr double kMarginUnits = 16;
 
 constexpr double kEps = pred::kEps;
+constexpr std::size_t kAhead = 8;  // triangles ahead whose vertices a pass over the triangles prefetches
 
 // A vertex as input index and coordinates; a directed edge between two.
 struct VertexRef {
@@ -44,6 +47,35 @@ struct EdgeRef {
 };
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) { return std::uint64_t{a} << 32 | b; }
 
+// The calling thread's costs from one lap to the next (StageCost: a syscall and a clock read a lap).
+class Lap {
+ public:
+  Lap() { now(r_, w_); }
+  // Adds what this thread spent since the last lap to `c`.
+  void to(StageCost& c) {
+    rusage r;
+    std::chrono::steady_clock::time_point w;
+    now(r, w);
+    auto ms = [](const timeval& a, const timeval& b) {
+      return static_cast<double>(b.tv_sec - a.tv_sec) * 1e3 + static_cast<double>(b.tv_usec - a.tv_usec) * 1e-3;
+    };
+    c.user_ms += ms(r_.ru_utime, r.ru_utime);
+    c.sys_ms += ms(r_.ru_stime, r.ru_stime);
+    c.faults += r.ru_minflt - r_.ru_minflt;
+    c.blocked += r.ru_nvcsw - r_.ru_nvcsw;
+    c.wall_ms += std::chrono::duration<double, std::milli>(w - w_).count();
+    r_ = r, w_ = w;
+  }
+
+ private:
+  static void now(rusage& r, std::chrono::steady_clock::time_point& w) {
+    if (getrusage(RUSAGE_THREAD, &r) != 0) r = rusage{};
+    w = std::chrono::steady_clock::now();
+  }
+  rusage r_;
+  std::chrono::steady_clock::time_point w_;
+};
+
 struct Strip {
   std::size_t index = 0;
   double lo = 0, hi = 0;  // owned x range [lo, hi)
@@ -52,6 +84,7 @@ struct Strip {
   Triangulation T;
   bool translated = false;  // T holds the zone's points (xy, ids), even if its triangulation failed
   bool ok = true;
+  StripProfile cost;  // what its stages cost its threads
   // What the survey found (before the radius is known).
   AreaHistogram areas;       // owned trusted triangles
   TriangleScan scan;         // circumradius classes of T's triangles (its spacing unused)
@@ -169,14 +202,13 @@ long reporter_of(const Vec2& a, const Vec2& b, const Vec2& c, const Circle& k, c
 }
 
 // A triangle with its vertices at least x from the strip's ends and circumradius below x: its
-// circumcentre is here and its disk inside the zone (the common case, decided without the circle).
-bool deep_inside(const Vec2& a, const Vec2& b, const Vec2& c, double lo, double hi, double x) {
+// circumcentre is here and its disk inside the zone (the common case, decided without the circle). The
+// radius from the triangle's measure, where that is accurate (its class decided).
+bool deep_inside(const Vec2& a, const Vec2& b, const Vec2& c, const TriangleMeasure& m, double lo, double hi,
+                 double x) {
   const double x0 = std::min({a.x, b.x, c.x}), x1 = std::max({a.x, b.x, c.x});
-  if (!(x0 - x >= lo && x1 + x < hi)) return false;
-  const double abx = a.x - b.x, aby = a.y - b.y, bcx = b.x - c.x, bcy = b.y - c.y, cax = c.x - a.x, cay = c.y - a.y;
-  const double N = (abx * abx + aby * aby) * (bcx * bcx + bcy * bcy) * (cax * cax + cay * cay);
-  const double cross = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-  return N < 0.99 * 4 * (x * x) * (cross * cross);  // r^2 = N / (4 cross^2); rounding far below 1 %
+  if (!(x0 - x >= lo && x1 + x < hi) || m.rclass == kUndecidedClass) return false;
+  return m.N < 0.99 * 4 * (x * x) * (m.D * m.D);  // r^2 = N / (4 D^2), accurate to 2e-6: far below 1 %
 }
 
 // The strip's counted triangles: the trusted ones' areas (and ids), the untrusted ones for
@@ -190,20 +222,31 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
   s.scan.scale2 = class_scale(T);
   s.scan.rclass.assign(T.slots(), 0);  // 0: a ghost triangle's class
   // Counted here and proven (untrusted ones are checked later). Bytes, not bits: the frontier pass below
-  // reads two per half-edge, and nn2 and vrep are gone by now, so the bytes fit under the strips' peak.
+  // reads them at random, and nn2 and vrep are gone by now, so the bytes fit under the strips' peak.
   std::vector<std::uint8_t> trusted(T.slots(), 0);
-  for (std::size_t t = 0; t < T.slots(); ++t) {
+  const std::size_t slots = T.slots();
+  // The measure and the deep test read the translated coordinates: the measure takes differences only
+  // (the same values as from the input's), and the strip's ends translated round far below the deep
+  // test's slack (0.25 % of M; coordinates are below 1e9 M).
+  const double lo_t = s.lo - T.origin.x, hi_t = s.hi - T.origin.x;
+  for (std::size_t t = 0; t < slots; ++t) {
+    // The vertices are scattered over xy: fetching a few triangles ahead overlaps the cache misses, as
+    // scan_triangles does (the same pass on one thread).
+    if (t + kAhead < slots)
+      for (int i = 0; i < 3; ++i)
+        if (const std::uint32_t w = T.tri[3 * (t + kAhead) + i]; w != T.ghost) __builtin_prefetch(&T.xy[w]);
     if (T.is_ghost(t)) continue;
     const std::uint32_t* v = &T.tri[3 * t];
-    const Vec2 a = at(v[0]), b = at(v[1]), c = at(v[2]);
-    const TriangleMeasure m = measure_triangle(a, b, c, s.scan.scale2);
+    const Vec2 &pa = T.xy[v[0]], &pb = T.xy[v[1]], &pc = T.xy[v[2]];
+    const TriangleMeasure m = measure_triangle(pa, pb, pc, s.scan.scale2);
     s.scan.rclass[t] = m.rclass;
-    if (deep_inside(a, b, c, s.lo, s.hi, deep)) {
+    if (deep_inside(pa, pb, pc, m, lo_t, hi_t, deep)) {
       trusted[t] = 1;
       s.areas.add(m.area);
       if (keep) s.kept.push_back({T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]});
       continue;
     }
+    const Vec2 a = at(v[0]), b = at(v[1]), c = at(v[2]);
     const Circle k = circle_of(a, b, c);
     const int sl = left_open ? 1 : circumcentre_side(a, b, c, k, s.lo);
     const int sh = right_open ? -1 : circumcentre_side(a, b, c, k, s.hi);
@@ -218,11 +261,16 @@ void count_triangles(Strip& s, const Split& split, bool keep) {
     s.areas.add(m.area);
     if (keep) s.kept.push_back({T.ids[v[0]], T.ids[v[1]], T.ids[v[2]]});
   }
-  for (std::uint32_t h = 0; h < T.tri.size(); ++h)
-    if (trusted[h / 3] && !trusted[T.twin[h] / 3]) {
-      const std::uint32_t u = T.tri[h], w = T.tri[Triangulation::next(h)];
-      s.frontier.push_back({{T.ids[u], at(u)}, {T.ids[w], at(w)}});
-    }
+  // The frontier, found from the other side: the triangles not trusted here (ghosts, the other strips',
+  // the untrusted) are a few percent of the slots.
+  for (std::uint32_t t = 0; t < slots; ++t) {
+    if (trusted[t]) continue;
+    for (std::uint32_t g = 3 * t; g < 3 * t + 3; ++g)
+      if (const std::uint32_t h = T.twin[g]; trusted[h / 3]) {
+        const std::uint32_t u = T.tri[h], w = T.tri[Triangulation::next(h)];
+        s.frontier.push_back({{T.ids[u], at(u)}, {T.ids[w], at(w)}});
+      }
+  }
 }
 
 // The top 16 bits of a non-negative float (-0.0f as +0.0f): the first digit of the radix median.
@@ -269,6 +317,7 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
   auto leave = [&] {
     if (phases < 2) phases = 2, meet.leave();
   };
+  Lap lap;
   try {
     std::vector<std::uint32_t> zone;
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -276,10 +325,14 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
       if (std::isfinite(p.x) && std::isfinite(p.y) && p.x >= zlo && p.x < zhi)
         zone.push_back(static_cast<std::uint32_t>(i));
     }
+    lap.to(s.cost.zone);
     triangulate_subset(s.T, points, std::move(zone), options.mode, options.order, [&] {
       s.translated = true;
+      lap.to(s.cost.order);
       pass();
+      lap.to(s.cost.wait_points);
     });
+    lap.to(s.cost.insert);
     s.nn_top.assign(1u << 16, 0);
   } catch (const OutlineError&) {
     s.ok = false;  // too few or collinear points in this strip: the one-thread path decides
@@ -297,7 +350,9 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
     ++s.distinct;
     if (std::isfinite(T.nn2[v])) ++s.nn_top[float_bits(T.nn2[v]) >> 16];
   });
+  lap.to(s.cost.nn);
   pass();
+  lap.to(s.cost.wait_nn);
   // The second radix histogram (low 16 bits within the median's top bucket); then nn2 and vrep go, before
   // the classes and cells are allocated: the strips' peak is their triangulations, as one thread's.
   const std::uint32_t hi = *meet.nn_hi;
@@ -318,20 +373,18 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
     h = T.twin[Triangulation::prev(h)];
   } while (h != h0);
   count_triangles(s, split, options.keep_triangles);
+  lap.to(s.cost.survey);
 }
 
 // The strip's owned vertices in cells of size `cell` over the box (counting sort). Merged duplicates
 // are indexed too (T.vrep is gone by now; a duplicate's circle test is its representative's).
-void index_owned(Strip& s, double cell, double miny, double maxy) {
+void index_owned(Strip& s, double cell, const Box& box) {
   auto for_owned = [&](auto f) {
     for (std::uint32_t v = 0; v < s.T.xy.size(); ++v)
       if (s.owns_x(s.at(v).x)) f(v);
   };
-  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0;
-  for_owned([&](std::uint32_t v) {
-    const double x = s.at(v).x;
-    x0 = std::min(x0, x), x1 = std::max(x1, x);
-  });
+  // The owned x range within the box (no pass to find the owned vertices' own range).
+  const double x0 = std::max(s.lo, box.minx), x1 = std::min(s.hi, box.maxx), miny = box.miny, maxy = box.maxy;
   if (!(x1 >= x0)) return;
   s.cx0 = x0, s.cy0 = miny, s.cell = cell;
   s.nx = static_cast<std::size_t>((x1 - x0) / cell) + 1, s.ny = static_cast<std::size_t>((maxy - miny) / cell) + 1;
@@ -554,12 +607,22 @@ bool merge_surveys(std::vector<Strip>& strips, const Options& options, const Spl
   std::vector<VertexRef> hull;
   for (const Strip& s : strips)
     if (!s.ok) return false;
+  Lap lap;  // the serial parts, on this thread
   res.nn_spacing_median = merged_nn_median(strips);
   for (Strip& s : strips) std::vector<std::uint32_t>().swap(s.nn_top), std::vector<std::uint32_t>().swap(s.nn_low);
-  if (!for_each_strip(strips.size(), [&](std::size_t i) { index_owned(strips[i], margin / 2, box.miny, box.maxy); }))
-    return false;
-  if (!for_each_strip(strips.size(), [&](std::size_t i) { check_untrusted(strips, i, options.keep_triangles); }))
-    return false;
+  lap.to(survey.profile.merge);
+  auto cells = [&](std::size_t i) {
+    Lap l;
+    index_owned(strips[i], margin / 2, box);
+    l.to(strips[i].cost.cells);
+  };
+  auto check = [&](std::size_t i) {
+    Lap l;
+    check_untrusted(strips, i, options.keep_triangles);
+    l.to(strips[i].cost.check);
+  };
+  if (!for_each_strip(strips.size(), cells) || !for_each_strip(strips.size(), check)) return false;
+  lap = Lap();  // strip 0's share above is its own
   for (const Strip& s : strips) hull.insert(hull.end(), s.hull.begin(), s.hull.end());
   const std::vector<EdgeRef> hull_ring = hull_edges(std::move(hull));
   if (!recover_missing(strips, hull_ring, options.keep_triangles)) return false;
@@ -581,6 +644,7 @@ bool merge_surveys(std::vector<Strip>& strips, const Options& options, const Spl
   res.alpha_mode = AlphaMode::Global;
   res.alpha_automatic = !(options.alpha_radius > 0);
   res.alpha_radius = res.alpha_automatic ? k * res.spacing : options.alpha_radius;
+  lap.to(survey.profile.merge);
   // Every inside triangle at an owned vertex or at its neighbours has its disk within 4 R of the strip.
   return 4 * res.alpha_radius * (1 + 1e-6) < margin * (1 - 1e-6);
 }
@@ -650,26 +714,52 @@ bool run_threaded(std::span<const Vec2> points, const Options& options, int nstr
   return run_threaded(points, nullptr, options, nstrips, res, survey_out);
 }
 
-bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const Options& options, int nstrips,
-                  Result& res, StripSurvey* survey_out) {
-  using Clock = std::chrono::steady_clock;
-  const auto t0 = Clock::now();
-  std::size_t finite = 0;
-  const Box box = finite_box(points, finite);
-  const double minx = box.minx, maxx = box.maxx, miny = box.miny, maxy = box.maxy;
-  const double margin = kMarginUnits * std::sqrt((maxx - minx) * (maxy - miny) / static_cast<double>(finite));
-  const std::vector<double> bounds = strip_boundaries(points, nstrips, minx, maxx);
-  if (bounds.empty() || !std::isfinite(margin) || !(margin > 0)) return false;
-  // The float slacks of the checks (zone ends, deep_inside, the margin test) assume coordinates below
-  // 1e9 margins: the rounding of x - M is then far below the 0.25 % of M they leave.
-  if (std::max(std::fabs(minx), std::fabs(maxx)) > 1e9 * margin) return false;
+// The strips of the split, with their owned x ranges.
+std::vector<Strip> make_strips(const std::vector<double>& bounds) {
   std::vector<Strip> strips(bounds.size() + 1);
-  const Split split{bounds, margin};
   for (std::size_t i = 0; i < strips.size(); ++i) {
     strips[i].index = i;
     strips[i].lo = i == 0 ? -std::numeric_limits<double>::infinity() : bounds[i - 1];
     strips[i].hi = i + 1 == strips.size() ? std::numeric_limits<double>::infinity() : bounds[i];
   }
+  return strips;
+}
+
+// The free edges of every strip (in parallel), merged; false if a strip threw.
+bool merged_free_edges(std::vector<Strip>& strips, double R, Result& res, std::vector<FreeEdge>& edges) {
+  const bool ok = for_each_strip(strips.size(), [&](std::size_t i) {
+    Lap l;
+    strip_edges(strips[i], R);
+    l.to(strips[i].cost.edges);
+  });
+  if (!ok) return false;
+  for (Strip& s : strips) {
+    edges.insert(edges.end(), s.edges.begin(), s.edges.end());
+    add_stats(s.T, res);
+  }
+  return true;
+}
+
+bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const Options& options, int nstrips,
+                  Result& res, StripSurvey* survey_out) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  Lap lap;
+  std::size_t finite = 0;
+  const Box box = finite_box(points, finite);
+  const double margin =
+      kMarginUnits * std::sqrt((box.maxx - box.minx) * (box.maxy - box.miny) / static_cast<double>(finite));
+  const std::vector<double> bounds = strip_boundaries(points, nstrips, box.minx, box.maxx);
+  if (bounds.empty() || !std::isfinite(margin) || !(margin > 0)) return false;
+  // The float slacks of the checks (zone ends, deep_inside, the margin test) assume coordinates below
+  // 1e9 margins: the rounding of x - M is then far below the 0.25 % of M they leave.
+  if (std::max(std::fabs(box.minx), std::fabs(box.maxx)) > 1e9 * margin) return false;
+  std::vector<Strip> strips = make_strips(bounds);
+  const Split split{bounds, margin};
+  StripSurvey survey;
+  survey.margin = margin;
+  survey.boundaries = bounds;
+  lap.to(survey.profile.split);
   // Once every strip's triangulation holds its zone's points, the input (when the caller gave it away)
   // is released, before the triangles are allocated: the peak then holds one copy of the cloud, as on
   // one thread. If the split then fails, the points are restored from the strips for the one-thread path.
@@ -697,22 +787,18 @@ bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const 
   const bool surveyed =
       for_each_strip(strips.size(), [&](std::size_t i) { survey_strip(points, options, split, strips[i], meet); });
   const auto t1 = Clock::now();
-  StripSurvey survey;
-  survey.margin = margin;
-  survey.boundaries = bounds;
-  if (!surveyed || !merge_surveys(strips, options, split, Box{minx, maxx, miny, maxy}, res, survey)) return fail();
-  if (!for_each_strip(strips.size(), [&](std::size_t i) { strip_edges(strips[i], res.alpha_radius); })) return fail();
   std::vector<FreeEdge> edges;
-  for (Strip& s : strips) {
-    edges.insert(edges.end(), s.edges.begin(), s.edges.end());
-    add_stats(s.T, res);
-  }
+  if (!surveyed || !merge_surveys(strips, options, split, box, res, survey) ||
+      !merged_free_edges(strips, res.alpha_radius, res, edges))
+    return fail();
   const auto t2 = Clock::now();
+  lap = Lap();
   try {
     res.loops = chain_loops(std::move(edges));
   } catch (const OutlineError&) {
     return fail();  // a successor missing: the strips disagree (not expected once the checks passed)
   }
+  lap.to(survey.profile.chain);
   res.points_read = points.size();
   res.points_skipped = points.size() - finite;
   res.duplicates_merged = finite - survey.distinct;
@@ -725,6 +811,7 @@ bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const 
   };
   res.time.triangulate_ms = ms(t0, t1);
   res.time.alpha_ms = ms(t1, t2);
+  for (const Strip& s : strips) survey.profile.strips.push_back(s.cost);
   if (survey_out) *survey_out = std::move(survey);
   return true;
 }
