@@ -55,15 +55,16 @@ std::vector<hg::runtime::Param> hg_plan_params() {
   return params;
 }
 
-// The outline file in the frame the planner works in; throws naming the problem (exit 2).
+// The outline file in the frame the planner works in; throws naming the problem (exit 2): a bad file
+// (outline_io::ReadError names the file and the key) or a frame that does not fit the cell.
 OutlineInput read_input(const std::string& input, const PlannerConfig& cfg, const std::string& chosen_frame,
                         OutlineFrame& frame) {
-  std::ifstream f(input, std::ios::binary);
-  if (!f) throw std::runtime_error("cannot open");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  OutlineInput outline = read_outline_json(ss.str(), cfg.default_plane);
-  frame = resolve_outline_frame(outline.frame, chosen_frame, cfg);
+  OutlineInput outline = read_outline_file(input, cfg.default_plane);
+  try {
+    frame = resolve_outline_frame(outline.frame, chosen_frame, cfg);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(input + ": " + e.what());
+  }
   return outline;
 }
 
@@ -123,7 +124,7 @@ int main(int argc, char** argv) {
   try {
     outline = read_input(input, cfg, params.text("outline-frame"), frame);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "hg-plan: %s: %s\n", input.c_str(), e.what());
+    std::fprintf(stderr, "hg-plan: %s\n", e.what());
     return 2;
   }
   place_default_plane(outline, frame, cfg);

@@ -47,6 +47,7 @@ const char* type_name(ParamType t) {
     case ParamType::Integer: return "integer";
     case ParamType::Flag: return "true|false";
     case ParamType::Numbers: return "list of numbers";
+    case ParamType::Names: return "list of names";
     default: return "text";
   }
 }
@@ -109,6 +110,9 @@ Param quantity_param(const quantity::Quantity& q, std::string def, const std::st
 }
 Param numbers_param(std::string name, std::string def, std::string help) {
   return Param{std::move(name), std::move(def), std::move(help), false, ParamType::Numbers};
+}
+Param names_param(std::string name, std::string def, std::string help) {
+  return Param{std::move(name), std::move(def), std::move(help), false, ParamType::Names};
 }
 Param flag_param(std::string name, std::string help) { return Param{std::move(name), "", std::move(help), true}; }
 Param moved_param(std::string name, std::string now) {
@@ -324,6 +328,7 @@ void Params::check_values() const {
       case ParamType::Integer: integer(p.name); break;
       case ParamType::Flag: flag(p.name); break;
       case ParamType::Numbers: numbers(p.name); break;
+      case ParamType::Names: names(p.name); break;
       case ParamType::Text: text(p.name); break;
     }
   }
@@ -417,6 +422,16 @@ std::vector<double> Params::numbers(const std::string& name) const {
   return out;
 }
 
+std::vector<std::string> Params::names(const std::string& name) const {
+  if (!cli_.count(name) && config_.is_list(name)) return *config_.get_strings(name);
+  std::vector<std::string> out;
+  std::stringstream ss(text(name));
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
 void Params::print_options(std::FILE* out) const {
   if (declared_.empty()) std::fprintf(out, "  (none)\n");
   for (const Param& p : declared_) {
@@ -424,7 +439,7 @@ void Params::print_options(std::FILE* out) const {
     std::string value;
     if (!p.is_flag)
       value = !p.value_name.empty()            ? " " + p.value_name
-              : p.kind() == ParamType::Numbers ? " A,B,.."
+              : p.kind() == ParamType::Numbers || p.kind() == ParamType::Names ? " A,B,.."
               : p.kind() == ParamType::Flag    ? " true|false"
                                                : " VALUE";
     std::string left = "  " + (p.alias.empty() ? "" : p.alias + value + ", ") + "--" + p.name + value;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 #include "outline_core/outline.hpp"
 #include "runtime/params.hpp"
 
