@@ -32,8 +32,8 @@ Plane plane_of(const Json& p, const Where& err) {
   if (!p.is_object()) throw err("plane", "expected an object {\"origin\", \"normal\", \"u\", \"v\"}");
   for (const char* k : {"origin", "normal", "u", "v"})
     if (!p.contains(k)) throw err(std::string("plane.") + k, "missing");
-  return {vec3(p["origin"], "plane.origin", err), vec3(p["normal"], "plane.normal", err),
-          vec3(p["u"], "plane.u", err), vec3(p["v"], "plane.v", err)};
+  return {vec3(p["origin"], "plane.origin", err), vec3(p["normal"], "plane.normal", err), vec3(p["u"], "plane.u", err),
+          vec3(p["v"], "plane.v", err)};
 }
 
 OutlineLoop loop_of(const Json& jl, const std::string& key, const Where& err) {

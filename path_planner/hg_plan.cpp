@@ -18,8 +18,9 @@ void usage(std::FILE* f, const hg::runtime::Params& params) {
   std::fprintf(
       f,
       "usage: hg-plan [options] OUTLINE.json\n"
-      "Plans a grind path from an outline JSON file (hg-outline's format: loops [{hole, points [[x, y], ...]}],\n"
-      "plane {origin, normal, u, v} optional, frame optional) and writes a path file (docs/path_file.md:\n"
+      "Plans a grind path from an outline file (docs/outline_file.md, as hg-outline writes it: loops [{hole,\n"
+      "points [[u, v], ...]}], plane {origin, normal, u, v}, frame and spacing optional) and writes a path file\n"
+      "(docs/path_file.md:\n"
       "{\"job_id\", \"frame\", \"outline_seq\", \"tool_radius\", \"tilt\", \"flipped\", \"waypoints\": [{position,\n"
       "orientation [w, x, y, z], speed, kind, loop}], coverage {tolerance, unreached_length, loops [{loop, hole,\n"
       "length, reached_fraction, unreached [{start, length, concave, points}]}]}}) in the robot base frame, metres.\n"
@@ -33,7 +34,8 @@ void usage(std::FILE* f, const hg::runtime::Params& params) {
       "is applied), robot_base (the cell's frames.base: used as it is) or cloud (hg-outline: the input cloud's own\n"
       "coordinates, taken as the camera frame). --outline-frame overrides it: a cloud in robot base\n"
       "coordinates plans with --outline-frame robot_base. The transform applied is printed on stderr.\n"
-      "The start point is the loop point nearest to the cell's home (no robot is heard here).\n"
+      "The start point is the loop point nearest to the cell's home (no robot is heard here). The passes after\n"
+      "sequencing are the path-modifiers (docs/path_planner.md, \"Path modifiers\").\n"
       "Prints a one-line summary on stderr. Exit status: 0 planned, 1 planning failed (reason on stderr),\n"
       "2 bad command line, config or input file.\n\n"
       "options (command line > --config FILE, the same keys as hg-path-planner, config/path_planner.yaml > default):\n");

@@ -14,7 +14,7 @@
 namespace hg::path_planner {
 
 struct ToolPath {
-  std::vector<Pass> passes;  // in the order they run
+  std::vector<Pass> passes;   // in the order they run
   Vec3 start = Vec3::Zero();  // the robot's position before the first waypoint (plate frame)
   int speeds_lowered = 0;     // waypoint speeds lowered for corners (corner-speeds)
 };

@@ -204,8 +204,8 @@ std::string offset_loops(const std::vector<Loop>& loops, const std::vector<Ring>
 }
 
 // Steps 5 to 6: the passes, the configured modifiers over them, the path in the base frame.
-std::vector<Waypoint> tool_path(const std::vector<GrindLoop>& grind, const Eigen::Isometry3d& T,
-                                const Vec3& start_base, const PlannerConfig& cfg, PlanResult& res) {
+std::vector<Waypoint> tool_path(const std::vector<GrindLoop>& grind, const Eigen::Isometry3d& T, const Vec3& start_base,
+                                const PlannerConfig& cfg, PlanResult& res) {
   const Vec3 start_plate = T.inverse() * start_base;
   ToolPath path{sequence(grind, start_plate.head<2>(), sequence_options(res.params, cfg)), start_plate};
   compose_modifiers(cfg.modifiers, res.params, cfg).apply(path);

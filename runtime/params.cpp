@@ -52,6 +52,8 @@ const char* type_name(ParamType t) {
   }
 }
 
+bool is_list(ParamType t) { return t == ParamType::Numbers || t == ParamType::Names; }
+
 bool is_builtin(const std::string& name) { return name == "config" || name == "help" || name == "version"; }
 
 // `text` broken at spaces so that no line goes past column `width`; the first line starts at column `first`,
@@ -438,10 +440,10 @@ void Params::print_options(std::FILE* out) const {
     if (!p.moved_to.empty()) continue;
     std::string value;
     if (!p.is_flag)
-      value = !p.value_name.empty()            ? " " + p.value_name
-              : p.kind() == ParamType::Numbers || p.kind() == ParamType::Names ? " A,B,.."
-              : p.kind() == ParamType::Flag    ? " true|false"
-                                               : " VALUE";
+      value = !p.value_name.empty()         ? " " + p.value_name
+              : is_list(p.kind())           ? " A,B,.."
+              : p.kind() == ParamType::Flag ? " true|false"
+                                            : " VALUE";
     std::string left = "  " + (p.alias.empty() ? "" : p.alias + value + ", ") + "--" + p.name + value;
     if (p.positional) left = "  " + shown(p);
     if (p.rest) left = "  --" + p.name + " " + p.value_name;

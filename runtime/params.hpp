@@ -103,9 +103,10 @@ class Params {
   std::int64_t integer(const std::string& name) const;
   bool flag(const std::string& name) const;
   std::vector<double> numbers(const std::string& name) const;    // "a,b,c" on the command line, a YAML list
-  std::vector<std::string> names(const std::string& name) const;  // the same for a list of names
   bool given(const std::string& name) const;                     // on the command line or in the config
   std::vector<std::string> rest(const std::string& name) const;  // the arguments after --name (Param::rest)
+  // A list of names, as numbers().
+  std::vector<std::string> names(const std::string& name) const;
 
   // Where the value of `name` comes from: "command line", "config 'FILE' line N" or "default".
   std::string origin(const std::string& name) const;

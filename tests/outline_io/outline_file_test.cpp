@@ -21,8 +21,11 @@ OutlineFile random_outline(std::mt19937_64& rng) {
   OutlineFile f;
   if (rng() % 2) f.frame = std::string("frame_") + char('a' + rng() % 26);
   if (rng() % 2) f.spacing = std::abs(number()) + 1e-300;
-  if (rng() % 2) f.plane = Plane{{number(), number(), number()}, {number(), number(), number()},
-                                 {number(), number(), number()}, {number(), number(), number()}};
+  if (rng() % 2)
+    f.plane = Plane{{number(), number(), number()},
+                    {number(), number(), number()},
+                    {number(), number(), number()},
+                    {number(), number(), number()}};
   const int loops = int(rng() % 6);
   for (int k = 0; k < loops; ++k) {
     OutlineLoop l{rng() % 2 == 0, {}};

@@ -45,10 +45,9 @@ TEST(PathPlannerModifiers, ListComposedFromYaml) {
   EXPECT_EQ(config_of("path-modifiers: [leads, retract]\n").modifiers, (std::vector<std::string>{"leads", "retract"}));
   EXPECT_TRUE(config_of("path-modifiers: []\n").modifiers.empty());
   const JobParams job = config_of("").defaults;
-  EXPECT_EQ(compose_modifiers(config_of("path-modifiers: [approach, corner-speeds]\n").modifiers, job,
-                              config_of(""))
-                .size(),
-            2u);
+  EXPECT_EQ(
+      compose_modifiers(config_of("path-modifiers: [approach, corner-speeds]\n").modifiers, job, config_of("")).size(),
+      2u);
   // The shipped file lists them all.
   const PlannerConfig shipped = config_from(lookup_from(
       {{"cell", kCell}}, hg::runtime::Config::load(std::string(HG_SOURCE_DIR) + "/config/path_planner.yaml")));

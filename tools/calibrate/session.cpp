@@ -99,8 +99,8 @@ json outline_view_json(const calibration::PlatePlane& plane, const std::vector<c
   outline_io::OutlineFile f;
   f.frame = "camera";
   auto arr = [](const Eigen::Vector3d& p) { return std::array<double, 3>{p.x(), p.y(), p.z()}; };
-  f.plane = outline_io::Plane{arr(plane.origin), arr(plane.u_axis.cross(plane.v_axis).normalized()),
-                              arr(plane.u_axis), arr(plane.v_axis)};
+  f.plane = outline_io::Plane{arr(plane.origin), arr(plane.u_axis.cross(plane.v_axis).normalized()), arr(plane.u_axis),
+                              arr(plane.v_axis)};
   for (const auto& loop : loops) {
     outline_io::OutlineLoop l{true, {}};
     for (const auto& p : loop) l.points.push_back({p.x(), p.y()});
