@@ -70,7 +70,7 @@ void Retract::apply(ToolPath& path) const {
 CornerSpeeds::CornerSpeeds(double max_accel) : max_accel_(max_accel) {}
 
 void CornerSpeeds::apply(ToolPath& path) const {
-  std::vector<PlateWaypoint> all = flatten(path);
+  std::vector<Waypoint> all = to_base(flatten(path), path.plate_to_base);
   path.speeds_lowered += limit_corner_speeds(all, path.start, max_accel_);
   std::size_t i = 0;
   for (Pass& pass : path.passes)

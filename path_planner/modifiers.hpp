@@ -14,8 +14,11 @@
 namespace hg::path_planner {
 
 struct ToolPath {
-  std::vector<Pass> passes;   // in the order they run
-  Vec3 start = Vec3::Zero();  // the robot's position before the first waypoint (plate frame)
+  std::vector<Pass> passes;  // in the order they run
+  // The base frame, where the robot bridge judges the corners: corner-speeds judges them there too, on the
+  // very numbers the path is published with.
+  Eigen::Isometry3d plate_to_base = Eigen::Isometry3d::Identity();
+  Vec3 start = Vec3::Zero();  // the robot's position before the first waypoint (base frame)
   int speeds_lowered = 0;     // waypoint speeds lowered for corners (corner-speeds)
 };
 // The waypoints of every pass, in order.
@@ -61,8 +64,8 @@ class Retract final : public PathModifier {
   double safe_height_, speed_;
 };
 
-// corner-speeds: the cell's corner rule (limit_corner_speeds) over the whole path from its start; the
-// geometry stays, the speeds at corners are lowered (counted in ToolPath::speeds_lowered).
+// corner-speeds: the cell's corner rule (limit_corner_speeds) over the whole path in the base frame from its
+// start; the geometry stays, the speeds at corners are lowered (counted in ToolPath::speeds_lowered).
 class CornerSpeeds final : public PathModifier {
  public:
   explicit CornerSpeeds(double max_accel);

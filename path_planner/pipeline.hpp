@@ -228,8 +228,6 @@ using motion::corner_speed_limit;
 // Lowers the speed of both segments at every corner to the corner's limit (geometry unchanged); reversals
 // are left for validate to refuse. Returns how many waypoint speeds were lowered.
 int limit_corner_speeds(std::vector<Waypoint>& path, const Vec3& start, double max_accel);
-// The same in the plate frame (the corner-speeds modifier): the plate frame is the base frame moved rigidly.
-int limit_corner_speeds(std::vector<PlateWaypoint>& path, const Vec3& start, double max_accel);
 
 // ---- 7. validation ----
 // The cell's limits (motion/motion.hpp): one struct and one set of defaults with the robot bridge;

@@ -207,7 +207,7 @@ std::string offset_loops(const std::vector<Loop>& loops, const std::vector<Ring>
 std::vector<Waypoint> tool_path(const std::vector<GrindLoop>& grind, const Eigen::Isometry3d& T, const Vec3& start_base,
                                 const PlannerConfig& cfg, PlanResult& res) {
   const Vec3 start_plate = T.inverse() * start_base;
-  ToolPath path{sequence(grind, start_plate.head<2>(), sequence_options(res.params, cfg)), start_plate};
+  ToolPath path{sequence(grind, start_plate.head<2>(), sequence_options(res.params, cfg)), T, start_base};
   compose_modifiers(cfg.modifiers, res.params, cfg).apply(path);
   res.slowed = path.speeds_lowered;
   return to_base(flatten(path), T);

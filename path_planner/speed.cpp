@@ -9,10 +9,7 @@
 
 namespace hg::path_planner {
 
-namespace {
-
-template <class W>
-int limit_speeds(std::vector<W>& path, const Vec3& start, double max_accel) {
+int limit_corner_speeds(std::vector<Waypoint>& path, const Vec3& start, double max_accel) {
   const std::size_t n = path.size();
   std::vector<double> limit(n, std::numeric_limits<double>::infinity());  // per waypoint (corner)
   for (std::size_t i = 0; i + 1 < n; ++i) {
@@ -34,16 +31,6 @@ int limit_speeds(std::vector<W>& path, const Vec3& start, double max_accel) {
     }
   }
   return lowered;
-}
-
-}  // namespace
-
-int limit_corner_speeds(std::vector<Waypoint>& path, const Vec3& start, double max_accel) {
-  return limit_speeds(path, start, max_accel);
-}
-
-int limit_corner_speeds(std::vector<PlateWaypoint>& path, const Vec3& start, double max_accel) {
-  return limit_speeds(path, start, max_accel);
 }
 
 }  // namespace hg::path_planner

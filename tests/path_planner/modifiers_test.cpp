@@ -29,7 +29,7 @@ ToolPath square_passes(const SequenceOptions& o) {
   std::reverse(hole.begin(), hole.end());
   const std::vector<GrindLoop> loops = {{resample_ring(rect(0, 0, 0.2, 0.2), 0.005, deg(10)), false, 0},
                                         {resample_ring(hole, 0.005, deg(10)), true, 1}};
-  return ToolPath{sequence(loops, Vec2(-1, -1), o), Vec3(-1, -1, 0.3)};
+  return ToolPath{sequence(loops, Vec2(-1, -1), o), Eigen::Isometry3d::Identity(), Vec3(-1, -1, 0.3)};
 }
 
 template <class M, class... A>
