@@ -363,7 +363,9 @@ std::string Params::text(const std::string& name) const {
   if (!p) throw ConfigError("no such parameter '" + name + "'");
   std::string v;
   if (auto it = cli_.find(name); it != cli_.end()) v = it->second;
-  else if (config_.is_list(name)) {
+  else if (config_.is_list(name) && p->kind() == ParamType::Names) {
+    for (const std::string& s : config_.get_strings(name).value()) v += (v.empty() ? "" : ",") + s;
+  } else if (config_.is_list(name)) {
     const std::vector<double> list = config_.get_doubles(name).value();
     for (double d : list) v += (v.empty() ? "" : ",") + number_text(d);
   } else if (auto s = config_.get_string(name))
@@ -425,7 +427,6 @@ std::vector<double> Params::numbers(const std::string& name) const {
 }
 
 std::vector<std::string> Params::names(const std::string& name) const {
-  if (!cli_.count(name) && config_.is_list(name)) return *config_.get_strings(name);
   std::vector<std::string> out;
   std::stringstream ss(text(name));
   std::string item;

@@ -44,6 +44,11 @@ TEST(PathPlannerModifiers, ListComposedFromYaml) {
   EXPECT_EQ(config_of("").modifiers, (std::vector<std::string>{"leads", "approach", "retract", "corner-speeds"}));
   EXPECT_EQ(config_of("path-modifiers: [leads, retract]\n").modifiers, (std::vector<std::string>{"leads", "retract"}));
   EXPECT_TRUE(config_of("path-modifiers: []\n").modifiers.empty());
+  // On the command line, a,b,c; it wins over the file.
+  EXPECT_EQ(config_from(lookup_from({{"cell", kCell}, {"path-modifiers", "approach,corner-speeds"}},
+                                    hg::runtime::Config::from_string("path-modifiers: [leads]\n", "test.yaml")))
+                .modifiers,
+            (std::vector<std::string>{"approach", "corner-speeds"}));
   const JobParams job = config_of("").defaults;
   EXPECT_EQ(
       compose_modifiers(config_of("path-modifiers: [approach, corner-speeds]\n").modifiers, job, config_of("")).size(),
