@@ -364,7 +364,8 @@ std::string Params::text(const std::string& name) const {
   std::string v;
   if (auto it = cli_.find(name); it != cli_.end()) v = it->second;
   else if (config_.is_list(name) && p->kind() == ParamType::Names) {
-    for (const std::string& s : config_.get_strings(name).value()) v += (v.empty() ? "" : ",") + s;
+    const std::vector<std::string> list = config_.get_strings(name).value();
+    for (const std::string& s : list) v += (v.empty() ? "" : ",") + s;
   } else if (config_.is_list(name)) {
     const std::vector<double> list = config_.get_doubles(name).value();
     for (double d : list) v += (v.empty() ? "" : ",") + number_text(d);
