@@ -13,7 +13,7 @@
 #include "runtime/node.hpp"
 
 #if HG_HAVE_OUTLINE_IO
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 #endif
 
 namespace hg::camera_bridge {
@@ -163,7 +163,7 @@ std::optional<camera::DepthFrame> FilesSource::grab(std::chrono::milliseconds ti
   } else {
 #if HG_HAVE_OUTLINE_IO
     try {
-      f.depth = cloud_to_depth(outline::io::read_cloud_file(file).xyz, intrinsics_);
+      f.depth = cloud_to_depth(outline_io::read_cloud_file(file).xyz, intrinsics_);
     } catch (const std::exception& e) {
       runtime::logf(runtime::Level::Warn, "files source: %s", e.what());
       f.depth.release();

@@ -9,7 +9,7 @@
 #include "runtime/log.hpp"
 #include "runtime/path_file.hpp"
 #include "runtime/quantities.hpp"
-#include "cloud_io/outline_message.hpp"
+#include "outline_io/outline_message.hpp"
 
 namespace hg::job_recorder {
 
@@ -285,7 +285,7 @@ void Recorder::on_path(const hullgrind::grind_path_t& p, std::int64_t utime) {
       {"tool_radius", p.tool_radius}, {"frame", p.frame}, {"time", iso_time(utime)}};
   for (auto it = outlines_.rbegin(); it != outlines_.rend() && !rec->contains("outline"); ++it) {
     if (it->header.seq != p.outline_seq) continue;
-    write_file(dir / "outline.json", outline::io::outline_message_json(*it, nullptr).dump(1) + "\n");
+    write_file(dir / "outline.json", outline_io::outline_message_json(*it, nullptr).dump(1) + "\n");
     int holes = 0;
     for (const auto& l : it->loops) holes += l.hole;
     (*rec)["outline"] = {{"file", "outline.json"},

@@ -18,8 +18,9 @@ void usage(std::FILE* f, const hg::runtime::Params& params) {
   std::fprintf(
       f,
       "usage: hg-plan [options] OUTLINE.json\n"
-      "Plans a grind path from an outline JSON file (hg-outline's format: loops [{hole, points [[x, y], ...]}],\n"
-      "plane {origin, normal, u, v} optional, frame optional) and writes a path file (docs/path_file.md:\n"
+      "Plans a grind path from an outline file (docs/outline_file.md, as hg-outline writes it: loops [{hole,\n"
+      "points [[u, v], ...]}], plane {origin, normal, u, v}, frame and spacing optional) and writes a path file\n"
+      "(docs/path_file.md:\n"
       "{\"job_id\", \"frame\", \"outline_seq\", \"tool_radius\", \"tilt\", \"flipped\", \"waypoints\": [{position,\n"
       "orientation [w, x, y, z], speed, kind, loop}], coverage {tolerance, unreached_length, loops [{loop, hole,\n"
       "length, reached_fraction, unreached [{start, length, concave, points}]}]}}) in the robot base frame, metres.\n"
@@ -33,7 +34,8 @@ void usage(std::FILE* f, const hg::runtime::Params& params) {
       "is applied), robot_base (the cell's frames.base: used as it is) or cloud (hg-outline: the input cloud's own\n"
       "coordinates, taken as the camera frame). --outline-frame overrides it: a cloud in robot base\n"
       "coordinates plans with --outline-frame robot_base. The transform applied is printed on stderr.\n"
-      "The start point is the loop point nearest to the cell's home (no robot is heard here).\n"
+      "The start point is the loop point nearest to the cell's home (no robot is heard here). The passes after\n"
+      "sequencing are the path-modifiers (docs/path_planner.md, \"Path modifiers\").\n"
       "Prints a one-line summary on stderr. Exit status: 0 planned, 1 planning failed (reason on stderr),\n"
       "2 bad command line, config or input file.\n\n"
       "options (command line > --config FILE, the same keys as hg-path-planner, config/path_planner.yaml > default):\n");
@@ -55,15 +57,16 @@ std::vector<hg::runtime::Param> hg_plan_params() {
   return params;
 }
 
-// The outline file in the frame the planner works in; throws naming the problem (exit 2).
+// The outline file in the frame the planner works in; throws naming the problem (exit 2): a bad file
+// (outline_io::ReadError names the file and the key) or a frame that does not fit the cell.
 OutlineInput read_input(const std::string& input, const PlannerConfig& cfg, const std::string& chosen_frame,
                         OutlineFrame& frame) {
-  std::ifstream f(input, std::ios::binary);
-  if (!f) throw std::runtime_error("cannot open");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  OutlineInput outline = read_outline_json(ss.str(), cfg.default_plane);
-  frame = resolve_outline_frame(outline.frame, chosen_frame, cfg);
+  OutlineInput outline = read_outline_file(input, cfg.default_plane);
+  try {
+    frame = resolve_outline_frame(outline.frame, chosen_frame, cfg);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(input + ": " + e.what());
+  }
   return outline;
 }
 
@@ -123,7 +126,7 @@ int main(int argc, char** argv) {
   try {
     outline = read_input(input, cfg, params.text("outline-frame"), frame);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "hg-plan: %s: %s\n", input.c_str(), e.what());
+    std::fprintf(stderr, "hg-plan: %s\n", e.what());
     return 2;
   }
   place_default_plane(outline, frame, cfg);

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <string>
 
-#include "path_planner/io.hpp"
+#include "path_planner/lcm.hpp"
 
 namespace hg::path_planner {
 

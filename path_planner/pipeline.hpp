@@ -1,7 +1,8 @@
 // The grind-path planning pipeline: small pure steps over plain structs (Eigen), composed the way
-// ROS-Industrial's noether composes tool-path modifiers:
-//   (mirror if flipped) -> smooth -> offset -> resample -> order/start -> orient + leads + approach/retract
-//   -> robot base frame -> corner speeds -> validate.
+// ROS-Industrial's noether composes tool paths: the steps that change the path's type are functions,
+//   (mirror if flipped) -> smooth -> offset -> resample -> sequence (order, start, orientation),
+// then the path modifiers of the config's list (modifiers.hpp: leads, approach, retract, corner speeds),
+//   -> robot base frame -> validate -> coverage.
 // No LCM here: the process (path_planner.cpp) and the CLI (hg_plan.cpp) both call plan().
 //
 // Conventions (see docs/path_planner.md):
@@ -173,12 +174,9 @@ struct GrindLoop {
 };
 struct SequenceOptions {
   double tilt = 0;
-  double grind_speed = 0.02, travel_speed = 0.2, approach_speed = 0.05;
-  double step = 0.002;
-  double safe_height = 0.05;
-  double z = 0;  // height of the grind points above the plate top surface
-  double lead_radius = 0.01;
-  double lead_angle = 1.5707963267948966;
+  double grind_speed = 0.02;
+  double approach_speed = 0.05;  // of the move onto each pass's entry (modifiers.hpp)
+  double z = 0;                  // height of the grind points above the plate top surface
   Direction direction = Direction::Climb;
   bool spindle_clockwise = true;
 };
@@ -195,8 +193,20 @@ std::vector<Vec2> lead_in_arc(const Vec2& p0, const Vec2& tangent, const Vec2& a
                               double step);
 std::vector<Vec2> lead_out_arc(const Vec2& p0, const Vec2& tangent, const Vec2& away, double radius, double sweep,
                                double step);
-std::vector<PlateWaypoint> sequence(const std::vector<GrindLoop>& loops, const Vec2& start,
-                                    const SequenceOptions& options);
+// One grind loop as the tool travels it. Every waypoint's speed and kind say how the tool moves INTO it: the
+// first, the entry (the loop's start vertex), is reached at the approach speed (kind approach), the others
+// (round the loop to the start vertex again) are grind moves.
+struct Pass {
+  std::int16_t loop = 0;  // index into the outline's loops
+  bool hole = false;
+  double area = 0;  // of the ring ground, m^2 (a lead arc in a hole stays well inside it)
+  // Travel direction and away-from-material normal at the entry (plate frame, unit, in-plane).
+  Vec2 tangent = Vec2::UnitX(), away = Vec2::UnitY();
+  std::vector<PlateWaypoint> waypoints;  // plate frame; waypoints.front() is the entry
+};
+// One pass per loop, in order_loops' order, in the travel direction, each waypoint at its tool_orientation.
+// The leads, approach, retract and corner speeds are path modifiers after it (modifiers.hpp).
+std::vector<Pass> sequence(const std::vector<GrindLoop>& loops, const Vec2& start, const SequenceOptions& options);
 
 // ---- 6. into the robot base frame ----
 struct Waypoint {
@@ -292,6 +302,8 @@ struct PlannerConfig {
   double approach_speed = 0.05;
   double lead_radius = 0.01;
   double lead_angle = 1.5707963267948966;
+  // The path modifiers after sequencing, in order (modifiers.hpp; the parameter path-modifiers).
+  std::vector<std::string> modifiers = {"leads", "approach", "retract", "corner-speeds"};
   double z_offset = 0;
   bool spindle_clockwise = true;
   SmallHolePolicy small_hole = SmallHolePolicy::Fail;  // also what an edge the tool cannot reach does

@@ -1,4 +1,5 @@
 // The composition of the steps: one pure function from an outline + job parameters to a validated path.
+#include "path_planner/modifiers.hpp"
 #include "path_planner/pipeline.hpp"
 
 #include <chrono>
@@ -127,13 +128,8 @@ SequenceOptions sequence_options(const JobParams& P, const PlannerConfig& cfg) {
   SequenceOptions so;
   so.tilt = P.tilt;
   so.grind_speed = P.grind_speed;
-  so.travel_speed = P.travel_speed;
-  so.approach_speed = std::min(cfg.approach_speed, P.travel_speed);
-  so.step = P.step;
-  so.safe_height = P.safe_height;
+  so.approach_speed = approach_speed(P, cfg);
   so.z = cfg.z_offset;
-  so.lead_radius = cfg.lead_radius;
-  so.lead_angle = cfg.lead_angle;
   so.direction = P.direction;
   so.spindle_clockwise = cfg.spindle_clockwise;
   return so;
@@ -170,36 +166,28 @@ std::string too_small_text(std::size_t k, bool hole, const Ring& edge, double to
 
 }  // namespace
 
-PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig& cfg,
-                const std::optional<Vec3>& robot_position_base) {
-  const auto t0 = std::chrono::steady_clock::now();
-  PlanResult res;
-  auto fail = [&](std::string why) {
-    res.ok = false;
-    res.reason = std::move(why);
-    res.path.clear();
-    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return res;
-  };
-  if (std::string why = resolve_params(requested, cfg.defaults, res.params); !why.empty()) return fail(why);
-  if (std::string why = check_job_within_cell(res.params, cfg); !why.empty())
-    return fail("refused by the cell: " + why);
+namespace {
+
+// Step 0: the job's parameters resolved into res.params and checked against the cell, the outline checked.
+std::string check_job(const OutlineInput& in, const JobParams& requested, const PlannerConfig& cfg, PlanResult& res) {
+  if (std::string why = resolve_params(requested, cfg.defaults, res.params); !why.empty()) return why;
+  if (std::string why = check_job_within_cell(res.params, cfg); !why.empty()) return "refused by the cell: " + why;
+  if (std::string why = check_outline(in); !why.empty()) return "bad outline: " + why;
+  return "";
+}
+
+// Steps 2 and 3: every edge offset by the tool radius and resampled. A loop with no offset is skipped (its
+// reason in skipped[k], its warning's index in skipped_warning[k]) when the small-hole policy allows.
+std::string offset_loops(const std::vector<Loop>& loops, const std::vector<Ring>& edges, const PlannerConfig& cfg,
+                         PlanResult& res, std::vector<GrindLoop>& grind, std::vector<std::string>& skipped,
+                         std::vector<std::size_t>& skipped_warning) {
   const JobParams& P = res.params;
-  if (std::string why = check_outline(in); !why.empty()) return fail("bad outline: " + why);
-
-  res.pitch_source = choose_spacing(in, cfg.smooth).source;
-  // No spacing at all only for a drawn polygon (no loop of 200 vertices): it is left as it is.
-  const std::vector<Ring> edges = edges_to_grind(in, P.flipped, cfg, res.pitch);
-
-  std::vector<GrindLoop> grind;
-  std::vector<std::size_t> skipped_warning(in.loops.size(), SIZE_MAX);
-  std::vector<std::string> skipped(in.loops.size());
-  for (std::size_t k = 0; k < in.loops.size(); ++k) {
-    const Loop& l = in.loops[k];
+  for (std::size_t k = 0; k < loops.size(); ++k) {
+    const Loop& l = loops[k];
     const std::vector<Ring> off = offset_ring(edges[k], l.hole, P.tool_radius, cfg.arc_tolerance);
     if (off.empty()) {
       const std::string why = too_small_text(k, l.hole, edges[k], P.tool_radius, cfg.arc_tolerance);
-      if (cfg.small_hole == SmallHolePolicy::Fail || !l.hole) return fail("not grindable: " + why);
+      if (cfg.small_hole == SmallHolePolicy::Fail || !l.hole) return "not grindable: " + why;
       skipped_warning[k] = res.warnings.size();
       skipped[k] = why;
       res.warnings.push_back("skipped: " + why);
@@ -212,18 +200,26 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
       grind.push_back({resample_ring(r, P.step, cfg.resample_corner_angle, cfg.resample_chord_error), l.hole, int(k)});
   }
   res.loops_planned = int(grind.size());
+  return "";
+}
 
-  const Eigen::Isometry3d T = plate_to_base(in.plane, cfg.camera_to_base);
-  const Vec3 start_base = robot_position_base ? *robot_position_base : cfg.home;
+// Steps 5 to 6: the passes, the configured modifiers over them, the path in the base frame.
+std::vector<Waypoint> tool_path(const std::vector<GrindLoop>& grind, const Eigen::Isometry3d& T, const Vec3& start_base,
+                                const PlannerConfig& cfg, PlanResult& res) {
   const Vec3 start_plate = T.inverse() * start_base;
+  ToolPath path{sequence(grind, start_plate.head<2>(), sequence_options(res.params, cfg)), T, start_base};
+  compose_modifiers(cfg.modifiers, res.params, cfg).apply(path);
+  res.slowed = path.speeds_lowered;
+  return to_base(flatten(path), T);
+}
 
-  res.path = to_base(sequence(grind, start_plate.head<2>(), sequence_options(P, cfg)), T);
-  res.slowed = limit_corner_speeds(res.path, start_base, cfg.limits.max_accel);
-
-  if (std::string why = validate(res.path, cfg.limits, T.linear().col(2), start_base); !why.empty())
-    return fail("validation: " + why);
-  // Coverage of every loop's edge by the path as published (skipped holes included: none of their edge is).
-  res.plate_to_base = T;
+// Step 7b: the coverage of every loop's edge by the path as published (skipped holes included: none of their
+// edge is); warnings for what is not reached, and the reason to fail when the small-hole policy says so.
+std::string check_coverage(const OutlineInput& in, const std::vector<Ring>& edges,
+                           const std::vector<std::string>& skipped, const std::vector<std::size_t>& skipped_warning,
+                           const PlannerConfig& cfg, PlanResult& res) {
+  const JobParams& P = res.params;
+  const Eigen::Isometry3d& T = res.plate_to_base;
   res.edges = edges;
   res.coverage_tolerance = coverage_tolerance(cfg, res.pitch);
   res.coverage = loops_coverage(in.loops, edges, grind_segments(res.path, T), P.tool_radius, res.coverage_tolerance);
@@ -233,17 +229,46 @@ PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig
     c.planned = skipped[k].empty();
     c.skipped = skipped[k];
     res.unreached_length += c.unreached_length;
-    if (!c.unreached.empty()) {
-      const std::string text = describe_unreached(c, T, P.tool_radius, res.coverage_tolerance, cfg.base_frame);
-      if (skipped_warning[k] != SIZE_MAX) res.warnings[skipped_warning[k]] += ": " + text;
-      else if (cfg.small_hole == SmallHolePolicy::Skip)
-        res.warnings.push_back("not reached: " + text);
-      unreached += (unreached.empty() ? "" : "; ") + text;
-    }
+    if (c.unreached.empty()) continue;
+    const std::string text = describe_unreached(c, T, P.tool_radius, res.coverage_tolerance, cfg.base_frame);
+    if (skipped_warning[k] != SIZE_MAX) res.warnings[skipped_warning[k]] += ": " + text;
+    else if (cfg.small_hole == SmallHolePolicy::Skip)
+      res.warnings.push_back("not reached: " + text);
+    unreached += (unreached.empty() ? "" : "; ") + text;
   }
   if (!unreached.empty() && cfg.small_hole == SmallHolePolicy::Fail)
-    return fail("not grindable: edge out of the tool's reach: " + unreached);
-  res.ok = true;
+    return "not grindable: edge out of the tool's reach: " + unreached;
+  return "";
+}
+
+}  // namespace
+
+PlanResult plan(OutlineInput in, const JobParams& requested, const PlannerConfig& cfg,
+                const std::optional<Vec3>& robot_position_base) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanResult res;
+  std::vector<std::string> skipped(in.loops.size());
+  std::vector<std::size_t> skipped_warning(in.loops.size(), SIZE_MAX);
+  std::string why = check_job(in, requested, cfg, res);
+  std::vector<Ring> edges;
+  std::vector<GrindLoop> grind;
+  if (why.empty()) {
+    res.pitch_source = choose_spacing(in, cfg.smooth).source;
+    // No spacing at all only for a drawn polygon (no loop of 200 vertices): it is left as it is.
+    edges = edges_to_grind(in, res.params.flipped, cfg, res.pitch);
+    why = offset_loops(in.loops, edges, cfg, res, grind, skipped, skipped_warning);
+  }
+  const Vec3 start_base = robot_position_base ? *robot_position_base : cfg.home;
+  if (why.empty()) {
+    res.plate_to_base = plate_to_base(in.plane, cfg.camera_to_base);
+    res.path = tool_path(grind, res.plate_to_base, start_base, cfg, res);
+    why = validate(res.path, cfg.limits, res.plate_to_base.linear().col(2), start_base);
+    if (!why.empty()) why = "validation: " + why;
+  }
+  if (why.empty()) why = check_coverage(in, edges, skipped, skipped_warning, cfg, res);
+  res.ok = why.empty();
+  res.reason = why;
+  if (!res.ok) res.path.clear();
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

@@ -1,5 +1,5 @@
-// Steps 4 and 5: tool orientation per waypoint, loop order and start points, lead-in/lead-out arcs,
-// approach and retract at a safe height, travel between loops.
+// Steps 4 and 5: tool orientation per waypoint, loop order and start points, one pass per loop; the
+// lead-in/lead-out arcs here are the leads modifier's (modifiers.cpp).
 #include "path_planner/pipeline.hpp"
 
 #include <cmath>
@@ -84,50 +84,49 @@ std::vector<Vec2> lead_out_arc(const Vec2& p0, const Vec2& t, const Vec2& m, dou
   return pts;
 }
 
-std::vector<PlateWaypoint> sequence(const std::vector<GrindLoop>& loops, const Vec2& start, const SequenceOptions& o) {
-  std::vector<PlateWaypoint> path;
+namespace {
+
+// The loop's vertices from vertex s round to it again, in the travel direction.
+std::vector<Vec2> traversal(const Ring& P, long s, bool reversed) {
+  const long n = long(P.size());
+  std::vector<Vec2> trav;
+  trav.reserve(n + 1);
+  for (long k = 0; k <= n; ++k) trav.push_back(P[((reversed ? s - k : s + k) % n + n) % n]);
+  return trav;
+}
+
+Pass make_pass(const GrindLoop& gl, long s, bool reversed, const SequenceOptions& o) {
+  const std::vector<Vec2> trav = traversal(gl.ring.points, s, reversed);
+  Pass pass;
+  pass.loop = std::int16_t(gl.loop_index);
+  pass.hole = gl.hole;
+  pass.area = std::abs(signed_area(gl.ring.points));
+  const std::size_t T = trav.size();
+  for (std::size_t k = 0; k < T; ++k) {
+    // Tangent (central difference) and away-from-material normal; the closing point repeats the start's.
+    const Vec2 prev = trav[k == 0 ? T - 2 : k - 1], next = trav[k + 1 == T ? 1 : k + 1];
+    Vec2 t = next - prev;
+    if (t.squaredNorm() == 0) t = Vec2::UnitX();
+    t.normalize();
+    // Canonical travel has material on the left, so away = right of the canonical tangent.
+    const Vec2 away = reversed ? Vec2(-right_of(t)) : right_of(t);
+    if (k == 0) pass.tangent = t, pass.away = away;
+    const bool entry = k == 0;
+    pass.waypoints.push_back({Vec3(trav[k].x(), trav[k].y(), o.z), tool_orientation(t, away, o.tilt),
+                              entry ? o.approach_speed : o.grind_speed, entry ? kApproach : kGrind, pass.loop});
+  }
+  return pass;
+}
+
+}  // namespace
+
+std::vector<Pass> sequence(const std::vector<GrindLoop>& loops, const Vec2& start, const SequenceOptions& o) {
   const Ordering ord = order_loops(loops, start);
   const bool reversed = travel_reversed(o.direction, o.spindle_clockwise);
-  const double z = o.z, zs = o.z + o.safe_height;
-  for (std::size_t e = 0; e < ord.order.size(); ++e) {
-    const GrindLoop& gl = loops[ord.order[e]];
-    const Ring& P = gl.ring.points;
-    const long n = long(P.size());
-    const long s = ord.start_vertex[e];
-    const auto idx = std::int16_t(gl.loop_index);
-    // Traversal order of the ring's vertices, starting (and ending) at s.
-    std::vector<Vec2> trav;
-    trav.reserve(n + 1);
-    for (long k = 0; k <= n; ++k) trav.push_back(P[((reversed ? s - k : s + k) % n + n) % n]);
-    // Tangent (central difference) and away-from-material normal for each traversal point.
-    const std::size_t T = trav.size();
-    std::vector<Vec2> tan(T), away(T);
-    for (std::size_t k = 0; k < T; ++k) {
-      const Vec2 prev = trav[k == 0 ? T - 2 : k - 1], next = trav[k + 1 == T ? 1 : k + 1];
-      Vec2 t = next - prev;
-      if (t.squaredNorm() == 0) t = Vec2::UnitX();
-      tan[k] = t.normalized();
-      // Canonical travel has material on the left, so away = right of the canonical tangent.
-      away[k] = reversed ? Vec2(-right_of(tan[k])) : right_of(tan[k]);
-    }
-    const Eigen::Quaterniond q0 = tool_orientation(tan[0], away[0], o.tilt);
-    double radius = o.lead_radius;
-    if (gl.hole) radius = std::min(radius, 0.3 * std::sqrt(std::abs(signed_area(P)) / M_PI));
-    const std::vector<Vec2> lin = lead_in_arc(trav[0], tan[0], away[0], radius, o.lead_angle, o.step);
-    const std::vector<Vec2> lout = lead_out_arc(trav[0], tan[0], away[0], radius, o.lead_angle, o.step);
-    auto add = [&](const Vec2& p, double h, const Eigen::Quaterniond& q, double speed, std::int8_t kind,
-                   std::int16_t loop) {
-      path.push_back({Vec3(p.x(), p.y(), h), q, speed, kind, loop});
-    };
-    add(lin.front(), zs, q0, o.travel_speed, e == 0 ? kApproach : kTravel, -1);
-    add(lin.front(), z, q0, o.approach_speed, kApproach, idx);
-    for (std::size_t k = 1; k < lin.size(); ++k) add(lin[k], z, q0, o.grind_speed, kLeadIn, idx);
-    for (std::size_t k = 1; k < T; ++k)
-      add(trav[k], z, tool_orientation(tan[k], away[k], o.tilt), o.grind_speed, kGrind, idx);
-    for (std::size_t k = 1; k < lout.size(); ++k) add(lout[k], z, q0, o.grind_speed, kLeadOut, idx);
-    add(lout.back(), zs, q0, o.approach_speed, kRetract, idx);
-  }
-  return path;
+  std::vector<Pass> passes;
+  for (std::size_t e = 0; e < ord.order.size(); ++e)
+    passes.push_back(make_pass(loops[ord.order[e]], ord.start_vertex[e], reversed, o));
+  return passes;
 }
 
 }  // namespace hg::path_planner

@@ -142,6 +142,18 @@ std::optional<std::vector<double>> Config::get_doubles(const std::string& key) c
   return out;
 }
 
+std::optional<std::vector<std::string>> Config::get_strings(const std::string& key) const {
+  if (!has(key)) return std::nullopt;
+  const YAML::Node n = find(root_->node, key);
+  if (!n.IsSequence()) throw error(key, "expected a list, as [a, b, c]");
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    if (!n[i].IsScalar()) throw error(key, "element " + std::to_string(i) + " is not a single value");
+    out.push_back(n[i].Scalar());
+  }
+  return out;
+}
+
 std::string default_file(const std::string& tree_path) {
   namespace fs = std::filesystem;
   const std::string prefix = "config/";

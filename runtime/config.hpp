@@ -33,6 +33,7 @@ class Config {
   std::optional<double> get_double(const std::string& key) const;
   std::optional<bool> get_bool(const std::string& key) const;
   std::optional<std::vector<double>> get_doubles(const std::string& key) const;
+  std::optional<std::vector<std::string>> get_strings(const std::string& key) const;  // a list of scalars
   // True when the key holds a YAML list (rather than a scalar).
   bool is_list(const std::string& key) const;
 

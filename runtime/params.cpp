@@ -47,9 +47,12 @@ const char* type_name(ParamType t) {
     case ParamType::Integer: return "integer";
     case ParamType::Flag: return "true|false";
     case ParamType::Numbers: return "list of numbers";
+    case ParamType::Names: return "list of names";
     default: return "text";
   }
 }
+
+bool is_list(ParamType t) { return t == ParamType::Numbers || t == ParamType::Names; }
 
 bool is_builtin(const std::string& name) { return name == "config" || name == "help" || name == "version"; }
 
@@ -109,6 +112,9 @@ Param quantity_param(const quantity::Quantity& q, std::string def, const std::st
 }
 Param numbers_param(std::string name, std::string def, std::string help) {
   return Param{std::move(name), std::move(def), std::move(help), false, ParamType::Numbers};
+}
+Param names_param(std::string name, std::string def, std::string help) {
+  return Param{std::move(name), std::move(def), std::move(help), false, ParamType::Names};
 }
 Param flag_param(std::string name, std::string help) { return Param{std::move(name), "", std::move(help), true}; }
 Param moved_param(std::string name, std::string now) {
@@ -324,6 +330,7 @@ void Params::check_values() const {
       case ParamType::Integer: integer(p.name); break;
       case ParamType::Flag: flag(p.name); break;
       case ParamType::Numbers: numbers(p.name); break;
+      case ParamType::Names: names(p.name); break;
       case ParamType::Text: text(p.name); break;
     }
   }
@@ -356,7 +363,10 @@ std::string Params::text(const std::string& name) const {
   if (!p) throw ConfigError("no such parameter '" + name + "'");
   std::string v;
   if (auto it = cli_.find(name); it != cli_.end()) v = it->second;
-  else if (config_.is_list(name)) {
+  else if (config_.is_list(name) && p->kind() == ParamType::Names) {
+    const std::vector<std::string> list = config_.get_strings(name).value();
+    for (const std::string& s : list) v += (v.empty() ? "" : ",") + s;
+  } else if (config_.is_list(name)) {
     const std::vector<double> list = config_.get_doubles(name).value();
     for (double d : list) v += (v.empty() ? "" : ",") + number_text(d);
   } else if (auto s = config_.get_string(name))
@@ -417,16 +427,25 @@ std::vector<double> Params::numbers(const std::string& name) const {
   return out;
 }
 
+std::vector<std::string> Params::names(const std::string& name) const {
+  std::vector<std::string> out;
+  std::stringstream ss(text(name));
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
 void Params::print_options(std::FILE* out) const {
   if (declared_.empty()) std::fprintf(out, "  (none)\n");
   for (const Param& p : declared_) {
     if (!p.moved_to.empty()) continue;
     std::string value;
     if (!p.is_flag)
-      value = !p.value_name.empty()            ? " " + p.value_name
-              : p.kind() == ParamType::Numbers ? " A,B,.."
-              : p.kind() == ParamType::Flag    ? " true|false"
-                                               : " VALUE";
+      value = !p.value_name.empty()         ? " " + p.value_name
+              : is_list(p.kind())           ? " A,B,.."
+              : p.kind() == ParamType::Flag ? " true|false"
+                                            : " VALUE";
     std::string left = "  " + (p.alias.empty() ? "" : p.alias + value + ", ") + "--" + p.name + value;
     if (p.positional) left = "  " + shown(p);
     if (p.rest) left = "  --" + p.name + " " + p.value_name;

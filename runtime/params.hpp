@@ -17,7 +17,7 @@
 
 namespace hg::runtime {
 
-enum class ParamType { Text, Number, Integer, Flag, Numbers };
+enum class ParamType { Text, Number, Integer, Flag, Numbers, Names };
 
 struct Param {
   std::string name;           // kebab-case: --name on the command line, key name in the config file
@@ -53,6 +53,8 @@ Param integer_param(std::string name, std::string def, std::string help,
                     double min = -std::numeric_limits<double>::infinity(),
                     double max = std::numeric_limits<double>::infinity());
 Param numbers_param(std::string name, std::string def, std::string help);
+// A list of names: "a,b,c" on the command line, a YAML list [a, b, c] in a config file; "" is the empty list.
+Param names_param(std::string name, std::string def, std::string help);
 // A job quantity as a parameter (runtime/quantities.hpp): its key, meaning, unit and one range, and `note`
 // (what the parameter is for: "job default"): quantity_param(quantity::kStep, "0.002", "job default").
 Param quantity_param(const quantity::Quantity& q, std::string def, const std::string& note);
@@ -103,6 +105,8 @@ class Params {
   std::vector<double> numbers(const std::string& name) const;    // "a,b,c" on the command line, a YAML list
   bool given(const std::string& name) const;                     // on the command line or in the config
   std::vector<std::string> rest(const std::string& name) const;  // the arguments after --name (Param::rest)
+  // A list of names, as numbers().
+  std::vector<std::string> names(const std::string& name) const;
 
   // Where the value of `name` comes from: "command line", "config 'FILE' line N" or "default".
   std::string origin(const std::string& name) const;

@@ -19,9 +19,9 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 # (globs relative to the source tree). A new target is one line here and its CMake target in the top
 # CMakeLists.txt's HG_FUZZ branch.
 TARGETS=(
-  "text fuzz_read_text cloud_io/fuzz/text.dict tests/data/outline_io/*.xyz tests/data/outline_io/*.csv tests/data/outline_io/*.txt"
-  "pcd fuzz_read_pcd cloud_io/fuzz/pcd.dict tests/data/outline_io/*.pcd"
-  "ply fuzz_read_ply cloud_io/fuzz/ply.dict tests/data/outline_io/*.ply"
+  "text fuzz_read_text outline_io/fuzz/text.dict tests/data/outline_io/*.xyz tests/data/outline_io/*.csv tests/data/outline_io/*.txt"
+  "pcd fuzz_read_pcd outline_io/fuzz/pcd.dict tests/data/outline_io/*.pcd"
+  "ply fuzz_read_ply outline_io/fuzz/ply.dict tests/data/outline_io/*.ply"
   "station fuzz_station_request - station/fuzz/seeds/*"
 )
 

@@ -79,7 +79,11 @@ TEST(HgCalibrateBus, SessionFromTheBusGivesThePngSessionsTransform) {
   const json rec2 = json::parse(std::ifstream(d / "bus" / "view_002.outline.json"));
   EXPECT_EQ(rec0["source"], "HG_PLATE_CLOUD + HG_OUTLINE");
   EXPECT_EQ(rec2["source"], "HG_PLATE_CLOUD + outline core in hg-calibrate");
-  EXPECT_EQ(rec0["holes"].size(), 6u);
+  // The outline file (docs/outline_file.md): the six drilled holes, in the camera frame.
+  EXPECT_EQ(rec0["frame"], "camera");
+  std::size_t holes = 0;
+  for (const auto& loop : rec0["loops"]) holes += loop["hole"].get<bool>();
+  EXPECT_EQ(holes, 6u);
   ASSERT_EQ(run(kBin + "/hg-calibrate eye-to-hand --dry-run --session " + (d / "png").string() + " --report " +
                     (d / "png.json").string(),
                 &err),

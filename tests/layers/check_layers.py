@@ -19,7 +19,7 @@ import sys
 LAYERS = [
     ("ground", ["lcmtypes", "runtime", "camera_types", "polygon", "motion", "cell"]),
     ("outline core", ["outline_core"]),
-    ("point-cloud io", ["cloud_io"]),
+    ("outline io", ["outline_io"]),
     ("simulation", ["sim"]),
     ("processes", ["camera_bridge", "outline_service", "path_planner", "robot_bridge", "dds_gateway",
                    "job_recorder", "station"]),

@@ -17,6 +17,7 @@ PLANTED = [
     'number_param("safe-height", "0.05", "height", 0, 2),',
     'text_param("base-frame", "robot_base", "frame"),',
     'm.chamfer_angle = 0.5;',
+    '{"chamfer-angle", "tool.tilt"},',
     'if (tilt > 80 * M_PI / 180) return false;',
     'double max_tool_radius = 0.2;',
     'if (tilt > 1.3962634015954636) return false;',
@@ -27,7 +28,6 @@ PLANTED = [
 # Lines that are fine: the table's users, a moved key naming where it lives, the names in a comment.
 CLEAN = [
     'runtime::quantity_param(quantity::kStep, "0.002", "job default"),',
-    '{"chamfer-angle", "tool.tilt"},',
     '{"base-frame", "frames.base"},',
     '// the old chamfer_angle is tilt; kinds are "lead_in" and the like',
     'number_param("lead-radius", "0.01", "lead arc radius, m", 0, 1),',

@@ -11,9 +11,9 @@
 #include <sstream>
 #include <string>
 
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 
-using namespace hg::outline::io;
+using namespace hg::outline_io;
 
 namespace {
 

@@ -9,11 +9,11 @@
 #include <random>
 #include <sstream>
 
-#include "cloud_io/cloud_io.hpp"
-#include "cloud_io/outline_writers.hpp"
+#include "outline_io/cloud.hpp"
+#include "outline_io/outline_writers.hpp"
 
 using namespace hg::outline;
-using namespace hg::outline::io;
+using namespace hg::outline_io;
 namespace fs = std::filesystem;
 
 namespace {

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "lzf_test_compressor.hpp"
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 
-using namespace hg::outline::io;
+using namespace hg::outline_io;
 
 namespace {
 

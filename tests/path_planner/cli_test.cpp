@@ -184,8 +184,7 @@ TEST(PathPlannerCli, ContradictingTheCellExits2NamingBoth) {
       {"--approach-speed 1", "command line: --approach-speed: 1 exceeds " + c + " max-speed 0.25"},
       {"--tool-radius 0.005",
        "--tool-radius moved: it lives in the cell file (--cell, default config/cell.yaml), key tool.radius"},
-      {"--chamfer-angle 0.5",
-       "--chamfer-angle moved: it lives in the cell file (--cell, default config/cell.yaml), key tool.tilt"},
+      {"--chamfer-angle 0.5", "unknown option --chamfer-angle"},  // a chamfer is no tilt: the tilt is the cell's
       {"--base-frame base",
        "--base-frame moved: it lives in the cell file (--cell, default config/cell.yaml), key frames.base"},
       {"--max-speed 0.1",

@@ -3,7 +3,7 @@
 
 #include "tests/path_planner/step_shapes.hpp"
 
-TEST(PathPlannerOrient, ToolAxisTiltEqualsTheChamferAngle) {
+TEST(PathPlannerOrient, ToolAxisTiltEqualsTheJobTilt) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> U(-kPi, kPi);
   for (double tilt : {0.0, deg(15), deg(30), deg(45), deg(60)}) {
@@ -36,7 +36,7 @@ TEST(PathPlannerOrient, ClimbGoesClockwiseOutsideAndCounterClockwiseInHoles) {
   for (Direction d : {Direction::Climb, Direction::Conventional}) {
     SequenceOptions o;
     o.direction = d;
-    const auto path = sequence(loops, Vec2(-1, -1), o);
+    const auto path = flatten({sequence(loops, Vec2(-1, -1), o)});
     for (int loop : {0, 1}) {
       Ring g;
       for (const auto& w : path)

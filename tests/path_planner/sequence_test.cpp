@@ -46,9 +46,15 @@ TEST(PathPlannerSequence, ApproachAndRetractAtSafeHeight) {
   std::vector<GrindLoop> loops = {{resample_ring(rect(0, 0, 0.1, 0.1), 0.005, deg(10)), false, 0},
                                   {resample_ring(rect(0.3, 0, 0.4, 0.1), 0.005, deg(10)), false, 1}};
   SequenceOptions o;
-  o.safe_height = 0.07;
+  const double safe_height = 0.07, travel_speed = 0.2;
   o.z = 0.001;
-  const auto path = sequence(loops, Vec2(0, 0), o);
+  ToolPath tp{sequence(loops, Vec2(0, 0), o)};
+  std::vector<std::unique_ptr<PathModifier>> list;
+  list.push_back(std::make_unique<LeadArcs>(0.01, deg(90), 0.002, o.grind_speed));
+  list.push_back(std::make_unique<Approach>(safe_height, travel_speed));
+  list.push_back(std::make_unique<Retract>(safe_height, o.approach_speed));
+  CompoundModifier(std::move(list)).apply(tp);
+  const auto path = flatten(tp);
   ASSERT_FALSE(path.empty());
   EXPECT_EQ(path.front().kind, kApproach);
   EXPECT_NEAR(path.front().position.z(), 0.071, 1e-12);
@@ -61,7 +67,7 @@ TEST(PathPlannerSequence, ApproachAndRetractAtSafeHeight) {
       ++travel;
       EXPECT_NEAR(w.position.z(), 0.071, 1e-12);
       EXPECT_EQ(path[i - 1].kind, kRetract);
-      EXPECT_DOUBLE_EQ(w.speed, o.travel_speed);
+      EXPECT_DOUBLE_EQ(w.speed, travel_speed);
     }
     if (w.kind == kGrind || w.kind == kLeadIn || w.kind == kLeadOut) {
       EXPECT_NEAR(w.position.z(), 0.001, 1e-12);

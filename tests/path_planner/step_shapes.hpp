@@ -13,6 +13,7 @@
 
 #include "partgen/synth.hpp"
 #include "path_planner/io.hpp"
+#include "path_planner/modifiers.hpp"
 #include "path_planner/pipeline.hpp"
 #include "robot_bridge/path.hpp"
 #include "tests/path_planner/truth.hpp"

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "camera_bridge/camera_bridge.hpp"
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 #include "runtime/params.hpp"
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
@@ -34,7 +34,7 @@ double median(std::vector<double> v) {
 // cores), interleaved, medians of N. End to end = decoding the plate_cloud_t message bytes, compute()
 // (the core plus filling outline_t and part_pose_t) and encoding every published message.
 int bench_file(const std::string& path, int runs) {
-  const hg::outline::io::PlanarPoints planar = hg::outline::io::to_plane(hg::outline::io::read_cloud_file(path), path);
+  const hg::outline_io::PlanarPoints planar = hg::outline_io::to_plane(hg::outline_io::read_cloud_file(path), path);
   hullgrind::plate_cloud_t cloud{};
   cloud.header.frame_id = "camera";
   cloud.status = hullgrind::plate_cloud_t::STATUS_OK;

@@ -30,7 +30,7 @@
 #include "bench.hpp"
 #include "outline_core/alpha.hpp"
 #include "outline_core/delaunay.hpp"
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 #include "outline_core/outline.hpp"
 #include "partgen/presets.hpp"
 #include "partgen/synth.hpp"
@@ -448,8 +448,8 @@ std::string self_exe() {
 // Child modes (hg-bench --child-WHAT FILE R): read the file as hg-outline does, then run one method, so
 // the child's peak RSS is that of a whole process doing the job.
 int child_main(const std::string& what, const std::string& file, double R) {
-  const outline::io::Cloud cloud = outline::io::read_cloud_file(file);
-  const outline::io::PlanarPoints planar = outline::io::to_plane(cloud, file);
+  const outline_io::Cloud cloud = outline_io::read_cloud_file(file);
+  const outline_io::PlanarPoints planar = outline_io::to_plane(cloud, file);
   if (what == "--child-read") return planar.points.size() > 2 ? 0 : 1;
 #ifdef HG_BENCH_CGAL
   if (what == "--child-cgal-dt") return cgal_dt_loops(planar.points, R).boundary_edges > 0 ? 0 : 1;

@@ -13,7 +13,7 @@
 #include <limits>
 #include <string>
 
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 #include "hullgrind/job_request_t.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
 #include "runtime/channels.hpp"
@@ -43,7 +43,7 @@ std::vector<hg::runtime::Param> feed_params() {
 
 // The cloud as a plate_cloud_t in the camera frame: plane normal towards the camera (-z), u = camera x,
 // v = normal x u = -y (the bridge's convention), points centred on the optical axis.
-hullgrind::plate_cloud_t plate_cloud(const hg::outline::io::Cloud& c, double distance) {
+hullgrind::plate_cloud_t plate_cloud(const hg::outline_io::Cloud& c, double distance) {
   double lo[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
   double hi[2] = {-lo[0], -lo[1]};
   for (std::size_t i = 0; i < c.size(); ++i)
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
   }
   Feed feed{};
   try {
-    feed.cloud = plate_cloud(hg::outline::io::read_cloud_file(file), distance);
+    feed.cloud = plate_cloud(hg::outline_io::read_cloud_file(file), distance);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hg-bench-station-feed: %s\n", e.what());
     return hg::runtime::kExitBadInput;

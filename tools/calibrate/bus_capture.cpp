@@ -124,7 +124,7 @@ Captured capture_from_bus(const CaptureOptions& o) {
       throw std::runtime_error("no HG_ROBOT_STATUS after the plate cloud" + within);
     out.tcp_to_base = pose_of(*l.status_after_cloud);
   }
-  out.record = outline_json(out.plane, out.loops);
+  out.record = outline_view_json(out.plane, out.loops);
   out.record["source"] =
       o.local_outline ? "HG_PLATE_CLOUD + outline core in hg-calibrate" : "HG_PLATE_CLOUD + HG_OUTLINE";
   out.record["frame_id"] = c.header.frame_id;

@@ -2,13 +2,15 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "camera_bridge/sources.hpp"
 #include "cell/cell.hpp"
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
+#include "outline_io/outline_file.hpp"
 #include "runtime/config.hpp"
 
 namespace hg::calibrate {
@@ -57,10 +59,7 @@ void read_view_data(const std::string& dir, const json& v, SessionView& sv, std:
   sv.file = v.at(sv.kind).get<std::string>();
   const std::string path = dir + "/" + sv.file;
   if (sv.kind == "outline") {
-    if (!load) return;
-    std::ifstream f(path);
-    if (!f) throw runtime::ConfigError(sv.file + ": cannot open");  // a bad input file: exit 2
-    read_outline_json(json::parse(f), sv, path);
+    if (load) read_outline_view(path, sv);
     return;
   }
   key = at + "intrinsics";
@@ -68,7 +67,7 @@ void read_view_data(const std::string& dir, const json& v, SessionView& sv, std:
   key = at + sv.kind;
   if (!load) return;
   if (sv.kind == "cloud") {
-    sv.depth = camera_bridge::cloud_to_depth(outline::io::read_cloud_file(path).xyz, sv.intrinsics);
+    sv.depth = camera_bridge::cloud_to_depth(outline_io::read_cloud_file(path).xyz, sv.intrinsics);
   } else {
     sv.depth = cv::imread(path, cv::IMREAD_UNCHANGED);
     if (sv.depth.empty() || sv.depth.type() != CV_16UC1) throw std::runtime_error("not a 16-bit depth PNG");
@@ -96,38 +95,37 @@ SessionView read_view(const std::string& dir, const json& v, const std::string& 
 
 }  // namespace
 
-json outline_json(const calibration::PlatePlane& plane, const std::vector<calibration::HoleLoop>& loops) {
-  json holes = json::array();
+json outline_view_json(const calibration::PlatePlane& plane, const std::vector<calibration::HoleLoop>& loops) {
+  outline_io::OutlineFile f;
+  f.frame = "camera";
+  auto arr = [](const Eigen::Vector3d& p) { return std::array<double, 3>{p.x(), p.y(), p.z()}; };
+  f.plane = outline_io::Plane{arr(plane.origin), arr(plane.u_axis.cross(plane.v_axis).normalized()), arr(plane.u_axis),
+                              arr(plane.v_axis)};
   for (const auto& loop : loops) {
-    json u = json::array(), v = json::array();
-    for (const auto& p : loop) u.push_back(p.x()), v.push_back(p.y());
-    holes.push_back({{"u", u}, {"v", v}});
+    outline_io::OutlineLoop l{true, {}};
+    for (const auto& p : loop) l.points.push_back({p.x(), p.y()});
+    f.loops.push_back(std::move(l));
   }
-  return {
-      {"plane",
-       {{"origin", vec3_json(plane.origin)}, {"u_axis", vec3_json(plane.u_axis)}, {"v_axis", vec3_json(plane.v_axis)}}},
-      {"holes", holes}};
+  return json(outline_io::outline_file_json(f));
 }
 
-void read_outline_json(const json& j, SessionView& v, const std::string& where) {
-  std::string key = "plane";
-  try {
-    const json& p = j.at("plane");
-    v.plane = {vec3(p, "origin"), vec3(p, "u_axis"), vec3(p, "v_axis")};
-    v.loops.clear();
-    for (std::size_t i = 0; i < j.at("holes").size(); ++i) {
-      key = "holes[" + std::to_string(i) + "]";
-      const auto u = j["holes"][i].at("u").get<std::vector<double>>(),
-                 w = j["holes"][i].at("v").get<std::vector<double>>();
-      if (u.size() != w.size()) throw std::runtime_error("u and v differ in length");
-      calibration::HoleLoop loop;
-      for (std::size_t k = 0; k < u.size(); ++k) loop.emplace_back(u[k], w[k]);
-      v.loops.push_back(std::move(loop));
-    }
-  } catch (const std::exception& e) {
-    throw std::runtime_error(where + ": " + key + ": " + e.what());
+void read_outline_view(const std::string& path, SessionView& v) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw runtime::ConfigError(path + ": cannot open");  // a bad input file: exit 2
+  std::ostringstream text;
+  text << in.rdbuf();
+  const outline_io::OutlineFile f = outline_io::parse_outline_file(text.str(), path);
+  if (!f.plane) throw outline_io::ReadError(path + ": plane: missing (an outline view needs the plate plane)");
+  auto vec = [](const std::array<double, 3>& a) { return Eigen::Vector3d(a[0], a[1], a[2]); };
+  v.plane = {vec(f.plane->origin), vec(f.plane->u), vec(f.plane->v)};
+  v.loops.clear();
+  for (const outline_io::OutlineLoop& l : f.loops) {
+    if (!l.hole) continue;  // the drilled holes are the features; the plate's outer edge is none
+    calibration::HoleLoop loop;
+    for (const auto& p : l.points) loop.emplace_back(p.x, p.y);
+    v.loops.push_back(std::move(loop));
   }
-  v.outline_record = j;
+  v.outline_record = json::parse(text.str());  // the file as read (parse_outline_file took it as JSON)
 }
 
 Session read_session(const std::string& dir, bool load_data) {

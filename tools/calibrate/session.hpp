@@ -4,7 +4,7 @@
 //   "cloud":   a .pcd/.ply cloud in the camera frame (metres), rendered into a depth image through the
 //              view's intrinsics as the camera bridge's files source does, then as a depth PNG,
 //   "outline": the camera bridge's plate plane and the outline service's hole loops captured from the bus
-//              (hg-calibrate capture --from-bus), a JSON file beside session.json.
+//              (hg-calibrate capture --from-bus), an outline file (docs/outline_file.md) beside session.json.
 #pragma once
 
 #include <map>
@@ -47,9 +47,11 @@ void write_session(const std::string& dir, const Session& s);
 // cloud views, calibration::plate_from_loops for outline views). Throws calibration::CalibrationError.
 calibration::PlateView detect_view(const SessionView& v, const calibration::Drawing& d);
 
-// An outline view's file content from the plane and the hole loops; and back (throws naming `where`).
-nlohmann::json outline_json(const calibration::PlatePlane& plane, const std::vector<calibration::HoleLoop>& loops);
-void read_outline_json(const nlohmann::json& j, SessionView& v, const std::string& where);
+// An outline view's file: the outline file (outline_io/outline_file.hpp, docs/outline_file.md) of the plate
+// plane (camera frame) and its hole loops; and back (the plane and the hole loops: outer loops are no
+// features). read_outline_view throws naming the file and the key.
+nlohmann::json outline_view_json(const calibration::PlatePlane& plane, const std::vector<calibration::HoleLoop>& loops);
+void read_outline_view(const std::string& path, SessionView& v);
 
 std::vector<double> to_row_major(const Eigen::Isometry3d& t);
 Eigen::Isometry3d from_row_major(const std::vector<double>& v, const std::string& where);

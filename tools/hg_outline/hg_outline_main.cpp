@@ -10,8 +10,8 @@
 #include <limits>
 #include <vector>
 
-#include "cloud_io/cloud_io.hpp"
-#include "cloud_io/outline_writers.hpp"
+#include "outline_io/cloud.hpp"
+#include "outline_io/outline_writers.hpp"
 #include "outline_core/alpha.hpp"  // kDefaultAutoFactor, for --help
 #include "outline_core/outline.hpp"
 #include "runtime/params.hpp"
@@ -177,7 +177,7 @@ void print_summary(const Args& args, const hg::outline::Result& result, double m
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace io = hg::outline::io;
+  namespace io = hg::outline_io;
   Args args;
   try {
     hg::runtime::Params params(outline_params());

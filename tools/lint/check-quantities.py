@@ -7,8 +7,9 @@ scans the product sources (every tracked C++, IDL, Python and shell file outside
 each line that declares one again:
   - a job quantity as a parameter with its own range: number_param("tool-radius", ...) and the like
     (runtime::quantity_param takes the range from the table);
-  - the tilt's old names (chamfer-angle, chamfer_angle) and the planner's base-frame, except where a moved
-    key is declared ({"chamfer-angle", "tool.tilt"}: refused naming where it lives now);
+  - the tilt's old names (chamfer-angle, chamfer_angle: a chamfer is a cut corner, not the tool's tilt) and
+    the planner's base-frame, except where that moved key is declared ({"base-frame", "frames.base"}: refused
+    naming where it lives now);
   - a limit of a quantity written as a literal: 80 * M_PI / 180, 1.396..., a max_tool_radius or
     max_chamfer_angle field;
   - the waypoint kind list ("lead_in" as a string) or the direction names ("conventional") as text;
@@ -26,7 +27,7 @@ KEYS = "tool-radius|tilt|grind-speed|travel-speed|step|safe-height"
 RULES = [
     (re.compile(r'number_param\(\s*"(' + KEYS + r')"'), "a job quantity declared with its own range: use "
      "runtime::quantity_param (" + HOME + ")"),
-    (re.compile(r'"(chamfer-angle|chamfer_angle|base-frame)"(?!\s*,\s*"(tool\.tilt|frames\.base)")'),
+    (re.compile(r'"(chamfer-angle|chamfer_angle)"|"base-frame"(?!\s*,\s*"frames\.base")'),
      "an old name: the tilt is `tilt`, the base frame the cell's frames.base"),
     (re.compile(r'\bchamfer_angle\b'), "an old name: the tilt is `tilt`"),
     (re.compile(r'80\s*\*\s*M_PI|1\.39626|1\.0472|\bmax_tool_radius\b|\bmax_chamfer_angle\b'),

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "cloud_io/outline_writers.hpp"
+#include "outline_io/outline_writers.hpp"
 #include "runtime/config.hpp"
 #include "path_planner/io.hpp"
 #include "runtime/path_file.hpp"
@@ -117,7 +117,7 @@ int run(const hg::runtime::Params& p) {
     std::printf("camera-to-base calibration (from the cell file %s): %s\n", planner.cell_file.c_str(),
                 hg::path_planner::matrix_text(camera_to_base).c_str());
     std::filesystem::create_directories(out_dir);
-    hg::outline::io::StagedFiles files;
+    hg::outline_io::StagedFiles files;
     if (job.outline) files.stage(out_dir + "/outline.json", hg::overview::outline_json(job).dump(1) + "\n");
     if (job.path) files.stage(out_dir + "/path.json", hg::path_file::to_text(job.path->msg));
     const double off_plane = hg::overview::path_on_plate(job, camera_to_base).grind_height_median();

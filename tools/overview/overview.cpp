@@ -9,8 +9,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "cloud_io/outline_message.hpp"
-#include "cloud_io/outline_writers.hpp"
+#include "outline_io/outline_message.hpp"
+#include "outline_io/outline_writers.hpp"
 #include "path_planner/io.hpp"
 
 namespace hg::overview {
@@ -38,7 +38,7 @@ double ms(std::int64_t a, std::int64_t b) { return double(b - a) * 1e-3; }
 }  // namespace
 
 Json outline_json(const JobTrace& job) {
-  return outline::io::outline_message_json(job.outline->msg, job.cloud ? &job.cloud->msg : nullptr);
+  return outline_io::outline_message_json(job.outline->msg, job.cloud ? &job.cloud->msg : nullptr);
 }
 
 Json summary_json(const JobTrace& job) {

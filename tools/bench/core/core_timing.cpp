@@ -14,9 +14,9 @@
 
 #include <sys/resource.h>
 
-#include "cloud_io/cloud_io.hpp"
 #include "outline_core/alpha.hpp"
 #include "outline_core/delaunay.hpp"
+#include "outline_io/cloud.hpp"
 #include "outline_core/outline.hpp"
 #include "outline_core/threads.hpp"
 #include "runtime/params.hpp"

@@ -13,7 +13,16 @@
 
 #include "outline_core/outline.hpp"
 
-namespace hg::outline::io {
+namespace hg::outline_io {
+
+// The outline core's types, by the names the core gives them (this library is the layer above it).
+using outline::AlphaMode;
+using outline::Loop;
+using outline::Mode;
+using outline::Order;
+using outline::OutlineError;
+using outline::Result;
+using outline::Vec2;
 
 // A file that cannot be read: the message names the file and the line or byte offset, and what is wrong.
 struct ReadError : std::runtime_error {
@@ -70,4 +79,4 @@ struct PlanarPoints {
 PlanarPoints to_plane(const Cloud& cloud, const std::string& name = "input");
 std::array<double, 3> plane_to_3d(const Plane& plane, Vec2 p);
 
-}  // namespace hg::outline::io
+}  // namespace hg::outline_io

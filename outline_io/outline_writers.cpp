@@ -1,4 +1,6 @@
-#include "cloud_io/outline_writers.hpp"
+#include "outline_io/outline_writers.hpp"
+
+#include "outline_io/outline_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -14,7 +16,7 @@
 #include <opencv2/imgproc.hpp>
 #include <png.h>
 
-namespace hg::outline::io {
+namespace hg::outline_io {
 
 namespace {
 
@@ -57,10 +59,21 @@ constexpr const char* kHoleColour = "#d02020";
 
 }  // namespace
 
-nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar, const RunInfo& info) {
+namespace {
+
+// The outline file's part of hg-outline's JSON: frame, spacing, plane, the loops' holes and points.
+OutlineFile outline_file_of(const Result& r, const PlanarPoints& planar, const RunInfo& info) {
+  OutlineFile f;
+  f.frame = info.frame;
+  f.spacing = r.spacing;
+  if (planar.projected) f.plane = planar.plane;
+  for (const Loop& l : r.loops) f.loops.push_back({l.hole, l.points});
+  return f;
+}
+
+nlohmann::ordered_json run_json(const Result& r, const PlanarPoints& planar, const RunInfo& info) {
   nlohmann::ordered_json j;
   j["input"] = {{"file", info.input}, {"format", info.format}, {"has_z", info.has_z}, {"projected", planar.projected}};
-  j["frame"] = info.frame;
   j["points_read"] = r.points_read;
   j["points_skipped"] = r.points_skipped;
   j["points_used"] = r.points_used;
@@ -68,7 +81,7 @@ nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar,
   j["alpha_radius"] = r.alpha_radius;
   j["alpha_automatic"] = r.alpha_automatic;
   j["alpha_mode"] = to_string(r.alpha_mode);
-  j["spacing"] = r.spacing;
+  j["spacing"] = r.spacing;  // also when 0 (the outline file leaves it out then)
   j["nn_spacing_median"] = r.nn_spacing_median;
   j["holes_dropped"] = r.holes_dropped;
   j["mode"] = to_string(r.mode);
@@ -83,29 +96,30 @@ nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar,
   j["time_ms"] = {
       {"read", info.read_ms},     {"project", info.project_ms}, {"triangulate", r.time.triangulate_ms},
       {"alpha", r.time.alpha_ms}, {"loops", r.time.loops_ms},   {"total", info.project_ms + r.time.total_ms}};
+  return j;
+}
+
+}  // namespace
+
+nlohmann::ordered_json outline_json(const Result& r, const PlanarPoints& planar, const RunInfo& info) {
+  nlohmann::ordered_json j = outline_file_json(outline_file_of(r, planar, info));
+  j.update(run_json(r, planar, info));
   if (planar.projected) {
-    j["plane"] = {{"origin", arr3(planar.plane.origin)}, {"normal", arr3(planar.plane.normal)},
-                  {"u", arr3(planar.plane.u)},           {"v", arr3(planar.plane.v)},
-                  {"rms_distance", planar.rms_distance}, {"max_distance", planar.max_distance}};
+    j["plane"]["rms_distance"] = planar.rms_distance;
+    j["plane"]["max_distance"] = planar.max_distance;
   }
-  auto loops = nlohmann::ordered_json::array();
-  for (const Loop& l : r.loops) {
-    nlohmann::ordered_json jl;
-    jl["hole"] = l.hole;
+  for (std::size_t k = 0; k < r.loops.size(); ++k) {
+    const Loop& l = r.loops[k];
+    nlohmann::ordered_json& jl = j["loops"][k];
     jl["area"] = l.area;
     jl["perimeter"] = l.perimeter;
-    auto pts = nlohmann::ordered_json::array();
-    for (auto& p : l.points) pts.push_back({p.x, p.y});
-    jl["points"] = std::move(pts);
     if (planar.projected) {
       auto p3 = nlohmann::ordered_json::array();
       for (auto& p : l.points) p3.push_back(arr3(plane_to_3d(planar.plane, p)));
       jl["points_3d"] = std::move(p3);
     }
     jl["point_index"] = l.point_index;
-    loops.push_back(std::move(jl));
   }
-  j["loops"] = std::move(loops);
   return j;
 }
 
@@ -279,4 +293,4 @@ void StagedFiles::commit() {
   }
 }
 
-}  // namespace hg::outline::io
+}  // namespace hg::outline_io

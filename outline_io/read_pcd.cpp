@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cctype>
 
-#include "cloud_io/read_common.hpp"
+#include "outline_io/read_common.hpp"
 
-namespace hg::outline::io {
+namespace hg::outline_io {
 
 using namespace detail;
 
@@ -351,4 +351,4 @@ Cloud parse_pcd(std::string_view data, const std::string& name) {
   return count_nonfinite(cloud);
 }
 
-}  // namespace hg::outline::io
+}  // namespace hg::outline_io

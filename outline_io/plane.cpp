@@ -5,10 +5,10 @@
 #include <cmath>
 #include <limits>
 
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 #include "outline_core/predicates.hpp"
 
-namespace hg::outline::io {
+namespace hg::outline_io {
 
 namespace {
 
@@ -28,7 +28,7 @@ void refuse_collinear(const double* p, const std::vector<std::size_t>& finite) {
     }
     for (int k = 0; k < 3; ++k) {
       const int x = k, y = (k + 1) % 3;
-      if (pred::orient2d(a[x], a[y], b[x], b[y], q[x], q[y]) != 0) return;
+      if (outline::pred::orient2d(a[x], a[y], b[x], b[y], q[x], q[y]) != 0) return;
     }
   }
   std::vector<std::array<double, 3>> distinct;
@@ -132,4 +132,4 @@ std::array<double, 3> plane_to_3d(const Plane& pl, Vec2 q) {
           pl.origin[2] + q.x * pl.u[2] + q.y * pl.v[2]};
 }
 
-}  // namespace hg::outline::io
+}  // namespace hg::outline_io

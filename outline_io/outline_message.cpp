@@ -1,11 +1,11 @@
-#include "cloud_io/outline_message.hpp"
+#include "outline_io/outline_message.hpp"
 
 #include <algorithm>
 #include <string>
 
-#include "cloud_io/outline_writers.hpp"
+#include "outline_io/outline_writers.hpp"
 
-namespace hg::outline::io {
+namespace hg::outline_io {
 namespace {
 
 Result result_of(const hullgrind::outline_t& o) {
@@ -18,8 +18,8 @@ Result result_of(const hullgrind::outline_t& o) {
   r.alpha_mode = o.alpha_mode == "local" ? AlphaMode::Local : AlphaMode::Global;
   r.spacing = o.point_spacing;
   r.holes_dropped = std::size_t(std::max(0, o.holes_dropped));
-  r.mode = parse_mode(o.mode.empty() ? "dshi" : o.mode);
-  r.order = parse_order(o.order.empty() ? "as-is" : o.order);
+  r.mode = outline::parse_mode(o.mode.empty() ? "dshi" : o.mode);
+  r.order = outline::parse_order(o.order.empty() ? "as-is" : o.order);
   r.stats.triangles = std::size_t(o.triangles);
   r.stats.search_cost = std::uint64_t(o.search_cost);
   r.time = {o.time_triangulate * 1e3, o.time_alpha * 1e3, o.time_loops * 1e3, o.compute_time * 1e3};
@@ -69,4 +69,4 @@ nlohmann::ordered_json outline_message_json(const hullgrind::outline_t& o, const
   return j;
 }
 
-}  // namespace hg::outline::io
+}  // namespace hg::outline_io

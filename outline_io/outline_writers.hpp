@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 #include "outline_core/outline.hpp"
 
-namespace hg::outline::io {
+namespace hg::outline_io {
 
 struct WriteError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -63,4 +63,4 @@ class StagedFiles {
   std::vector<Entry> entries_;
 };
 
-}  // namespace hg::outline::io
+}  // namespace hg::outline_io

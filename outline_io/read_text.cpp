@@ -6,9 +6,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "cloud_io/read_common.hpp"
+#include "outline_io/read_common.hpp"
 
-namespace hg::outline::io {
+namespace hg::outline_io {
 
 using namespace detail;
 
@@ -156,4 +156,4 @@ Cloud read_cloud_file(const std::string& path) {
   throw ReadError(path + ": unsupported format");
 }
 
-}  // namespace hg::outline::io
+}  // namespace hg::outline_io

@@ -3,9 +3,9 @@
 // over and checked for length but not kept. Ascii data: one element instance per line.
 #include <algorithm>
 
-#include "cloud_io/read_common.hpp"
+#include "outline_io/read_common.hpp"
 
-namespace hg::outline::io {
+namespace hg::outline_io {
 
 using namespace detail;
 
@@ -303,4 +303,4 @@ Cloud parse_ply(std::string_view data, const std::string& name) {
   return count_nonfinite(cloud);
 }
 
-}  // namespace hg::outline::io
+}  // namespace hg::outline_io

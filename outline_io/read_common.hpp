@@ -11,9 +11,9 @@
 #include <string_view>
 #include <vector>
 
-#include "cloud_io/cloud_io.hpp"
+#include "outline_io/cloud.hpp"
 
-namespace hg::outline::io::detail {
+namespace hg::outline_io::detail {
 
 static_assert(std::endian::native == std::endian::little, "binary readers assume a little-endian host");
 
@@ -198,4 +198,4 @@ inline Cloud& count_nonfinite(Cloud& c) {
 
 inline const char* axis_name(int k) { return k == 0 ? "x" : k == 1 ? "y" : "z"; }
 
-}  // namespace hg::outline::io::detail
+}  // namespace hg::outline_io::detail
