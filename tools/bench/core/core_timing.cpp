@@ -230,8 +230,8 @@ int main(int argc, char** argv) {
   const Mode mode = parse_mode(p.text("mode"));
   std::vector<Vec2> scan, shuf;
   try {
-    io::Cloud cloud = io::read_cloud_file(file);
-    scan = io::to_plane(cloud, file).points;
+    hg::outline_io::Cloud cloud = hg::outline_io::read_cloud_file(file);
+    scan = hg::outline_io::to_plane(cloud, file).points;
   } catch (const std::exception& e) {  // a bad input file (ReadError names the file)
     std::fprintf(stderr, "hg-core-timing: %s\n", e.what());
     return 2;
