@@ -2,13 +2,15 @@
 
 #include <bit>
 #include <algorithm>
-#include <charconv>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <map>
 #include <set>
 #include <type_traits>
+
+#include <fmt/format.h>
 
 namespace hg::foxglove {
 
@@ -187,6 +189,90 @@ void append_json_string(std::string_view s, std::string& out) {
 
 namespace {
 
+// "00".."99": the decimal digits of an integer are written two at a time.
+constexpr auto kPairs = [] {
+  std::array<char, 200> t{};
+  for (int i = 0; i < 100; ++i) t[2 * i] = char('0' + i / 10), t[2 * i + 1] = char('0' + i % 10);
+  return t;
+}();
+
+// The decimal digits of v, ending at `end`; returns the first.
+char* digits_backward(char* end, std::uint64_t v) {
+  while (v >= 100) {
+    end -= 2;
+    std::memcpy(end, &kPairs[2 * (v % 100)], 2);
+    v /= 100;
+  }
+  if (v >= 10) {
+    end -= 2;
+    std::memcpy(end, &kPairs[2 * v], 2);
+  } else {
+    *--end = char('0' + v);
+  }
+  return end;
+}
+
+// The decimal digits d (k of them) of a value d x 10^e as JSON text: fixed notation or d[.ddd]e±XX,
+// whichever is shorter (fixed on a tie): the text std::to_chars writes for the same digits.
+char* place_digits(char* p, const char* d, int k, int e) {
+  const int point = k + e;  // digits before the decimal point
+  const int fixed = e >= 0 ? k + e : point > 0 ? k + 1 : 2 - point + k;
+  const int x = point - 1;  // the scientific exponent
+  const int ax = x < 0 ? -x : x;
+  const int sci = k + (k > 1) + 2 + (ax >= 100 ? 3 : 2);
+  if (fixed <= sci) {
+    if (e >= 0) {
+      std::memcpy(p, d, std::size_t(k));
+      std::memset(p + k, '0', std::size_t(e));
+      return p + k + e;
+    }
+    if (point > 0) {
+      std::memcpy(p, d, std::size_t(point));
+      p[point] = '.';
+      std::memcpy(p + point + 1, d + point, std::size_t(k - point));
+      return p + k + 1;
+    }
+    *p++ = '0';
+    *p++ = '.';
+    std::memset(p, '0', std::size_t(-point));
+    std::memcpy(p - point, d, std::size_t(k));
+    return p - point + k;
+  }
+  *p++ = d[0];
+  if (k > 1) {
+    *p++ = '.';
+    std::memcpy(p, d + 1, std::size_t(k - 1));
+    p += k - 1;
+  }
+  *p++ = 'e';
+  *p++ = x < 0 ? '-' : '+';
+  if (ax >= 100) *p++ = char('0' + ax / 100);
+  std::memcpy(p, &kPairs[2 * (ax % 100)], 2);
+  return p + 2;
+}
+
+template <class F>
+char* shortest(char* p, F v) {
+  if (std::signbit(v)) {
+    *p++ = '-';
+    v = -v;
+  }
+  // Dragonbox (libfmt-dev; declared in fmt/format.h, built into libfmt): the shortest digits that read back
+  // as v, trailing zeros removed. About a third of std::to_chars' instructions on a cloud's float32 values
+  // (docs/BENCHMARKS.md, "hg-mcap"); 0 comes back as 0 x 10^0.
+  const auto dec = fmt::detail::dragonbox::to_decimal(v);
+  char buf[24];
+  char* d = digits_backward(buf + sizeof buf, dec.significand);
+  return place_digits(p, d, int(buf + sizeof buf - d), dec.exponent);
+}
+
+}  // namespace
+
+char* write_shortest(char* p, float v) { return shortest(p, v); }
+char* write_shortest(char* p, double v) { return shortest(p, v); }
+
+namespace {
+
 template <class Raw>
 Raw byteswap(Raw v) {
   if constexpr (sizeof(Raw) == 2) return static_cast<Raw>(__builtin_bswap16(v));
@@ -196,11 +282,29 @@ Raw byteswap(Raw v) {
     return __builtin_bswap64(v);
 }
 
+// Integers: the digits of a decimal pair table, two at a time.
+template <class T>
+char* write_number(char* p, T v) {
+  using U = std::make_unsigned_t<T>;
+  U u = static_cast<U>(v);
+  if constexpr (std::is_signed_v<T>)
+    if (v < 0) {
+      *p++ = '-';
+      u = static_cast<U>(U(0) - u);
+    }
+  char buf[24];
+  char* first = digits_backward(buf + sizeof buf, u);
+  std::size_t n = static_cast<std::size_t>(buf + sizeof buf - first);
+  std::memcpy(p, first, n);
+  return p + n;
+}
+char* write_number(char* p, float v) { return write_shortest(p, v); }
+char* write_number(char* p, double v) { return write_shortest(p, v); }
+
 template <class T>
 void append_number(T v, std::string& out) {
   char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
+  out.append(buf, write_number(buf, v));
 }
 
 template <class F>
@@ -277,8 +381,8 @@ struct Encoder {
   // bus: no per-element capacity check or append).
   template <class T, class Raw>
   void numbers(std::size_t n) {
-    // std::to_chars' shortest round-trip text of a float or double is at most 24 characters
-    // ("-2.2250738585072014e-308"), of an integer its digits and the sign.
+    // The shortest round-trip text of a float or double is at most 24 characters, of an integer its digits
+    // and the sign.
     constexpr std::size_t width = std::is_floating_point_v<T> ? 24 : std::numeric_limits<T>::digits10 + 3;
     constexpr std::size_t block = 4096;
     out.push_back('[');
@@ -299,9 +403,9 @@ struct Encoder {
             p += 4;
             continue;
           }
-          p = std::to_chars(p, p + width, v).ptr;
+          p = write_number(p, v);
         } else {
-          p = std::to_chars(p, p + width, static_cast<T>(raw)).ptr;
+          p = write_number(p, static_cast<T>(raw));
         }
       }
       out.resize(static_cast<std::size_t>(p - out.data()));
