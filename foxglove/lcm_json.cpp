@@ -196,8 +196,10 @@ constexpr auto kPairs = [] {
   return t;
 }();
 
-// The decimal digits of v, ending at `end`; returns the first.
-char* digits_backward(char* end, std::uint64_t v) {
+// The decimal digits of v, ending at `end`; returns the first. (A float's digits fit 32 bits, whose
+// divisions by 100 are cheaper.)
+template <class U>
+char* digits_backward(char* end, U v) {
   while (v >= 100) {
     end -= 2;
     std::memcpy(end, &kPairs[2 * (v % 100)], 2);
@@ -212,38 +214,75 @@ char* digits_backward(char* end, std::uint64_t v) {
   return end;
 }
 
-// The decimal digits d (k of them) of a value d x 10^e as JSON text: fixed notation or d[.ddd]e±XX,
-// whichever is shorter (fixed on a tie): the text std::to_chars writes for the same digits.
-char* place_digits(char* p, const char* d, int k, int e) {
+constexpr std::uint64_t kPow10[20] = {1ull,
+                                      10ull,
+                                      100ull,
+                                      1000ull,
+                                      10000ull,
+                                      100000ull,
+                                      1000000ull,
+                                      10000000ull,
+                                      100000000ull,
+                                      1000000000ull,
+                                      10000000000ull,
+                                      100000000000ull,
+                                      1000000000000ull,
+                                      10000000000000ull,
+                                      100000000000000ull,
+                                      1000000000000000ull,
+                                      10000000000000000ull,
+                                      100000000000000000ull,
+                                      1000000000000000000ull,
+                                      10000000000000000000ull};
+
+// Decimal digits of v (1 for 0): from its bit length (log10 2 ~ 1233 / 4096), corrected by one comparison.
+// v | 1 has as many digits as v and is never 0.
+int digit_count(std::uint64_t v) {
+  const std::uint64_t u = v | 1;
+  const int t = ((64 - __builtin_clzll(u)) * 1233) >> 12;
+  return t + (u >= kPow10[t]);
+}
+
+// The fixed text of v x 10^e, e < 0, that has k digits: its last -e digits after the point (zeros in front
+// when it has fewer), "0" before the point when it has none else. Written backwards from the end.
+template <class U>
+char* fraction_text(char* p, U v, int k, int e) {
+  char* end = p + std::max(k + e, 1) + 1 - e;
+  char* q = end;
+  int i = -e;
+  for (; i >= 2; i -= 2, v /= 100) std::memcpy(q -= 2, &kPairs[2 * (v % 100)], 2);
+  if (i) {
+    *--q = char('0' + v % 10);
+    v /= 10;
+  }
+  *--q = '.';
+  digits_backward(q, v);
+  return end;
+}
+
+// v x 10^e (v's k digits) as JSON text: fixed notation or d[.ddd]e±XX, whichever is shorter (fixed on a
+// tie): the text std::to_chars writes for the same digits. Fixed is the shorter only with at most 5 zeros
+// after the digits or 3 after the point, so every text fits in 24 characters.
+template <class U>
+char* place_digits(char* p, U v, int k, int e) {
   const int point = k + e;  // digits before the decimal point
   const int fixed = e >= 0 ? k + e : point > 0 ? k + 1 : 2 - point + k;
   const int x = point - 1;  // the scientific exponent
   const int ax = x < 0 ? -x : x;
   const int sci = k + (k > 1) + 2 + (ax >= 100 ? 3 : 2);
+  if (fixed <= sci && e < 0) return fraction_text(p, v, k, e);
   if (fixed <= sci) {
-    if (e >= 0) {
-      std::memcpy(p, d, std::size_t(k));
-      std::memset(p + k, '0', std::size_t(e));
-      return p + k + e;
-    }
-    if (point > 0) {
-      std::memcpy(p, d, std::size_t(point));
-      p[point] = '.';
-      std::memcpy(p + point + 1, d + point, std::size_t(k - point));
-      return p + k + 1;
-    }
-    *p++ = '0';
-    *p++ = '.';
-    std::memset(p, '0', std::size_t(-point));
-    std::memcpy(p - point, d, std::size_t(k));
-    return p - point + k;
+    digits_backward(p + k, v);
+    std::memcpy(p + k, "00000", 5);  // e <= 5 of them are the number's
+    return p + k + e;
   }
-  *p++ = d[0];
+  char* end = p + k + (k > 1);
+  digits_backward(end, v);  // then the first digit moves before the point
   if (k > 1) {
-    *p++ = '.';
-    std::memcpy(p, d + 1, std::size_t(k - 1));
-    p += k - 1;
+    p[0] = p[1];
+    p[1] = '.';
   }
+  p = end;
   *p++ = 'e';
   *p++ = x < 0 ? '-' : '+';
   if (ax >= 100) *p++ = char('0' + ax / 100);
@@ -258,12 +297,10 @@ char* shortest(char* p, F v) {
     v = -v;
   }
   // Dragonbox (libfmt-dev; declared in fmt/format.h, built into libfmt): the shortest digits that read back
-  // as v, trailing zeros removed. About a third of std::to_chars' instructions on a cloud's float32 values
-  // (docs/BENCHMARKS.md, "hg-mcap"); 0 comes back as 0 x 10^0.
+  // as v, trailing zeros removed; 0 comes back as 0 x 10^0. With the placement above about a third of
+  // std::to_chars' CPU time on a cloud's float32 values (docs/BENCHMARKS.md, "hg-mcap").
   const auto dec = fmt::detail::dragonbox::to_decimal(v);
-  char buf[24];
-  char* d = digits_backward(buf + sizeof buf, dec.significand);
-  return place_digits(p, d, int(buf + sizeof buf - d), dec.exponent);
+  return place_digits(p, dec.significand, digit_count(dec.significand), dec.exponent);
 }
 
 }  // namespace
@@ -377,20 +414,21 @@ struct Encoder {
   }
 
   // The innermost dimension of a numeric array: one bounds check, then a tight loop over blocks of elements
-  // into room for the longest text of each (a cloud's u, v and part arrays are most of the bytes of the
-  // bus: no per-element capacity check or append).
+  // into a buffer on the stack with room for the longest text of each, appended as a whole (a cloud's u, v
+  // and part arrays are most of the bytes of the bus: no per-element capacity check, and no resize, which
+  // would first fill the room with zeros).
   template <class T, class Raw>
   void numbers(std::size_t n) {
     // The shortest round-trip text of a float or double is at most 24 characters, of an integer its digits
     // and the sign.
     constexpr std::size_t width = std::is_floating_point_v<T> ? 24 : std::numeric_limits<T>::digits10 + 3;
-    constexpr std::size_t block = 4096;
+    constexpr std::size_t block = 1024;
+    char scratch[block * (width + 1) + 8];  // + 8: a number's text may write a few bytes past its end
     out.push_back('[');
     const uint8_t* src = d + pos;
     for (std::size_t i = 0; i < n; i += block) {
-      std::size_t m = std::min(block, n - i), start = out.size();
-      out.resize(start + m * (width + 1));
-      char* p = out.data() + start;
+      std::size_t m = std::min(block, n - i);
+      char* p = scratch;
       for (std::size_t k = 0; k < m; ++k, src += sizeof(Raw)) {
         if (i + k) *p++ = ',';
         Raw raw;
@@ -408,7 +446,7 @@ struct Encoder {
           p = write_number(p, static_cast<T>(raw));
         }
       }
-      out.resize(static_cast<std::size_t>(p - out.data()));
+      out.append(scratch, p);
     }
     out.push_back(']');
     pos += n * sizeof(Raw);

@@ -55,11 +55,16 @@ uint32_t crc32_of(uint32_t crc, const void* data, std::size_t size) { return lib
 // The zstd context, made once: ZSTD_compress would allocate (and fault in) a context of several MB for
 // every chunk (LZ4F_compressFrame's state is small). The output buffer only grows: resizing a std::string
 // fills the new part, which for a chunk of a cloud would be a memset of 40 MB per chunk.
+// Level 1 with a hash table of 2^12 entries instead of level 1's 2^13: 16 kB, which stays in the L1 cache;
+// on the JSON text of a cloud's numbers (few long matches) about 10 % less CPU and 5 % smaller chunks
+// (docs/BENCHMARKS.md, "hg-mcap").
 struct McapWriter::Compressor {
   ZSTD_CCtx* zstd = ZSTD_createCCtx();
   std::string out;
   Compressor() {
-    if (!zstd) throw std::runtime_error("cannot make a zstd context");
+    if (!zstd || ZSTD_isError(ZSTD_CCtx_setParameter(zstd, ZSTD_c_compressionLevel, 1)) ||
+        ZSTD_isError(ZSTD_CCtx_setParameter(zstd, ZSTD_c_hashLog, 12)))
+      throw std::runtime_error("cannot make a zstd context");
   }
   ~Compressor() { ZSTD_freeCCtx(zstd); }
 
@@ -67,7 +72,7 @@ struct McapWriter::Compressor {
   std::string_view compress(Compression c, const std::string& in) {
     if (c == Compression::Zstd) {
       reserve(ZSTD_compressBound(in.size()));
-      std::size_t n = ZSTD_compressCCtx(zstd, out.data(), out.size(), in.data(), in.size(), 1);
+      std::size_t n = ZSTD_compress2(zstd, out.data(), out.size(), in.data(), in.size());
       if (ZSTD_isError(n)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(n));
       return {out.data(), n};
     }
