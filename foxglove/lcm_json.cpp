@@ -290,6 +290,48 @@ char* place_digits(char* p, U v, int k, int e) {
   return p + 2;
 }
 
+// The 8 decimal digits of v < 10^8, zero-padded, as 8 characters in one word, first digit in the lowest
+// byte: split into 4-digit, 2-digit and 1-digit lanes with multiplications by reciprocals (10486 / 2^20 is
+// 1/100 below 43699, 103 / 2^10 is 1/10 below 179), no chain of divisions.
+std::uint64_t eight_digits(std::uint32_t v) {
+  std::uint64_t x = (v / 10000) | (std::uint64_t(v % 10000) << 32);
+  std::uint64_t hi = ((x * 10486) >> 20) & 0x0000007F0000007Full;
+  x = hi | ((x - hi * 100) << 16);
+  hi = ((x * 103) >> 10) & 0x000F000F000F000Full;
+  x = hi | ((x - hi * 10) << 8);
+  return x | 0x3030303030303030ull;
+}
+
+// A float's digits (at most 9) placed as place_digits does, from a right-aligned copy with fixed-size moves:
+// writes up to 16 bytes past the text's end.
+char* place_float_digits(char* p, std::uint32_t v, int k, int e) {
+  char buf[32] = {};
+  buf[0] = char('0' + v / 100000000);
+  const std::uint64_t w = eight_digits(v % 100000000);
+  std::memcpy(buf + 1, &w, 8);
+  const char* d = buf + 9 - k;
+  const int point = k + e;
+  const int fixed = e >= 0 ? k + e : point > 0 ? k + 1 : 2 - point + k;
+  const int x = point - 1;
+  const int ax = x < 0 ? -x : x;
+  const int sci = k + (k > 1) + 2 + (ax >= 100 ? 3 : 2);
+  if (fixed > sci) return place_digits(p, v, k, e);  // rare for a cloud: 1e-05 and below, 1e+15 and above
+  if (e >= 0) {
+    std::memcpy(p, d, 16);
+    std::memcpy(p + k, "00000", 5);
+    return p + k + e;
+  }
+  if (point > 0) {
+    std::memcpy(p, d, 16);
+    p[point] = '.';
+    std::memcpy(p + point + 1, d + point, 16);
+    return p + k + 1;
+  }
+  std::memcpy(p, "0.000", 5);  // -point <= 3 zeros after the point
+  std::memcpy(p + 2 - point, d, 16);
+  return p + 2 - point + k;
+}
+
 template <class F>
 char* shortest(char* p, F v) {
   if (std::signbit(v)) {
@@ -297,10 +339,13 @@ char* shortest(char* p, F v) {
     v = -v;
   }
   // Dragonbox (libfmt-dev; declared in fmt/format.h, built into libfmt): the shortest digits that read back
-  // as v, trailing zeros removed; 0 comes back as 0 x 10^0. With the placement above about a third of
-  // std::to_chars' CPU time on a cloud's float32 values (docs/BENCHMARKS.md, "hg-mcap").
+  // as v, trailing zeros removed; 0 comes back as 0 x 10^0 (docs/BENCHMARKS.md, "hg-mcap", against
+  // std::to_chars).
   const auto dec = fmt::detail::dragonbox::to_decimal(v);
-  return place_digits(p, dec.significand, digit_count(dec.significand), dec.exponent);
+  if constexpr (std::is_same_v<F, float>)
+    return place_float_digits(p, dec.significand, digit_count(dec.significand), dec.exponent);
+  else
+    return place_digits(p, dec.significand, digit_count(dec.significand), dec.exponent);
 }
 
 }  // namespace
@@ -340,7 +385,7 @@ char* write_number(char* p, double v) { return write_shortest(p, v); }
 
 template <class T>
 void append_number(T v, std::string& out) {
-  char buf[32];
+  char buf[48];
   out.append(buf, write_number(buf, v));
 }
 
@@ -423,7 +468,7 @@ struct Encoder {
     // and the sign.
     constexpr std::size_t width = std::is_floating_point_v<T> ? 24 : std::numeric_limits<T>::digits10 + 3;
     constexpr std::size_t block = 1024;
-    char scratch[block * (width + 1) + 8];  // + 8: a number's text may write a few bytes past its end
+    char scratch[block * (width + 1) + 16];  // + 16: a number's text may write up to 16 bytes past its end
     out.push_back('[');
     const uint8_t* src = d + pos;
     for (std::size_t i = 0; i < n; i += block) {

@@ -299,7 +299,7 @@ void check_shortest(uint64_t seed, int count) {
     values.push_back(static_cast<F>(std::uniform_real_distribution<double>(-1, 1)(rng)));  // a cloud's metres
   }
   for (F v : values) {
-    char ours[32], theirs[32];
+    char ours[48], theirs[32];
     char* end = hg::foxglove::write_shortest(ours, v);
     ASSERT_LE(end - ours, 24);
     char* their_end = std::to_chars(theirs, theirs + sizeof theirs, v).ptr;
