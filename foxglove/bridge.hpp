@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "cell/cell.hpp"
 #include "tools/lcm_tools/lcm_schema.hpp"
 
 namespace hullgrind {
@@ -50,8 +51,8 @@ struct BridgeOptions {
   // The cell's calibration (config/cell.yaml): p_base = camera_to_base * p_camera; eye-in-hand: camera ->
   // flange, composed with the capture's flange pose. Without either, no base <- camera transform is sent.
   std::optional<Eigen::Isometry3d> camera_to_base, camera_to_flange;
-  std::string base_frame = "robot_base";
-  std::string camera_frame = "camera";  // until a plate cloud names its frame
+  std::string base_frame = cell::Frames{}.base;  // the cell's frames.base
+  std::string camera_frame = "camera";           // until a plate cloud names its frame
 };
 
 struct Output {

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "cell/cell.hpp"
+#include "cell/cell_params.hpp"
 #include "lcmlog.hpp"
 #include "runtime/params.hpp"
 #include "to_mcap.hpp"
@@ -23,10 +24,11 @@ std::vector<Param> mcap_params() {
       hg::runtime::integer_param("max-points", "200000",
                                  "foxglove.PointCloud: at most this many points (every k-th; 0 = all)", 0, 1e9),
       hg::runtime::text_param("cell", "",
-                              "cell file (config/cell.yaml) for the base <- camera transform; empty: none sent"),
-      hg::runtime::text_param("base-frame", "robot_base", "parent frame of the camera transform"),
+                              "cell file (config/cell.yaml): the base frame (frames.base) and the base <- camera "
+                              "transform; empty: robot_base, no camera transform"),
       hg::runtime::integer_param("start-utime", "-9223372036854775807", "first event time kept, microseconds"),
-      hg::runtime::integer_param("end-utime", "9223372036854775807", "last event time kept, microseconds")};
+      hg::runtime::integer_param("end-utime", "9223372036854775807", "last event time kept, microseconds"),
+      hg::cell::moved_to_cell({{"base-frame", "frames.base"}}).front()};
 }
 
 void usage(std::FILE* f, const hg::runtime::Params& params) {
@@ -49,9 +51,9 @@ hg::foxglove::ToMcapOptions options(const hg::runtime::Params& p) {
   o.mcap.chunk_size = static_cast<std::size_t>(p.integer("chunk-size"));
   o.mcap.library = std::string("hullgrind hg-mcap ") + hg::runtime::version();
   o.bridge.max_points = static_cast<std::size_t>(p.integer("max-points"));
-  o.bridge.base_frame = p.text("base-frame");
   if (!p.text("cell").empty()) {
     hg::cell::Cell cell = hg::cell::read_cell(p.text("cell"));
+    o.bridge.base_frame = cell.frames.base;
     if (cell.calibration.camera_to_flange) o.bridge.camera_to_flange = cell.calibration.camera_to_flange;
     else
       o.bridge.camera_to_base = cell.calibration.camera_to_base;

@@ -2,13 +2,15 @@
 
 #include <bit>
 #include <algorithm>
-#include <charconv>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <map>
 #include <set>
 #include <type_traits>
+
+#include <fmt/format.h>
 
 namespace hg::foxglove {
 
@@ -187,6 +189,172 @@ void append_json_string(std::string_view s, std::string& out) {
 
 namespace {
 
+// "00".."99": the decimal digits of an integer are written two at a time.
+constexpr auto kPairs = [] {
+  std::array<char, 200> t{};
+  for (int i = 0; i < 100; ++i) t[2 * i] = char('0' + i / 10), t[2 * i + 1] = char('0' + i % 10);
+  return t;
+}();
+
+// The decimal digits of v, ending at `end`; returns the first. (A float's digits fit 32 bits, whose
+// divisions by 100 are cheaper.)
+template <class U>
+char* digits_backward(char* end, U v) {
+  while (v >= 100) {
+    end -= 2;
+    std::memcpy(end, &kPairs[2 * (v % 100)], 2);
+    v /= 100;
+  }
+  if (v >= 10) {
+    end -= 2;
+    std::memcpy(end, &kPairs[2 * v], 2);
+  } else {
+    *--end = char('0' + v);
+  }
+  return end;
+}
+
+constexpr std::uint64_t kPow10[20] = {1ull,
+                                      10ull,
+                                      100ull,
+                                      1000ull,
+                                      10000ull,
+                                      100000ull,
+                                      1000000ull,
+                                      10000000ull,
+                                      100000000ull,
+                                      1000000000ull,
+                                      10000000000ull,
+                                      100000000000ull,
+                                      1000000000000ull,
+                                      10000000000000ull,
+                                      100000000000000ull,
+                                      1000000000000000ull,
+                                      10000000000000000ull,
+                                      100000000000000000ull,
+                                      1000000000000000000ull,
+                                      10000000000000000000ull};
+
+// Decimal digits of v (1 for 0): from its bit length (log10 2 ~ 1233 / 4096), corrected by one comparison.
+// v | 1 has as many digits as v and is never 0.
+int digit_count(std::uint64_t v) {
+  const std::uint64_t u = v | 1;
+  const int t = ((64 - __builtin_clzll(u)) * 1233) >> 12;
+  return t + (u >= kPow10[t]);
+}
+
+// The fixed text of v x 10^e, e < 0, that has k digits: its last -e digits after the point (zeros in front
+// when it has fewer), "0" before the point when it has none else. Written backwards from the end.
+template <class U>
+char* fraction_text(char* p, U v, int k, int e) {
+  char* end = p + std::max(k + e, 1) + 1 - e;
+  char* q = end;
+  int i = -e;
+  for (; i >= 2; i -= 2, v /= 100) std::memcpy(q -= 2, &kPairs[2 * (v % 100)], 2);
+  if (i) {
+    *--q = char('0' + v % 10);
+    v /= 10;
+  }
+  *--q = '.';
+  digits_backward(q, v);
+  return end;
+}
+
+// v x 10^e (v's k digits) as JSON text: fixed notation or d[.ddd]e±XX, whichever is shorter (fixed on a
+// tie): the text std::to_chars writes for the same digits. Fixed is the shorter only with at most 5 zeros
+// after the digits or 3 after the point, so every text fits in 24 characters.
+template <class U>
+char* place_digits(char* p, U v, int k, int e) {
+  const int point = k + e;  // digits before the decimal point
+  const int fixed = e >= 0 ? k + e : point > 0 ? k + 1 : 2 - point + k;
+  const int x = point - 1;  // the scientific exponent
+  const int ax = x < 0 ? -x : x;
+  const int sci = k + (k > 1) + 2 + (ax >= 100 ? 3 : 2);
+  if (fixed <= sci && e < 0) return fraction_text(p, v, k, e);
+  if (fixed <= sci) {
+    digits_backward(p + k, v);
+    std::memcpy(p + k, "00000", 5);  // e <= 5 of them are the number's
+    return p + k + e;
+  }
+  char* end = p + k + (k > 1);
+  digits_backward(end, v);  // then the first digit moves before the point
+  if (k > 1) {
+    p[0] = p[1];
+    p[1] = '.';
+  }
+  p = end;
+  *p++ = 'e';
+  *p++ = x < 0 ? '-' : '+';
+  if (ax >= 100) *p++ = char('0' + ax / 100);
+  std::memcpy(p, &kPairs[2 * (ax % 100)], 2);
+  return p + 2;
+}
+
+// The 8 decimal digits of v < 10^8, zero-padded, as 8 characters in one word, first digit in the lowest
+// byte: split into 4-digit, 2-digit and 1-digit lanes with multiplications by reciprocals (10486 / 2^20 is
+// 1/100 below 43699, 103 / 2^10 is 1/10 below 179), no chain of divisions.
+std::uint64_t eight_digits(std::uint32_t v) {
+  std::uint64_t x = (v / 10000) | (std::uint64_t(v % 10000) << 32);
+  std::uint64_t hi = ((x * 10486) >> 20) & 0x0000007F0000007Full;
+  x = hi | ((x - hi * 100) << 16);
+  hi = ((x * 103) >> 10) & 0x000F000F000F000Full;
+  x = hi | ((x - hi * 10) << 8);
+  return x | 0x3030303030303030ull;
+}
+
+// A float's digits (at most 9) placed as place_digits does, from a right-aligned copy with fixed-size moves:
+// writes up to 16 bytes past the text's end.
+char* place_float_digits(char* p, std::uint32_t v, int k, int e) {
+  char buf[32] = {};
+  buf[0] = char('0' + v / 100000000);
+  const std::uint64_t w = eight_digits(v % 100000000);
+  std::memcpy(buf + 1, &w, 8);
+  const char* d = buf + 9 - k;
+  const int point = k + e;
+  const int fixed = e >= 0 ? k + e : point > 0 ? k + 1 : 2 - point + k;
+  const int x = point - 1;
+  const int ax = x < 0 ? -x : x;
+  const int sci = k + (k > 1) + 2 + (ax >= 100 ? 3 : 2);
+  if (fixed > sci) return place_digits(p, v, k, e);  // rare for a cloud: 1e-05 and below, 1e+15 and above
+  if (e >= 0) {
+    std::memcpy(p, d, 16);
+    std::memcpy(p + k, "00000", 5);
+    return p + k + e;
+  }
+  if (point > 0) {
+    std::memcpy(p, d, 16);
+    p[point] = '.';
+    std::memcpy(p + point + 1, d + point, 16);
+    return p + k + 1;
+  }
+  std::memcpy(p, "0.000", 5);  // -point <= 3 zeros after the point
+  std::memcpy(p + 2 - point, d, 16);
+  return p + 2 - point + k;
+}
+
+template <class F>
+char* shortest(char* p, F v) {
+  if (std::signbit(v)) {
+    *p++ = '-';
+    v = -v;
+  }
+  // Dragonbox (libfmt-dev; declared in fmt/format.h, built into libfmt): the shortest digits that read back
+  // as v, trailing zeros removed; 0 comes back as 0 x 10^0 (docs/BENCHMARKS.md, "hg-mcap", against
+  // std::to_chars).
+  const auto dec = fmt::detail::dragonbox::to_decimal(v);
+  if constexpr (std::is_same_v<F, float>)
+    return place_float_digits(p, dec.significand, digit_count(dec.significand), dec.exponent);
+  else
+    return place_digits(p, dec.significand, digit_count(dec.significand), dec.exponent);
+}
+
+}  // namespace
+
+char* write_shortest(char* p, float v) { return shortest(p, v); }
+char* write_shortest(char* p, double v) { return shortest(p, v); }
+
+namespace {
+
 template <class Raw>
 Raw byteswap(Raw v) {
   if constexpr (sizeof(Raw) == 2) return static_cast<Raw>(__builtin_bswap16(v));
@@ -196,11 +364,29 @@ Raw byteswap(Raw v) {
     return __builtin_bswap64(v);
 }
 
+// Integers: the digits of a decimal pair table, two at a time.
+template <class T>
+char* write_number(char* p, T v) {
+  using U = std::make_unsigned_t<T>;
+  U u = static_cast<U>(v);
+  if constexpr (std::is_signed_v<T>)
+    if (v < 0) {
+      *p++ = '-';
+      u = static_cast<U>(U(0) - u);
+    }
+  char buf[24];
+  char* first = digits_backward(buf + sizeof buf, u);
+  std::size_t n = static_cast<std::size_t>(buf + sizeof buf - first);
+  std::memcpy(p, first, n);
+  return p + n;
+}
+char* write_number(char* p, float v) { return write_shortest(p, v); }
+char* write_number(char* p, double v) { return write_shortest(p, v); }
+
 template <class T>
 void append_number(T v, std::string& out) {
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
+  char buf[48];
+  out.append(buf, write_number(buf, v));
 }
 
 template <class F>
@@ -273,20 +459,21 @@ struct Encoder {
   }
 
   // The innermost dimension of a numeric array: one bounds check, then a tight loop over blocks of elements
-  // into room for the longest text of each (a cloud's u, v and part arrays are most of the bytes of the
-  // bus: no per-element capacity check or append).
+  // into a buffer on the stack with room for the longest text of each, appended as a whole (a cloud's u, v
+  // and part arrays are most of the bytes of the bus: no per-element capacity check, and no resize, which
+  // would first fill the room with zeros).
   template <class T, class Raw>
   void numbers(std::size_t n) {
-    // std::to_chars' shortest round-trip text of a float or double is at most 24 characters
-    // ("-2.2250738585072014e-308"), of an integer its digits and the sign.
+    // The shortest round-trip text of a float or double is at most 24 characters, of an integer its digits
+    // and the sign.
     constexpr std::size_t width = std::is_floating_point_v<T> ? 24 : std::numeric_limits<T>::digits10 + 3;
-    constexpr std::size_t block = 4096;
+    constexpr std::size_t block = 1024;
+    char scratch[block * (width + 1) + 16];  // + 16: a number's text may write up to 16 bytes past its end
     out.push_back('[');
     const uint8_t* src = d + pos;
     for (std::size_t i = 0; i < n; i += block) {
-      std::size_t m = std::min(block, n - i), start = out.size();
-      out.resize(start + m * (width + 1));
-      char* p = out.data() + start;
+      std::size_t m = std::min(block, n - i);
+      char* p = scratch;
       for (std::size_t k = 0; k < m; ++k, src += sizeof(Raw)) {
         if (i + k) *p++ = ',';
         Raw raw;
@@ -299,12 +486,12 @@ struct Encoder {
             p += 4;
             continue;
           }
-          p = std::to_chars(p, p + width, v).ptr;
+          p = write_number(p, v);
         } else {
-          p = std::to_chars(p, p + width, static_cast<T>(raw)).ptr;
+          p = write_number(p, static_cast<T>(raw));
         }
       }
-      out.resize(static_cast<std::size_t>(p - out.data()));
+      out.append(scratch, p);
     }
     out.push_back(']');
     pos += n * sizeof(Raw);

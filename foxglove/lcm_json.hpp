@@ -35,6 +35,11 @@ void to_json(const Schema& schema, const Struct& s, const std::uint8_t* data, st
 
 // Standard base64 (RFC 4648, with padding), appended to out.
 void append_base64(const std::uint8_t* data, std::size_t size, std::string& out);
+// The shortest text that reads back as v (a finite float or double: no NaN or Inf), in fixed or scientific
+// notation, whichever is shorter; at most 24 characters ("-2.2250738585072014e-308"), written at p without a
+// bound check, and up to 16 bytes past the end may be overwritten (room for 40 at p). Returns the end.
+char* write_shortest(char* p, float v);
+char* write_shortest(char* p, double v);
 // A JSON string literal (quotes included) of text, appended to out; invalid UTF-8 becomes U+FFFD.
 void append_json_string(std::string_view text, std::string& out);
 

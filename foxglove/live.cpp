@@ -7,6 +7,7 @@
 
 #include "bridge.hpp"
 #include "cell/cell.hpp"
+#include "cell/cell_params.hpp"
 #include "hullgrind/heartbeat_t.hpp"
 #include "runtime/log.hpp"
 #include "foxglove/publish.hpp"
@@ -153,7 +154,6 @@ class Live {
 BridgeOptions bridge_options(runtime::Node& node) {
   BridgeOptions o;
   o.max_points = static_cast<std::size_t>(node.params().integer("max-points"));
-  o.base_frame = node.params().text("base-frame");
   o.camera_frame = node.params().text("camera-frame");
   if (!node.params().text("cell").empty()) {
     cell::Cell cell;
@@ -162,6 +162,7 @@ BridgeOptions bridge_options(runtime::Node& node) {
     } catch (const cell::CellError& e) {  // a bad cell file is bad input: exit 2 before the bus is opened
       throw std::invalid_argument(e.what());
     }
+    o.base_frame = cell.frames.base;
     if (cell.calibration.camera_to_flange) o.camera_to_flange = cell.calibration.camera_to_flange;
     else
       o.camera_to_base = cell.calibration.camera_to_base;
@@ -191,8 +192,9 @@ runtime::ProcessInfo process_info() {
        integer_param("port", "8765", "TCP port (0: any free port, logged)", 0, 65535),
        integer_param("max-points", "200000", "foxglove.PointCloud: at most this many points (every k-th; 0 = all)", 0,
                      1e9),
-       text_param("cell", "", "cell file (config/cell.yaml) for the base <- camera transform; empty: none sent"),
-       text_param("base-frame", "robot_base", "parent frame of the camera transform"),
+       text_param("cell", "",
+                  "cell file (config/cell.yaml): the base frame (frames.base) and the base <- camera transform; "
+                  "empty: robot_base, no camera transform"),
        text_param("camera-frame", "camera", "the camera's frame until a plate cloud names it"),
        integer_param("max-clients", "16", "clients served at once; more are refused", 1, 1000),
        runtime::flag_param("client-publish", "offer clientPublish of HG_JOB_REQUEST to operators of --users-file"),
@@ -202,7 +204,8 @@ runtime::ProcessInfo process_info() {
        integer_param("queue-messages", "64", "LCM messages waiting for conversion before the oldest is dropped", 1,
                      1e6),
        integer_param("queue-mb", "256", "MB of LCM messages waiting for conversion before the oldest is dropped", 1,
-                     1e5)}};
+                     1e5),
+       cell::moved_to_cell({{"base-frame", "frames.base"}}).front()}};
 }
 
 namespace {

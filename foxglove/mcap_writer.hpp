@@ -84,7 +84,7 @@ class McapWriter {
   std::vector<ChannelRec> channels_;
 
   // The open chunk.
-  std::string chunk_, zbuf_;
+  std::string chunk_;
   std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> chunk_index_;
   std::uint64_t chunk_start_ = 0, chunk_end_ = 0;
 

@@ -19,6 +19,8 @@ run_packages=(
   cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev libyaml-cpp-dev
   # operator station (HTTP/WebSocket, password hashing, the 3-D view) and MCAP chunks
   libboost-dev libssl-dev libsodium-dev libjs-three libzstd-dev liblz4-dev
+  # MCAP and the live server: shortest float text (Dragonbox), CRC32 with PCLMUL
+  libfmt-dev libdeflate-dev
   # tools/run.sh: its network namespace, python3 for the supervisor, the test DDS Security set
   iproute2 python3 openssl
 )

@@ -7,7 +7,9 @@
 // (tests/foxglove/mcap_check.js); here their shape follows the .lcm file member by member.
 #include <gtest/gtest.h>
 
+#include <charconv>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <random>
@@ -268,3 +270,56 @@ TEST(FoxgloveLcmJson, InvalidUtf8BecomesReplacementCharacter) {
 }
 
 }  // namespace
+
+// write_shortest (Dragonbox's digits, our placement) against libstdc++'s std::to_chars, an independent
+// shortest round-trip formatter: over random bit patterns of every exponent and the edge values, the text
+// reads back (std::from_chars) as the same float or double, bit for bit, and is to_chars' text (an integer
+// that needs zeros after its shortest digits: of to_chars' length).
+template <class F, class Bits>
+void check_shortest(uint64_t seed, int count) {
+  std::mt19937_64 rng(seed);
+  std::vector<F> values = {F(0),
+                           -F(0),
+                           F(1),
+                           F(0.1),
+                           F(1e-5),
+                           F(123456789),
+                           F(1e16),
+                           F(1e21),
+                           std::numeric_limits<F>::min(),
+                           std::numeric_limits<F>::max(),
+                           std::numeric_limits<F>::lowest(),
+                           std::numeric_limits<F>::denorm_min(),
+                           std::numeric_limits<F>::epsilon()};
+  for (int i = 0; i < count; ++i) {
+    Bits b = static_cast<Bits>(rng());
+    F v;
+    std::memcpy(&v, &b, sizeof v);
+    if (std::isfinite(v)) values.push_back(v);
+    values.push_back(static_cast<F>(std::uniform_real_distribution<double>(-1, 1)(rng)));  // a cloud's metres
+  }
+  for (F v : values) {
+    char ours[48], theirs[32];
+    char* end = hg::foxglove::write_shortest(ours, v);
+    ASSERT_LE(end - ours, 24);
+    char* their_end = std::to_chars(theirs, theirs + sizeof theirs, v).ptr;
+    F back;
+    auto r = std::from_chars(ours, end, back);
+    const std::string text(ours, end), want(theirs, their_end);
+    ASSERT_TRUE(r.ec == std::errc() && r.ptr == end) << text;
+    ASSERT_EQ(std::memcmp(&back, &v, sizeof v), 0) << text << " does not read back as " << want;
+    if (want.find_first_of(".e") != std::string::npos) {
+      ASSERT_EQ(text, want);
+    } else {  // an integer: libstdc++ writes the value's exact digits, we the shortest ones and zeros
+      ASSERT_EQ(text.size(), want.size()) << text << " vs std::to_chars' " << want;
+    }
+    ASSERT_NO_THROW(Json::parse(text)) << text;  // valid JSON
+  }
+}
+
+TEST(FoxgloveLcmJson, ShortestFloatTextReadsBackAndIsToCharsText) {
+  for (uint64_t seed = 0; seed < 40; ++seed) {
+    check_shortest<float, uint32_t>(seed, 25000);
+    check_shortest<double, uint64_t>(seed + 100, 25000);
+  }
+}

@@ -12,7 +12,8 @@
 //     with hg-mcap's decimation, bounding box), one /hg/outline, /hg/grind_path, /hg/log per message;
 //     each /hg/grind_path shows its path's smoothed edge (scene_check.js); a /hg/log line of a process's
 //     log line (HG_LOG) has its process, level, time and text.
-// usage: mcap_check.js FILE.mcap LOG.lcmlog [LOG.lcmlog...] [--max-points N] [--expect-tf] [--skip CHANNEL#EVENT]...
+// usage: mcap_check.js FILE.mcap LOG.lcmlog [LOG.lcmlog...] [--max-points N] [--expect-tf] [--base-frame NAME]
+//                      [--skip CHANNEL#EVENT]...
 // (--skip: an event hg-mcap reported as not decoding, left out of the expectation; one log only)
 // Exit 0 when every check passes, 1 with the reasons otherwise.
 "use strict";
@@ -141,13 +142,14 @@ function checkDerived(topic, json, lastCloud, maxPoints, lastPath, lastLogSource
 
 async function main() {
   const args = process.argv.slice(2);
-  let maxPoints = 200000, expectTf = false;
+  let maxPoints = 200000, expectTf = false, baseFrame = "robot_base";
   const skip = new Set();  // "CHANNEL#N": events hg-mcap reported as not decoding (--skip, its "skipped events")
   const logs = [];
   let file;
   for (let i = 0; i < args.length; ++i) {
     if (args[i] === "--max-points") maxPoints = Number(args[++i]);
     else if (args[i] === "--expect-tf") expectTf = true;
+    else if (args[i] === "--base-frame") baseFrame = args[++i];  // the cell's frames.base
     else if (args[i] === "--skip") skip.add(args[++i]);
     else if (!file) file = args[i];
     else logs.push(args[i]);
@@ -190,7 +192,7 @@ async function main() {
 
   const lcmTopics = new Set(events.map((e) => e.channel));
   const perTopic = new Map();
-  let ev = 0, lastCloud = null, lastPath = null, lastLogSource = null, validated = 0;
+  let ev = 0, lastCloud = null, lastPath = null, lastLogSource = null, validated = 0, lastType = null, cameraTfs = 0;
   for (const m of messages) {
     const ch = channels.get(m.channelId);
     perTopic.set(ch.topic, (perTopic.get(ch.topic) || 0) + 1);
@@ -216,6 +218,14 @@ async function main() {
     if (official[schema.name])
       check(official[schema.name](json), `${ch.topic}: not a valid ${schema.name} by @foxglove/schemas: ${ajv.errorsText(official[schema.name].errors)}`);
     ++validated;
+    if (lcmTopics.has(ch.topic)) lastType = schema.name;
+    // base <- camera comes with each plate cloud, its parent the cell's frames.base (hg-mcap --cell).
+    if (ch.topic === "/tf" && lastType === "hullgrind.plate_cloud_t") {
+      check(json.parent_frame_id === baseFrame && json.child_frame_id === lastCloud.header.frame_id,
+            `/tf of a plate cloud: ${json.parent_frame_id} <- ${json.child_frame_id}, expected ${baseFrame} <- ` +
+            lastCloud.header.frame_id);
+      ++cameraTfs;
+    }
     if (schema.name === "hullgrind.plate_cloud_t") lastCloud = json;
     if (schema.name === "hullgrind.grind_path_t") lastPath = json;
     if (schema.name === "hullgrind.job_status_t" || schema.name === "hullgrind.log_line_t")
@@ -240,6 +250,7 @@ async function main() {
   }
   const tfWant = typeCount("hullgrind.robot_status_t") + (expectTf ? typeCount("hullgrind.plate_cloud_t") : 0);
   check((perTopic.get("/tf") || 0) === tfWant, `/tf: ${perTopic.get("/tf") || 0} transforms, expected ${tfWant}`);
+  check(cameraTfs === (expectTf ? typeCount("hullgrind.plate_cloud_t") : 0), `/tf: ${cameraTfs} camera transforms`);
   for (const t of perTopic.keys()) check(lcmTopics.has(t) || t in derived || t === "/tf", `unexpected topic ${t}`);
 
   const summary = [...perTopic].map(([t, n]) => `${t} ${n}`).join(", ");

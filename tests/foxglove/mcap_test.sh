@@ -55,6 +55,19 @@ for n in 7 0; do
   $check "$tmp/mp$n.mcap" "$tmp/fresh.lcmlog" --max-points $n || fail=1
 done
 
+# The base frame is the cell's frames.base (no parameter of hg-mcap or hg-foxglove): a cell naming another
+# one gives the camera transforms that parent; --base-frame is refused naming the cell key.
+sed 's/^  base: robot_base/  base: cell_base/' "$src/config/cell-sim.yaml" >"$tmp/cell-base.yaml"
+grep -q '^  base: cell_base' "$tmp/cell-base.yaml" || { echo "FAIL: no frames.base in config/cell-sim.yaml"; fail=1; }
+expect_rc 0 "hg-mcap with frames.base cell_base" "$bin/hg-mcap" "$tmp/fresh.lcmlog" -o "$tmp/base.mcap" \
+  --cell "$tmp/cell-base.yaml"
+$check "$tmp/base.mcap" "$tmp/fresh.lcmlog" --expect-tf --base-frame cell_base || fail=1
+for cmd in "hg-mcap $tmp/fresh.lcmlog -o $tmp/x.mcap" hg-foxglove; do
+  read -r -a argv <<<"$cmd"
+  expect_rc 2 "${argv[0]} --base-frame" "$bin/${argv[0]}" "${argv[@]:1}" --base-frame b
+  grep -q "key frames.base" "$tmp/out" || { echo "FAIL: ${argv[0]} --base-frame does not name frames.base"; fail=1; }
+done
+
 # Corrupt: the fresh log, garbage, a committed log. Both logs' events must be there, the garbage reported.
 second="$src/tests/data/tools/samples-all-types.lcmlog"
 { cat "$tmp/fresh.lcmlog"; head -c 5000 /dev/urandom; cat "$second"; } >"$tmp/corrupt.lcmlog"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # hg-mcap's speed on one core (docs/BENCHMARKS.md, "hg-mcap"): an LCM log of plate clouds of the size the
 # speed target names (1.59 M points, 19 MB each) plus the rest of a job's bus (heartbeats, robot statuses
-# at 125 Hz), converted with each compression pinned to CPU 0; prints MB/s of LCM log per second.
+# at 125 Hz), converted with each compression pinned to CPU 0; prints MB/s of LCM log per second of wall time
+# and the CPU seconds (user + sys: on a loaded machine the wall time says more about the others).
 #   tools/bench/mcap_bench.sh [CLOUDS] [POINTS]   (default 10 clouds of 1590000 points; env HG_BIN_DIR)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -34,6 +35,7 @@ def cloud(seq, utime):
     b += struct.pack(">12d", 0.5, 0, 1.5, 0, 0, -1, 1, 0, 0, 0, -1, 0) + struct.pack(">d", 0.01)
     b += struct.pack(">i", points) + struct.pack(">%df" % points, *u) + struct.pack(">%df" % points, *v)
     b += struct.pack(">%dh" % points, *([0] * points)) + struct.pack(">h?7d", 1, False, 0, 0, 0, 1, 0, 0, 0)
+    b += struct.pack(">id?dd", 0, 0, False, 0, 0)  # dropout_filled(_area), edge_assessed, edge dropout, gap
     return b
 n, t = 0, 1_700_000_000_000_000
 with open(out, "wb") as f:
@@ -53,13 +55,17 @@ PY
 size=$(stat -c %s "$tmp/bench.lcmlog")
 [[ -z "${HG_KEEP:-}" ]] || echo "kept: $tmp/bench.lcmlog"
 echo "log: $clouds plate clouds of $points points + statuses and heartbeats, $(( size / 1000000 )) MB"
-printf '%-12s %-14s %10s %10s %10s\n' compression max-points "MB in" "MB out" "MB/s"
+printf '%-12s %-14s %10s %10s %10s %14s\n' compression max-points "MB in" "MB out" "MB/s" "user+sys s"
 for mp in 200000 0; do
   for c in zstd lz4 none; do
     t0=$(date +%s.%N)
-    taskset -c 0 "$bin/hg-mcap" "$tmp/bench.lcmlog" -o "$tmp/out.mcap" --compression $c --max-points $mp 2>/dev/null
+    /usr/bin/time -f "%U %S" -o "$tmp/cpu" taskset -c 0 "$bin/hg-mcap" "$tmp/bench.lcmlog" -o "$tmp/out.mcap" \
+      --compression $c --max-points $mp 2>"$tmp/err"
     t1=$(date +%s.%N)
-    awk -v a="$t0" -v b="$t1" -v s="$size" -v o="$(stat -c %s "$tmp/out.mcap")" -v c=$c -v m=$mp \
-      'BEGIN { printf "%-12s %-14s %10.0f %10.0f %10.1f\n", c, m, s / 1e6, o / 1e6, s / 1e6 / (b - a) }'
+    # A cloud this script wrote in an older layout of plate_cloud_t would be skipped, not converted.
+    if grep -q "did not decode" "$tmp/err"; then cat "$tmp/err" >&2; exit 1; fi
+    read -r user sys <"$tmp/cpu"
+    awk -v a="$t0" -v b="$t1" -v s="$size" -v o="$(stat -c %s "$tmp/out.mcap")" -v c=$c -v m=$mp -v u="$user" -v y="$sys" \
+      'BEGIN { printf "%-12s %-14s %10.0f %10.0f %10.1f %9.2f+%.2f\n", c, m, s / 1e6, o / 1e6, s / 1e6 / (b - a), u, y }'
   done
 done

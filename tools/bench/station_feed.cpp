@@ -3,7 +3,8 @@
 // plate_cloud_t on HG_PLATE_CLOUD, lying flat under the simulated cell's camera (config/cell-sim.yaml: at
 // 0.5, 0, 1.5 m looking down), centred on its optical axis. The pipeline's camera bridge renders clouds of
 // at most ~0.2 M points; this puts a cloud of the size the station's speed targets name through the same
-// outline service, planner, robot bridge and station. A benchmark tool, not a test.
+// outline service, planner, robot bridge and station. --rate HZ publishes it at a camera's rate instead, from
+// the start and whatever the jobs (tools/bench/foxglove_bench.py). A benchmark tool, not a test.
 #include <lcm/lcm-cpp.hpp>
 
 #include <algorithm>
@@ -29,15 +30,19 @@ const char* kUsageHead =
     "usage: hg-bench-station-feed --cloud FILE [options]\n"
     "Publishes FILE (.pcd/.ply/.xyz, metres) as one plate_cloud_t on HG_PLATE_CLOUD for every job_request_t\n"
     "START heard on HG_JOB_REQUEST: the points' x, y as the plane's u, v, centred, the plane --distance metres\n"
-    "from the camera along its optical axis. Runs until SIGINT/SIGTERM. For tools/bench/station_bench.py.\n";
+    "from the camera along its optical axis; with --rate HZ > 0 instead HZ times a second from the start, as a\n"
+    "free-running camera. Runs until SIGINT/SIGTERM, then prints how many it published. For\n"
+    "tools/bench/station_bench.py and tools/bench/foxglove_bench.py.\n";
 
 std::vector<hg::runtime::Param> feed_params() {
   using namespace hg::runtime;
-  std::vector<Param> params = {text_param("cloud", "", "point cloud file, .pcd/.ply/.xyz, metres (required)"),
-                               text_param("lcm-url", "", "LCM URL (default: $LCM_DEFAULT_URL, else LCM's)"),
-                               number_param("distance", "1.49", "camera to plane along the optical axis, m", 0,
-                                            std::numeric_limits<double>::infinity(), true)};
-  set_value_names(params, {{"cloud", "FILE"}, {"lcm-url", "URL"}, {"distance", "M"}});
+  std::vector<Param> params = {
+      text_param("cloud", "", "point cloud file, .pcd/.ply/.xyz, metres (required)"),
+      text_param("lcm-url", "", "LCM URL (default: $LCM_DEFAULT_URL, else LCM's)"),
+      number_param("distance", "1.49", "camera to plane along the optical axis, m", 0,
+                   std::numeric_limits<double>::infinity(), true),
+      number_param("rate", "0", "clouds per second from the start (0: one per START)", 0, 100)};
+  set_value_names(params, {{"cloud", "FILE"}, {"lcm-url", "URL"}, {"distance", "M"}, {"rate", "HZ"}});
   return params;
 }
 
@@ -68,19 +73,40 @@ hullgrind::plate_cloud_t plate_cloud(const hg::outline_io::Cloud& c, double dist
 struct Feed {
   lcm::LCM* lcm;
   hullgrind::plate_cloud_t cloud;
-  void on_request(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_request_t* r) {
-    if (r->action != hullgrind::job_request_t::ACTION_START) return;
+  bool quiet = false;  // --rate: no line per cloud
+  void publish(const std::string& why) {
     cloud.header.utime =
         std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
             .count();
     cloud.source_frame_seq = cloud.header.seq;
     lcm->publish(hg::channels::kPlateCloud, &cloud);
-    std::printf("published cloud %lld (%d points) for job %s\n", static_cast<long long>(cloud.header.seq), cloud.n,
-                r->job_id.c_str());
-    std::fflush(stdout);
+    if (!quiet) {
+      std::printf("published cloud %lld (%d points) %s\n", static_cast<long long>(cloud.header.seq), cloud.n,
+                  why.c_str());
+      std::fflush(stdout);
+    }
     ++cloud.header.seq;
   }
+  void on_request(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_request_t* r) {
+    if (r->action == hullgrind::job_request_t::ACTION_START && !quiet) publish("for job " + r->job_id);
+  }
 };
+
+// --rate: a cloud every 1/rate s on a fixed schedule (a late one does not shift the next), LCM served between.
+void run_at_rate(Feed& feed, lcm::LCM& lcm, double rate) {
+  using clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(1 / rate));
+  auto next = clock::now();
+  while (!g_stop) {
+    if (clock::now() >= next) {
+      feed.publish("");
+      next += period;
+      continue;
+    }
+    auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next - clock::now()).count();
+    lcm.handleTimeout(static_cast<int>(std::clamp<long long>(wait, 1, 200)));
+  }
+}
 
 }  // namespace
 
@@ -91,7 +117,7 @@ int main(int argc, char** argv) {
       rc >= 0)
     return rc;
   const std::string file = p.text("cloud"), url = p.text("lcm-url");
-  const double distance = p.number("distance");
+  const double distance = p.number("distance"), rate = p.number("rate");
   if (file.empty() || !p.positional().empty()) {
     std::fprintf(stderr, "hg-bench-station-feed: command line: %s (see --help)\n",
                  file.empty() ? "need --cloud FILE" : ("unexpected argument '" + p.positional()[0] + "'").c_str());
@@ -115,6 +141,10 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, on_signal);
   std::printf("listening: %d points from %s\n", feed.cloud.n, file.c_str());
   std::fflush(stdout);
-  while (!g_stop) lcm.handleTimeout(200);
+  feed.quiet = rate > 0;
+  if (feed.quiet) run_at_rate(feed, lcm, rate);
+  else
+    while (!g_stop) lcm.handleTimeout(200);
+  std::printf("published %lld clouds\n", static_cast<long long>(feed.cloud.header.seq));
   return 0;
 }

@@ -37,11 +37,7 @@ RULES = [
     (re.compile(r'\benum\s+(class\s+)?Direction\b'), "Direction declared again: job::Direction"),
 ]
 # Known second declarations, each with why it is still there (the lead removes an entry when its file moves).
-ALLOWED = {
-    "foxglove/hg_mcap.cpp": "base-frame: the foxglove bridge is being changed on its own branch (f2-foxglove); "
-                            "it is to read the cell's frames.base after that merge",
-    "foxglove/live.cpp": "as foxglove/hg_mcap.cpp",
-}
+ALLOWED = {}
 EXTENSIONS = (".cpp", ".hpp", ".h", ".c", ".idl", ".py", ".sh")
 
 
