@@ -33,8 +33,12 @@ def read_yaml_scalars(path):
             if not m:
                 continue
             key, val = m.group(1), m.group(2).split(" #")[0].strip()
-            if val.startswith("["):
-                out[key] = [float(x) for x in val.strip("[]").split(",")]
+            if val.startswith("["):  # numbers, or names (path-modifiers)
+                items = [x.strip() for x in val.strip("[]").split(",")]
+                try:
+                    out[key] = [float(x) for x in items]
+                except ValueError:
+                    out[key] = items
             else:
                 try:
                     out[key] = float(val)
