@@ -1,6 +1,6 @@
 #include "path_planner/io.hpp"
 
-#include "runtime/path_file.hpp"
+#include "path_file/path_file.hpp"
 
 #include <cmath>
 #include <limits>

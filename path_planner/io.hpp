@@ -58,7 +58,7 @@ OutlineFrame resolve_outline_frame(const std::string& file_frame, const std::str
 // A 4x4 transform as "[r00 r01 r02 t0; ...; 0 0 0 1]" (the camera_to_base parameter's order, row-major).
 std::string matrix_text(const Eigen::Isometry3d& T);
 
-// The path file (runtime/path_file.hpp, docs/path_file.md) of a planned path, with the planner's
+// The path file (path_file/path_file.hpp, docs/path_file.md) of a planned path, with the planner's
 // "coverage": coverage_json (readers of paths ignore it).
 nlohmann::ordered_json path_json(const std::string& job_id, const std::string& frame, const PlanResult& result,
                                  std::int64_t outline_seq = -1);
