@@ -101,8 +101,8 @@ class Planner {
     if (const auto rec = jobs::recorded_job(jobs_dir_, r.job_id);
         jobs::recorded_before(rec, d.recv_utime) && rec->state >= 0)
       return status(r, rec->state, 0,
-                    "START of job " + r.job_id + ": the job history holds it as " +
-                        jobs::job_state_name(rec->state) + (rec->ended ? "" : " (started before)") +
+                    "START of job " + r.job_id + ": the job history holds it as " + jobs::job_state_name(rec->state) +
+                        (rec->ended ? "" : " (started before)") +
                         (rec->message.empty() ? "" : " (" + rec->message + ")") + "; not planned again",
                     false);
     if (pending_) return status(r, S::STATE_REFUSED, 0, "planner busy with job '" + pending_->job_id + "'");

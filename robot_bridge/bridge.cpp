@@ -232,8 +232,8 @@ void Bridge::start_job(const job_request_t& req, double now) {
   if (const auto rec = jobs::recorded_job(cfg_.jobs_dir, req.job_id);
       jobs::recorded_before(rec, runtime::now_utime()) && rec->state >= 0)
     return report(req.job_id, rec->state, 0,
-                  "START of job " + req.job_id + ": the job history holds it as " +
-                      jobs::job_state_name(rec->state) + (rec->ended ? "" : " (started before)") +
+                  "START of job " + req.job_id + ": the job history holds it as " + jobs::job_state_name(rec->state) +
+                      (rec->ended ? "" : " (started before)") +
                       (rec->message.empty() ? "" : " (" + rec->message + ")") + "; not run again",
                   false);
   if (state_ == State::Fault)
