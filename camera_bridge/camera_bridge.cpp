@@ -26,7 +26,8 @@ using Clock = std::chrono::steady_clock;
 // and each registered source's own section (source_registry.hpp).
 static std::vector<runtime::Param> bridge_params() {
   std::vector<runtime::Param> params = {
-      runtime::text_param("source", "synthetic", "the camera source (Sources, above)", source_names()),
+      runtime::text_param("source", "synthetic", "the camera source (--help lists them, docs/cameras.md)",
+                          source_names()),
       {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)", false,
        runtime::ParamType::Number},
       runtime::text_param("trigger", "continuous",
