@@ -74,21 +74,24 @@ std::vector<runtime::Param> source_params() {
   return out;
 }
 
-std::string sources_help() {
+std::string sources_help(const std::vector<SourceEntry>& sources) {
   std::string s = "Sources (--source; the parameters of each in its own section, --NAME.KEY or NAME: {KEY: ...}):\n";
-  for (const SourceEntry& e : registered_sources())
+  for (const SourceEntry& e : sources)
     s += "  " + wrapped(e.name + ": " + (e.missing.empty() ? e.help : "NOT in this build: " + e.missing), "    ");
   return s;
 }
 
-std::unique_ptr<camera::DepthSource> make_source(const runtime::Params& params, bool job_trigger, double rate) {
+std::unique_ptr<camera::DepthSource> make_source(const runtime::Params& params, bool job_trigger, double rate,
+                                                 const std::vector<SourceEntry>& sources) {
   const std::string name = params.text("source");
-  for (const SourceEntry& e : registered_sources()) {
+  std::vector<std::string> names;
+  for (const SourceEntry& e : sources) {
+    names.push_back(e.name);
     if (e.name != name) continue;
     if (!e.missing.empty()) throw params.error("source", "'" + name + "' is not available in this build: " + e.missing);
     return e.make(SourceContext(params, e.name, job_trigger, rate));
   }
-  throw params.error("source", "must be " + joined(source_names(), ", ", " or ") + ", not '" + name + "'");
+  throw params.error("source", "must be " + joined(names, ", ", " or ") + ", not '" + name + "'");
 }
 
 }  // namespace hg::camera_bridge

@@ -58,10 +58,11 @@ std::vector<std::string> source_names();
 // The parameters of every source, named SECTION.KEY, with the section named in their help.
 std::vector<runtime::Param> source_params();
 // The --help lines on the sources: one paragraph per source, "NOT in this build" and why for a missing one.
-std::string sources_help();
+std::string sources_help(const std::vector<SourceEntry>& sources = registered_sources());
 // The source --source names, from its section of `params`. Throws runtime::ConfigError: an unknown source
 // (naming the choices), a source not in this build (saying why) or a bad parameter of the source.
-std::unique_ptr<camera::DepthSource> make_source(const runtime::Params& params, bool job_trigger, double rate);
+std::unique_ptr<camera::DepthSource> make_source(const runtime::Params& params, bool job_trigger, double rate,
+                                                 const std::vector<SourceEntry>& sources = registered_sources());
 
 // The built-in sources (sources.cpp).
 SourceEntry synthetic_source();

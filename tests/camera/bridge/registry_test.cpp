@@ -125,3 +125,31 @@ TEST(CameraSourceRegistry, FlatNamesOfBeforeAreRefusedNamingTheNewKey) {
   EXPECT_EQ(WEXITSTATUS(r.status), hr::kExitBadInput) << r.out;
   EXPECT_NE(r.out.find("--genicam.device"), std::string::npos) << "nearest known: " << r.out;
 }
+
+TEST(CameraSourceRegistry, ASourceMissingFromTheBuildSaysWhyInHelpAndError) {
+  SourceEntry here{"here",
+                   "a source that is built",
+                   {},
+                   [](const SourceContext&) { return std::unique_ptr<hg::camera::DepthSource>(); },
+                   ""};
+  SourceEntry gone{"gone", "", {}, nullptr, "libgone-dev was not there when the project was configured"};
+  const std::vector<SourceEntry> list{here, gone};
+  const std::string help = sources_help(list);
+  EXPECT_NE(help.find("  here: a source that is built"), std::string::npos) << help;
+  EXPECT_NE(help.find("  gone: NOT in this build: libgone-dev was not there"), std::string::npos) << help;
+  hr::Params params({hr::text_param("source", "gone", "")});
+  try {
+    make_source(params, false, 0, list);
+    FAIL() << "no error for a source not in the build";
+  } catch (const hr::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("'gone' is not available in this build: libgone-dev"), std::string::npos)
+        << e.what();
+  }
+  params.set("source", "elsewhere");
+  try {
+    make_source(params, false, 0, list);
+    FAIL() << "no error for an unknown source";
+  } catch (const hr::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("must be here or gone, not 'elsewhere'"), std::string::npos) << e.what();
+  }
+}
