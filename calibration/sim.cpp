@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "calibration/target.hpp"
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 
 namespace hg::calibration::sim {
 

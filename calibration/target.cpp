@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "outline_core/outline.hpp"
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 
 namespace hg::calibration {
 

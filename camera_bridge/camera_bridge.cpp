@@ -6,20 +6,13 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "sim/scene/scene.hpp"
+#include "camera_bridge/source_registry.hpp"
 #include "camera_bridge/sources.hpp"
 #include "hullgrind/depth_frame_t.hpp"
 #include "hullgrind/heartbeat_t.hpp"
 #include "hullgrind/job_request_t.hpp"
 #include "hullgrind/robot_status_t.hpp"
 #include "runtime/channels.hpp"
-
-#if HG_HAVE_OPENNI2
-#include "camera_bridge/openni2/openni2_source.hpp"
-#endif
-#if HG_HAVE_GENICAM
-#include "camera_bridge/genicam/genicam_source.hpp"
-#endif
 
 namespace hg::camera_bridge {
 
@@ -29,37 +22,12 @@ using runtime::Level;
 using runtime::logf;
 using Clock = std::chrono::steady_clock;
 
-namespace {
-std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : "|") + x;
-  return s;
-}
-}  // namespace
-
-// The bridge's parameters: sources, plane finding, part segmentation, monitoring and retry.
+// The bridge's parameters: capture, plane finding, part segmentation, monitoring and retry; then --source
+// and each registered source's own section (source_registry.hpp).
 static std::vector<runtime::Param> bridge_params() {
-  return {
-      runtime::text_param("source", "synthetic", "synthetic | files | openni2 | genicam",
-                          {"synthetic", "files", "openni2", "genicam"}),
-      {"scene", "three-parts", "synthetic: scene preset (" + joined(sim::scene_preset_names()) + ")"},
-      {"profile", "pm806", "synthetic: camera profile (" + joined(sim::camera_profile_names()) + ")"},
-      {"seed", "", "synthetic: noise seed (default: the scene's)", false, runtime::ParamType::Integer},
-      {"noise-scale", "1", "synthetic: multiplies the profile's depth noise, dropout and mixed-pixel rate (0: clean)",
-       false, runtime::ParamType::Number, 0},
-      {"write-truth", "", "synthetic: write the scene's ground truth JSON to this file at start"},
-      {"files", "", "files: directory of 16-bit depth PNGs, or one .png/.pcd/.ply file"},
-      {"intrinsics", "",
-       "files: intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
-      {"loop", "", "files, .oni: start again after the last frame", true},
-      {"uri", "", "openni2: device URI, hg-virtual://..., or an .oni file; empty: first device"},
-      {"genicam-device", "",
-       "genicam: Aravis device id (Vendor-Model-Serial, serial or IP address); empty: the first 3-D camera found"},
-      runtime::text_param("genicam-format", "c16",
-                          "genicam: c16 (Coord3D_C16 range image) | abc32f (Coord3D_ABC32f organized cloud, Z kept)",
-                          {"c16", "abc32f"}),
-      {"playback-speed", "1", "openni2 .oni: 1 = recorded rate; <= 0 frame by frame", false,
-       runtime::ParamType::Number},
+  std::vector<runtime::Param> params = {
+      runtime::text_param("source", "synthetic", "the camera source (--help lists them, docs/cameras.md)",
+                          source_names()),
       {"rate", "2", "continuous: frames processed per second at most (<= 0: every frame)", false,
        runtime::ParamType::Number},
       runtime::text_param("trigger", "continuous",
@@ -99,6 +67,23 @@ static std::vector<runtime::Param> bridge_params() {
        std::numeric_limits<double>::infinity(), true},
       {"frame-id", "camera", "header.frame_id of the published messages"},
   };
+  for (runtime::Param& p : source_params()) params.push_back(std::move(p));
+  // The flat names of the source parameters before they had a section: refused naming the new key.
+  for (const auto& [old, now] :
+       std::vector<std::pair<std::string, std::string>>{{"scene", "--synthetic.scene"},
+                                                        {"profile", "--synthetic.profile"},
+                                                        {"seed", "--synthetic.seed"},
+                                                        {"noise-scale", "--synthetic.noise-scale"},
+                                                        {"write-truth", "--synthetic.write-truth"},
+                                                        {"files", "--files.path"},
+                                                        {"intrinsics", "--files.intrinsics"},
+                                                        {"loop", "--files.loop or --openni2.loop"},
+                                                        {"uri", "--openni2.uri"},
+                                                        {"playback-speed", "--openni2.playback-speed"},
+                                                        {"genicam-device", "--genicam.device"},
+                                                        {"genicam-format", "--genicam.format"}})
+    params.push_back(runtime::moved_param(old, now));
+  return params;
 }
 
 runtime::ProcessInfo process_info() {
@@ -114,22 +99,8 @@ runtime::ProcessInfo process_info() {
       "back-off (--retry-min doubling up to --retry-max) until it comes back.\n"
       "Eye-in-hand: every cloud carries the robot's flange pose at capture (plate_cloud_t flange_*), the latest\n"
       "HG_ROBOT_STATUS if the robot was IDLE and heard within 1 s, else flange_valid false (docs/calibration.md).\n"
-      "Plate-plane axes: normal towards the camera, u = camera x projected into the plane, v = normal x u.\n"
-      "Sources: synthetic (scene renderer), files (16-bit PNG directory + intrinsics YAML";
-  details += can_read_clouds() ? ", or one .pcd/.ply cloud)" : "; .pcd/.ply not in this build)";
-#if HG_HAVE_OPENNI2
-  details += ", openni2 (device, hg-virtual:// URI or .oni recording).";
-#else
-  details += ". openni2 is NOT in this build (camera_bridge/openni2 missing at configure time).";
-#endif
-#if HG_HAVE_GENICAM
-  details +=
-      "\ngenicam: a GigE Vision / USB3 Vision 3-D camera through Aravis (Coord3D_C16 range images or\n"
-      "Coord3D_ABC32f organized clouds, Scan3d scale/offset/focal length/principal point; software trigger per job with --trigger job, else\n"
-      "free-running; incomplete frames counted as dropped; see docs/cameras.md).";
-#else
-  details += "\ngenicam is NOT in this build (libaravis-dev missing at configure time).";
-#endif
+      "Plate-plane axes: normal towards the camera, u = camera x projected into the plane, v = normal x u.\n";
+  details += sources_help();
   return {"hg-camera-bridge", "Depth camera -> plate points (HG_PLATE_CLOUD) and monitoring depth (HG_DEPTH).", details,
           bridge_params()};
 }
@@ -185,61 +156,9 @@ BridgeOptions options_from(const runtime::Node& node) {
 }
 
 std::unique_ptr<camera::DepthSource> source_from(const runtime::Node& node) {
-  const std::string kind = node.params().text("source");
-  if (kind == "synthetic") {
-    sim::SceneSpec spec = sim::scene_preset(node.params().text("scene"));
-    sim::CameraProfile prof = sim::camera_profile(node.params().text("profile"));
-    const double k = node.params().number("noise-scale");
-    if (!(k >= 0)) throw runtime::ConfigError("--noise-scale must be >= 0");
-    prof.noise_a *= k;
-    prof.noise_b *= k;
-    prof.dropout = std::min(1.0, prof.dropout * k);
-    prof.flying_pixel_prob = std::min(1.0, prof.flying_pixel_prob * k);
-    if (!node.params().text("seed").empty()) spec.seed = static_cast<std::uint64_t>(node.params().integer("seed"));
-    if (const std::string truth = node.params().text("write-truth"); !truth.empty()) {
-      sim::write_truth(spec, prof, sim::render(spec, prof, 0), 0, truth);
-      logf(Level::Info, "wrote the ground truth of scene '%s' to %s", spec.name.c_str(), truth.c_str());
-    }
-    // In job mode frames are rendered when asked for; otherwise at the processing rate.
-    const double rate = node.params().text("trigger") == "job" ? 0.0 : node.params().number("rate");
-    return std::make_unique<sim::SyntheticSource>(std::move(spec), prof, rate);
-  }
-  if (kind == "files") {
-    const std::string path = node.params().text("files");
-    if (path.empty()) throw runtime::ConfigError("--source files needs --files DIR|FILE");
-    const double rate = node.params().text("trigger") == "job" ? 0.0 : node.params().number("rate");
-    return std::make_unique<FilesSource>(path, node.params().text("intrinsics"), rate, node.params().flag("loop"));
-  }
-  if (kind == "openni2") {
-#if HG_HAVE_OPENNI2
-    OpenNI2Options o;
-    o.uri = node.params().text("uri");
-    o.playback_speed = node.params().number("playback-speed");
-    o.loop = node.params().flag("loop");
-    return make_openni2_source(o);
-#else
-    throw runtime::ConfigError(
-        "--source openni2 is not available in this build: camera_bridge/openni2 (the OpenNI2 backend) was not "
-        "there when the project was configured");
-#endif
-  }
-  if (kind == "genicam") {
-#if HG_HAVE_GENICAM
-    GenicamOptions o;
-    o.device_id = node.params().text("genicam-device");
-    o.software_trigger = node.params().text("trigger") == "job";
-    const std::string format = node.params().text("genicam-format");
-    if (format != "c16" && format != "abc32f")
-      throw runtime::ConfigError("--genicam-format must be c16 or abc32f, not '" + format + "'");
-    o.format = format == "c16" ? GenicamFormat::c16 : GenicamFormat::abc32f;
-    return std::make_unique<GenicamSource>(o);
-#else
-    throw runtime::ConfigError(
-        "--source genicam is not available in this build: libaravis-dev (aravis-0.8) was not "
-        "there when the project was configured");
-#endif
-  }
-  throw runtime::ConfigError("--source must be synthetic, files, openni2 or genicam, not '" + kind + "'");
+  const bool job = node.params().text("trigger") == "job";
+  // In job mode a source delivers when asked (rendered, triggered); otherwise at the processing rate.
+  return make_source(node.params(), job, job ? 0.0 : node.params().number("rate"));
 }
 
 void fill_plate_cloud(const Segmentation& s, plate_cloud_t& m) {

@@ -20,7 +20,7 @@
 #include "camera_types/depth_source.hpp"
 #include "camera_bridge/segment.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 #include "runtime/node.hpp"
 
 namespace hg::camera_bridge {
@@ -88,7 +88,7 @@ class Bridge {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<std::string> jobs_;  // pending job ids (job trigger)
-  runtime::JobLedger captured_;   // job ids already captured for: a repeated START takes no second frame
+  jobs::JobLedger captured_;      // job ids already captured for: a repeated START takes no second frame
   std::atomic<std::int64_t> processed_{0}, corrupt_{0};
   std::chrono::steady_clock::time_point last_processed_{}, last_depth_{};
   int corrupt_in_a_row_ = 0;

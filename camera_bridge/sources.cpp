@@ -8,9 +8,11 @@
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "camera_bridge/source_registry.hpp"
 #include "camera_types/pacing.hpp"
 #include "runtime/log.hpp"
 #include "runtime/node.hpp"
+#include "sim/scene/scene.hpp"
 
 #if HG_HAVE_OUTLINE_IO
 #include "outline_io/cloud.hpp"
@@ -171,6 +173,66 @@ std::optional<camera::DepthFrame> FilesSource::grab(std::chrono::milliseconds ti
 #endif
   }
   return f;
+}
+
+// ---- the built-in sources' registrations ----
+
+namespace {
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : "|") + x;
+  return s;
+}
+
+std::unique_ptr<camera::DepthSource> make_synthetic(const SourceContext& c) {
+  sim::SceneSpec spec = sim::scene_preset(c.text("scene"));
+  sim::CameraProfile prof = sim::camera_profile(c.text("profile"));
+  const double k = c.number("noise-scale");
+  prof.noise_a *= k;
+  prof.noise_b *= k;
+  prof.dropout = std::min(1.0, prof.dropout * k);
+  prof.flying_pixel_prob = std::min(1.0, prof.flying_pixel_prob * k);
+  if (c.given("seed")) spec.seed = static_cast<std::uint64_t>(c.integer("seed"));
+  if (const std::string truth = c.text("write-truth"); !truth.empty()) {
+    sim::write_truth(spec, prof, sim::render(spec, prof, 0), 0, truth);
+    runtime::logf(runtime::Level::Info, "wrote the ground truth of scene '%s' to %s", spec.name.c_str(), truth.c_str());
+  }
+  // In job mode frames are rendered when asked for; otherwise at the processing rate.
+  return std::make_unique<sim::SyntheticSource>(std::move(spec), prof, c.rate);
+}
+
+std::unique_ptr<camera::DepthSource> make_files(const SourceContext& c) {
+  const std::string path = c.text("path");
+  if (path.empty()) throw c.error("path", "--source files needs --files.path DIR|FILE");
+  return std::make_unique<FilesSource>(path, c.text("intrinsics"), c.rate, c.flag("loop"));
+}
+
+}  // namespace
+
+SourceEntry synthetic_source() {
+  return {"synthetic",
+          "the scene renderer (sim/scene): a preset scene seen by a camera profile, with its sensor effects",
+          {{"scene", "three-parts", "scene preset (" + joined(sim::scene_preset_names()) + ")"},
+           {"profile", "pm806", "camera profile (" + joined(sim::camera_profile_names()) + ")"},
+           {"seed", "", "noise seed (default: the scene's)", false, runtime::ParamType::Integer},
+           {"noise-scale", "1", "multiplies the profile's depth noise, dropout and mixed-pixel rate (0: clean)", false,
+            runtime::ParamType::Number, 0},
+           {"write-truth", "", "write the scene's ground truth JSON to this file at start"}},
+          make_synthetic,
+          ""};
+}
+
+SourceEntry files_source() {
+  return {"files",
+          std::string("a directory of 16-bit depth PNGs + an intrinsics YAML") +
+              (can_read_clouds() ? ", or one .pcd/.ply cloud" : " (.pcd/.ply not in this build)"),
+          {{"path", "", "directory of 16-bit depth PNGs, or one .png/.pcd/.ply file"},
+           {"intrinsics", "",
+            "intrinsics YAML (width height fx fy cx cy depth_unit); default intrinsics.yaml beside the files"},
+           {"loop", "", "start again after the last frame", true}},
+          make_files,
+          ""};
 }
 
 }  // namespace hg::camera_bridge

@@ -5,9 +5,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 #include "runtime/log.hpp"
-#include "runtime/path_file.hpp"
+#include "path_file/path_file.hpp"
 #include "runtime/quantities.hpp"
 #include "outline_io/outline_message.hpp"
 
@@ -34,7 +34,7 @@ std::string read_text(const fs::path& p) {
 // REJECTED, NEEDS_RESCAN) from anyone (as tools/run.sh reads it).
 bool ends_job(const hullgrind::job_status_t& s) {
   return (s.state == hullgrind::job_status_t::STATE_DONE && s.source == "hg-robot-bridge") ||
-         (runtime::job_state_final(s.state) && s.state != hullgrind::job_status_t::STATE_DONE);
+         (jobs::job_state_final(s.state) && s.state != hullgrind::job_status_t::STATE_DONE);
 }
 
 json stretch_json(const hullgrind::edge_stretch_t& e) {
@@ -59,7 +59,7 @@ json status_event(const hullgrind::job_status_t& s, std::int64_t utime) {
              {"utime", utime},
              {"event", "status"},
              {"source", s.source},
-             {"state", runtime::job_state_name(s.state)},
+             {"state", jobs::job_state_name(s.state)},
              {"progress", s.progress},
              {"message", s.message}};
   if (s.answer) ev["answer"] = true;
@@ -72,7 +72,7 @@ json status_event(const hullgrind::job_status_t& s, std::int64_t utime) {
 
 }  // namespace
 
-std::string job_dir_name(const std::string& job_id) { return runtime::job_dir_name(job_id); }
+std::string job_dir_name(const std::string& job_id) { return jobs::job_dir_name(job_id); }
 
 std::string iso_time(std::int64_t utime) {
   const std::time_t secs = static_cast<std::time_t>(utime / 1000000);
@@ -86,7 +86,7 @@ std::string iso_time(std::int64_t utime) {
 
 json request_json(const hullgrind::job_request_t& r) {
   const auto direction = job::direction_from_wire(r.direction);
-  json j = {{"action", runtime::job_action_name(r.action)},
+  json j = {{"action", jobs::job_action_name(r.action)},
             {"job_id", r.job_id},
             {"part_id", r.part_id},
             {"direction", direction ? job::direction_name(*direction) : "unknown"},
@@ -232,7 +232,7 @@ void Recorder::on_status(const hullgrind::job_status_t& s, std::int64_t utime) {
 
 void Recorder::apply_status(json& rec, const hullgrind::job_status_t& s, std::int64_t utime) {
   using S = hullgrind::job_status_t;
-  const std::string state = runtime::job_state_name(s.state);
+  const std::string state = jobs::job_state_name(s.state);
   const bool progress_only = s.state == S::STATE_RUNNING && rec["state"] == "RUNNING";
   rec["state"] = state;
   rec["source"] = s.source;
@@ -250,7 +250,7 @@ void Recorder::apply_status(json& rec, const hullgrind::job_status_t& s, std::in
   if (s.state == S::STATE_REJECTED)
     rec["rejection"] = {{"by", s.actor}, {"at", iso_time(utime)}, {"revision", s.plan_revision}};
   // The plan's gaps while it awaits approval, and the run's unground stretches at the end.
-  if (s.state == S::STATE_AWAITING_APPROVAL || runtime::job_state_final(s.state)) rec["unground"] = unground_json(s);
+  if (s.state == S::STATE_AWAITING_APPROVAL || jobs::job_state_final(s.state)) rec["unground"] = unground_json(s);
   if (ends_job(s)) {
     rec["final"] = true;
     rec["ended"] = iso_time(utime);

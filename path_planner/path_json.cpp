@@ -2,7 +2,7 @@
 #include "path_planner/path_json.hpp"
 
 #include "path_planner/lcm.hpp"
-#include "runtime/path_file.hpp"
+#include "path_file/path_file.hpp"
 
 namespace hg::path_planner {
 

@@ -10,7 +10,7 @@
 
 namespace hg::path_planner {
 
-// The path file (runtime/path_file.hpp, docs/path_file.md) of a planned path, with the planner's
+// The path file (path_file/path_file.hpp, docs/path_file.md) of a planned path, with the planner's
 // "coverage": coverage_json (readers of paths ignore it).
 nlohmann::ordered_json path_json(const std::string& job_id, const std::string& frame, const PlanResult& result,
                                  std::int64_t outline_seq = -1);

@@ -14,7 +14,7 @@
 #include "hullgrind/robot_status_t.hpp"
 #include "path_planner/io.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 
 namespace hg::path_planner {
 
@@ -94,15 +94,15 @@ class Planner {
   void on_request(const hullgrind::job_request_t& r, const runtime::Delivery& d) {
     using R = hullgrind::job_request_t;
     if (r.action == R::ACTION_QUERY) return answer_query(r);
-    if (const runtime::JobLedger::Entry* e = ledger_.find(r.job_id)) return on_seen(r, *e);
+    if (const jobs::JobLedger::Entry* e = ledger_.find(r.job_id)) return on_seen(r, *e);
     if (r.action != R::ACTION_START) return;  // ABORT of a job never seen, RESET, APPROVE, ...: not ours
     using S = hullgrind::job_status_t;
     if (r.job_id.empty()) return status(r, S::STATE_REFUSED, 0, "refused: empty job id");
-    if (const auto rec = runtime::recorded_job(jobs_dir_, r.job_id);
-        runtime::recorded_before(rec, d.recv_utime) && rec->state >= 0)
+    if (const auto rec = jobs::recorded_job(jobs_dir_, r.job_id);
+        jobs::recorded_before(rec, d.recv_utime) && rec->state >= 0)
       return status(r, rec->state, 0,
-                    "START of job " + r.job_id + ": the job history holds it as " +
-                        runtime::job_state_name(rec->state) + (rec->ended ? "" : " (started before)") +
+                    "START of job " + r.job_id + ": the job history holds it as " + jobs::job_state_name(rec->state) +
+                        (rec->ended ? "" : " (started before)") +
                         (rec->message.empty() ? "" : " (" + rec->message + ")") + "; not planned again",
                     false);
     if (pending_) return status(r, S::STATE_REFUSED, 0, "planner busy with job '" + pending_->job_id + "'");
@@ -145,7 +145,7 @@ class Planner {
 
   // A job id seen before: the ABORT of the pending job acts, a REPLAN of a plan awaiting approval is planned;
   // otherwise answered while the planner holds or ended the job (once PLANNED the robot bridge answers).
-  void on_seen(const hullgrind::job_request_t& r, const runtime::JobLedger::Entry& e) {
+  void on_seen(const hullgrind::job_request_t& r, const jobs::JobLedger::Entry& e) {
     using S = hullgrind::job_status_t;
     using R = hullgrind::job_request_t;
     if (r.action == R::ACTION_ABORT && pending_ && pending_->job_id == r.job_id) {
@@ -154,14 +154,14 @@ class Planner {
     } else if (r.action == R::ACTION_REPLAN && e.state == S::STATE_PLANNED) {
       replan(r);
     } else if (e.state != S::STATE_PLANNED) {
-      status(r, e.state, e.progress, runtime::repeat_answer(r.action, r.job_id, e), false);
+      status(r, e.state, e.progress, jobs::repeat_answer(r.action, r.job_id, e), false);
     }
   }
 
   void answer_query(const hullgrind::job_request_t& r) {
     for (const std::string& id : ledger_.ids()) {
       if (!r.job_id.empty() && id != r.job_id) continue;
-      const runtime::JobLedger::Entry* e = ledger_.find(id);
+      const jobs::JobLedger::Entry* e = ledger_.find(id);
       if (!e || e->status.job_id.empty()) continue;
       hullgrind::job_status_t s = e->status;
       s.answer = true;
@@ -175,7 +175,7 @@ class Planner {
     hullgrind::job_status_t s{};
     s.job_id = r.job_id;
     s.part_id = r.part_id;
-    if (const runtime::JobLedger::Entry* e = ledger_.find(r.job_id); e && s.part_id.empty()) s.part_id = e->part_id;
+    if (const jobs::JobLedger::Entry* e = ledger_.find(r.job_id); e && s.part_id.empty()) s.part_id = e->part_id;
     s.source = node_.name();
     s.state = state;
     s.progress = progress;
@@ -282,7 +282,7 @@ class Planner {
   std::optional<hullgrind::job_request_t> pending_;
   std::int64_t pending_since_ = 0;
   std::optional<Vec3> robot_;
-  runtime::JobLedger ledger_;  // every job id seen, with the planner's last word on it
+  jobs::JobLedger ledger_;  // every job id seen, with the planner's last word on it
   std::map<std::string, Planned> jobs_;
   std::deque<std::string> order_;  // of jobs_, oldest first
 };

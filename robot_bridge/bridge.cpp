@@ -80,10 +80,10 @@ void Bridge::publish(job_status_t s, bool record) {
   s.num_excluded = std::int32_t(s.excluded_loops.size());
   s.num_unground = std::int32_t(s.unground.size());
   if (record && !s.job_id.empty()) ledger_.set(s);
-  if (const runtime::JobLedger::Entry* e = ledger_.find(s.job_id); e && s.part_id.empty()) s.part_id = e->part_id;
+  if (const jobs::JobLedger::Entry* e = ledger_.find(s.job_id); e && s.part_id.empty()) s.part_id = e->part_id;
   if (s.state != job_status_t::STATE_RUNNING)
     logf(s.state == job_status_t::STATE_DONE || s.state == job_status_t::STATE_ACCEPTED ? Level::Info : Level::Warn,
-         "job %s: %s%s: %s", s.job_id.c_str(), runtime::job_state_name(s.state).c_str(), record ? "" : " (answer)",
+         "job %s: %s%s: %s", s.job_id.c_str(), jobs::job_state_name(s.state).c_str(), record ? "" : " (answer)",
          s.message.c_str());
   out_.job_status(s);
 }
@@ -151,7 +151,7 @@ void Bridge::enter_fault(std::int32_t code, const std::string& text, double now)
 void Bridge::on_job_request(const job_request_t& req, double now) {
   driver_->update(now);
   if (req.action == job_request_t::ACTION_QUERY) return answer_query(req);
-  if (const runtime::JobLedger::Entry* seen = ledger_.find(req.job_id)) return on_repeat(req, *seen, now);
+  if (const jobs::JobLedger::Entry* seen = ledger_.find(req.job_id)) return on_repeat(req, *seen, now);
   switch (req.action) {
     case job_request_t::ACTION_START: return start_job(req, now);
     case job_request_t::ACTION_ABORT: return;  // an abort for a job never seen here is another stage's
@@ -167,10 +167,10 @@ void Bridge::on_job_request(const job_request_t& req, double now) {
 
 // An action for a job this bridge never held: the job history's word on it, else "no such job"; nothing changes.
 void Bridge::on_unknown(const job_request_t& req, double) {
-  const std::string what = runtime::job_action_name(req.action) + " of job " + req.job_id;
-  if (const auto rec = runtime::recorded_job(cfg_.jobs_dir, req.job_id); rec && rec->state >= 0)
+  const std::string what = jobs::job_action_name(req.action) + " of job " + req.job_id;
+  if (const auto rec = jobs::recorded_job(cfg_.jobs_dir, req.job_id); rec && rec->state >= 0)
     return report(req.job_id, rec->state, 0,
-                  what + ": the job history holds it as " + runtime::job_state_name(rec->state) +
+                  what + ": the job history holds it as " + jobs::job_state_name(rec->state) +
                       (rec->message.empty() ? "" : " (" + rec->message + ")") + "; nothing done",
                   false);
   report(req.job_id, job_status_t::STATE_REFUSED, 0, what + ": no such job held by the robot bridge; nothing done",
@@ -179,7 +179,7 @@ void Bridge::on_unknown(const job_request_t& req, double) {
 
 // A job id seen before. The held job's ABORT, and APPROVE / REJECT while it awaits approval act; REPLAN is
 // the planner's (its new revision arrives as a path); everything else is answered with the id's state.
-void Bridge::on_repeat(const job_request_t& req, const runtime::JobLedger::Entry& seen, double now) {
+void Bridge::on_repeat(const job_request_t& req, const jobs::JobLedger::Entry& seen, double now) {
   const bool held = state_ != State::Idle && state_ != State::Fault && req.job_id == job_id_;
   const bool awaiting = held && state_ == State::Awaiting;
   if (req.action == job_request_t::ACTION_ABORT && held) return abort_held(req, now);
@@ -189,7 +189,7 @@ void Bridge::on_repeat(const job_request_t& req, const runtime::JobLedger::Entry
   answer(req, seen, false);
 }
 
-void Bridge::answer(const job_request_t& req, const runtime::JobLedger::Entry& seen, bool keep_message) {
+void Bridge::answer(const job_request_t& req, const jobs::JobLedger::Entry& seen, bool keep_message) {
   job_status_t s = seen.status;
   if (s.job_id.empty()) {  // set without a whole status (upstream ends)
     s.job_id = req.job_id;
@@ -198,18 +198,18 @@ void Bridge::answer(const job_request_t& req, const runtime::JobLedger::Entry& s
     s.message = seen.message;
   }
   s.part_id = seen.part_id;
-  if (!keep_message) s.message = runtime::repeat_answer(req.action, req.job_id, seen);
+  if (!keep_message) s.message = jobs::repeat_answer(req.action, req.job_id, seen);
   publish(s, false);
 }
 
 // QUERY: the last status of the job (of every job the ledger holds, for ""), as it was published.
 void Bridge::answer_query(const job_request_t& req) {
   if (!req.job_id.empty()) {
-    if (const runtime::JobLedger::Entry* e = ledger_.find(req.job_id)) answer(req, *e, true);
+    if (const jobs::JobLedger::Entry* e = ledger_.find(req.job_id)) answer(req, *e, true);
     return;
   }
   for (const std::string& id : ledger_.ids())
-    if (const runtime::JobLedger::Entry* e = ledger_.find(id)) {
+    if (const jobs::JobLedger::Entry* e = ledger_.find(id)) {
       job_request_t r = req;
       r.job_id = id;
       answer(r, *e, true);
@@ -229,11 +229,11 @@ void Bridge::abort_held(const job_request_t& req, double now) {
 void Bridge::start_job(const job_request_t& req, double now) {
   const RobotState& st = driver_->state();
   if (req.job_id.empty()) return report(req.job_id, job_status_t::STATE_REFUSED, 0, "refused: empty job id");
-  if (const auto rec = runtime::recorded_job(cfg_.jobs_dir, req.job_id);
-      runtime::recorded_before(rec, runtime::now_utime()) && rec->state >= 0)
+  if (const auto rec = jobs::recorded_job(cfg_.jobs_dir, req.job_id);
+      jobs::recorded_before(rec, runtime::now_utime()) && rec->state >= 0)
     return report(req.job_id, rec->state, 0,
-                  "START of job " + req.job_id + ": the job history holds it as " +
-                      runtime::job_state_name(rec->state) + (rec->ended ? "" : " (started before)") +
+                  "START of job " + req.job_id + ": the job history holds it as " + jobs::job_state_name(rec->state) +
+                      (rec->ended ? "" : " (started before)") +
                       (rec->message.empty() ? "" : " (" + rec->message + ")") + "; not run again",
                   false);
   if (state_ == State::Fault)
@@ -272,10 +272,10 @@ void Bridge::on_grind_path(const hullgrind::grind_path_t& msg, double now) {
   const bool ours = msg.job_id == job_id_ && !job_id_.empty();
   if (ours && state_ == State::Accepted) return take_plan(msg, now);
   if (ours && state_ == State::Awaiting && msg.revision > held_.revision) return take_plan(msg, now);  // REPLAN
-  if (const runtime::JobLedger::Entry* seen = ledger_.find(msg.job_id))  // a second path never runs
+  if (const jobs::JobLedger::Entry* seen = ledger_.find(msg.job_id))  // a second path never runs
     return report(msg.job_id, seen->state, seen->progress,
                   "grind path (revision " + std::to_string(msg.revision) + ") for job " + msg.job_id +
-                      " ignored: it is " + runtime::job_state_name(seen->state) +
+                      " ignored: it is " + jobs::job_state_name(seen->state) +
                       (seen->message.empty() ? "" : " (" + seen->message + ")"),
                   false);
   report(msg.job_id, job_status_t::STATE_REFUSED, 0,
@@ -389,9 +389,9 @@ void Bridge::end_run(double now) {
 
 void Bridge::on_move(const hullgrind::robot_move_t& msg, double now) {
   driver_->update(now);
-  if (const runtime::JobLedger::Entry* seen = ledger_.find(msg.move_id))
+  if (const jobs::JobLedger::Entry* seen = ledger_.find(msg.move_id))
     return report(msg.move_id, seen->state, seen->progress,
-                  "move " + msg.move_id + " seen before: it is " + runtime::job_state_name(seen->state), false);
+                  "move " + msg.move_id + " seen before: it is " + jobs::job_state_name(seen->state), false);
   if (state_ != State::Idle)
     return report(msg.move_id, job_status_t::STATE_REFUSED, 0,
                   std::string("move refused: the robot bridge is ") + state_name(state_) +
@@ -423,7 +423,7 @@ void Bridge::on_move(const hullgrind::robot_move_t& msg, double now) {
 // a rescan) is no longer waited for.
 void Bridge::on_job_status(const job_status_t& s, double) {
   if (s.source == cfg_.source || s.job_id != job_id_ || s.answer || state_ != State::Accepted) return;
-  if (!runtime::job_state_final(s.state) || s.state == job_status_t::STATE_DONE) return;
+  if (!jobs::job_state_final(s.state) || s.state == job_status_t::STATE_DONE) return;
   logf(Level::Warn, "job %s ended upstream (%s: %s); no longer waiting for its path", s.job_id.c_str(),
        s.source.c_str(), s.message.c_str());
   ledger_.set(s.job_id, part_id_, s.state, 0, "ended upstream: " + s.source + ": " + s.message);

@@ -31,7 +31,7 @@
 #include "robot_bridge/driver.hpp"
 #include "robot_bridge/plan.hpp"
 #include "robot_bridge/urscript.hpp"
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 
 namespace hg::robot_bridge {
 
@@ -81,7 +81,7 @@ class Bridge {
   const hullgrind::grind_path_t& held_plan() const { return held_; }
   const std::string& fault_text() const { return fault_text_; }
   Driver& driver() { return *driver_; }
-  const runtime::JobLedger& ledger() const { return ledger_; }
+  const jobs::JobLedger& ledger() const { return ledger_; }
 
  private:
   // A status of job_id; for the held job with its plan revision, approval and (given) unground stretches.
@@ -94,8 +94,8 @@ class Bridge {
   void start_job(const hullgrind::job_request_t& req, double now);
   void reset_fault(const hullgrind::job_request_t& req, double now);
   void on_unknown(const hullgrind::job_request_t& req, double now);
-  void on_repeat(const hullgrind::job_request_t& req, const runtime::JobLedger::Entry& seen, double now);
-  void answer(const hullgrind::job_request_t& req, const runtime::JobLedger::Entry& seen, bool keep_message);
+  void on_repeat(const hullgrind::job_request_t& req, const jobs::JobLedger::Entry& seen, double now);
+  void answer(const hullgrind::job_request_t& req, const jobs::JobLedger::Entry& seen, bool keep_message);
   void answer_query(const hullgrind::job_request_t& req);
   void abort_held(const hullgrind::job_request_t& req, double now);
   void approve(const hullgrind::job_request_t& req, double now);
@@ -126,7 +126,7 @@ class Bridge {
   std::int32_t fault_code_ = 0;
   std::string fault_text_;
   std::int64_t seq_ = 0;
-  runtime::JobLedger ledger_;  // every job id seen and its state here
+  jobs::JobLedger ledger_;  // every job id seen and its state here
 };
 
 const char* state_name(Bridge::State s);

@@ -5,7 +5,7 @@
 #include <stdexcept>
 
 #include "hullgrind/grind_path_t.hpp"
-#include "runtime/path_file.hpp"
+#include "path_file/path_file.hpp"
 
 namespace hg::robot_bridge {
 

@@ -36,7 +36,7 @@ struct Path {
 };
 
 Path from_lcm(const hullgrind::grind_path_t& msg);
-// Reads a path file (runtime/path_file.hpp, docs/path_file.md) with the one path-file reader. Throws
+// Reads a path file (path_file/path_file.hpp, docs/path_file.md) with the one path-file reader. Throws
 // std::runtime_error naming the file, the key and the waypoint index.
 Path read_path_json(const std::string& file);
 const char* kind_name(std::int8_t kind);

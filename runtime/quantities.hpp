@@ -6,7 +6,7 @@
 // narrow a range further for its installation (the tool mounted, max-speed): that is the cell's limit, said
 // where it is checked (docs/cell.md), never a second range here.
 // Also the waypoint kinds and the travel directions, whose wire values the .lcm files repeat as constants
-// (checked against these where both are seen: runtime/path_file.cpp, path_planner/path_planner.cpp).
+// (checked against these where both are seen: path_file/path_file.cpp, path_planner/path_planner.cpp).
 // Header only, no LCM and no other dependency: the cell library and the command-line tools include it.
 #pragma once
 

@@ -52,8 +52,8 @@ Runs the whole hullgrind pipeline once, in its own network namespace, and writes
   -h, --help         this text
 Exit status: 0 the job ended DONE; 1 it did not, or the pipeline failed; 2 a bad command line, pipeline or
 cell file (nothing in the output folder touched); 3 another supervisor runs on the output folder.
-Other inputs: edit the camera process in the pipeline file: --source openni2 with --uri of a real
-device or an .oni file, --source files --files DIR (docs/cameras.md; every option of the camera bridge:
+Other inputs: edit the camera process in the pipeline file: --source openni2 with --openni2.uri of a real
+device or an .oni file, --source files --files.path DIR (docs/cameras.md; every option of the camera bridge:
 docs/PARAMETERS.md#hg-camera-bridge), and the robot with --driver ur (docs/robot_bridge.md).
 USAGE
 }

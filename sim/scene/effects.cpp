@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "partgen/synth.hpp"
+#include "sim/partgen/synth.hpp"
 
 namespace hg::sim::detail {
 

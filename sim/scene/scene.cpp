@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "partgen/synth.hpp"
-#include "partgen/writers.hpp"
+#include "sim/partgen/synth.hpp"
+#include "sim/partgen/writers.hpp"
 #include "sim/scene/effects.hpp"
 
 namespace hg::sim {

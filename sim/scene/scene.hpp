@@ -20,7 +20,7 @@
 #include <opencv2/core.hpp>
 
 #include "camera_types/depth_source.hpp"
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 
 namespace hg::sim {
 

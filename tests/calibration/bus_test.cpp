@@ -60,7 +60,7 @@ TEST(HgCalibrateBus, SessionFromTheBusGivesThePngSessionsTransform) {
   for (const auto& e : fs::directory_iterator(d / "bus"))
     if (e.path().extension() == ".png") fs::remove(e.path());  // the bus session keeps no frame
   auto camera =
-      start({kBin + "/hg-camera-bridge", "--source", "files", "--files", (d / "png").string(), "--trigger", "job"},
+      start({kBin + "/hg-camera-bridge", "--source", "files", "--files.path", (d / "png").string(), "--trigger", "job"},
             d / "camera.log");
   auto outline = start({kBin + "/hg-outline-service"}, d / "outline.log");
   std::string err;
@@ -125,7 +125,7 @@ TEST(HgCalibrateBus, EyeInHandCaptureTakesTheRobotPose) {
   auto robot = start({kBin + "/hg-robot-bridge", "--driver", "sim", "--cell", cell, "--sim-home-orientation",
                       "0,0.6,0.8,0", "--state-file", (d / "robot.state").string()},
                      d / "robot.log");
-  auto camera = start({kBin + "/hg-camera-bridge", "--source", "files", "--files",
+  auto camera = start({kBin + "/hg-camera-bridge", "--source", "files", "--files.path",
                        (d / "png" / "view_000.png").string(), "--trigger", "job"},
                       d / "camera.log");
   ASSERT_EQ(run(kBin +

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "calibration/target.hpp"
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 
 TEST(CalibrationPlateDrawing, TheGeneratedPartHasTheDrawingsHoles) {
   struct Hole {

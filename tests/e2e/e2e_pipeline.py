@@ -67,15 +67,15 @@ def shipped_pipeline(path=PIPELINE):
 
 def scene_truth(scene, profile, path):
     """The ground truth of a rendered scene (part polygons, camera pose, profile) through the camera bridge's
-    own --write-truth. The bridge keeps running afterwards: it is stopped once the file is there."""
+    own --synthetic.write-truth. The bridge keeps running afterwards: it is stopped once the file is there."""
     with open(path + ".log", "w") as log:
-        p = subprocess.Popen([bin_path("hg-camera-bridge"), "--source", "synthetic", "--scene", scene, "--profile",
-                              profile, "--trigger", "job", "--write-truth", path], stdout=log, stderr=subprocess.STDOUT)
+        p = subprocess.Popen([bin_path("hg-camera-bridge"), "--source", "synthetic", "--synthetic.scene", scene, "--synthetic.profile",
+                              profile, "--trigger", "job", "--synthetic.write-truth", path], stdout=log, stderr=subprocess.STDOUT)
     try:
         end = time.monotonic() + 60
         while time.monotonic() < end and not (os.path.exists(path) and os.path.getsize(path) > 0):
             if p.poll() is not None:
-                raise RuntimeError("hg-camera-bridge --write-truth exited: " + Pipeline.read(path + ".log"))
+                raise RuntimeError("hg-camera-bridge --synthetic.write-truth exited: " + Pipeline.read(path + ".log"))
             time.sleep(0.05)
     finally:
         p.terminate()

@@ -64,7 +64,7 @@ JOB_ARGS = ["--grind-speed", "0.01"]
 def camera_scene():
     """Scene and profile of the shipped camera process (its hg-virtual:// URI)."""
     cmd = E.process_command("camera")
-    uri = cmd[cmd.index("--uri") + 1]
+    uri = cmd[cmd.index("--openni2.uri") + 1]
     m = re.match(r"hg-virtual://([\w-]+)\?(.*)", uri)
     query = dict(kv.split("=", 1) for kv in m.group(2).split("&"))
     return m.group(1), query.get("profile", "pm806")

@@ -27,7 +27,7 @@
 #include "hullgrind/outline_t.hpp"
 #include "job_recorder/recorder.hpp"
 #include "runtime/lcm_url.hpp"
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 #include "tests/common/cell_file.hpp"
 #include "tests/robot_bridge/test_paths.hpp"
 #include "tests/common/child_process.hpp"
@@ -196,9 +196,9 @@ struct Ends {
   std::map<std::string, std::chrono::steady_clock::time_point> at;
   void on_status(const lcm::ReceiveBuffer*, const std::string&, const job_status_t* s) {
     const bool ends = (s->state == job_status_t::STATE_DONE && s->source == "hg-robot-bridge") ||
-                      (hg::runtime::job_state_final(s->state) && s->state != job_status_t::STATE_DONE);
+                      (hg::jobs::job_state_final(s->state) && s->state != job_status_t::STATE_DONE);
     if (s->answer || !ends || state.count(s->job_id)) return;
-    state[s->job_id] = hg::runtime::job_state_name(s->state);
+    state[s->job_id] = hg::jobs::job_state_name(s->state);
     at[s->job_id] = std::chrono::steady_clock::now();
   }
 };

@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "job_recorder/recorder.hpp"
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 
 namespace fs = std::filesystem;
 using hg::job_recorder::job_dir_name;
@@ -361,7 +361,7 @@ TEST(JobRecorder, IncompleteRejectedAndNeedsRescanEndARecordFromAnySource) {
     rec.on_status(status(id, job_status_t::STATE_RUNNING, "hg-robot-bridge", "later"), T0 + 2);  // an event only
     const json j = read_json(rec.dir_of(id) / "job.json");
     EXPECT_EQ(j["final"], true) << id;
-    EXPECT_EQ(j["state"], hg::runtime::job_state_name(state)) << id;
+    EXPECT_EQ(j["state"], hg::jobs::job_state_name(state)) << id;
     EXPECT_EQ(j["reason"], "why");
     if (state == job_status_t::STATE_INCOMPLETE) {
       ASSERT_EQ(j["unground"].size(), 2u);
@@ -394,8 +394,8 @@ TEST(JobRecorder, ATerminalAnswerEndsAnOpenRecordOtherAnswersChangeNothing) {
         if (i == 3 && rng() % 2) {
           rec.stop(T0 + 10);  // the recorder stops and a new one starts: the record is open, interrupted
         }
-        const bool terminal = hg::runtime::job_state_final(s.state);
-        if (!ended && (!s.answer || terminal)) expect_state = hg::runtime::job_state_name(s.state);
+        const bool terminal = hg::jobs::job_state_final(s.state);
+        if (!ended && (!s.answer || terminal)) expect_state = hg::jobs::job_state_name(s.state);
         if (!ended && terminal) ended = true;
         rec.on_status(s, T0 + 20 + i);
       }

@@ -24,8 +24,8 @@ BASE = {
     "runtime/node.hpp": "#pragma once\n",
     "motion/motion.hpp": "#pragma once\n",
     "outline_core/outline.hpp": "#pragma once\n",
-    "sim/partgen/include/partgen/shapes.hpp": "#pragma once\n",
-    "sim/scene/scene.hpp": '#include "partgen/shapes.hpp"\n',
+    "sim/partgen/shapes.hpp": "#pragma once\n",
+    "sim/scene/scene.hpp": '#include "sim/partgen/shapes.hpp"\n',
     "tools/overview/overview.hpp": "#pragma once\n",
     "path_planner/pipeline.hpp": '#include "motion/motion.hpp"\n',
     "robot_bridge/path.hpp": '#include <motion/motion.hpp>\n#include <vector>\n',
@@ -44,7 +44,7 @@ class CheckLayers(unittest.TestCase):
     def test_includes_that_point_down_pass(self):
         tree = dict(BASE)
         tree["camera_bridge/sources.cpp"] = ('#include "runtime/node.hpp"\n#include "sim/scene/scene.hpp"\n'
-                                             '#include "outline.hpp"\n#include <opencv2/core.hpp>\n')
+                                             '#include "outline_core/outline.hpp"\n#include <opencv2/core.hpp>\n')
         tree["tools/hg_plan/main.cpp"] = '#include "path_planner/pipeline.hpp"\n#include "tools/overview/overview.hpp"\n'
         tree["tests/x/any_test.cpp"] = '#include "tools/overview/overview.hpp"\n#include "robot_bridge/path.hpp"\n'
         code, out = run_on(tree)
@@ -60,7 +60,7 @@ class CheckLayers(unittest.TestCase):
                           "outline_service/bench.cpp:2:", "another process folder, path_planner")
 
     def test_a_lower_layer_including_a_higher_one_fails(self):
-        for src, include in [("outline_core/alpha.cpp", '#include "partgen/shapes.hpp"'),  # via an include root
+        for src, include in [("outline_core/alpha.cpp", '#include "sim/partgen/shapes.hpp"'),  # spelled from the root
                              ("sim/scene/scene.cpp", "#include <robot_bridge/path.hpp>"),   # angle brackets
                              ("motion/motion.cpp", '#include "../outline_core/outline.hpp"')]:  # relative
             self.assert_fails({src: include + "\n"}, src + ":1:", "a higher layer")
@@ -83,6 +83,12 @@ class CheckLayers(unittest.TestCase):
         out = self.assert_fails({"robot_bridge/bridge.cpp": '#include "somewhere/unknown.hpp"\n#include <unknown_system_header>\n'},
                                 "robot_bridge/bridge.cpp:1:", "names no file of the tree")
         self.assertNotIn("bridge.cpp:2:", out)
+
+    def test_an_include_spelled_from_another_include_root_fails(self):
+        # sim/partgen/shapes.hpp is "sim/partgen/shapes.hpp" everywhere (or "shapes.hpp" beside it), never
+        # "partgen/shapes.hpp" through an include directory of its own.
+        self.assert_fails({"tools/hg_gen/hg_gen.cpp": '#include "partgen/shapes.hpp"\n'}, "tools/hg_gen/hg_gen.cpp:1:",
+                          "names no file of the tree")
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@
 #include "tools/bench/core/synthetic_clouds.hpp"
 #include "tools/bench/core/tilted_camera.hpp"
 #include "outline_core/outline.hpp"
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 
 using namespace hg::outline;
 namespace partgen = hg::partgen;

@@ -18,8 +18,8 @@
 #include "camera_bridge/segment.hpp"
 #include "cell/cell.hpp"
 #include "outline_service/outline_service.hpp"
-#include "partgen/shapes.hpp"
-#include "partgen/synth.hpp"
+#include "sim/partgen/shapes.hpp"
+#include "sim/partgen/synth.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace hg::test {

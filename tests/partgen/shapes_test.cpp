@@ -1,7 +1,7 @@
 // Shapes: areas and perimeters against closed forms written from the parts' drawings (not from the
 // library's own formulas), the chord bound on curves, ring orientation, and contains() against
 // analytic membership.
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Cloud synthesis: scan-line order, agreement with a brute-force pixel test, the paper's point counts,
 // noise/dropout/jagged statistics, determinism.
-#include "partgen/presets.hpp"
-#include "partgen/shapes.hpp"
-#include "partgen/synth.hpp"
+#include "sim/partgen/presets.hpp"
+#include "sim/partgen/shapes.hpp"
+#include "sim/partgen/synth.hpp"
 
 #include <gtest/gtest.h>
 

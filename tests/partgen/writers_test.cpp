@@ -1,9 +1,9 @@
 // Writers and hg-gen: what is written parses back (with readers written here, independent of the
 // writers) to the same points and the same ground truth.
-#include "partgen/presets.hpp"
-#include "partgen/shapes.hpp"
-#include "partgen/synth.hpp"
-#include "partgen/writers.hpp"
+#include "sim/partgen/presets.hpp"
+#include "sim/partgen/shapes.hpp"
+#include "sim/partgen/synth.hpp"
+#include "sim/partgen/writers.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

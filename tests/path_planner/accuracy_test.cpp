@@ -7,8 +7,8 @@
 #include <cstdio>
 
 #include "outline_core/outline.hpp"
-#include "partgen/shapes.hpp"
-#include "partgen/synth.hpp"
+#include "sim/partgen/shapes.hpp"
+#include "sim/partgen/synth.hpp"
 #include "path_planner/pipeline.hpp"
 #include "robot_bridge/path.hpp"
 #include "tests/path_planner/truth.hpp"

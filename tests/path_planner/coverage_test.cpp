@@ -12,12 +12,12 @@
 #include <string>
 
 #include "outline_core/outline.hpp"
-#include "partgen/shapes.hpp"
-#include "partgen/synth.hpp"
+#include "sim/partgen/shapes.hpp"
+#include "sim/partgen/synth.hpp"
 #include "path_planner/io.hpp"
 #include "path_planner/pipeline.hpp"
 #include "robot_bridge/bridge.hpp"
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 #include "robot_bridge/sim_driver.hpp"
 #include "tests/path_planner/truth.hpp"
 
@@ -470,7 +470,7 @@ TEST(PathPlannerCoverage, ASlotTooNarrowForTheToolNeverEndsDone) {
     if (exclude) approve.excluded_loops = {2}, approve.num_excluded = 1;
     bridge.on_job_request(approve, t);
     ASSERT_EQ(st.back().state, +job_status_t::STATE_RUNNING) << st.back().message;
-    while (!hg::runtime::job_state_final(st.back().state) && t < 600) bridge.tick(t += 0.01);
+    while (!hg::jobs::job_state_final(st.back().state) && t < 600) bridge.tick(t += 0.01);
     const job_status_t& end = st.back();
     EXPECT_EQ(end.state, exclude ? +job_status_t::STATE_DONE : +job_status_t::STATE_INCOMPLETE) << end.message;
     ASSERT_EQ(end.num_unground, 1);

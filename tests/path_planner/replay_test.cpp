@@ -17,7 +17,7 @@
 #include "sim/scene/scene.hpp"
 #include "camera_bridge/segment.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 #include "outline_service/outline_service.hpp"
 #include "path_planner/io.hpp"
 #include "robot_bridge/path.hpp"

@@ -2,7 +2,7 @@
 // seeds), clean rings, staircases of known pitch.
 #include <gtest/gtest.h>
 
-#include "partgen/synth.hpp"
+#include "sim/partgen/synth.hpp"
 #include "tests/path_planner/stage_rings.hpp"
 
 using namespace hg::path_planner;

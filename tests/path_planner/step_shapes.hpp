@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string_view>
 
-#include "partgen/synth.hpp"
+#include "sim/partgen/synth.hpp"
 #include "path_planner/io.hpp"
 #include "path_planner/modifiers.hpp"
 #include "path_planner/pipeline.hpp"

@@ -1,6 +1,6 @@
 """The camera bridge's committed log, played with lcm-logplayer into the outline service and the path
 planner (real processes under tools/supervisor, in this test's network namespace). The expectation is
-independent of both: the three-parts scene's ground truth polygons (hg-camera-bridge --write-truth),
+independent of both: the three-parts scene's ground truth polygons (hg-camera-bridge --synthetic.write-truth),
 carried to the robot base frame through the truth's camera pose and the planner's configured hand-eye
 calibration, offset by the tool radius."""
 

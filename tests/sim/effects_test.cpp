@@ -10,7 +10,7 @@
 #include <map>
 #include <string>
 
-#include "partgen/synth.hpp"
+#include "sim/partgen/synth.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace sim = hg::sim;

@@ -640,7 +640,7 @@ class StationRescan(StationCase):
 
     @classmethod
     def extra_args(cls, extra):
-        return {"camera": ["--uri", "hg-virtual://plate-hole-slot-realistic?profile=pm806&fps=5"]}
+        return {"camera": ["--openni2.uri", "hg-virtual://plate-hole-slot-realistic?profile=pm806&fps=5"]}
 
     def outline_on_bus(self, seq):
         with open(self.outlines_file) as f:

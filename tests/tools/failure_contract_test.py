@@ -40,7 +40,7 @@ TABLE = {
     "hg-bench-station-feed": (["--cloud", MISSING + ".pcd"], [["--cloud", MISSING + ".pcd"]]),
     "hg-calibrate": (["verify", "--session", "{tmp}"], [["verify", "--session", MISSING]]),
     # Its input is a device or a folder that may come (back) later: a missing one is the heartbeat's ERROR state
-    # and a retry, not an exit (tests/camera_bridge/process_test.cpp, MissingInputIsAnErrorStateNotACrash).
+    # and a retry, not an exit (tests/camera/bridge/process_test.cpp, MissingInputIsAnErrorStateNotACrash).
     "hg-camera-bridge": ([], []),
     "hg-camera-render": ([], []),
     "hg-core-timing": ([], [[MISSING + ".xyz"]]),

@@ -14,7 +14,7 @@
 #include "hullgrind/job_status_t.hpp"
 #include "path_planner/io.hpp"
 #include "robot_bridge/path.hpp"
-#include "runtime/path_file.hpp"
+#include "path_file/path_file.hpp"
 #include "tools/overview/overview.hpp"
 
 namespace {

@@ -3,7 +3,7 @@
 // pitch that gives about the requested vertex count; and on the same staircase with Gaussian jitter of
 // 0.6 pitch on every vertex (a noisy boundary, pixel_pitch configured). Prints median, min, max in ms.
 //   hg-plan-bench [VERTICES=10000] [RUNS=21]
-#include "partgen/synth.hpp"
+#include "sim/partgen/synth.hpp"
 #include "path_planner/pipeline.hpp"
 
 #include <algorithm>

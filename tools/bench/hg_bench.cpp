@@ -32,9 +32,9 @@
 #include "outline_core/delaunay.hpp"
 #include "outline_io/cloud.hpp"
 #include "outline_core/outline.hpp"
-#include "partgen/presets.hpp"
-#include "partgen/synth.hpp"
-#include "partgen/writers.hpp"
+#include "sim/partgen/presets.hpp"
+#include "sim/partgen/synth.hpp"
+#include "sim/partgen/writers.hpp"
 #include "peers.hpp"
 #include "runtime/params.hpp"
 

@@ -186,8 +186,8 @@ def bench_profile(E, profile, frames, warmup, n_clients=0):
     with open(p.toml, "rb") as f:
         mine = tomllib.load(f)
     cam = dict(next(q for q in E.shipped_pipeline()["process"] if q["name"] == "camera"))
-    cam["command"] = ["hg-camera-bridge", "--source", "synthetic", "--scene", "plate-hole-slot", "--profile", profile,
-                      "--trigger", "job", "--parts", "largest"]
+    cam["command"] = ["hg-camera-bridge", "--source", "synthetic", "--synthetic.scene", "plate-hole-slot",
+                      "--synthetic.profile", profile, "--trigger", "job", "--parts", "largest"]
     cam["cwd"] = p.dir
     E.write_toml(p.toml, mine["supervisor"], [cam] + mine["process"])
     p.names = ["camera"] + p.names

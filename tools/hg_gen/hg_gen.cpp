@@ -1,8 +1,8 @@
 // hg-gen: writes a synthetic hull-part cloud (as a top-down depth camera sees it) and its ground truth.
-#include "partgen/presets.hpp"
-#include "partgen/shapes.hpp"
-#include "partgen/synth.hpp"
-#include "partgen/writers.hpp"
+#include "sim/partgen/presets.hpp"
+#include "sim/partgen/shapes.hpp"
+#include "sim/partgen/synth.hpp"
+#include "sim/partgen/writers.hpp"
 
 #include <chrono>
 #include <cmath>

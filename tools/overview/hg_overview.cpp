@@ -10,7 +10,7 @@
 #include "outline_io/outline_writers.hpp"
 #include "runtime/config.hpp"
 #include "path_planner/io.hpp"
-#include "runtime/path_file.hpp"
+#include "path_file/path_file.hpp"
 #include "tools/overview/overview.hpp"
 #include "path_planner/path_planner.hpp"
 #include "runtime/node.hpp"

@@ -1,6 +1,6 @@
 #include "tools/overview/overview.hpp"
 
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +18,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-std::string state_name(int s) { return runtime::job_state_name(std::int8_t(s)); }
+std::string state_name(int s) { return jobs::job_state_name(std::int8_t(s)); }
 
 // "hole 2: 285.7 mm TOO_SMALL; outer loop 0: 3.1 mm UNREACHED": the stretches a job's end left unground.
 std::string unground_text(const hullgrind::job_status_t& s) {

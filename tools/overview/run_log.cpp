@@ -1,6 +1,7 @@
 #include "tools/overview/run_log.hpp"
 
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
+#include "runtime/channels.hpp"
 
 #include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
@@ -26,7 +27,7 @@ bool decode(const lcm::LogEvent* e, std::vector<Logged<T>>& into) {
 // and tools/run.sh read it).
 bool ends_job(const hullgrind::job_status_t& s) {
   return (s.state == hullgrind::job_status_t::STATE_DONE && s.source == "hg-robot-bridge") ||
-         (runtime::job_state_final(s.state) && s.state != hullgrind::job_status_t::STATE_DONE);
+         (jobs::job_state_final(s.state) && s.state != hullgrind::job_status_t::STATE_DONE);
 }
 
 }  // namespace
@@ -38,14 +39,14 @@ RunLog read_run_log(const std::string& path) {
   while (const lcm::LogEvent* e = file.readNextEvent()) {
     ++log.events;
     bool ok = true;
-    if (e->channel == "HG_PLATE_CLOUD") ok = decode(e, log.clouds);
-    else if (e->channel == "HG_OUTLINE")
+    if (e->channel == channels::kPlateCloud) ok = decode(e, log.clouds);
+    else if (e->channel == channels::kOutline)
       ok = decode(e, log.outlines);
-    else if (e->channel == "HG_GRIND_PATH")
+    else if (e->channel == channels::kGrindPath)
       ok = decode(e, log.paths);
-    else if (e->channel == "HG_JOB_REQUEST")
+    else if (e->channel == channels::kJobRequest)
       ok = decode(e, log.requests);
-    else if (e->channel == "HG_JOB_STATUS")
+    else if (e->channel == channels::kJobStatus)
       ok = decode(e, log.statuses);
     if (!ok) ++log.undecodable;
   }

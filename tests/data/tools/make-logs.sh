@@ -38,7 +38,7 @@ two_clouds() {
   local dump=$!
   sleep 0.5
   # One frame a second: the bridge is stopped well before a third cloud.
-  "$bin/hg-camera-bridge" --source synthetic --scene three-parts --profile pm806 --parts all --rate 1 &
+  "$bin/hg-camera-bridge" --source synthetic --synthetic.scene three-parts --synthetic.profile pm806 --parts all --rate 1 &
   local bridge=$!
   wait $dump
   kill -TERM $bridge

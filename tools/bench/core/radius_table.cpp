@@ -14,7 +14,7 @@
 #include "outline_core/alpha.hpp"
 #include "tools/bench/core/synthetic_clouds.hpp"
 #include "tools/bench/core/tilted_camera.hpp"
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 #include "outline_core/outline.hpp"
 #include "runtime/params.hpp"
 

@@ -12,7 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "outline_core/outline.hpp"
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 
 namespace hg::outline::synth {
 

@@ -37,7 +37,7 @@ struct Bridge : hg::test::ChildProcess {
               std::vector<std::string> args{std::string(HG_BIN_DIR) + "/hg-camera-bridge",
                                             "--source",
                                             "openni2",
-                                            "--uri",
+                                            "--openni2.uri",
                                             uri,
                                             "--parts",
                                             "all",

@@ -10,9 +10,9 @@
 
 #include "hullgrind/job_request_t.hpp"
 #include "hullgrind/job_status_t.hpp"
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 
-using hg::runtime::JobLedger;
+using hg::jobs::JobLedger;
 using hullgrind::job_status_t;
 
 TEST(JobLedger, KeepsTheLastStateAndTheFirstPartName) {
@@ -41,21 +41,21 @@ TEST(JobLedger, ForgetsTheOldestIdsBeyondItsCapacity) {
 }
 
 TEST(JobLedger, NamesAndAnswers) {
-  EXPECT_EQ(hg::runtime::job_state_name(job_status_t::STATE_REFUSED), "REFUSED");
-  EXPECT_EQ(hg::runtime::job_state_name(42), "42");
+  EXPECT_EQ(hg::jobs::job_state_name(job_status_t::STATE_REFUSED), "REFUSED");
+  EXPECT_EQ(hg::jobs::job_state_name(42), "42");
   // Terminal: DONE, FAILED, ABORTED, REFUSED, INCOMPLETE, REJECTED, NEEDS_RESCAN (lcmtypes/job_status_t.lcm).
   const std::set<int> terminal = {4, 5, 6, 7, 10, 11, 12};
   for (std::int8_t s = 0; s < 13; ++s) {
-    EXPECT_EQ(hg::runtime::job_state_final(s), terminal.count(s) == 1) << int(s);
-    EXPECT_EQ(hg::runtime::job_state_of_name(hg::runtime::job_state_name(s)), s);
+    EXPECT_EQ(hg::jobs::job_state_final(s), terminal.count(s) == 1) << int(s);
+    EXPECT_EQ(hg::jobs::job_state_of_name(hg::jobs::job_state_name(s)), s);
   }
-  EXPECT_EQ(hg::runtime::job_state_name(job_status_t::STATE_AWAITING_APPROVAL), "AWAITING_APPROVAL");
-  EXPECT_EQ(hg::runtime::job_state_name(job_status_t::STATE_INCOMPLETE), "INCOMPLETE");
-  EXPECT_EQ(hg::runtime::job_state_of_name("interrupted"), -1);
-  EXPECT_EQ(hg::runtime::job_action_name(hullgrind::job_request_t::ACTION_APPROVE), "APPROVE");
-  EXPECT_EQ(hg::runtime::job_action_name(hullgrind::job_request_t::ACTION_QUERY), "QUERY");
+  EXPECT_EQ(hg::jobs::job_state_name(job_status_t::STATE_AWAITING_APPROVAL), "AWAITING_APPROVAL");
+  EXPECT_EQ(hg::jobs::job_state_name(job_status_t::STATE_INCOMPLETE), "INCOMPLETE");
+  EXPECT_EQ(hg::jobs::job_state_of_name("interrupted"), -1);
+  EXPECT_EQ(hg::jobs::job_action_name(hullgrind::job_request_t::ACTION_APPROVE), "APPROVE");
+  EXPECT_EQ(hg::jobs::job_action_name(hullgrind::job_request_t::ACTION_QUERY), "QUERY");
   JobLedger::Entry e{"p", job_status_t::STATE_RUNNING, 0.25, "waypoint 12"};
-  EXPECT_EQ(hg::runtime::repeat_answer(hullgrind::job_request_t::ACTION_START, "j", e),
+  EXPECT_EQ(hg::jobs::repeat_answer(hullgrind::job_request_t::ACTION_START, "j", e),
             "repeated START of job j: it is RUNNING (waypoint 12); nothing done");
 }
 
@@ -71,19 +71,19 @@ TEST(JobLedger, RecordedJobsComeFromTheHistoryFolder) {
       << R"({"job_id": "open", "state": "RUNNING", "final": false, "message": "waypoint 3", "requested_utime": 10000000})";
   fs::create_directories(root / "bad");
   std::ofstream(root / "bad" / "job.json") << "{not json";
-  const auto ended = hg::runtime::recorded_job(root.string(), "a/b");
+  const auto ended = hg::jobs::recorded_job(root.string(), "a/b");
   ASSERT_TRUE(ended);
   EXPECT_EQ(ended->state, +job_status_t::STATE_INCOMPLETE);
   EXPECT_TRUE(ended->ended);
   EXPECT_EQ(ended->message, "hole 2");
-  EXPECT_TRUE(hg::runtime::recorded_before(ended, 0));
-  const auto open = hg::runtime::recorded_job(root.string(), "open");
+  EXPECT_TRUE(hg::jobs::recorded_before(ended, 0));
+  const auto open = hg::jobs::recorded_job(root.string(), "open");
   ASSERT_TRUE(open);
   EXPECT_FALSE(open->ended);
-  EXPECT_FALSE(hg::runtime::recorded_before(open, 10500000));  // the same START, heard by the recorder first
-  EXPECT_TRUE(hg::runtime::recorded_before(open, 11000001));   // a START more than a second later
-  EXPECT_FALSE(hg::runtime::recorded_job(root.string(), "bad"));
-  EXPECT_FALSE(hg::runtime::recorded_job(root.string(), "none"));
-  EXPECT_FALSE(hg::runtime::recorded_job("", "a/b"));  // jobs-dir off
+  EXPECT_FALSE(hg::jobs::recorded_before(open, 10500000));  // the same START, heard by the recorder first
+  EXPECT_TRUE(hg::jobs::recorded_before(open, 11000001));   // a START more than a second later
+  EXPECT_FALSE(hg::jobs::recorded_job(root.string(), "bad"));
+  EXPECT_FALSE(hg::jobs::recorded_job(root.string(), "none"));
+  EXPECT_FALSE(hg::jobs::recorded_job("", "a/b"));  // jobs-dir off
   fs::remove_all(root);
 }

@@ -14,7 +14,7 @@
 
 #include "hullgrind/job_status_t.hpp"
 
-namespace hg::runtime {
+namespace hg::jobs {
 
 class JobLedger {
  public:
@@ -75,4 +75,4 @@ std::optional<RecordedJob> recorded_job(const std::string& jobs_dir, const std::
 // requested before (its first request heard more than a second before this one: not the same START).
 bool recorded_before(const std::optional<RecordedJob>& job, std::int64_t now_utime);
 
-}  // namespace hg::runtime
+}  // namespace hg::jobs

@@ -1,4 +1,4 @@
-#include "partgen/synth.hpp"
+#include "sim/partgen/synth.hpp"
 
 #include <algorithm>
 #include <cmath>

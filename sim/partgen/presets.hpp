@@ -5,8 +5,8 @@
 // non-jagged point count lands on the paper's count.
 #pragma once
 
-#include "partgen/shapes.hpp"
-#include "partgen/synth.hpp"
+#include "sim/partgen/shapes.hpp"
+#include "sim/partgen/synth.hpp"
 
 #include <cstddef>
 #include <string>

@@ -5,7 +5,7 @@
 // row columns left to right (increasing x). DSHI's heritable initial relies on this order.
 #pragma once
 
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 
 #include <cstdint>
 #include <random>

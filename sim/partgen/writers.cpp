@@ -1,4 +1,4 @@
-#include "partgen/writers.hpp"
+#include "sim/partgen/writers.hpp"
 
 #include <unistd.h>
 

@@ -2,8 +2,8 @@
 // target and renamed when complete, so a failed run never leaves half a file behind.
 #pragma once
 
-#include "partgen/shapes.hpp"
-#include "partgen/synth.hpp"
+#include "sim/partgen/shapes.hpp"
+#include "sim/partgen/synth.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,4 +1,4 @@
-#include "partgen/shapes.hpp"
+#include "sim/partgen/shapes.hpp"
 
 #include <algorithm>
 #include <cmath>

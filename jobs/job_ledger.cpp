@@ -1,4 +1,4 @@
-#include "runtime/job_ledger.hpp"
+#include "jobs/job_ledger.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -10,7 +10,7 @@
 #include "hullgrind/job_request_t.hpp"
 #include "hullgrind/job_status_t.hpp"
 
-namespace hg::runtime {
+namespace hg::jobs {
 
 const JobLedger::Entry* JobLedger::find(const std::string& job_id) const {
   auto it = entries_.find(job_id);
@@ -136,4 +136,4 @@ bool recorded_before(const std::optional<RecordedJob>& job, std::int64_t now_uti
   return job->ended || (job->requested_utime > 0 && job->requested_utime < now_utime - 1000000);
 }
 
-}  // namespace hg::runtime
+}  // namespace hg::jobs

@@ -1,4 +1,4 @@
-#include "runtime/path_file.hpp"
+#include "path_file/path_file.hpp"
 
 #include "runtime/quantities.hpp"
 

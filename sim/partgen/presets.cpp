@@ -1,4 +1,4 @@
-#include "partgen/presets.hpp"
+#include "sim/partgen/presets.hpp"
 
 #include <numbers>
 #include <stdexcept>

@@ -122,8 +122,8 @@ TEST(CameraBridgeProcess, SyntheticCloudsInScanOrder) {
   Bus bus;
   // Clean rendering (no noise): every point then sits within 1 mm of its pixel's depth, so projecting it
   // back lands within half a pixel of its source pixel and the source pixel is recovered exactly.
-  Process proc({"--source", "synthetic", "--scene", "three-parts", "--profile", "pm806", "--parts", "all",
-                "--noise-scale", "0", "--rate", "5", "--depth-rate", "5", "--log-level", "warn"});
+  Process proc({"--source", "synthetic", "--synthetic.scene", "three-parts", "--synthetic.profile", "pm806", "--parts",
+                "all", "--synthetic.noise-scale", "0", "--rate", "5", "--depth-rate", "5", "--log-level", "warn"});
   ASSERT_TRUE(bus.until([&] { return bus.clouds.size() >= 2 && !bus.depths.empty(); })) << "no clouds from the bridge";
   const CameraProfile prof = camera_profile("pm806");
   for (const auto& m : bus.clouds) {
@@ -169,7 +169,7 @@ TEST(CameraBridgeProcess, SyntheticCloudsInScanOrder) {
 
 TEST(CameraBridgeProcess, JobTriggerCapturesOncePerJobId) {
   Bus bus;
-  Process proc({"--source", "synthetic", "--scene", "l-bracket", "--trigger", "job", "--log-level", "warn"});
+  Process proc({"--source", "synthetic", "--synthetic.scene", "l-bracket", "--trigger", "job", "--log-level", "warn"});
   // Running (a heartbeat) but publishing no cloud until asked.
   ASSERT_TRUE(bus.until([&] { return bus.beats.size() >= 2; }));
   EXPECT_TRUE(bus.clouds.empty());
@@ -212,7 +212,7 @@ TEST(CameraBridgeProcess, CorruptFilesAreCountedAndSkipped) {
   ASSERT_TRUE(cv::imwrite((dir / "f_table_only.png").string(), empty.depth));
 
   Bus bus;
-  Process proc({"--source", "files", "--files", dir.string(), "--rate", "0", "--log-level", "error"});
+  Process proc({"--source", "files", "--files.path", dir.string(), "--rate", "0", "--log-level", "error"});
   ASSERT_TRUE(bus.until([&] { return bus.clouds.size() >= 2 && !bus.beats.empty() && bus.beats.back().dropped >= 4; }))
       << "clouds " << bus.clouds.size() << ", beats " << bus.beats.size();
   bus.pump(1200ms);  // nothing more comes: the files are used up and --loop is off
@@ -230,8 +230,8 @@ TEST(CameraBridgeProcess, CorruptFilesAreCountedAndSkipped) {
 
 TEST(CameraBridgeProcess, MissingInputIsAnErrorStateNotACrash) {
   Bus bus;
-  Process proc({"--source", "files", "--files", "/nonexistent/hg-depth", "--retry-min", "0.2", "--retry-max", "0.4",
-                "--log-level", "error"});
+  Process proc({"--source", "files", "--files.path", "/nonexistent/hg-depth", "--retry-min", "0.2", "--retry-max",
+                "0.4", "--log-level", "error"});
   ASSERT_TRUE(
       bus.until([&] { return !bus.beats.empty() && bus.beats.back().state == hullgrind::heartbeat_t::STATE_ERROR; }));
   EXPECT_NE(bus.beats.back().state_text.find("/nonexistent/hg-depth"), std::string::npos)
