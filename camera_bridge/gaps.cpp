@@ -194,7 +194,8 @@ void assess_contour(const std::vector<cv::Point>& contour, const cv::Mat& region
     const Eigen::Vector3d d = ray(in, q.x, q.y);
     const Eigen::Vector3d x = pl.top_offset[part] / pl.top_normal.dot(d) * d - out.origin;
     p[i] = {x.dot(out.u_axis), x.dot(out.v_axis)};
-    bool seen = false;
+    // A kept mixed pixel saw the table beside the steel itself: the drop from plate to table is in the frame.
+    bool seen = !out.mixed.empty() && out.mixed.ptr<std::uint8_t>(q.y)[q.x] != 0;
     for (int dy = -1; dy <= 1 && !seen; ++dy)
       for (int dx = -1; dx <= 1 && !seen; ++dx) {
         const int c = q.x + dx, r = q.y + dy;

@@ -41,6 +41,10 @@ struct SegmentParams {
   // (drops mixed pixels half way down an edge and side-wall pixels). 0: automatic, 4 sigma of the
   // top-plane residuals but at least 1 mm.
   double top_tolerance = 0;
+  // A pixel beside the top face but off its plane is a mixed pixel kept as steel when its depth fraction
+  // between table and top ((z_table - z) / (z_table - z_top) along its ray) is at least this (segment.cpp,
+  // classify()); above 1: none kept.
+  double mixed_fraction = 0.5;
   std::uint64_t ransac_seed = 12345;
   // Gaps inside a part (gaps.hpp): with nothing in the frame to say the steel is cut there, a gap at most
   // this wide (metres, the widest circle that fits in it) is dropout and filled; a wider one stays a hole.
@@ -68,6 +72,8 @@ struct Segmentation {
   std::vector<std::int16_t> part;
   std::vector<std::int32_t> pixel;   // source pixel index row * width + col
   std::vector<std::uint8_t> filled;  // 1: a point on the top plane filling dropout, not a measured one
+  cv::Mat mixed;  // CV_8UC1: 255 at the pixels of the points that are mixed pixels kept as steel (their
+                  // footprint saw the table too)
   std::size_t size() const { return u.size(); }
   // What the organized frame showed (gaps.hpp): dropout patches filled (single missing pixels, which leave
   // no hole in an outline, are filled but not counted), gaps kept as cut-outs, and the outer edge.
