@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <cmath>
 #include <random>
@@ -36,6 +35,7 @@ void check(const SegmentParams& p) {
   if (!(p.min_area >= 0)) bad("min_area must be >= 0");
   if (!(p.top_tolerance >= 0)) bad("top_tolerance must be >= 0");
   if (!(p.mixed_fraction >= 0)) bad("mixed_fraction must be >= 0");
+  if (!(p.footprint_pixels >= 0) || std::isinf(p.footprint_pixels)) bad("footprint_pixels must be a number >= 0");
   if (!(p.dropout_width >= 0) || std::isinf(p.dropout_width)) bad("dropout_width must be a number >= 0");
   if (p.calibrated_plane && !(std::abs(p.plane_normal.norm() - 1.0) < 1e-3))
     bad("calibrated plane normal must be a unit vector");
@@ -377,7 +377,7 @@ bool fit_top_planes(const PartPixels& pts, int K, int largest, const Eigen::Vect
 
 // What a part pixel's point is: on the top plane (within the tolerance), a mixed pixel at the edge kept as
 // steel (placed where its ray meets the top plane, or straight down when it may see a side wall), or neither.
-enum PointKind : std::uint8_t { kDrop = 0, kTop = 1, kMixedSight = 2, kMixedDown = 3 };
+enum PointKind : std::uint8_t { kDrop = 0, kTop = 1, kMixedSight = 2, kMixedDown = 3, kSawTable = 4 };
 
 // Depth fraction of a pixel between table and top along its own ray: 0 on the table, 1 on the top plane.
 // A pixel whose footprint straddles the edge reports the return-weighted mean depth of both (docs/cameras.md,
@@ -393,6 +393,23 @@ double depth_fraction(const PartPixels& pts, std::size_t i, const TopPlanes& top
 Eigen::Vector2d nadir_pixel(const camera::Intrinsics& in, const Eigen::Vector3d& normal) {
   const double nz = std::abs(normal.z()) > 1e-9 ? normal.z() : 1e-9;
   return {in.cx + in.fx * normal.x() / nz, in.cy + in.fy * normal.y() / nz};
+}
+
+// The depth fraction of a pixel whose centre lies exactly on the top face's edge: the least a pixel with its
+// centre on the steel shows. Its footprint (SegmentParams::footprint_pixels wide, returns taken equal) is
+// half steel; the other half sees the table, or, where the edge faces the nadir (cos_wall > 0, the cosine
+// between the edge's outward normal and the direction to the nadir), first the side wall: seen from the
+// camera it reaches W = t tan(theta) cos_wall beyond the edge, its depth falling linearly from top to table,
+// so that half of the footprint (L = half its width) shows the fraction 1 - L / 2W (W >= L) or W / 2L.
+double steel_centre_fraction(const PartPixels& pts, std::size_t i, const TopPlanes& top, const Plane& table,
+                             const camera::Intrinsics& in, double cos_wall, const SegmentParams& P) {
+  if (!(cos_wall > 0)) return P.mixed_fraction;
+  const double o = top.offset[pts.part[i]], t = o - table.offset;
+  const Eigen::Vector3d p = pts.point(i), T = p * (o / top.normal.dot(p));  // its ray on the top plane
+  const double tan_theta = (T - o * top.normal).norm() / std::abs(o);
+  const double wall = t * tan_theta * cos_wall, half = 0.5 * P.footprint_pixels * T.z() / in.fx;
+  const double seen = wall >= half ? 1 - half / (2 * wall) : wall / (2 * half);
+  return P.mixed_fraction + (1 - P.mixed_fraction) * seen;
 }
 
 // Classifies the part pixels (PointKind). A pixel off the top plane is a mixed pixel kept as steel when it
@@ -424,17 +441,14 @@ std::vector<std::uint8_t> classify(const PartPixels& pts, const TopPlanes& top, 
         edge |= !on_top;
       }
     if (!edge || inward.squaredNorm() == 0) continue;  // inside the top face, or not beside it at all
-    const double f = depth_fraction(pts, i, top, table);
-    static const int mode = std::getenv("HG_R4_MODE") ? std::atoi(std::getenv("HG_R4_MODE")) : 0;  // TEMP
     const bool on_plane = kind[i] == kTop;
-    if (mode == 3 || (mode == 4 && on_plane)) continue;
     kind[i] = kDrop;
-    if (!(f >= P.mixed_fraction) && !(mode == 5 && on_plane)) continue;
+    const Eigen::Vector2d to_nadir = (nadir - Eigen::Vector2d(c, r)).normalized();
+    const double cos_wall = -inward.normalized().dot(to_nadir);  // > 0: the edge faces the nadir
+    const double f = depth_fraction(pts, i, top, table);
+    if (!(f >= steel_centre_fraction(pts, i, top, table, in, cos_wall, P))) continue;
     if (!on_plane && !(f <= 1.0 + top.tol / std::max(1e-3, top.offset[pts.part[i]] - table.offset))) continue;
-    const bool faces_nadir = inward.dot(Eigen::Vector2d(c, r) - nadir) > 0;
-    if (mode == 2 && faces_nadir && !on_plane) continue;
-    kind[i] = faces_nadir && mode != 1 ? kMixedDown : kMixedSight;
-    if (!on_plane) kind[i] |= 4;  // a mixed pixel: it saw the table too
+    kind[i] = (cos_wall > 0 ? kMixedDown : kMixedSight) | (on_plane ? 0 : kSawTable);
   }
   return kind;
 }
@@ -462,7 +476,7 @@ void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& 
     if (kind[i] == kDrop) continue;
     Eigen::Vector3d p = pts.point(i);
     if ((kind[i] & 3) == kMixedSight) p *= top.offset[pts.part[i]] / pn.dot(p);  // where its ray meets the top
-    if (kind[i] & 4) out.mixed.data[pts.pixel[i]] = 255;
+    if (kind[i] & kSawTable) out.mixed.data[pts.pixel[i]] = 255;
     const Eigen::Vector3d q = p - out.origin;  // orthogonal projection = in-plane coordinates
     out.u.push_back(static_cast<float>(q.dot(out.u_axis)));
     out.v.push_back(static_cast<float>(q.dot(out.v_axis)));

@@ -45,6 +45,10 @@ struct SegmentParams {
   // between table and top ((z_table - z) / (z_table - z_top) along its ray) is at least this (segment.cpp,
   // classify()); above 1: none kept.
   double mixed_fraction = 0.5;
+  // Width of a pixel's footprint on the scene, in pixels (optics, spot or matching window): how far beyond
+  // the edge a mixed pixel with its centre on the steel sees, which sets the fraction it shows where the
+  // camera sees the side wall (segment.cpp, steel_centre_fraction()).
+  double footprint_pixels = 2.0;
   std::uint64_t ransac_seed = 12345;
   // Gaps inside a part (gaps.hpp): with nothing in the frame to say the steel is cut there, a gap at most
   // this wide (metres, the widest circle that fits in it) is dropout and filled; a wider one stays a hole.
