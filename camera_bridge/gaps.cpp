@@ -194,8 +194,7 @@ void assess_contour(const std::vector<cv::Point>& contour, const cv::Mat& region
     const Eigen::Vector3d d = ray(in, q.x, q.y);
     const Eigen::Vector3d x = pl.top_offset[part] / pl.top_normal.dot(d) * d - out.origin;
     p[i] = {x.dot(out.u_axis), x.dot(out.v_axis)};
-    // A kept mixed pixel saw the table beside the steel itself: the drop from plate to table is in the frame.
-    bool seen = !out.mixed.empty() && out.mixed.ptr<std::uint8_t>(q.y)[q.x] != 0;
+    bool seen = false;
     for (int dy = -1; dy <= 1 && !seen; ++dy)
       for (int dx = -1; dx <= 1 && !seen; ++dx) {
         const int c = q.x + dx, r = q.y + dy;
@@ -230,12 +229,16 @@ void assess_contour(const std::vector<cv::Point>& contour, const cv::Mat& region
   }
 }
 
-// The outer contour of each part's points (filled dropout included), the largest piece of each part.
+// The outer contour of each part's points (filled dropout included, kept mixed pixels not), the largest
+// piece of each part.
 void assess_edge(const cv::Mat& depth, const camera::Intrinsics& in, const PlatePlanes& pl, const Segmentation& s0,
                  Segmentation& out) {
   const cv::Mat pts = point_image(s0, depth.size());
   for (int k = 0; k < out.num_parts; ++k) {
-    const cv::Mat region = pts == k + 1;
+    // Without the kept mixed pixels: each saw the table beside the steel, so the contour of the rest has the
+    // drop from plate to table in the frame just outside it wherever they lie.
+    cv::Mat region = pts == k + 1;
+    if (!out.mixed.empty()) region.setTo(0, out.mixed);
     std::vector<std::vector<cv::Point>> contours;
     cv::findContours(region.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
     if (contours.empty()) continue;

@@ -418,8 +418,8 @@ double steel_centre_fraction(const PartPixels& pts, std::size_t i, const TopPlan
 // the steel covers half the footprint or more. Where the edge faces the nadir pixel the camera also sees the
 // plate's side wall, whose pixels lie between table and top as well: there the point goes straight down
 // (a wall pixel then lands on the edge, never beyond it); elsewhere along its ray (its centre on the top).
-std::vector<std::uint8_t> classify(const PartPixels& pts, const TopPlanes& top, const Plane& table,
-                                   const camera::Intrinsics& in, const SegmentParams& P) {
+std::vector<std::uint8_t> classify(const cv::Mat& depth, const PartPixels& pts, const TopPlanes& top,
+                                   const Plane& table, const camera::Intrinsics& in, const SegmentParams& P) {
   const std::size_t n = pts.size();
   const int W = in.width, H = in.height;
   std::vector<std::uint8_t> kind(n, kDrop);
@@ -431,14 +431,14 @@ std::vector<std::uint8_t> classify(const PartPixels& pts, const TopPlanes& top, 
   for (std::size_t i = 0; i < n; ++i) {
     const int c = pts.pixel[i] % W, r = pts.pixel[i] / W;
     Eigen::Vector2d inward = Eigen::Vector2d::Zero();  // towards the top pixels around it
-    bool edge = false;                                 // a neighbour is not a top pixel of its part
+    bool edge = false;  // a neighbour returned, but not from this part's top: a depth jump beside it
     for (int dr = -1; dr <= 1; ++dr)
       for (int dc = -1; dc <= 1; ++dc) {
         const int cc = c + dc, rr = r + dr;
         const bool on_top =
             cc >= 0 && rr >= 0 && cc < W && rr < H && top_img.ptr<std::uint8_t>(rr)[cc] == pts.part[i] + 1;
         if (on_top) inward += Eigen::Vector2d(dc, dr);
-        edge |= !on_top;
+        edge |= !on_top && cc >= 0 && rr >= 0 && cc < W && rr < H && depth.ptr<std::uint16_t>(rr)[cc];
       }
     if (!edge || inward.squaredNorm() == 0) continue;  // inside the top face, or not beside it at all
     const bool on_plane = kind[i] == kTop;
@@ -455,8 +455,8 @@ std::vector<std::uint8_t> classify(const PartPixels& pts, const TopPlanes& top, 
 
 // The plate frame (origin on the largest part's top plane, u along the camera's x where possible) and
 // the in-plane coordinates of the points kept (classify()), in scan-line (gathered) order.
-void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& table, const camera::Intrinsics& in,
-                      const SegmentParams& P, Segmentation& out) {
+void project_onto_top(const cv::Mat& depth, const PartPixels& pts, const TopPlanes& top, const Plane& table,
+                      const camera::Intrinsics& in, const SegmentParams& P, Segmentation& out) {
   const Eigen::Vector3d& pn = top.normal;
   out.normal = pn;
   out.origin = top.origin;
@@ -465,7 +465,7 @@ void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& 
   if (ux.norm() < 1e-6) ux = Eigen::Vector3d::UnitY() - pn.y() * pn;  // plane perpendicular to camera x
   out.u_axis = ux.normalized();
   out.v_axis = pn.cross(out.u_axis);
-  const std::vector<std::uint8_t> kind = classify(pts, top, table, in, P);
+  const std::vector<std::uint8_t> kind = classify(depth, pts, top, table, in, P);
   const std::size_t npts = pts.size();
   out.u.reserve(npts);
   out.v.reserve(npts);
@@ -522,7 +522,7 @@ Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const S
   TopPlanes top;
   if (!fit_top_planes(pts, out.num_parts, relabel[keep[0]] - 1, table.n, z_table, P.top_tolerance, top))
     return fail(SegmentStatus::BadFrame, "the part has too few valid depth pixels to fit its plane");
-  project_onto_top(pts, top, table, in, P, out);
+  project_onto_top(depth, pts, top, table, in, P, out);
   if (out.u.empty()) return fail(SegmentStatus::BadFrame, "the part mask holds no pixel on the fitted top plane");
   fill_gaps_and_assess_edge(depth, intensity, in, {table.n, table.offset, top.normal, top.offset}, P, out);
   out.status = SegmentStatus::Ok;
