@@ -35,6 +35,7 @@ void check(const SegmentParams& p) {
   if (!(p.min_area >= 0)) bad("min_area must be >= 0");
   if (!(p.top_tolerance >= 0)) bad("top_tolerance must be >= 0");
   if (!(p.mixed_fraction >= 0)) bad("mixed_fraction must be >= 0");
+  if (!(p.shadow_tan >= 0 && p.shadow_tan <= 1)) bad("shadow_tan must be in [0, 1]");
   if (!(p.footprint_pixels >= 0) || std::isinf(p.footprint_pixels)) bad("footprint_pixels must be a number >= 0");
   if (!(p.dropout_width >= 0) || std::isinf(p.dropout_width)) bad("dropout_width must be a number >= 0");
   if (p.calibrated_plane && !(std::abs(p.plane_normal.norm() - 1.0) < 1e-3))

@@ -53,6 +53,11 @@ struct SegmentParams {
   // Gaps inside a part (gaps.hpp): with nothing in the frame to say the steel is cut there, a gap at most
   // this wide (metres, the widest circle that fits in it) is dropout and filled; a wider one stays a hole.
   double dropout_width = 0.010;
+  // The largest tangent of the angle between the emitter's ray and the camera's at the plate (the baseline
+  // over the mount height: lsr-l's 0.35 m at 2 m is 0.18): a no-return band beside the edge that ends in a
+  // table return within thickness x this is the baseline's shadow beside a lit top face, which shows where
+  // the plate ends (gaps.hpp, "The edge"). 0: every band without a return beside it counts as dropout.
+  double shadow_tan = 0.25;
   bool fill_dropout = true;  // false: gaps are left as they are (the edge is assessed either way)
 };
 
@@ -87,6 +92,7 @@ struct Segmentation {
   double edge_length = 0;          // m, the parts' outer contours
   double edge_dropout_length = 0;  // m of it in dropout or shadow
   double largest_edge_gap = 0;     // m, the longest such stretch
+  double edge_shadow_length = 0;   // m of the edge counted seen as a bounded shadow (SegmentParams::shadow_tan)
   double edge_dropout_fraction() const { return edge_length > 0 ? edge_dropout_length / edge_length : 0; }
 };
 
