@@ -189,14 +189,24 @@ std::vector<double> arc_length(const std::vector<Eigen::Vector2d>& p) {
 // own plate's shadow), so the band cannot hide steel beyond reach.
 bool shadow_bounded(const cv::Point& q, const cv::Mat& region, const cv::Mat& depth, const camera::Intrinsics& in,
                     const PlatePlanes& pl, int part, int reach) {
-  const double half = 0.5 * (pl.top_offset[part] - pl.table_offset);
-  for (int dy = -reach; dy <= reach; ++dy)
-    for (int dx = -reach; dx <= reach; ++dx) {
+  // Outward: away from the region's pixels around q (a 5 x 5 window), so that the search runs across the
+  // edge, not along it into the table beyond the band's ends.
+  Eigen::Vector2d out = Eigen::Vector2d::Zero();
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
       const int c = q.x + dx, r = q.y + dy;
-      if (dx * dx + dy * dy > reach * reach || c < 0 || r < 0 || c >= depth.cols || r >= depth.rows) continue;
-      const int counts = depth.ptr<std::uint16_t>(r)[c];
-      if (counts && !region.ptr<std::uint8_t>(r)[c] && height(in, pl, c, r, counts) < half) return true;
+      if (c >= 0 && r >= 0 && c < depth.cols && r < depth.rows && region.ptr<std::uint8_t>(r)[c])
+        out -= Eigen::Vector2d(dx, dy);
     }
+  if (out.squaredNorm() == 0) return false;
+  out.normalize();
+  const double half = 0.5 * (pl.top_offset[part] - pl.table_offset);
+  for (int k = 1; k <= reach; ++k) {
+    const int c = int(std::lround(q.x + k * out.x())), r = int(std::lround(q.y + k * out.y()));
+    if (c < 0 || r < 0 || c >= depth.cols || r >= depth.rows) return false;
+    const int counts = depth.ptr<std::uint16_t>(r)[c];
+    if (counts && !region.ptr<std::uint8_t>(r)[c]) return height(in, pl, c, r, counts) < half;
+  }
   return false;
 }
 
