@@ -123,10 +123,12 @@ void run_poses(int n, const std::vector<std::string>& profiles, const std::vecto
         const GrindAccuracy g = grind_edge(s.outline, f, planner, table_to_base);
         add(w, a, g);
         if (verbose)
-          std::fprintf(stderr, "%s@%s pose %d: area %+.2f %%, edge RMS %.2f mm, grind RMS %.2f max %.2f mm%s, edge in "
-                       "dropout %.1f %%, gap %.1f mm%s\n", shape.c_str(), profile.c_str(), i, 100 * a.area_error(),
-                       1e3 * a.rms, 1e3 * g.rms, 1e3 * g.max, g.planned ? "" : " (not planned)", 100 * a.edge_dropout,
-                       1e3 * a.largest_gap, a.quality == hullgrind::outline_t::QUALITY_POOR ? " POOR" : "");
+          std::fprintf(stderr,
+                       "%s@%s pose %d: area %+.2f %%, edge RMS %.2f mm, grind RMS %.2f max %.2f mm%s, edge in "
+                       "dropout %.1f %%, gap %.1f mm%s\n",
+                       shape.c_str(), profile.c_str(), i, 100 * a.area_error(), 1e3 * a.rms, 1e3 * g.rms, 1e3 * g.max,
+                       g.planned ? "" : " (not planned)", 100 * a.edge_dropout, 1e3 * a.largest_gap,
+                       a.quality == hullgrind::outline_t::QUALITY_POOR ? " POOR" : "");
       }
       print_row(shape, profile, w);
     }

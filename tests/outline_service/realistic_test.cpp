@@ -29,7 +29,7 @@ std::vector<Case> all_cases() {
   std::vector<Case> out;
   for (const auto& s : hg::partgen::shape_names())
     for (const auto& p : {"pm806", "lsr-l"}) out.push_back({s, p});
-  for (const auto& s : {"knee-scallop", "ring-flange"}) out.push_back({s, "m130"});
+  for (const auto& s : {"knee-scallop", "trapezoid-holes"}) out.push_back({s, "m130"});
   return out;
 }
 
