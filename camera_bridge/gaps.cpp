@@ -183,10 +183,42 @@ std::vector<double> arc_length(const std::vector<Eigen::Vector2d>& p) {
 }
 
 // One outer contour: its length, the length in dropout or shadow, the longest such stretch.
+// Whether the no-return band beside contour pixel q ends within `reach` pixels in a return from the table
+// (below half the part's thickness): the shadow a triangulation baseline casts beside a lit top face. The
+// top's returns end at the edge there; steel at top height beside them would be lit too (it is never in its
+// own plate's shadow), so the band cannot hide steel beyond reach.
+bool shadow_bounded(const cv::Point& q, const cv::Mat& region, const cv::Mat& depth, const camera::Intrinsics& in,
+                    const PlatePlanes& pl, int part, int reach) {
+  // Outward: away from the region's pixels around q (a 5 x 5 window), so that the search runs across the
+  // edge, not along it into the table beyond the band's ends.
+  Eigen::Vector2d out = Eigen::Vector2d::Zero();
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
+      const int c = q.x + dx, r = q.y + dy;
+      if (c >= 0 && r >= 0 && c < depth.cols && r < depth.rows && region.ptr<std::uint8_t>(r)[c])
+        out -= Eigen::Vector2d(dx, dy);
+    }
+  if (out.squaredNorm() == 0) return false;
+  out.normalize();
+  const double half = 0.5 * (pl.top_offset[part] - pl.table_offset);
+  for (int k = 1; k <= reach; ++k) {
+    const int c = int(std::lround(q.x + k * out.x())), r = int(std::lround(q.y + k * out.y()));
+    if (c < 0 || r < 0 || c >= depth.cols || r >= depth.rows) return false;
+    const int counts = depth.ptr<std::uint16_t>(r)[c];
+    if (counts && !region.ptr<std::uint8_t>(r)[c]) return height(in, pl, c, r, counts) < half;
+  }
+  return false;
+}
+
 void assess_contour(const std::vector<cv::Point>& contour, const cv::Mat& region, const cv::Mat& depth,
-                    const camera::Intrinsics& in, const PlatePlanes& pl, int part, Segmentation& out) {
+                    const camera::Intrinsics& in, const PlatePlanes& pl, int part, double shadow_tan,
+                    Segmentation& out) {
   const std::size_t n = contour.size();
   if (n < 3) return;
+  // The widest shadow a baseline of angle atan(shadow_tan) casts beside this part, in pixels.
+  const double thickness = pl.top_offset[part] - pl.table_offset;
+  const int reach = int(std::ceil(shadow_tan * thickness * in.fx / std::abs(pl.top_offset[part])));
+  std::size_t shadowed = 0;
   std::vector<Eigen::Vector2d> p(n);
   std::vector<char> dark(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -201,11 +233,13 @@ void assess_contour(const std::vector<cv::Point>& contour, const cv::Mat& region
         if (c < 0 || r < 0 || c >= depth.cols || r >= depth.rows || region.ptr<std::uint8_t>(r)[c]) continue;
         seen = depth.ptr<std::uint16_t>(r)[c] != 0;
       }
+    if (!seen && shadow_bounded(q, region, depth, in, pl, part, reach)) seen = true, ++shadowed;
     dark[i] = !seen;
   }
   const std::vector<double> s = arc_length(p);
   const double total = s[n], per_point = total / double(n);
   out.edge_length += total;
+  out.edge_shadow_length += per_point * double(shadowed);
   // Runs of dark points, around the closed contour (starting after a seen point).
   std::size_t start = 0;
   while (start < n && dark[start]) ++start;
@@ -229,19 +263,23 @@ void assess_contour(const std::vector<cv::Point>& contour, const cv::Mat& region
   }
 }
 
-// The outer contour of each part's points (filled dropout included), the largest piece of each part.
+// The outer contour of each part's points (filled dropout included, kept mixed pixels not), the largest
+// piece of each part.
 void assess_edge(const cv::Mat& depth, const camera::Intrinsics& in, const PlatePlanes& pl, const Segmentation& s0,
-                 Segmentation& out) {
+                 double shadow_tan, Segmentation& out) {
   const cv::Mat pts = point_image(s0, depth.size());
   for (int k = 0; k < out.num_parts; ++k) {
-    const cv::Mat region = pts == k + 1;
+    // Without the kept mixed pixels: each saw the table beside the steel, so the contour of the rest has the
+    // drop from plate to table in the frame just outside it wherever they lie.
+    cv::Mat region = pts == k + 1;
+    if (!out.mixed.empty()) region.setTo(0, out.mixed);
     std::vector<std::vector<cv::Point>> contours;
     cv::findContours(region.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
     if (contours.empty()) continue;
     const auto largest = std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
       return std::abs(cv::contourArea(a)) < std::abs(cv::contourArea(b));
     });
-    assess_contour(*largest, region, depth, in, pl, k, out);
+    assess_contour(*largest, region, depth, in, pl, k, shadow_tan, out);
   }
 }
 
@@ -273,7 +311,7 @@ void fill_gaps_and_assess_edge(const cv::Mat& depth, const cv::Mat& intensity, c
   } else {
     out.filled.assign(out.size(), 0);
   }
-  assess_edge(depth, in, pl, out, out);
+  assess_edge(depth, in, pl, out, P.shadow_tan, out);
 }
 
 }  // namespace hg::camera_bridge

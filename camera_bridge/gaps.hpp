@@ -15,9 +15,13 @@
 // it in two, nor one across its edge bite into it) it is steel and filled like dropout, wherever it lies,
 // edge included; the table beside it, which returned, then shows where the plate ends.
 //
-// The edge: along each part's outer contour, a pixel is seen when a pixel just outside it returned (the
-// table, a mixed pixel, a side wall: the drop from plate to table is in the frame) and in dropout or
-// shadow when none did (off the image counts as none): there the scan does not show where the plate ends.
+// The edge: along each part's outer contour (without the kept mixed pixels, Segmentation::mixed, each of which
+// saw the table), a pixel is seen when a pixel just outside it returned (the table, a mixed pixel, a side
+// wall: the drop from plate to table is in the frame), or when the no-return band beside it ends, across the
+// edge, in a return from the table within thickness x SegmentParams::shadow_tan (the baseline's shadow beside
+// a lit top face, which cannot hide steel at top height: counted in Segmentation::edge_shadow_length); in
+// dropout or shadow when neither (off the image counts as none): there the scan does not show where the
+// plate ends.
 #pragma once
 
 #include <vector>

@@ -34,6 +34,9 @@ void check(const SegmentParams& p) {
   if (p.close_size < 0 || p.close_size > 31) bad("close_size must be in 0..31");
   if (!(p.min_area >= 0)) bad("min_area must be >= 0");
   if (!(p.top_tolerance >= 0)) bad("top_tolerance must be >= 0");
+  if (!(p.mixed_fraction >= 0)) bad("mixed_fraction must be >= 0");
+  if (!(p.shadow_tan >= 0 && p.shadow_tan <= 1)) bad("shadow_tan must be in [0, 1]");
+  if (!(p.footprint_pixels >= 0) || std::isinf(p.footprint_pixels)) bad("footprint_pixels must be a number >= 0");
   if (!(p.dropout_width >= 0) || std::isinf(p.dropout_width)) bad("dropout_width must be a number >= 0");
   if (p.calibrated_plane && !(std::abs(p.plane_normal.norm() - 1.0) < 1e-3))
     bad("calibrated plane normal must be a unit vector");
@@ -373,9 +376,88 @@ bool fit_top_planes(const PartPixels& pts, int K, int largest, const Eigen::Vect
   return true;
 }
 
+// What a part pixel's point is: on the top plane (within the tolerance), a mixed pixel at the edge kept as
+// steel (placed where its ray meets the top plane, or straight down when it may see a side wall), or neither.
+enum PointKind : std::uint8_t { kDrop = 0, kTop = 1, kMixedSight = 2, kMixedDown = 3, kSawTable = 4 };
+
+// Depth fraction of a pixel between table and top along its own ray: 0 on the table, 1 on the top plane.
+// A pixel whose footprint straddles the edge reports the return-weighted mean depth of both (docs/cameras.md,
+// "Mixed pixels at the edge"), so the fraction is the steel's share of its footprint's return.
+double depth_fraction(const PartPixels& pts, std::size_t i, const TopPlanes& top, const Plane& table) {
+  const Eigen::Vector3d p = pts.point(i), d = p / p.z();
+  const double z_top = top.offset[pts.part[i]] / top.normal.dot(d), z_table = table.offset / table.n.dot(d);
+  return (z_table - p.z()) / (z_table - z_top);
+}
+
+// The pixel where the camera's vertical (the top plane's normal) meets the image: vertical lines, such as a
+// plate's side wall seen edge-on, run through it, and a wall is seen only where the edge faces it.
+Eigen::Vector2d nadir_pixel(const camera::Intrinsics& in, const Eigen::Vector3d& normal) {
+  const double nz = std::abs(normal.z()) > 1e-9 ? normal.z() : 1e-9;
+  return {in.cx + in.fx * normal.x() / nz, in.cy + in.fy * normal.y() / nz};
+}
+
+// The depth fraction of a pixel whose centre lies exactly on the top face's edge: the least a pixel with its
+// centre on the steel shows. Its footprint (SegmentParams::footprint_pixels wide, returns taken equal) is
+// half steel; the other half sees the table, or, where the edge faces the nadir (cos_wall > 0, the cosine
+// between the edge's outward normal and the direction to the nadir), first the side wall: seen from the
+// camera it reaches W = t tan(theta) cos_wall beyond the edge, its depth falling linearly from top to table,
+// so that half of the footprint (L = half its width) shows the fraction 1 - L / 2W (W >= L) or W / 2L.
+double steel_centre_fraction(const PartPixels& pts, std::size_t i, const TopPlanes& top, const Plane& table,
+                             const camera::Intrinsics& in, double cos_wall, const SegmentParams& P) {
+  if (!(cos_wall > 0)) return P.mixed_fraction;
+  const double o = top.offset[pts.part[i]], t = o - table.offset;
+  const Eigen::Vector3d p = pts.point(i), T = p * (o / top.normal.dot(p));  // its ray on the top plane
+  const double tan_theta = (T - o * top.normal).norm() / std::abs(o);
+  const double wall = t * tan_theta * cos_wall, half = 0.5 * P.footprint_pixels * T.z() / in.fx;
+  const double seen = wall >= half ? 1 - half / (2 * wall) : wall / (2 * half);
+  return P.mixed_fraction + (1 - P.mixed_fraction) * seen;
+}
+
+// Classifies the part pixels (PointKind). A pixel off the top plane is a mixed pixel kept as steel when it
+// borders a top pixel of its part and its depth fraction is at least SegmentParams::mixed_fraction: for a
+// footprint symmetric about the pixel's centre and cut by a straight edge, the centre lies on the steel when
+// the steel covers half the footprint or more. Where the edge faces the nadir pixel the camera also sees the
+// plate's side wall, whose pixels lie between table and top as well: there the point goes straight down
+// (a wall pixel then lands on the edge, never beyond it); elsewhere along its ray (its centre on the top).
+std::vector<std::uint8_t> classify(const cv::Mat& depth, const PartPixels& pts, const TopPlanes& top,
+                                   const Plane& table, const camera::Intrinsics& in, const SegmentParams& P) {
+  const std::size_t n = pts.size();
+  const int W = in.width, H = in.height;
+  std::vector<std::uint8_t> kind(n, kDrop);
+  cv::Mat top_img = cv::Mat::zeros(H, W, CV_8UC1);  // part + 1 of the top pixels
+  for (std::size_t i = 0; i < n; ++i)
+    if (top.holds(pts, i)) kind[i] = kTop, top_img.data[pts.pixel[i]] = static_cast<std::uint8_t>(pts.part[i] + 1);
+  if (!(P.mixed_fraction <= 1)) return kind;
+  const Eigen::Vector2d nadir = nadir_pixel(in, top.normal);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int c = pts.pixel[i] % W, r = pts.pixel[i] / W;
+    Eigen::Vector2d inward = Eigen::Vector2d::Zero();  // towards the top pixels around it
+    bool edge = false;  // a neighbour returned, but not from this part's top: a depth jump beside it
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const int cc = c + dc, rr = r + dr;
+        const bool on_top =
+            cc >= 0 && rr >= 0 && cc < W && rr < H && top_img.ptr<std::uint8_t>(rr)[cc] == pts.part[i] + 1;
+        if (on_top) inward += Eigen::Vector2d(dc, dr);
+        edge |= !on_top && cc >= 0 && rr >= 0 && cc < W && rr < H && depth.ptr<std::uint16_t>(rr)[cc];
+      }
+    if (!edge || inward.squaredNorm() == 0) continue;  // inside the top face, or not beside it at all
+    const bool on_plane = kind[i] == kTop;
+    kind[i] = kDrop;
+    const Eigen::Vector2d to_nadir = (nadir - Eigen::Vector2d(c, r)).normalized();
+    const double cos_wall = -inward.normalized().dot(to_nadir);  // > 0: the edge faces the nadir
+    const double f = depth_fraction(pts, i, top, table);
+    if (!(f >= steel_centre_fraction(pts, i, top, table, in, cos_wall, P))) continue;
+    if (!on_plane && !(f <= 1.0 + top.tol / std::max(1e-3, top.offset[pts.part[i]] - table.offset))) continue;
+    kind[i] = (cos_wall > 0 ? kMixedDown : kMixedSight) | (on_plane ? 0 : kSawTable);
+  }
+  return kind;
+}
+
 // The plate frame (origin on the largest part's top plane, u along the camera's x where possible) and
-// the in-plane coordinates of the points on the top planes, in scan-line (gathered) order.
-void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& table, Segmentation& out) {
+// the in-plane coordinates of the points kept (classify()), in scan-line (gathered) order.
+void project_onto_top(const cv::Mat& depth, const PartPixels& pts, const TopPlanes& top, const Plane& table,
+                      const camera::Intrinsics& in, const SegmentParams& P, Segmentation& out) {
   const Eigen::Vector3d& pn = top.normal;
   out.normal = pn;
   out.origin = top.origin;
@@ -384,14 +466,19 @@ void project_onto_top(const PartPixels& pts, const TopPlanes& top, const Plane& 
   if (ux.norm() < 1e-6) ux = Eigen::Vector3d::UnitY() - pn.y() * pn;  // plane perpendicular to camera x
   out.u_axis = ux.normalized();
   out.v_axis = pn.cross(out.u_axis);
+  const std::vector<std::uint8_t> kind = classify(depth, pts, top, table, in, P);
   const std::size_t npts = pts.size();
   out.u.reserve(npts);
   out.v.reserve(npts);
   out.part.reserve(npts);
   out.pixel.reserve(npts);
+  out.mixed = cv::Mat::zeros(in.height, in.width, CV_8UC1);
   for (std::size_t i = 0; i < npts; ++i) {
-    if (!top.holds(pts, i)) continue;
-    const Eigen::Vector3d q = pts.point(i) - out.origin;  // orthogonal projection = in-plane coordinates
+    if (kind[i] == kDrop) continue;
+    Eigen::Vector3d p = pts.point(i);
+    if ((kind[i] & 3) == kMixedSight) p *= top.offset[pts.part[i]] / pn.dot(p);  // where its ray meets the top
+    if (kind[i] & kSawTable) out.mixed.data[pts.pixel[i]] = 255;
+    const Eigen::Vector3d q = p - out.origin;  // orthogonal projection = in-plane coordinates
     out.u.push_back(static_cast<float>(q.dot(out.u_axis)));
     out.v.push_back(static_cast<float>(q.dot(out.v_axis)));
     out.part.push_back(static_cast<std::int16_t>(pts.part[i]));
@@ -436,7 +523,7 @@ Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const S
   TopPlanes top;
   if (!fit_top_planes(pts, out.num_parts, relabel[keep[0]] - 1, table.n, z_table, P.top_tolerance, top))
     return fail(SegmentStatus::BadFrame, "the part has too few valid depth pixels to fit its plane");
-  project_onto_top(pts, top, table, out);
+  project_onto_top(depth, pts, top, table, in, P, out);
   if (out.u.empty()) return fail(SegmentStatus::BadFrame, "the part mask holds no pixel on the fitted top plane");
   fill_gaps_and_assess_edge(depth, intensity, in, {table.n, table.offset, top.normal, top.offset}, P, out);
   out.status = SegmentStatus::Ok;

@@ -41,10 +41,23 @@ struct SegmentParams {
   // (drops mixed pixels half way down an edge and side-wall pixels). 0: automatic, 4 sigma of the
   // top-plane residuals but at least 1 mm.
   double top_tolerance = 0;
+  // A pixel beside the top face but off its plane is a mixed pixel kept as steel when its depth fraction
+  // between table and top ((z_table - z) / (z_table - z_top) along its ray) is at least this (segment.cpp,
+  // classify()); above 1: none kept.
+  double mixed_fraction = 0.5;
+  // Width of a pixel's footprint on the scene, in pixels (optics, spot or matching window): how far beyond
+  // the edge a mixed pixel with its centre on the steel sees, which sets the fraction it shows where the
+  // camera sees the side wall (segment.cpp, steel_centre_fraction()).
+  double footprint_pixels = 2.0;
   std::uint64_t ransac_seed = 12345;
   // Gaps inside a part (gaps.hpp): with nothing in the frame to say the steel is cut there, a gap at most
   // this wide (metres, the widest circle that fits in it) is dropout and filled; a wider one stays a hole.
   double dropout_width = 0.010;
+  // The largest tangent of the angle between the emitter's ray and the camera's at the plate (the baseline
+  // over the mount height: lsr-l's 0.35 m at 2 m is 0.18): a no-return band beside the edge that ends in a
+  // table return within thickness x this is the baseline's shadow beside a lit top face, which shows where
+  // the plate ends (gaps.hpp, "The edge"). 0: every band without a return beside it counts as dropout.
+  double shadow_tan = 0.25;
   bool fill_dropout = true;  // false: gaps are left as they are (the edge is assessed either way)
 };
 
@@ -68,6 +81,8 @@ struct Segmentation {
   std::vector<std::int16_t> part;
   std::vector<std::int32_t> pixel;   // source pixel index row * width + col
   std::vector<std::uint8_t> filled;  // 1: a point on the top plane filling dropout, not a measured one
+  cv::Mat mixed;  // CV_8UC1: 255 at the pixels of the points that are mixed pixels kept as steel (their
+                  // footprint saw the table too)
   std::size_t size() const { return u.size(); }
   // What the organized frame showed (gaps.hpp): dropout patches filled (single missing pixels, which leave
   // no hole in an outline, are filled but not counted), gaps kept as cut-outs, and the outer edge.
@@ -77,6 +92,7 @@ struct Segmentation {
   double edge_length = 0;          // m, the parts' outer contours
   double edge_dropout_length = 0;  // m of it in dropout or shadow
   double largest_edge_gap = 0;     // m, the longest such stretch
+  double edge_shadow_length = 0;   // m of the edge counted seen as a bounded shadow (SegmentParams::shadow_tan)
   double edge_dropout_fraction() const { return edge_length > 0 ? edge_dropout_length / edge_length : 0; }
 };
 

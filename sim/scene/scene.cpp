@@ -53,7 +53,11 @@ inline double plane_z(const Eigen::Vector3d& n, double offset, double a, double 
 //  lsr-l: LSR-L-class laser structured light, 2048x1536, ~45 deg horizontal field of view, mounted 2.0 m
 //    above the table (view 1.66 x 1.24 m, ~0.8 mm per pixel), 0.1 mm depth counts,
 //    sigma(z) = 0.1 mm + 0.05 mm/m^2 z^2 (0.3 mm at 2 m), 0.5 % dropout.
-//  Both: 30 % of the pixels at a depth edge return a mixed depth between the two surfaces.
+//  m130: a Zivid 2+ M130 structured-light camera (docs/scene.md cites its data sheet for the sensor and the
+//    pixel spacing), 2448x2048, 0.32 mm between pixels at 1.3 m, mounted 1.6 m above the table (view 0.96 x
+//    0.81 m, ~0.39 mm per pixel), 0.1 mm depth counts; assumed: sigma(z) = 0.05 mm + 0.05 mm/m^2 z^2 (0.18 mm at
+//    1.6 m), 0.5 % dropout.
+//  All: 30 % of the pixels at a depth edge return a mixed depth between the two surfaces.
 // The principle and its constants (used only by SensorEffects; docs/scene.md gives the reasons):
 //  pm806: structured light (a projector beside the depth camera; an active-stereo camera's second view
 //    stands in the same place): its light and its second line of sight 0.10 m along the camera's x; an
@@ -62,6 +66,7 @@ inline double plane_z(const Eigen::Vector3d& n, double offset, double a, double 
 //  lsr-l: laser triangulation: the laser's scanning mirror 0.35 m along the camera's x (a triangulation
 //    angle of ~10 deg at 2 m); coherent light, ~2 speckle cells per pixel; detection at 2 %; saturation at 3
 //    times; the laser line ~1.5 pixels wide.
+//  m130: structured light, its projector 0.13 m along the camera's x (assumed); otherwise as pm806.
 CameraProfile camera_profile(const std::string& name) {
   if (name == "pm806") {
     CameraProfile p = make_profile("pm806", 1280, 960, 60.0, 1.5, 0.001, 0.3e-3, 0.4e-3, 0.01, 0.3);
@@ -77,10 +82,19 @@ CameraProfile camera_profile(const std::string& name) {
     p.return_threshold = 0.02, p.speckle_cells = 2, p.saturation = 3.0, p.footprint_px = 1.5;
     return p;
   }
+  if (name == "m130") {
+    // Zivid 2+ M130: 2448 x 2048 and 0.32 mm between pixels at 1300 mm (data sheet), so fx = 1.3 / 0.32e-3.
+    const double fx = 1.300 / 0.32e-3, hfov = 2 * std::atan(1224.0 / fx) * 180 / M_PI;
+    CameraProfile p = make_profile("m130", 2448, 2048, hfov, 1.6, 0.0001, 0.05e-3, 0.05e-3, 0.005, 0.3);
+    p.principle = "structured-light";
+    p.emitter = Eigen::Vector3d(0.13, 0, 0);
+    p.return_threshold = 0.03, p.speckle_cells = 4, p.saturation = 3.0, p.footprint_px = 2.0;
+    return p;
+  }
   throw std::invalid_argument("unknown camera profile '" + name + "' (known: " + join(camera_profile_names()) + ")");
 }
 
-std::vector<std::string> camera_profile_names() { return {"pm806", "lsr-l"}; }
+std::vector<std::string> camera_profile_names() { return {"pm806", "lsr-l", "m130"}; }
 
 namespace {
 ScenePart catalogue_part(const std::string& shape, double x, double y, double theta) {

@@ -45,8 +45,9 @@ struct CameraProfile {
 };
 
 // "pm806": 1280x960, Percipio PM806-class (low density); "lsr-l": 2048x1536, Mech-Eye LSR-L-class (high
-// density). The numbers are assumptions of plausible values (scene.cpp says which and why), not vendor
-// data. Throws std::invalid_argument listing the known names.
+// density); "m130": 2448x2048, a Zivid 2+ M130 at 1.6 m (0.39 mm per pixel). The pm806 and lsr-l numbers are
+// assumptions of plausible values, m130's sensor and pixel spacing are its data sheet's (scene.cpp says which
+// and why). Throws std::invalid_argument listing the known names.
 CameraProfile camera_profile(const std::string& name);
 std::vector<std::string> camera_profile_names();
 

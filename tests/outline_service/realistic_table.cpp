@@ -16,6 +16,8 @@ using namespace hg::test;
 
 namespace {
 
+bool verbose = false;  // --verbose: one line per scan on stderr
+
 struct Row {
   int scans = 0, ok = 0, outer_min = 1 << 30, outer_max = 0, truth_holes = 0, found_min = 1 << 30, extra_max = 0;
   int poor = 0, extra_total = 0, lost_total = 0, planned = 0;
@@ -106,18 +108,27 @@ std::vector<Pose> poses(int n, std::uint64_t seed) {
   return p;
 }
 
-void run_poses(int n, const std::vector<std::string>& profiles) {
+void run_poses(int n, const std::vector<std::string>& profiles, const std::vector<std::string>& shapes) {
   const hg::path_planner::PlannerConfig planner = make_run_planner();
   const Eigen::Isometry3d table_to_base = base_from_table(planner);
   print_header();
-  for (const auto& shape : hg::partgen::shape_names())
+  for (const auto& shape : shapes)
     for (const auto& profile : profiles) {
       Row w;
       const auto ps = poses(n, case_seed(shape + "/poses"));
       for (int i = 0; i < n; ++i) {
         const hg::sim::RenderedFrame f = realistic_frame(shape, profile, ps[i], case_seed(shape + profile) + i);
         const Scan s = scan(f, hg::camera_bridge::SegmentParams{}, shipped_rules(), f.intensity);
-        add(w, measure(s, f), grind_edge(s.outline, f, planner, table_to_base));
+        const Accuracy a = measure(s, f);
+        const GrindAccuracy g = grind_edge(s.outline, f, planner, table_to_base);
+        add(w, a, g);
+        if (verbose)
+          std::fprintf(stderr,
+                       "%s@%s pose %d: area %+.2f %%, edge RMS %.2f mm, grind RMS %.2f max %.2f mm%s, edge in "
+                       "dropout %.1f %%, gap %.1f mm%s\n",
+                       shape.c_str(), profile.c_str(), i, 100 * a.area_error(), 1e3 * a.rms, 1e3 * g.rms, 1e3 * g.max,
+                       g.planned ? "" : " (not planned)", 100 * a.edge_dropout, 1e3 * a.largest_gap,
+                       a.quality == hullgrind::outline_t::QUALITY_POOR ? " POOR" : "");
       }
       print_row(shape, profile, w);
     }
@@ -138,7 +149,7 @@ hg::sim::SensorEffects only(const std::string& effect) {
   return fx;
 }
 
-void run_effects(int n, const std::vector<std::string>& profiles) {
+void run_effects(int n, const std::vector<std::string>& profiles, const std::vector<std::string>& shapes) {
   const hg::path_planner::PlannerConfig planner = make_run_planner();
   const Eigen::Isometry3d table_to_base = base_from_table(planner);
   std::printf("Effects alone (%d pose(s) per part and profile, the same poses for every effect):\n\n", n);
@@ -146,7 +157,7 @@ void run_effects(int n, const std::vector<std::string>& profiles) {
   for (const char* effect : {"none", "incidence", "specular", "mixed", "shadow", "table", "warp", "all"})
     for (const auto& profile : profiles) {
       Row w;
-      for (const auto& shape : hg::partgen::shape_names()) {
+      for (const auto& shape : shapes) {
         const auto ps = poses(n, case_seed(shape + "/poses"));
         for (int i = 0; i < n; ++i) {
           hg::sim::SceneSpec spec = part_scene(shape, ps[i], case_seed(shape + profile) + i);
@@ -169,26 +180,31 @@ void run_effects(int n, const std::vector<std::string>& profiles) {
 int main(int argc, char** argv) {
   int n = 6;
   bool effects = false;
-  std::vector<std::string> profiles = hg::sim::camera_profile_names();
+  std::vector<std::string> profiles = hg::sim::camera_profile_names(), shapes = hg::partgen::shape_names();
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help") {
       std::printf(
-          "usage: outline_service_realistic_table [--poses N] [--profile NAME] [--effects]\n"
+          "usage: outline_service_realistic_table [--poses N] [--profile NAME] [--part NAME] [--effects] [--verbose]\n"
           "The accuracy table of docs/BENCHMARKS-outline.md: every catalogue part's realistic preset at N poses\n"
           "(default 6, alternately face up and flipped) per camera profile, through the bridge's segmentation and\n"
-          "the outline service, against the renderer's polygons. --effects: each effect alone instead.\n");
+          "the outline service, against the renderer's polygons. --effects: each effect alone instead. --profile,\n"
+          "--part: that camera profile or catalogue part only; --verbose: each scan's figures on stderr.\n");
       return 0;
     }
     if (a == "--version") return std::printf("outline_service_realistic_table 1\n"), 0;
     if (a == "--poses" && i + 1 < argc) n = std::max(1, std::atoi(argv[++i]));
     else if (a == "--profile" && i + 1 < argc)
       profiles = {argv[++i]};
+    else if (a == "--verbose")
+      verbose = true;
+    else if (a == "--part" && i + 1 < argc)
+      shapes = {argv[++i]};
     else if (a == "--effects")
       effects = true;
     else
       return std::fprintf(stderr, "unknown option '%s' (--help)\n", a.c_str()), 2;
   }
-  effects ? run_effects(n, profiles) : run_poses(n, profiles);
+  effects ? run_effects(n, profiles, shapes) : run_poses(n, profiles, shapes);
   return 0;
 }
