@@ -155,7 +155,9 @@ TEST_P(ScanDamage, EdgeShadowOfKnownLengthGivesTheVerdictsFigures) {
   // The length in dropout: the known stretches, plus at most what the clean frame had already (some of it
   // lies under the stretches); the edge's length against the true perimeter; the fraction is their ratio.
   EXPECT_GT(s.seg.edge_dropout_length, l1 + l2 - 2 * px);
-  EXPECT_LT(s.seg.edge_dropout_length, l1 + l2 + clean.seg.edge_dropout_length + 2 * px);
+  // A pixel at each of the two stretches' four ends: where a band ends the contour steps round its corner,
+  // and the shadow rule (a table return within thickness x shadow_tan counts as seen) sees none there.
+  EXPECT_LT(s.seg.edge_dropout_length, l1 + l2 + clean.seg.edge_dropout_length + 4 * px);
   EXPECT_NEAR(s.seg.edge_length, perimeter, 0.02 * perimeter);
   EXPECT_DOUBLE_EQ(s.cloud.edge_dropout_fraction, s.seg.edge_dropout_length / s.seg.edge_length);
   EXPECT_DOUBLE_EQ(s.outline.largest_edge_gap, s.cloud.largest_edge_gap);
