@@ -74,7 +74,7 @@ struct Feed {
   lcm::LCM* lcm;
   hullgrind::plate_cloud_t cloud;
   bool quiet = false;  // --rate: no line per cloud
-  void publish(const std::string& why) {
+  void send_cloud(const std::string& why) {
     cloud.header.utime =
         std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
             .count();
@@ -88,7 +88,7 @@ struct Feed {
     ++cloud.header.seq;
   }
   void on_request(const lcm::ReceiveBuffer*, const std::string&, const hullgrind::job_request_t* r) {
-    if (r->action == hullgrind::job_request_t::ACTION_START && !quiet) publish("for job " + r->job_id);
+    if (r->action == hullgrind::job_request_t::ACTION_START && !quiet) send_cloud("for job " + r->job_id);
   }
 };
 
@@ -99,7 +99,7 @@ void run_at_rate(Feed& feed, lcm::LCM& lcm, double rate) {
   auto next = clock::now();
   while (!g_stop) {
     if (clock::now() >= next) {
-      feed.publish("");
+      feed.send_cloud("");
       next += period;
       continue;
     }

@@ -106,7 +106,10 @@ std::vector<std::pair<double, double>> image_positions(const hullgrind::plate_cl
 // Scan-line order of one part's points, from their recomputed image positions. Each position lies within
 // a fraction of a pixel of its source pixel (the point is within 1 mm of the plane it is projected onto),
 // so: rows never go back by half a pixel or more, and within a row (consecutive points less than half a
-// pixel apart vertically) columns increase.
+// pixel apart vertically) columns increase. Only the points that project back onto a pixel centre are
+// checked: a mixed pixel at the edge kept as steel where the camera sees the side wall is placed straight
+// down onto the top (camera_bridge/segment.cpp), off its own ray by up to the wall's height times the
+// viewing angle's tangent, so its position says nothing of its source pixel.
 void expect_scan_order(const std::vector<std::pair<double, double>>& pos) {
   double max_row = -1e9;
   for (size_t i = 0; i < pos.size(); ++i) {
@@ -147,7 +150,12 @@ TEST(CameraBridgeProcess, SyntheticCloudsInScanOrder) {
     std::vector<std::pair<double, double>> mine;
     for (int i = 0; i < m.n; ++i)
       if (m.part[i] == largest) mine.push_back(all[i]);
-    ASSERT_NO_FATAL_FAILURE(expect_scan_order(mine));
+    std::vector<std::pair<double, double>> centred;
+    for (const auto& q : mine)
+      if (std::abs(q.first - std::round(q.first)) < 0.1 && std::abs(q.second - std::round(q.second)) < 0.1)
+        centred.push_back(q);
+    EXPECT_GT(centred.size(), 0.9 * mine.size()) << "the check would see too few points";
+    ASSERT_NO_FATAL_FAILURE(expect_scan_order(centred));
   }
   EXPECT_LT(bus.clouds[0].source_frame_seq, bus.clouds[1].source_frame_seq);
 
