@@ -51,10 +51,10 @@ def add_user(users_file, name, role, password):
         raise RuntimeError("hg-station-user: " + out.stderr)
 
 
-def http(method, path, body=None, cookie="", csrf=None):
-    """One request without the browser: (status, parsed JSON body, headers)."""
+def http(method, path, body=None, cookie="", csrf=None, base=None):
+    """One request without the browser: (status, parsed JSON body, headers); base: another station's URL."""
     data = None if body is None else json.dumps(body).encode()
-    req = urllib.request.Request(URL + path, data=data, method=method)
+    req = urllib.request.Request((base or URL) + path, data=data, method=method)
     if body is not None:
         req.add_header("Content-Type", "application/json")
     if cookie:

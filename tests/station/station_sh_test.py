@@ -5,7 +5,6 @@ forwarded API runs to DONE on the cell file given; Ctrl-C stops everything; a se
 Runs in a network namespace and PID namespace of its own (CTest: tests/netns.sh --own-pids), which plays
 the host: station.sh makes the cell's namespace inside it."""
 
-import json
 import os
 import re
 import shutil
@@ -14,8 +13,8 @@ import subprocess
 import tempfile
 import time
 import unittest
-import urllib.error
-import urllib.request
+
+import station_browser_test  # its request helper (the page tests themselves are not run here)
 
 SRC = os.environ.get("HG_SOURCE_DIR", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 BIN = os.environ.get("HG_BIN_DIR", os.path.join(SRC, "build", "bin"))
@@ -26,19 +25,7 @@ READY = re.compile(r"^hullgrind station: http://127\.0\.0\.1:(\d+)/  \((.*)\)$",
 
 
 def http(method, path, body=None, cookie="", csrf=""):
-    data = None if body is None else json.dumps(body).encode()
-    req = urllib.request.Request(URL + path, data=data, method=method)
-    if body is not None:
-        req.add_header("Content-Type", "application/json")
-    if cookie:
-        req.add_header("Cookie", cookie)
-    if csrf:
-        req.add_header("X-CSRF-Token", csrf)
-    try:
-        with urllib.request.urlopen(req, timeout=10) as r:
-            return r.status, json.loads(r.read() or b"null"), r.headers
-    except urllib.error.HTTPError as e:
-        return e.code, json.loads(e.read() or b"null"), e.headers
+    return station_browser_test.http(method, path, body, cookie, csrf, base=URL)
 
 
 def wait(pred, timeout, what):
