@@ -12,8 +12,9 @@ source "$(dirname "${BASH_SOURCE[0]}")/version.sh"
 hg_answer install-deps "$0" "$@"
 
 run_packages=(
-  # build (GoogleTest too: configuring the tree configures the tests)
-  cmake ninja-build ccache g++ pkg-config libgtest-dev
+  # build (GoogleTest and GMP too: configuring the tree configures the tests, and the outline core's exact
+  # checker needs GMP to configure)
+  cmake ninja-build ccache g++ pkg-config libgtest-dev libgmp-dev
   # runtime libraries
   liblcm-dev liblcm-bin libopenni2-dev libaravis-dev libusb-1.0-0-dev libeigen3-dev libopencv-dev
   cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev libyaml-cpp-dev
@@ -30,7 +31,7 @@ test_packages=(
   # lint (tools/lint: make test runs the function-length check; formatting with clang-format)
   universal-ctags clang-format
   # test-only oracle for the outline core (never needed to build or run the product)
-  libcgal-dev libgmp-dev
+  libcgal-dev
   # browser tests (a real Chromium through Selenium), fuzzing (libFuzzer with clang)
   chromium chromium-driver python3-selenium clang libclang-rt-14-dev
 )
