@@ -49,7 +49,7 @@ std::vector<hg::runtime::Param> fake_params() {
   constexpr double inf = std::numeric_limits<double>::infinity();
   std::vector<Param> params = {
       text_param("scene", "plate-hole-slot", "scene preset of the renderer"),
-      text_param("profile", "pm806", "camera profile", {"pm806", "lsr-l"}),
+      text_param("profile", "pm806", "camera profile", camera_profile_names()),
       integer_param("seed", "", "the scene's random seed (default: the preset's)", 0),
       number_param("noise-scale", "1", "multiplies the profile's depth noise, dropout and flying pixels", 0),
       text_param("serial", "HG3D-0001", "the camera's serial number"),

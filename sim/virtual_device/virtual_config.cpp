@@ -145,8 +145,10 @@ FrameRenderer::FrameRenderer(const VirtualDeviceConfig& config) {
   if (config.profile == "pm806") intrinsics_ = {1280, 960, 1120.0, 1120.0, 640.0, 480.0, 0.001};
   else if (config.profile == "lsr-l")
     intrinsics_ = {2048, 1536, 1750.0, 1750.0, 1024.0, 768.0, 0.0001};
+  else if (config.profile == "m130")  // 0.32 mm between pixels at 1.3 m, as the renderer's profile
+    intrinsics_ = {2448, 2048, 1.3 / 0.32e-3, 1.3 / 0.32e-3, 1224.0, 1024.0, 0.0001};
   else
-    throw std::invalid_argument("unknown camera profile '" + config.profile + "' (known: pm806, lsr-l)");
+    throw std::invalid_argument("unknown camera profile '" + config.profile + "' (known: pm806, lsr-l, m130)");
   impl_ = std::make_shared<Impl>();
 }
 

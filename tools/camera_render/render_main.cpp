@@ -27,7 +27,7 @@ std::vector<hg::runtime::Param> render_params() {
   using namespace hg::runtime;
   std::vector<Param> params = {text_param("out", "", "output folder (required)"),
                                text_param("scene", "three-parts", "scene preset of the renderer", scene_preset_names()),
-                               text_param("profile", "pm806", "camera profile", {"pm806", "lsr-l"}),
+                               text_param("profile", "pm806", "camera profile", camera_profile_names()),
                                integer_param("frames", "1", "frames to render", 1, 1e6)};
   set_value_names(params, {{"out", "DIR"}, {"scene", "NAME"}, {"frames", "N"}});
   return params;
