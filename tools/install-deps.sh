@@ -16,7 +16,9 @@ run_packages=(
   # checker needs GMP to configure)
   cmake ninja-build ccache g++ pkg-config libgtest-dev libgmp-dev
   # runtime libraries
-  liblcm-dev liblcm-bin libopenni2-dev libaravis-dev libusb-1.0-0-dev libeigen3-dev libopencv-dev
+  liblcm-dev liblcm-bin libopenni2-dev libaravis-dev libusb-1.0-0-dev libeigen3-dev
+  # OpenCV: only the three modules the pipeline uses (libopencv-dev pulls every module's dependencies)
+  libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
   cyclonedds-dev cyclonedds-tools libpolyclipping-dev nlohmann-json3-dev libpng-dev libyaml-cpp-dev
   # operator station (HTTP/WebSocket, password hashing, the 3-D view) and MCAP chunks
   libboost-dev libssl-dev libsodium-dev libjs-three libzstd-dev liblz4-dev
@@ -26,6 +28,8 @@ run_packages=(
   iproute2 python3 openssl
 )
 test_packages=(
+  # OpenCV's CMake package and calib3d (the hand-eye calibration, hg-calibrate and its tests)
+  libopencv-dev
   # lcm-spy and its tests (headless)
   liblcm-java default-jdk-headless default-jre libjchart2d-java xvfb
   # lint (tools/lint: make test runs the function-length check; formatting with clang-format)
