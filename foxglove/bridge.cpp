@@ -12,6 +12,7 @@
 #include "hullgrind/plate_cloud_t.hpp"
 #include "hullgrind/robot_status_t.hpp"
 #include "lcm_json.hpp"
+#include "outline_io/palette.hpp"
 
 namespace hg::foxglove {
 
@@ -95,6 +96,10 @@ Json identity_pose() {
               {"orientation", quat_json(Eigen::Quaterniond::Identity())}};
 }
 Json color_json(double r, double g, double b, double a = 1) { return Json{{"r", r}, {"g", g}, {"b", b}, {"a", a}}; }
+// One of the product's colours (outline_io/palette.hpp, the station's) as a foxglove.Color.
+Json color_json(std::uint32_t rgb) {
+  return color_json(((rgb >> 16) & 0xff) / 255.0, ((rgb >> 8) & 0xff) / 255.0, (rgb & 0xff) / 255.0);
+}
 
 Json transform_json(int64_t utime, const std::string& parent, const std::string& child, const Eigen::Isometry3d& t) {
   Eigen::Quaterniond q(t.rotation());
@@ -320,26 +325,14 @@ Json outline_lines(const hullgrind::outline_t& m) {
   for (const auto& loop : m.loops) {
     Json pts = Json::array();
     for (int i = 0; i < loop.n; ++i) pts.push_back(vec3_json(o + loop.u[i] * ua + loop.v[i] * va));
-    Json col = loop.hole ? color_json(0.9, 0.15, 0.15) : color_json(0.1, 0.8, 0.3);
+    Json col = color_json(loop.hole ? outline_io::palette::kHole : outline_io::palette::kOuter);
     lines.push_back(line_json(1, std::move(pts), std::move(col), Json::array()));
   }
   return lines;
 }
 
-// Colour of a segment by the kind of the waypoint it ends at (grind_path_t KIND_*).
-Json kind_color(int kind) {
-  switch (kind) {
-    case hullgrind::grind_path_t::KIND_APPROACH: return color_json(0.3, 0.5, 1.0);
-    case hullgrind::grind_path_t::KIND_LEAD_IN: return color_json(1.0, 0.85, 0.1);
-    case hullgrind::grind_path_t::KIND_GRIND: return color_json(1.0, 0.35, 0.0);
-    case hullgrind::grind_path_t::KIND_LEAD_OUT: return color_json(0.8, 0.9, 0.1);
-    case hullgrind::grind_path_t::KIND_RETRACT: return color_json(0.7, 0.3, 0.9);
-    default: return color_json(0.6, 0.6, 0.6);  // travel
-  }
-}
-
 // The smoothed edge the tool grinds (grind_path_t.edge, each loop's ring in turn): one line loop per
-// outline loop, cyan (the outline is green and red, the path coloured by kind).
+// outline loop, in the station's colour of the smoothed edge (magenta; the path is coloured by kind).
 Json edge_lines(const hullgrind::grind_path_t& m) {
   Json lines = Json::array();
   for (int i = 0; i < m.num_edge_points;) {
@@ -347,7 +340,7 @@ Json edge_lines(const hullgrind::grind_path_t& m) {
     Json pts = Json::array();
     for (; end < m.num_edge_points && m.edge_loop[end] == m.edge_loop[i]; ++end)
       pts.push_back(vec3_json(vec(m.edge[end].data())));
-    lines.push_back(line_json(1, std::move(pts), color_json(0.0, 0.85, 0.95), Json::array()));
+    lines.push_back(line_json(1, std::move(pts), color_json(outline_io::palette::kEdge), Json::array()));
     i = end;
   }
   return lines;
@@ -356,7 +349,7 @@ Json edge_lines(const hullgrind::grind_path_t& m) {
 Json path_lines(const hullgrind::grind_path_t& m) {
   Json pts = Json::array(), cols = Json::array();
   for (int i = 1; i < m.n; ++i) {
-    Json c = kind_color(m.kind[i]);
+    Json c = color_json(outline_io::palette::kind_colour(m.kind[i]));
     pts.push_back(vec3_json(vec(m.position[i - 1].data())));
     pts.push_back(vec3_json(vec(m.position[i].data())));
     cols.push_back(c);

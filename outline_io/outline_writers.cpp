@@ -1,6 +1,7 @@
 #include "outline_io/outline_writers.hpp"
 
 #include "outline_io/outline_file.hpp"
+#include "outline_io/palette.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -54,8 +55,15 @@ void append_num(std::string& s, double v) {
   s.append(buf, r.ptr);
 }
 
-constexpr const char* kOuterColour = "#1f5fd0";
-constexpr const char* kHoleColour = "#d02020";
+// The product's colours (palette.hpp): as SVG text and as OpenCV's BGR.
+std::string css(std::uint32_t rgb) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%06x", unsigned(rgb));
+  return buf;
+}
+cv::Scalar bgr(std::uint32_t rgb) { return cv::Scalar(rgb & 0xff, (rgb >> 8) & 0xff, (rgb >> 16) & 0xff); }
+// Triangles: a line darker than the cloud, so the loops stay on top.
+constexpr std::uint32_t kTriangles = 0x2b3a4a;
 
 }  // namespace
 
@@ -143,9 +151,10 @@ std::string render_svg(std::span<const Vec2> points, const Result& r, bool draw_
   s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(view.width) + "\" height=\"" +
        std::to_string(view.height) + "\" viewBox=\"0 0 " + std::to_string(view.width) + " " +
-       std::to_string(view.height) + "\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+       std::to_string(view.height) + "\">\n<rect width=\"100%\" height=\"100%\" fill=\"" + css(palette::kBackground) +
+       "\"/>\n";
   if (draw_triangles && !r.delaunay_triangles.empty()) {
-    s += "<path fill=\"none\" stroke=\"#c8c8c8\" stroke-width=\"0.5\" d=\"";
+    s += "<path fill=\"none\" stroke=\"" + css(kTriangles) + "\" stroke-width=\"0.5\" d=\"";
     for (auto& t : r.delaunay_triangles) {
       for (int k = 0; k < 3; ++k) {
         if (t[k] >= points.size()) continue;
@@ -160,7 +169,7 @@ std::string render_svg(std::span<const Vec2> points, const Result& r, bool draw_
   }
   // A picture for a person: beyond 250k dots only every k-th point is drawn (said in the legend).
   const std::size_t step = std::max<std::size_t>(1, (points.size() + 249999) / 250000);
-  s += "<path fill=\"none\" stroke=\"#404040\" stroke-width=\"2\" stroke-linecap=\"round\" d=\"";
+  s += "<path fill=\"none\" stroke=\"" + css(palette::kCloud) + "\" stroke-width=\"2\" stroke-linecap=\"round\" d=\"";
   for (std::size_t i = 0; i < points.size(); i += step) {
     if (!drawable(points[i])) continue;
     s += 'M';
@@ -172,7 +181,7 @@ std::string render_svg(std::span<const Vec2> points, const Result& r, bool draw_
   s += "\"/>\n";
   for (const Loop& l : r.loops) {
     s += "<polygon fill=\"none\" stroke=\"";
-    s += l.hole ? kHoleColour : kOuterColour;
+    s += css(l.hole ? palette::kHole : palette::kOuter);
     s += "\" stroke-width=\"2\" points=\"";
     for (auto& p : l.points) {
       append_num(s, view.px(p));
@@ -183,12 +192,12 @@ std::string render_svg(std::span<const Vec2> points, const Result& r, bool draw_
     s += "\"/>\n";
   }
   std::size_t holes = std::count_if(r.loops.begin(), r.loops.end(), [](const Loop& l) { return l.hole; });
-  s += "<text x=\"10\" y=\"" + std::to_string(view.height - 10) + "\" font-family=\"sans-serif\" font-size=\"14\">";
+  s += "<text x=\"10\" y=\"" + std::to_string(view.height - 10) +
+       "\" font-family=\"sans-serif\" font-size=\"14\" fill=\"" + css(palette::kText) + "\">";
   s += std::to_string(points.size()) + " points" +
        (step > 1 ? " (every " + std::to_string(step) + "th drawn)" : std::string()) + ", ";
-  s += "<tspan fill=\"" + std::string(kOuterColour) + "\">" + std::to_string(r.loops.size() - holes) +
-       " outer</tspan>, ";
-  s += "<tspan fill=\"" + std::string(kHoleColour) + "\">" + std::to_string(holes) + " holes</tspan>, R = ";
+  s += "<tspan fill=\"" + css(palette::kOuter) + "\">" + std::to_string(r.loops.size() - holes) + " outer</tspan>, ";
+  s += "<tspan fill=\"" + css(palette::kHole) + "\">" + std::to_string(holes) + " holes</tspan>, R = ";
   char radius[32];  // in the input's units, as the PNG legend: metres need more than one decimal
   std::snprintf(radius, sizeof radius, "%.4g", r.alpha_radius);
   s += radius;
@@ -198,7 +207,7 @@ std::string render_svg(std::span<const Vec2> points, const Result& r, bool draw_
 
 std::vector<unsigned char> render_png(std::span<const Vec2> points, const Result& r, bool draw_triangles) {
   View view(points);
-  cv::Mat img(view.height, view.width, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::Mat img(view.height, view.width, CV_8UC3, bgr(palette::kBackground));
   constexpr int shift = 4;  // sub-pixel coordinates for OpenCV's drawing
   auto pt = [&](const Vec2& p) {
     return cv::Point(static_cast<int>(std::lround(view.px(p) * (1 << shift))),
@@ -210,21 +219,21 @@ std::vector<unsigned char> render_png(std::span<const Vec2> points, const Result
       cv::Point q[3] = {pt(points[t[0]]), pt(points[t[1]]), pt(points[t[2]])};
       const cv::Point* pp = q;
       int n = 3;
-      cv::polylines(img, &pp, &n, 1, true, cv::Scalar(200, 200, 200), 1, cv::LINE_8, shift);
+      cv::polylines(img, &pp, &n, 1, true, bgr(kTriangles), 1, cv::LINE_8, shift);
     }
   }
   const bool big_dots = points.size() < 20000;
   for (auto& p : points) {
     if (!drawable(p)) continue;
     if (big_dots) {
-      cv::circle(img, pt(p), 2 << shift, cv::Scalar(64, 64, 64), cv::FILLED, cv::LINE_AA, shift);
+      cv::circle(img, pt(p), 2 << shift, bgr(palette::kCloud), cv::FILLED, cv::LINE_AA, shift);
     } else {
       int x = static_cast<int>(view.px(p)), y = static_cast<int>(view.py(p));
-      // Dense clouds fill whole areas: a light grey keeps the loops readable on top.
-      if (x >= 0 && y >= 0 && x < img.cols && y < img.rows) img.at<cv::Vec3b>(y, x) = cv::Vec3b(175, 175, 175);
+      const cv::Scalar c = bgr(palette::kCloud);
+      if (x >= 0 && y >= 0 && x < img.cols && y < img.rows) img.at<cv::Vec3b>(y, x) = cv::Vec3b(c[0], c[1], c[2]);
     }
   }
-  const cv::Scalar outer(208, 95, 31), hole(32, 32, 208);  // BGR of the SVG colours
+  const cv::Scalar outer = bgr(palette::kOuter), hole = bgr(palette::kHole);
   for (const Loop& l : r.loops) {
     std::vector<cv::Point> poly;
     poly.reserve(l.points.size());
@@ -233,9 +242,9 @@ std::vector<unsigned char> render_png(std::span<const Vec2> points, const Result
   }
   std::size_t holes = std::count_if(r.loops.begin(), r.loops.end(), [](const Loop& l) { return l.hole; });
   char legend[160];
-  std::snprintf(legend, sizeof legend, "%zu points, %zu outer (blue), %zu holes (red), R = %.4g", points.size(),
+  std::snprintf(legend, sizeof legend, "%zu points, %zu outer (white), %zu holes (light blue), R = %.4g", points.size(),
                 r.loops.size() - holes, holes, r.alpha_radius);
-  cv::putText(img, legend, cv::Point(10, view.height - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
+  cv::putText(img, legend, cv::Point(10, view.height - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5, bgr(palette::kText), 1,
               cv::LINE_AA);
   // libpng directly, not OpenCV's imgcodecs: linking imgcodecs maps ~140 shared libraries (GDAL, ...) into
   // hg-outline, ~40 MB of its peak memory, for this one call.

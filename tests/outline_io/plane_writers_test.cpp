@@ -263,7 +263,7 @@ TEST(OutlineIoWriters, PicturesShowPointsLoopsAndHoles) {
   std::size_t polys = 0;
   for (std::size_t at = 0; (at = svg.find("<polygon", at)) != std::string::npos; ++at) ++polys;
   EXPECT_EQ(polys, 2u);
-  EXPECT_NE(svg.find("#d02020"), std::string::npos);  // hole colour
+  EXPECT_NE(svg.find("#40c4ff"), std::string::npos);  // hole colour: the station's (station/web/scene.js)
   EXPECT_NE(svg.find("9 points"), std::string::npos);
 
   auto png = render_png(pts, r, true);

@@ -23,9 +23,9 @@ const char* kUsage = R"(usage: hg-overview LOG.lcmlog --out DIR [--job-id J] [--
 Reads a recorded run (tools/record) and writes, for one job (default: the last START request):
   DIR/outline.json   the outline the job was planned on, in hg-outline's JSON schema ("frame": "camera")
   DIR/path.json      the grind path, in the path file schema (docs/path_file.md)
-  DIR/overview.png   top view on the plate: cloud, outline (holes red), grind path, edge out of the tool's
-                     reach (magenta: the planner's coverage check redone with the planner's settings below),
-                     scale bar, frames, legend
+  DIR/overview.png   top view on the plate in the station's colours: cloud, outline (holes light blue), path
+                     by kind (grind orange), edge out of the tool's reach (red: the planner's coverage check
+                     redone with the planner's settings below), scale bar, frames, legend
   DIR/summary.json   stage timings (ms) and every job status
 The picture brings the path (robot base frame) back onto the plate with the camera-to-base calibration of
 the cell file the planner used; give the cell and the planner's settings as the run gave them: --cell,

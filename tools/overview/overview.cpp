@@ -11,12 +11,16 @@
 
 #include "outline_io/outline_message.hpp"
 #include "outline_io/outline_writers.hpp"
+#include "outline_io/palette.hpp"
 #include "path_planner/io.hpp"
 
 namespace hg::overview {
 namespace {
 
 using Json = nlohmann::ordered_json;
+using namespace outline_io::palette;
+
+cv::Scalar bgr(std::uint32_t rgb) { return cv::Scalar(rgb & 0xff, (rgb >> 8) & 0xff, (rgb >> 16) & 0xff); }
 
 std::string state_name(int s) { return jobs::job_state_name(std::int8_t(s)); }
 
@@ -128,7 +132,7 @@ struct Canvas {
   Eigen::Vector2d lo, hi;
   double scale = 1;
   int width = 1400, height = 0;
-  static constexpr int margin = 40, legend = 180;
+  static constexpr int margin = 40, legend = 230;  // the scale bar and up to 8 caption lines
   explicit Canvas(const std::vector<Eigen::Vector2d>& pts) {
     lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
     hi = -lo;
@@ -151,11 +155,11 @@ void draw_scale_bar(cv::Mat& img, const Canvas& c) {
   const double mm = scale_bar_mm((img.cols - 2 * Canvas::margin) / c.scale);
   const int len = int(std::lround(mm * 1e-3 * c.scale));
   const cv::Point a(img.cols - Canvas::margin - len, c.height - Canvas::legend + 8), b(a.x + len, a.y);
-  cv::line(img, a, b, cv::Scalar(0, 0, 0), 3);
-  for (const cv::Point& e : {a, b}) cv::line(img, e - cv::Point(0, 6), e + cv::Point(0, 6), cv::Scalar(0, 0, 0), 2);
+  cv::line(img, a, b, bgr(kText), 3);
+  for (const cv::Point& e : {a, b}) cv::line(img, e - cv::Point(0, 6), e + cv::Point(0, 6), bgr(kText), 2);
   char text[32];
   std::snprintf(text, sizeof text, "%g mm", mm);
-  cv::putText(img, text, cv::Point(a.x, a.y + 24), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  cv::putText(img, text, cv::Point(a.x, a.y + 24), cv::FONT_HERSHEY_SIMPLEX, 0.55, bgr(kText), 1, cv::LINE_AA);
 }
 
 // Edge the tool does not reach, over everything else: the base-frame points back onto the plate as the
@@ -174,8 +178,8 @@ double draw_unreached(cv::Mat& img, const Canvas& c, const JobTrace& job, const 
       pts.push_back(c.px({(p - origin).dot(u), (p - origin).dot(v)}));
     }
     for (std::size_t i = 1; i < stretch.size(); ++i) mm += (stretch[i] - stretch[i - 1]).norm() * 1e3;
-    if (pts.size() == 1) cv::circle(img, pts[0], 3, cv::Scalar(200, 0, 200), -1, cv::LINE_AA);
-    cv::polylines(img, pts, false, cv::Scalar(200, 0, 200), 4, cv::LINE_AA);
+    if (pts.size() == 1) cv::circle(img, pts[0], 3, bgr(kUnreached), -1, cv::LINE_AA);
+    cv::polylines(img, pts, false, bgr(kUnreached), 4, cv::LINE_AA);
   }
   return mm;
 }
@@ -196,7 +200,7 @@ std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std
   }
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "cloud %zu points; outline %d outer + %d holes (blue, red), R = %.2f mm; path %zu waypoints",
+                "cloud %zu points; outline %d outer + %d holes (white, light blue), R = %.2f mm; path %zu waypoints",
                 cloud_points, outers, holes, job.outline ? job.outline->msg.alpha_radius * 1e3 : 0.0, path.uv.size());
   lines.push_back(buf);
   const std::string camera =
@@ -208,11 +212,15 @@ std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std
                   path.grind_height_median() * 1e3);
     lines.push_back(buf);
   }
-  lines.push_back("path: grind (green), lead-in/out (cyan), approach/retract/travel (orange); circle: start" +
-                  std::string(coverage ? "; edge out of the tool's reach (magenta)" : ""));
-  if (unreached_mm > 0) {
-    std::snprintf(buf, sizeof buf, "edge out of the tool's reach: about %.1f mm (the planner's coverage check)",
-                  unreached_mm);
+  lines.push_back(
+      "path (the tool's centre): grind (orange), lead-in (green), lead-out (teal), approach (slate), retract "
+      "(purple), travel (grey); circle: start");
+  if (coverage) {
+    if (unreached_mm > 0)
+      std::snprintf(buf, sizeof buf, "edge out of the tool's reach (red, the planner's coverage check): about %.1f mm",
+                    unreached_mm);
+    else
+      std::snprintf(buf, sizeof buf, "edge out of the tool's reach (red, the planner's coverage check): none");
     lines.push_back(buf);
   }
   std::string t = "stages:";
@@ -259,36 +267,33 @@ std::vector<unsigned char> overview_png(const JobTrace& job, const Eigen::Isomet
     for (const auto& l : job.outline->msg.loops)
       for (int i = 0; i < l.n; ++i) all.emplace_back(l.u[std::size_t(i)], l.v[std::size_t(i)]);
   const Canvas c(all);
-  cv::Mat img(c.height, c.width, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::Mat img(c.height, c.width, CV_8UC3, bgr(kBackground));
   for (const auto& p : cloud) {
     cv::Point q = c.px(p);
-    if (q.x >= 0 && q.y >= 0 && q.x < c.width && q.y < c.height) img.at<cv::Vec3b>(q) = cv::Vec3b(170, 170, 170);
+    if (q.x >= 0 && q.y >= 0 && q.x < c.width && q.y < c.height)
+      img.at<cv::Vec3b>(q) = cv::Vec3b(kCloud & 0xff, (kCloud >> 8) & 0xff, kCloud >> 16);
   }
   int holes = 0, outers = 0;
   if (job.outline)
     for (const auto& l : job.outline->msg.loops) {
       std::vector<cv::Point> pts;
       for (int i = 0; i < l.n; ++i) pts.push_back(c.px({l.u[std::size_t(i)], l.v[std::size_t(i)]}));
-      cv::polylines(img, pts, true, l.hole ? cv::Scalar(40, 40, 220) : cv::Scalar(200, 90, 20), 2, cv::LINE_AA);
+      cv::polylines(img, pts, true, bgr(l.hole ? kHole : kOuter), 2, cv::LINE_AA);
       (l.hole ? holes : outers)++;
     }
   for (std::size_t i = 1; i < path.uv.size(); ++i) {
     const int k = path.kind[i];
-    cv::Scalar color = k == hullgrind::grind_path_t::KIND_GRIND ? cv::Scalar(40, 160, 40)
-                       : (k == hullgrind::grind_path_t::KIND_LEAD_IN || k == hullgrind::grind_path_t::KIND_LEAD_OUT)
-                           ? cv::Scalar(200, 160, 0)
-                           : cv::Scalar(0, 140, 255);
-    cv::line(img, c.px(path.uv[i - 1]), c.px(path.uv[i]), color, k == hullgrind::grind_path_t::KIND_GRIND ? 2 : 1,
-             cv::LINE_AA);
+    cv::line(img, c.px(path.uv[i - 1]), c.px(path.uv[i]), bgr(kind_colour(k)),
+             k == hullgrind::grind_path_t::KIND_GRIND ? 2 : 1, cv::LINE_AA);
   }
-  if (!path.uv.empty()) cv::circle(img, c.px(path.uv.front()), 7, cv::Scalar(0, 0, 0), 2, cv::LINE_AA);
+  if (!path.uv.empty()) cv::circle(img, c.px(path.uv.front()), 7, bgr(kText), 2, cv::LINE_AA);
   const double unreached_mm = planner ? draw_unreached(img, c, job, camera_to_base, *planner) : 0;
   draw_scale_bar(img, c);
   const auto lines = caption(job, path, cloud.size(), outers, holes, planner ? planner->base_frame : "robot_base",
                              planner != nullptr, unreached_mm);
   for (std::size_t i = 0; i < lines.size(); ++i)
     cv::putText(img, lines[i], cv::Point(Canvas::margin, c.height - Canvas::legend + 50 + int(i) * 22),
-                cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+                cv::FONT_HERSHEY_SIMPLEX, 0.5, bgr(kText), 1, cv::LINE_AA);
   std::vector<unsigned char> png;
   cv::imencode(".png", img, png);
   return png;
