@@ -130,16 +130,32 @@ bool fit_union(const SmoothContext& c, const Primitive& pa, const Primitive& pb,
   return fit_circle(c.u, pa.first, pb.last, ab) && ab.radius > 2 * c.unit;
 }
 
+// Half the pixel staircase's sawtooth about a straight edge of direction t (0 without a known lattice). The
+// outermost pixel centres of a straight edge at angle a to the nearest grid axis lie 0 .. pitch x cos(a)
+// inside it, a sawtooth of period pitch / sin(a). The tolerance counts on a window averaging it out; within
+// a few degrees of an axis the period is longer than a window, and window means about the edge's line reach
+// half the sawtooth (the edge compensation's figure). The greedy fit then splits such a straight into flat
+// runs a pixel apart, which meet nowhere, and the emitted chord between them is a notch the tool cannot
+// enter (m130, 0.39 mm pixels, where the noise allowance is well under half a pixel). For an arc, whose
+// direction turns, the bound over all directions.
+double staircase(const SmoothContext& c, const Primitive& p) {
+  return c.bias_scale * (p.circle ? 0.5 * c.pitch : edge_bias(p.dir, c.pitch));
+}
+
 // Neighbouring pieces of one kind that one primitive explains are one edge that a noise bump split:
 // merged. Straights when one line explains both about as well (its rms residual within a quarter of the
 // worse piece's): split, the short piece beside the bump tilts, and a real bend, however shallow, raises
 // the merged residual far more than that. Arcs when one circle explains both as the greedy fit explains a
 // piece (no window mean beyond the tolerance): a slot's end split where a dent stopped the greedy fit gets
-// two radii that meet at a kink the tool cannot follow.
+// two radii that meet at a kink the tool cannot follow. Either kind also when no window mean of the union
+// is beyond the tolerance plus the staircase's half sawtooth: a bend that stays within that of one
+// primitive is finer than the pixel lattice resolves.
 bool explains_both(const SmoothContext& c, const Primitive& pa, const Primitive& pb, const Primitive& ab) {
   thread_local std::vector<double> scratch;
   const Unrolled& u = c.u;
-  if (ab.circle) return worst_window_mean(u, ab, ab.first, ab.last, c.win, scratch) <= c.tolerance;
+  const double worst = worst_window_mean(u, ab, ab.first, ab.last, c.win, scratch);
+  if (worst <= c.tolerance + staircase(c, ab)) return true;
+  if (ab.circle) return false;
   return rms_of(u, ab, ab.first, ab.last) <=
          1.25 * std::max(rms_of(u, pa, pa.first, pa.last), rms_of(u, pb, pb.first, pb.last));
 }
