@@ -118,11 +118,11 @@ double rms_of(const Unrolled& u, const Primitive& p, long j0, long j1) {
   return std::sqrt(sum / double(j1 - j0 + 1));
 }
 
-// One primitive of the kind of pa and pb (both lines or both circles) over both ranges; false when the
-// circle fit fails or is no arc of this ring.
+// One primitive over both ranges: a line for two lines, else a circle; false when the circle fit fails or
+// is no arc of this ring.
 bool fit_union(const SmoothContext& c, const Primitive& pa, const Primitive& pb, Primitive& ab) {
   ab.first = pa.first, ab.last = pb.last;
-  if (!pa.circle) {
+  if (!pa.circle && !pb.circle) {
     const Line l = fit_line(c.u, pa.first, pb.last);
     ab.circle = false, ab.centre = l.centre, ab.dir = l.dir;
     return true;
@@ -149,7 +149,10 @@ double staircase(const SmoothContext& c, const Primitive& p) {
 // piece (no window mean beyond the tolerance): a slot's end split where a dent stopped the greedy fit gets
 // two radii that meet at a kink the tool cannot follow. Either kind also when no window mean of the union
 // is beyond the tolerance plus the staircase's half sawtooth: a bend that stays within that of one
-// primitive is finer than the pixel lattice resolves.
+// primitive is finer than the pixel lattice resolves. On a loop without corners (`wrap`), a straight and an
+// arc as well when one circle explains both so: a large ring's flattest stretch, where a pixel's sagitta is
+// within the noise, fits a straight too (50 mm of a R250 ring at pm806), and the arc fitted to the rest is
+// drawn off-centre by up to 0.5 mm. Not beside a corner: a fillet's arc would swallow a short straight.
 bool explains_both(const SmoothContext& c, const Primitive& pa, const Primitive& pb, const Primitive& ab) {
   thread_local std::vector<double> scratch;
   const Unrolled& u = c.u;
@@ -160,12 +163,12 @@ bool explains_both(const SmoothContext& c, const Primitive& pa, const Primitive&
          1.25 * std::max(rms_of(u, pa, pa.first, pa.last), rms_of(u, pb, pb.first, pb.last));
 }
 
-void merge_neighbours(const SmoothContext& c, Pieces& p) {
+void merge_neighbours(const SmoothContext& c, Pieces& p, bool wrap) {
   for (std::size_t i = 0; i + 1 < p.size();) {
     Primitive& pa = p[i].prim;
     const Primitive& pb = p[i + 1].prim;
     Primitive ab;
-    if (pa.circle != pb.circle || !fit_union(c, pa, pb, ab) || !explains_both(c, pa, pb, ab)) {
+    if ((pa.circle != pb.circle && !wrap) || !fit_union(c, pa, pb, ab) || !explains_both(c, pa, pb, ab)) {
       ++i;
       continue;
     }
@@ -179,7 +182,7 @@ void merge_neighbours(const SmoothContext& c, Pieces& p) {
 Pieces segment_run(const SmoothContext& c, long j0, long j1, int run, bool wrap) {
   Pieces pieces = greedy_pieces(c, j0, j1, run);
   refine_junctions(c, pieces, wrap);
-  merge_neighbours(c, pieces);
+  merge_neighbours(c, pieces, wrap);
   return pieces;
 }
 
