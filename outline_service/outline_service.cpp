@@ -222,9 +222,9 @@ void judge_quality(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& 
 
 // One part pose message per part of the loops, the centroid also in the cloud's frame.
 std::vector<hullgrind::part_pose_t> pose_messages(const hullgrind::plate_cloud_t& cloud,
-                                                  const std::vector<outline::Loop>& loops) {
+                                                  const std::vector<outline::Loop>& loops, double spacing) {
   std::vector<hullgrind::part_pose_t> out;
-  std::vector<PartPose> poses = part_poses(loops);
+  std::vector<PartPose> poses = part_poses(loops, spacing);
   for (std::size_t k = 0; k < poses.size(); ++k) {
     const PartPose& p = poses[k];
     hullgrind::part_pose_t m{};
@@ -290,7 +290,7 @@ Computed compute(const hullgrind::plate_cloud_t& cloud, const ServiceOptions& se
                                             " m too small for the point spacing?)");
   out.num_loops = int32_t(out.loops.size());
   out.status = hullgrind::outline_t::STATUS_OK;
-  c.poses = pose_messages(cloud, r.loops);
+  c.poses = pose_messages(cloud, r.loops, r.spacing);
   return c;
 }
 

@@ -25,9 +25,17 @@ bool inside(const std::vector<outline::Vec2>& poly, outline::Vec2 q) {
   return in;
 }
 
+// The ring's length in the max norm, sum of max(|dx|, |dy|) over its edges.
+double max_norm_length(const std::vector<outline::Vec2>& ring) {
+  double s = 0;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
+    s += std::max(std::abs(ring[i].x - ring[j].x), std::abs(ring[i].y - ring[j].y));
+  return s;
+}
+
 }  // namespace
 
-std::vector<PartPose> part_poses(const std::vector<outline::Loop>& loops) {
+std::vector<PartPose> part_poses(const std::vector<outline::Loop>& loops, double spacing) {
   std::vector<PartPose> out;
   for (std::size_t i = 0; i < loops.size(); ++i) {
     if (loops[i].hole || loops[i].points.size() < 3) continue;
@@ -37,6 +45,7 @@ std::vector<PartPose> part_poses(const std::vector<outline::Loop>& loops) {
     // Moments about a nearby point keep the sums well conditioned.
     polygon::MomentSum sum(polygon::Vec2(outer[0].x, outer[0].y));
     sum.add(ring_of(outer));
+    double edge = max_norm_length(outer);
     for (std::size_t j = 0; j < loops.size(); ++j) {
       if (!loops[j].hole || loops[j].points.empty()) continue;
       // A hole belongs to the smallest outer loop that contains it; holes of nested parts are rare on a
@@ -50,10 +59,11 @@ std::vector<PartPose> part_poses(const std::vector<outline::Loop>& loops) {
       if (in_smaller) continue;
       pose.holes.push_back(j);
       sum.add(ring_of(hole));
+      edge += max_norm_length(hole);
     }
     const polygon::AreaMoments m = sum.moments();
     if (m.area <= 0) continue;
-    pose.area = m.area;
+    pose.area = m.area + 0.5 * spacing * edge;
     pose.centroid = {m.centroid.x(), m.centroid.y()};
     const double angle = m.principal_axis_angle();  // major axis of the area's second moments
     pose.principal_axis_angle = angle;

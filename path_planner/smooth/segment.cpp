@@ -118,11 +118,11 @@ double rms_of(const Unrolled& u, const Primitive& p, long j0, long j1) {
   return std::sqrt(sum / double(j1 - j0 + 1));
 }
 
-// One primitive of the kind of pa and pb (both lines or both circles) over both ranges; false when the
-// circle fit fails or is no arc of this ring.
+// One primitive over both ranges: a line for two lines, else a circle; false when the circle fit fails or
+// is no arc of this ring.
 bool fit_union(const SmoothContext& c, const Primitive& pa, const Primitive& pb, Primitive& ab) {
   ab.first = pa.first, ab.last = pb.last;
-  if (!pa.circle) {
+  if (!pa.circle && !pb.circle) {
     const Line l = fit_line(c.u, pa.first, pb.last);
     ab.circle = false, ab.centre = l.centre, ab.dir = l.dir;
     return true;
@@ -130,26 +130,45 @@ bool fit_union(const SmoothContext& c, const Primitive& pa, const Primitive& pb,
   return fit_circle(c.u, pa.first, pb.last, ab) && ab.radius > 2 * c.unit;
 }
 
+// Half the pixel staircase's sawtooth about a straight edge of direction t (0 without a known lattice). The
+// outermost pixel centres of a straight edge at angle a to the nearest grid axis lie 0 .. pitch x cos(a)
+// inside it, a sawtooth of period pitch / sin(a). The tolerance counts on a window averaging it out; within
+// a few degrees of an axis the period is longer than a window, and window means about the edge's line reach
+// half the sawtooth (the edge compensation's figure). The greedy fit then splits such a straight into flat
+// runs a pixel apart, which meet nowhere, and the emitted chord between them is a notch the tool cannot
+// enter (m130, 0.39 mm pixels, where the noise allowance is well under half a pixel). For an arc, whose
+// direction turns, the bound over all directions.
+double staircase(const SmoothContext& c, const Primitive& p) {
+  return c.bias_scale * (p.circle ? 0.5 * c.pitch : edge_bias(p.dir, c.pitch));
+}
+
 // Neighbouring pieces of one kind that one primitive explains are one edge that a noise bump split:
 // merged. Straights when one line explains both about as well (its rms residual within a quarter of the
 // worse piece's): split, the short piece beside the bump tilts, and a real bend, however shallow, raises
 // the merged residual far more than that. Arcs when one circle explains both as the greedy fit explains a
 // piece (no window mean beyond the tolerance): a slot's end split where a dent stopped the greedy fit gets
-// two radii that meet at a kink the tool cannot follow.
+// two radii that meet at a kink the tool cannot follow. Either kind also when no window mean of the union
+// is beyond the tolerance plus the staircase's half sawtooth: a bend that stays within that of one
+// primitive is finer than the pixel lattice resolves. On a loop without corners (`wrap`), a straight and an
+// arc as well when one circle explains both so: a large ring's flattest stretch, where a pixel's sagitta is
+// within the noise, fits a straight too (50 mm of a R250 ring at pm806), and the arc fitted to the rest is
+// drawn off-centre by up to 0.5 mm. Not beside a corner: a fillet's arc would swallow a short straight.
 bool explains_both(const SmoothContext& c, const Primitive& pa, const Primitive& pb, const Primitive& ab) {
   thread_local std::vector<double> scratch;
   const Unrolled& u = c.u;
-  if (ab.circle) return worst_window_mean(u, ab, ab.first, ab.last, c.win, scratch) <= c.tolerance;
+  const double worst = worst_window_mean(u, ab, ab.first, ab.last, c.win, scratch);
+  if (worst <= c.tolerance + staircase(c, ab)) return true;
+  if (ab.circle) return false;
   return rms_of(u, ab, ab.first, ab.last) <=
          1.25 * std::max(rms_of(u, pa, pa.first, pa.last), rms_of(u, pb, pb.first, pb.last));
 }
 
-void merge_neighbours(const SmoothContext& c, Pieces& p) {
+void merge_neighbours(const SmoothContext& c, Pieces& p, bool wrap) {
   for (std::size_t i = 0; i + 1 < p.size();) {
     Primitive& pa = p[i].prim;
     const Primitive& pb = p[i + 1].prim;
     Primitive ab;
-    if (pa.circle != pb.circle || !fit_union(c, pa, pb, ab) || !explains_both(c, pa, pb, ab)) {
+    if ((pa.circle != pb.circle && !wrap) || !fit_union(c, pa, pb, ab) || !explains_both(c, pa, pb, ab)) {
       ++i;
       continue;
     }
@@ -163,7 +182,7 @@ void merge_neighbours(const SmoothContext& c, Pieces& p) {
 Pieces segment_run(const SmoothContext& c, long j0, long j1, int run, bool wrap) {
   Pieces pieces = greedy_pieces(c, j0, j1, run);
   refine_junctions(c, pieces, wrap);
-  merge_neighbours(c, pieces);
+  merge_neighbours(c, pieces, wrap);
   return pieces;
 }
 

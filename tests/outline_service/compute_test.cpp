@@ -78,8 +78,13 @@ TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
   // 4 * (2p)^2 / 2 off the hole and are symmetric about its centre (0.15, 0.1).
   const double hole_area = 0.01 - 4 * 0.5 * (2 * p) * (2 * p);
   const double area = 0.08 - hole_area;
+  // The pose's area is the steel's: the loops run through the last points, h/2 x max(|t_u|, |t_v|) inside
+  // the edge, restored along both loops: h/2 x their length in the max norm (the rectangle's 1.2 m; the
+  // hole's four sides less the chamfers' legs, 4 x (0.1 - 4p), and four chamfers of 2p).
+  const double h = c.outline.point_spacing;
+  const double steel = area + 0.5 * h * (1.2 + 4 * (0.1 - 4 * p) + 4 * 2 * p);
   ASSERT_EQ(c.poses.size(), 1u);
-  EXPECT_NEAR(c.poses[0].area, area, 1e-6);
+  EXPECT_NEAR(c.poses[0].area, steel, 1e-6);
   EXPECT_EQ(c.poses[0].num_parts, 1);
   // Centroid: (0.08*(0.2,0.1) - hole_area*(0.15,0.1)) / area; to the camera frame through the plane.
   double cu = (0.08 * 0.2 - hole_area * 0.15) / area;

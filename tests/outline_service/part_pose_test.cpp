@@ -1,5 +1,6 @@
 // Part poses from outline loops (outline_service/part_pose): area, centroid and principal axis against
-// closed forms for rectangles, holes assigned to their part, parts ordered largest first.
+// closed forms for rectangles, holes assigned to their part, parts ordered largest first; on a pixel
+// lattice, the area of the pixels whatever the part's angle to the lattice.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -35,7 +36,7 @@ TEST(OutlineServicePose, RotatedRectangleWithHole) {
   std::vector<Loop> loops = {polygon(rect(0, 0, 0.4, 0.2, false, a), false),
                              polygon(rect(0.25, 0.05, 0.35, 0.15, true, a), true)};
   loops[0].area = 0.08;
-  auto poses = os::part_poses(loops);
+  auto poses = os::part_poses(loops, 0);
   ASSERT_EQ(poses.size(), 1u);
   const auto& p = poses[0];
   EXPECT_NEAR(p.area, 0.08 - 0.01, 1e-12);
@@ -53,7 +54,7 @@ TEST(OutlineServicePose, TwoPartsLargestFirstHoleAssignedToItsPart) {
                              polygon(rect(1.1, 0.05, 1.2, 0.15, true), true)};
   loops[0].area = 0.01;
   loops[1].area = 0.06;
-  auto poses = os::part_poses(loops);
+  auto poses = os::part_poses(loops, 0);
   ASSERT_EQ(poses.size(), 2u);
   EXPECT_EQ(poses[0].outer_loop, 1u);
   EXPECT_NEAR(poses[0].area, 0.05, 1e-12);
@@ -62,6 +63,27 @@ TEST(OutlineServicePose, TwoPartsLargestFirstHoleAssignedToItsPart) {
   EXPECT_TRUE(poses[1].holes.empty());
   EXPECT_NEAR(poses[0].major_extent, 0.3, 1e-12);
   EXPECT_NEAR(poses[0].minor_extent, 0.2, 1e-12);
+}
+
+// Loops through the outermost pixel centres of a lattice of pitch h (the outline core's loops): the part's
+// area is its pixels' area, counted, whether its edges run along the lattice or at 45 deg to it (there the
+// loop's own area is 0.35 pixel short per pixel of edge, along it 0.5). Within one pixel: the staircase's
+// convex corners keep a quarter pixel outside each.
+TEST(OutlineServicePose, OnAPixelLatticeTheAreaIsThePixelsAtAnyAngle) {
+  const double h = 0.002;
+  const int n = 41, k = 20;  // a square of n x n pixels; a diamond of the pixels with |i| + |j| <= k
+  const double side = (n - 1) * h;
+  const auto square = os::part_poses({polygon(rect(0, 0, side, side, false), false)}, h);
+  const std::vector<Vec2> diamond = {{k * h, 0}, {0, k * h}, {-k * h, 0}, {0, -k * h}};
+  const auto turned = os::part_poses({polygon(diamond, false)}, h);
+  ASSERT_EQ(square.size(), 1u);
+  ASSERT_EQ(turned.size(), 1u);
+  EXPECT_NEAR(square[0].area, n * n * h * h, h * h);
+  EXPECT_NEAR(turned[0].area, (2 * k * k + 2 * k + 1) * h * h, h * h);  // 1 + 4 (1 + 2 + ... + k) pixels
+  // Without the spacing, the loops' own areas: short by half a pixel along the square's edge, by 0.35 of one
+  // along the diamond's.
+  EXPECT_NEAR(os::part_poses({polygon(rect(0, 0, side, side, false), false)}, 0)[0].area, side * side, 1e-15);
+  EXPECT_NEAR(os::part_poses({polygon(diamond, false)}, 0)[0].area, 2 * k * k * h * h, 1e-15);
 }
 
 }  // namespace

@@ -70,7 +70,8 @@ TEST_F(OutlineServiceProcess, CloudInOutlineAndPoseOut) {
   EXPECT_EQ(o.mode, "dshi");  // the process defaults
   EXPECT_EQ(o.order, "brio");
   EXPECT_EQ(o.header.frame_id, "camera");
-  EXPECT_NEAR(inbox.poses.back().area, 0.0702, 1e-6);  // hole corners chamfered: see compute_test.cpp
+  // Hole corners chamfered and the edge's inset restored: see compute_test.cpp.
+  EXPECT_NEAR(inbox.poses.back().area, 0.0702 + 0.5 * o.point_spacing * (1.2 + 0.4 - 8 * 0.005), 1e-6);
   EXPECT_EQ(inbox.poses.back().cloud_seq, 7);
   // The heartbeat reports the latency of that cloud.
   ASSERT_TRUE(until([&] { return !inbox.beats.empty() && inbox.beats.back().last_latency > 0; }, 3s));

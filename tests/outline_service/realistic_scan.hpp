@@ -81,6 +81,7 @@ struct Accuracy {
   int outer = 0, holes = 0;
   int truth_holes = 0, holes_found = 0, holes_extra = 0;  // found: true cut-outs with an outline hole on them
   double area = 0, truth_area = 0;
+  double part_area = 0;            // what the service reports for the part (its part pose's area), m^2
   std::vector<double> hole_areas;  // outline hole matched to each true cut-out (0: none), in the truth's order
   std::vector<double> truth_hole_areas;
   double rms = 0, max = 0;  // outline vertices to the true edge; max: the symmetric Hausdorff distance
@@ -88,6 +89,7 @@ struct Accuracy {
   double edge_dropout = 0, largest_gap = 0;
   int dropout_filled = 0, fragments_dropped = 0;
   double area_error() const { return truth_area > 0 ? (area - truth_area) / truth_area : 0; }
+  double part_area_error() const { return truth_area > 0 ? (part_area - truth_area) / truth_area : 0; }
 };
 
 // The outline's loops in the table frame (x, y of the plate-plane points).
@@ -120,6 +122,7 @@ inline Accuracy measure(const Scan& s, const sim::RenderedFrame& f) {
   a.dropout_filled = s.cloud.dropout_filled, a.fragments_dropped = s.outline.fragments_dropped;
   if (s.outline.status != hullgrind::outline_t::STATUS_OK) return a;
   a.ok = true;
+  if (!s.poses.empty()) a.part_area = s.poses.front().area;
   const auto loops = table_loops(s.outline, f);
   std::vector<Ring2> got;
   double sq = 0;

@@ -25,7 +25,8 @@ struct Row {
   std::string why_not;  // the first plan's failure
   double area_err_max = 0, area_err_sum = 0, rms_sum = 0, rms_max = 0, haus_max = 0, haus_sum = 0;
   double area_min = 1e9, area_max = 0, area_sum = 0, hole_spread = 0, edge_dropout_max = 0, gap_max = 0;
-  std::vector<std::vector<double>> holes;  // per true cut-out, its areas over the scans
+  double part_min = 1e9, part_max = 0, part_sum = 0, part_err_sum = 0;  // the part pose's area
+  std::vector<std::vector<double>> holes;                               // per true cut-out, its areas over the scans
 };
 
 void add(Row& w, const Accuracy& a, const GrindAccuracy& g) {
@@ -50,6 +51,8 @@ void add(Row& w, const Accuracy& a, const GrindAccuracy& g) {
   w.rms_sum += a.rms, w.rms_max = std::max(w.rms_max, a.rms);
   w.haus_sum += a.max, w.haus_max = std::max(w.haus_max, a.max);
   w.area_min = std::min(w.area_min, a.area), w.area_max = std::max(w.area_max, a.area), w.area_sum += a.area;
+  w.part_min = std::min(w.part_min, a.part_area), w.part_max = std::max(w.part_max, a.part_area);
+  w.part_sum += a.part_area, w.part_err_sum += a.part_area_error();
   w.holes.resize(a.hole_areas.size());
   for (std::size_t k = 0; k < a.hole_areas.size(); ++k)
     if (a.hole_areas[k] > 0) w.holes[k].push_back(a.hole_areas[k]);
@@ -71,23 +74,24 @@ double hole_spread(const Row& w) {
 void print_header() {
   std::printf(
       "| part | profile | scans | outer loops | cut-outs: true / found (min) / lost / extra (total) | plate area "
-      "error: mean / max | area spread (max-min)/mean | hole area spread (max dev. from mean) | edge RMS mean / max "
+      "error: mean / max | area spread (max-min)/mean | part's area: error mean / spread | hole area spread (max dev. from mean) | edge RMS mean / max "
       "(mm) | Hausdorff mean / max (mm) | POOR | edge in dropout max / largest gap max (mm) | planned | grind edge RMS "
       "mean / max (mm) | grind edge Hausdorff max (mm) |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 void print_row(const std::string& part, const std::string& profile, const Row& w) {
   const double n = std::max(1, w.ok), mean_area = w.area_sum / n;
   std::printf(
-      "| %s | %s | %d%s | %d..%d | %d / %d / %d / %d | %+.2f %% / %.2f %% | %.2f %% | %.2f %% | %.2f / %.2f | %.2f / "
+      "| %s | %s | %d%s | %d..%d | %d / %d / %d / %d | %+.2f %% / %.2f %% | %.2f %% | %+.2f %% / %.2f %% | %.2f %% | %.2f / %.2f | %.2f / "
       "%.2f | %d | %.1f %% / %.1f | %d | %.2f / %.2f | %.2f |\n",
       part.c_str(), profile.c_str(), w.scans,
       w.ok < w.scans ? (" (" + std::to_string(w.scans - w.ok) + " no loop)").c_str() : "", w.outer_min, w.outer_max,
       w.truth_holes, w.found_min, w.lost_total, w.extra_total, 100 * w.area_err_sum / n, 100 * w.area_err_max,
-      100 * (w.area_max - w.area_min) / mean_area, 100 * hole_spread(w), 1e3 * w.rms_sum / n, 1e3 * w.rms_max,
-      1e3 * w.haus_sum / n, 1e3 * w.haus_max, w.poor, 100 * w.edge_dropout_max, 1e3 * w.gap_max, w.planned,
-      1e3 * w.grind_rms_sum / std::max(1, w.planned), 1e3 * w.grind_rms_max, 1e3 * w.grind_max);
+      100 * (w.area_max - w.area_min) / mean_area, 100 * w.part_err_sum / n,
+      100 * (w.part_max - w.part_min) * n / std::max(w.part_sum, 1e-12), 100 * hole_spread(w), 1e3 * w.rms_sum / n,
+      1e3 * w.rms_max, 1e3 * w.haus_sum / n, 1e3 * w.haus_max, w.poor, 100 * w.edge_dropout_max, 1e3 * w.gap_max,
+      w.planned, 1e3 * w.grind_rms_sum / std::max(1, w.planned), 1e3 * w.grind_rms_max, 1e3 * w.grind_max);
   if (!w.why_not.empty())
     std::fprintf(stderr, "%s@%s: not planned: %s\n", part.c_str(), profile.c_str(), w.why_not.c_str());
   std::fflush(stdout);
@@ -123,12 +127,13 @@ void run_poses(int n, const std::vector<std::string>& profiles, const std::vecto
         const GrindAccuracy g = grind_edge(s.outline, f, planner, table_to_base);
         add(w, a, g);
         if (verbose)
-          std::fprintf(stderr,
-                       "%s@%s pose %d: area %+.2f %%, edge RMS %.2f mm, grind RMS %.2f max %.2f mm%s, edge in "
-                       "dropout %.1f %%, gap %.1f mm%s\n",
-                       shape.c_str(), profile.c_str(), i, 100 * a.area_error(), 1e3 * a.rms, 1e3 * g.rms, 1e3 * g.max,
-                       g.planned ? "" : " (not planned)", 100 * a.edge_dropout, 1e3 * a.largest_gap,
-                       a.quality == hullgrind::outline_t::QUALITY_POOR ? " POOR" : "");
+          std::fprintf(
+              stderr,
+              "%s@%s pose %d: area %+.2f %% (part's %+.2f %%), edge RMS %.2f mm, grind RMS %.2f max %.2f mm%s, edge in "
+              "dropout %.1f %%, gap %.1f mm%s\n",
+              shape.c_str(), profile.c_str(), i, 100 * a.area_error(), 100 * a.part_area_error(), 1e3 * a.rms,
+              1e3 * g.rms, 1e3 * g.max, g.planned ? "" : " (not planned)", 100 * a.edge_dropout, 1e3 * a.largest_gap,
+              a.quality == hullgrind::outline_t::QUALITY_POOR ? " POOR" : "");
       }
       print_row(shape, profile, w);
     }
@@ -169,7 +174,7 @@ void run_effects(int n, const std::vector<std::string>& profiles, const std::vec
           add(w, a, grind_edge(s.outline, f, planner, table_to_base));
         }
       }
-      w.area_min = w.area_max = 0;  // nor an area spread
+      w.area_min = w.area_max = w.part_min = w.part_max = 0;  // nor an area spread
       w.truth_holes = 0;
       print_row(std::string("all parts, ") + effect, profile, w);
     }

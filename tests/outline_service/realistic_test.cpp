@@ -1,13 +1,14 @@
 // Issue 23 §2 and §4 on the renderer's realistic presets (every sensor effect on, realistic_scan.hpp): for
-// every catalogue part at the pm806 and lsr-l profiles, and knee-scallop at the 0.4 mm m130 profile (a subset:
-// its 5 MP frames take the longest), six poses (three face up, three flipped, place and angle at random from
-// a seed of the case), through the camera bridge's segmentation (with the frame's intensity image) and the
-// outline service's computation, planned as `make run` plans. Expectations from the renderer's polygons
+// every catalogue part at the pm806 and lsr-l profiles, and four at the 0.4 mm m130 profile (a subset: its
+// 5 MP frames take the longest; the three with straights and arcs whose flat staircase runs split the
+// smoothing before, and knee-scallop), six poses (three face up, three flipped, place and angle at random
+// from a seed of the case), through the camera bridge's segmentation (with the frame's intensity image) and
+// the outline service's computation, planned as `make run` plans. Expectations from the renderer's polygons
 // only: one outer loop, every true cut-out found and no other hole, every cut-out's area from every pose
-// within 3 % of its mean, the grind edge
-// (the planner's smoothed edge) within 0.3 mm RMS and 1.0 mm of the true edge, every loop planned by
-// `make run`'s planner (the shipped simulated cell, 10 mm tool, small-hole fail) and no scan POOR with the
-// shipped limits. The plate area's spread over the poses ((max - min) / mean; the issue's 0.5 %) is printed.
+// within 3 % of its mean, the part's area as the service reports it (its part pose) within 1 % of the true
+// area on every scan (its spread over the poses printed), the grind edge (the planner's smoothed edge) within 0.3 mm
+// RMS and 1.0 mm of the true edge, every loop planned by `make run`'s planner (the shipped simulated cell, 10 mm tool,
+// small-hole fail) and no scan POOR with the shipped limits.
 // outline_service_realistic_table prints the same figures (docs/BENCHMARKS-outline.md).
 #include <gtest/gtest.h>
 
@@ -30,7 +31,8 @@ std::vector<Case> all_cases() {
   std::vector<Case> out;
   for (const auto& s : hg::partgen::shape_names())
     for (const auto& p : {"pm806", "lsr-l"}) out.push_back({s, p});
-  out.push_back({"knee-scallop", "m130"});  // at m130 three parts miss the planner's coverage (BENCHMARKS-outline.md)
+  for (const char* s : {"plate-hole-slot", "knee-scallop", "ring-flange", "trapezoid-holes"})
+    out.push_back({s, "m130"});
   return out;
 }
 
@@ -75,13 +77,20 @@ TEST_P(Realistic, OneOuterLoopTheTrueCutOutsTheAreaAlikeFromEveryPoseTheGrindEdg
   const hg::path_planner::PlannerConfig planner = make_run_planner();
   const std::vector<Pose> poses = six_poses(seed_of(c.shape + "/realistic"));
   const std::vector<Accuracy> got = scans_of(c, &planner);
-  double lo = 1e300, hi = 0, mean = 0;  // the plate's area over the poses
-  for (const Accuracy& a : got) lo = std::min(lo, a.area), hi = std::max(hi, a.area), mean += a.area / got.size();
-  // Issue 23 §2 asks for 0.5 %; not met on every part (l-bracket and knee-scallop reach 0.5-0.8 %: the outline
-  // runs through the centres of the last steel pixels, an inset that depends on the edge's angle to the pixel
-  // grid, docs/BENCHMARKS-outline.md), so it is printed, not asserted.
-  std::printf("%s@%s: plate area spread over the poses %.2f %%\n", c.shape.c_str(), c.profile.c_str(),
-              100 * (hi - lo) / mean);
+  auto spread = [&got](double Accuracy::*area) {  // (max - min) / mean over the poses
+    double lo = 1e300, hi = 0, mean = 0;
+    for (const Accuracy& a : got) lo = std::min(lo, a.*area), hi = std::max(hi, a.*area), mean += a.*area / got.size();
+    return (hi - lo) / mean;
+  };
+  // The outline runs through the centres of the last steel pixels, an inset that depends on the edge's angle
+  // to the pixel grid (up to 0.8 % of these parts' area over the poses, and 0.3-3 % below the true area); the
+  // part's area restores it. Issue 23 §2's 0.5 % spread is printed, not asserted: knee-scallop at lsr-l
+  // stays at 0.58 %, one pose's outline a whole pixel inside along several edges (docs/BENCHMARKS-outline.md).
+  std::printf("%s@%s: area spread over the poses: the part's %.2f %%, the outline's %.2f %%\n", c.shape.c_str(),
+              c.profile.c_str(), 100 * spread(&Accuracy::part_area), 100 * spread(&Accuracy::area));
+  for (std::size_t i = 0; i < got.size(); ++i)
+    EXPECT_NEAR(got[i].part_area, got[i].truth_area, 0.01 * got[i].truth_area)
+        << what(c, poses, i) << ": the part's area";
   for (std::size_t i = 0; i < got.size(); ++i) {
     EXPECT_EQ(got[i].outer, 1) << what(c, poses, i) << ": outer loops";
     EXPECT_EQ(got[i].holes_found, got[i].truth_holes) << what(c, poses, i) << ": true cut-outs found";

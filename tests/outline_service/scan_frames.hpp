@@ -226,6 +226,7 @@ struct Scan {
   camera_bridge::Segmentation seg;
   hullgrind::plate_cloud_t cloud;
   hullgrind::outline_t outline;
+  std::vector<hullgrind::part_pose_t> poses;
 };
 inline Scan scan(const sim::RenderedFrame& f, const camera_bridge::SegmentParams& sp,
                  const outline_service::ServiceOptions& so, const cv::Mat& intensity = cv::Mat()) {
@@ -234,7 +235,9 @@ inline Scan scan(const sim::RenderedFrame& f, const camera_bridge::SegmentParams
   s.cloud = hullgrind::plate_cloud_t{};
   s.cloud.header.frame_id = "camera";
   camera_bridge::fill_plate_cloud(s.seg, s.cloud);
-  s.outline = outline_service::compute(s.cloud, so).outline;
+  outline_service::Computed c = outline_service::compute(s.cloud, so);
+  s.outline = std::move(c.outline);
+  s.poses = std::move(c.poses);
   return s;
 }
 
