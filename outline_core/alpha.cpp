@@ -122,8 +122,11 @@ std::uint32_t select_rank(std::vector<std::uint32_t>& keys, std::size_t rank) {
     hi = shift - 1;
     if (hist[d] == n || hi < 0) continue;  // all keys share this digit (or the last digit): nothing to drop
     std::size_t m = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (((keys[i] >> shift) & mask) == d) keys[m++] = keys[i];
+    for (std::size_t i = 0; i < n; ++i) {  // without a branch: which keys match is as good as random
+      const std::uint32_t k = keys[i];
+      keys[m] = k;
+      m += ((k >> shift) & mask) == d;
+    }
     n = m;
   }
   return result;
