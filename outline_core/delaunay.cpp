@@ -16,6 +16,9 @@ namespace hg::outline {
 namespace {
 
 constexpr std::uint32_t kNone = 0xffffffffu;
+// The half-edges after and before half-edge i of a triangle (by table: i is as good as random, and
+// branches on it would mispredict a third of the time).
+constexpr std::uint32_t kAfter[3] = {1, 2, 0}, kBefore[3] = {2, 0, 1};
 
 std::string fmt(double v) {
   char buf[64];
@@ -59,6 +62,13 @@ class Builder {
   double incircle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec2& p) const {
     static_assert(sizeof(Vec2) == 2 * sizeof(double));  // x and y consecutive: loaded as one pair
     return pred::incircle_at(&xy_[a].x, &xy_[b].x, &xy_[c].x, &p.x);
+  }
+  // Edge i of the finite triangle v: sets bit i of `beyond` when p is strictly on its far side, of `on`
+  // when p is on its line (without a branch on the sign: the walk's next step depends on it).
+  void edge_side(const std::uint32_t* v, std::uint32_t i, const Vec2& p, unsigned& beyond, unsigned& on) {
+    const double o = orient(v[i], v[kAfter[i]], p);
+    beyond |= static_cast<unsigned>(o < 0) << i;
+    on |= static_cast<unsigned>(o == 0) << i;
   }
   // p strictly between u and v, given that the three are collinear.
   bool strictly_between(std::uint32_t u, std::uint32_t v, const Vec2& p) const {
@@ -131,32 +141,26 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
       t = twin[3 * t + ge] / 3;
       continue;
     }
-    double o[3];
-    int negatives = 0, first_neg = -1, second_neg = -1;
-    bool zero = false;
+    unsigned neg = 0, zero = 0;                   // bit i: p beyond edge i / on its line
     const std::uint32_t entered = from - 3 * t;  // 0..2: the edge we came through; otherwise none
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      if (i == entered) {
-        o[i] = 1;
-        continue;
-      }
-      o[i] = orient(v[i], v[i == 2 ? 0 : i + 1], p);
-      if (o[i] < 0) {
-        (negatives++ == 0 ? first_neg : second_neg) = static_cast<int>(i);
-      } else if (o[i] == 0) {
-        zero = true;
-      }
+    if (entered < 3) {                           // p is strictly inside that one: the other two
+      edge_side(v, kAfter[entered], p, neg, zero);
+      edge_side(v, kBefore[entered], p, neg, zero);
+    } else {
+      for (std::uint32_t i = 0; i < 3; ++i) edge_side(v, i, p, neg, zero);
     }
-    if (negatives == 0) {
+    if (neg == 0) {
       if (zero) {
         for (int i = 0; i < 3; ++i)
           if (xy_[v[i]].x == p.x && xy_[v[i]].y == p.y) dup_ = v[i];
       }
       return t;
     }
+    const int first_neg = __builtin_ctz(neg);
     int cross = first_neg;
-    if (negatives == 2) {
+    if (neg & (neg - 1)) {
       // Both edges around their shared vertex s see p: the centroid ray decides.
+      const int second_neg = 31 - __builtin_clz(neg);
       int incoming = first_neg, outgoing = second_neg;  // edge ending at s, edge starting at s
       if ((first_neg + 1) % 3 != second_neg) std::swap(incoming, outgoing);
       const std::uint32_t s = v[outgoing];
@@ -210,9 +214,6 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   st[ns++] = 3 * t0 + 2;
   st[ns++] = 3 * t0 + 1;
   st[ns++] = 3 * t0;
-  // The other two half-edges of g's triangle by table (i = g mod 3 is as good as random: branches on it
-  // would mispredict a third of the time).
-  static constexpr std::uint32_t kAfter[3] = {1, 2, 0}, kBefore[3] = {2, 0, 1};
   while (ns > 0) {
     const std::uint32_t h = st[--ns];
     const std::uint32_t g = twin[h];
