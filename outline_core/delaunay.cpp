@@ -141,7 +141,7 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
       t = twin[3 * t + ge] / 3;
       continue;
     }
-    unsigned neg = 0, zero = 0;                   // bit i: p beyond edge i / on its line
+    unsigned neg = 0, zero = 0;                  // bit i: p beyond edge i / on its line
     const std::uint32_t entered = from - 3 * t;  // 0..2: the edge we came through; otherwise none
     if (entered < 3) {                           // p is strictly inside that one: the other two
       edge_side(v, kAfter[entered], p, neg, zero);
