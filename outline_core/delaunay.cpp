@@ -38,14 +38,19 @@ class Builder {
   const Vec2* xy_;
   std::uint32_t ghost_;
   std::uint32_t slots_ = 0;  // triangles in use (tri/twin are sized for all of them up front)
-  // The cavity, and its boundary in counter-clockwise order: half-edge j runs from boundary_from_[j] to
-  // boundary_from_[j + 1], boundary_twin_[j] is its twin outside the cavity.
+  // The cavity, and its boundary in counter-clockwise order: half-edge j runs from boundary_[j].from to
+  // boundary_[j + 1].from, boundary_[j].twin is its twin outside the cavity (one array: one pointer less
+  // to keep in a register in the cavity search).
   // Scratch arrays, grown on demand (never shrunk): cavity_ gets two more entries for the new slots.
-  std::vector<std::uint32_t> cavity_, boundary_from_, boundary_twin_, stack_;
+  struct BoundaryEdge {
+    std::uint32_t from, twin;
+  };
+  std::vector<std::uint32_t> cavity_, stack_;
+  std::vector<BoundaryEdge> boundary_;
   void grow_scratch(std::size_t need) {
     if (need <= cavity_.size()) return;
     const std::size_t size = std::max(need, 2 * cavity_.size());
-    cavity_.resize(size), boundary_from_.resize(size), boundary_twin_.resize(size), stack_.resize(size);
+    cavity_.resize(size), boundary_.resize(size), stack_.resize(size);
   }
   std::size_t cavity_size_ = 0, boundary_size_ = 0;
   std::uint32_t last_ = 0;                    // DSHI: a triangle made by the previous insertion
@@ -206,8 +211,7 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   // Sizes: the stack holds at most cavity + 3 half-edges, the boundary cavity + 2; checked per triangle.
   grow_scratch(64);
   std::uint32_t* cav = cavity_.data();
-  std::uint32_t* ba = boundary_from_.data();
-  std::uint32_t* bo = boundary_twin_.data();
+  BoundaryEdge* bd = boundary_.data();
   std::uint32_t* st = stack_.data();
   std::size_t nc = 0, nb = 0, ns = 0, room = cavity_.size();
   cav[nc++] = t0;
@@ -222,15 +226,14 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
     if (conflict_across(tri[g], tri[g_after], tri[g_before], p, orients)) {
       if (nc + 8 > room) [[unlikely]] {
         grow_scratch(nc + 8);
-        cav = cavity_.data(), ba = boundary_from_.data(), bo = boundary_twin_.data(), st = stack_.data();
+        cav = cavity_.data(), bd = boundary_.data(), st = stack_.data();
         room = cavity_.size();
       }
       cav[nc++] = t;
       st[ns++] = g_before;  // then the edge after it
       st[ns++] = g_after;   // the edge after g first
     } else {
-      ba[nb] = tri[h];
-      bo[nb++] = g;
+      bd[nb++] = {tri[h], g};
     }
   }
   cavity_size_ = nc;
@@ -277,7 +280,7 @@ void Builder::insert(std::uint32_t v) {
     const bool ok = (w[0] == ds_vertex_ || w[1] == ds_vertex_ || w[2] == ds_vertex_) && ghost_edge(ds_tri_) == kNone;
     if (!ok)
       for (std::size_t j = 0; j < m; ++j) {
-        const std::uint32_t a = boundary_from_[j], b = boundary_from_[j + 1 == m ? 0 : j + 1];
+        const std::uint32_t a = boundary_[j].from, b = boundary_[j + 1 == m ? 0 : j + 1].from;
         if ((a == ds_vertex_ || b == ds_vertex_) && a != ghost_ && b != ghost_) ds_tri_ = cavity_[j];
       }
   }
@@ -288,17 +291,16 @@ void Builder::insert(std::uint32_t v) {
 // start among them.
 void Builder::star_cavity(std::uint32_t v, const Vec2& p) {
   const std::size_t m = boundary_size_;  // a disk of m - 2 triangles has m boundary edges
-  // Star the cavity from p: new triangle j = (boundary_from_[j], boundary_from_[j + 1], v), in the cavity's slots and
+  // Star the cavity from p: new triangle j = (boundary_[j].from, boundary_[j + 1].from, v), in the cavity's slots and
   // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
   // Room is kept: the cavity holds m - 2 entries, the arrays at least m + 5 (dig_cavity): the two new slots
   // and a copy of entry 0 after the last (no wrap-around test in the loop) fit.
   std::uint32_t* cav = cavity_.data();
-  std::uint32_t* from = boundary_from_.data();
-  const std::uint32_t* out = boundary_twin_.data();
+  BoundaryEdge* bd = boundary_.data();
   cav[cavity_size_] = slots_;
   cav[cavity_size_ + 1] = slots_ + 1;
   cav[m] = cav[0];
-  from[m] = from[0];
+  bd[m] = bd[0];
   slots_ += 2;
   std::uint32_t* tri = T_.tri.data();
   std::uint32_t* twin = T_.twin.data();
@@ -314,7 +316,7 @@ void Builder::star_cavity(std::uint32_t v, const Vec2& p) {
   bool left_of_prev = false;  // the direction to the next point is left of v -> a for the previous a (finite)
   std::uint32_t t_prev = cav[m - 1];
   for (std::size_t j = 0; j < m; ++j) {
-    const std::uint32_t t = cav[j], a = from[j], b = from[j + 1], o = out[j];
+    const std::uint32_t t = cav[j], a = bd[j].from, b = bd[j + 1].from, o = bd[j].twin;
     tri[3 * t] = a;
     tri[3 * t + 1] = b;
     tri[3 * t + 2] = v;
