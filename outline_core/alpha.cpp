@@ -122,8 +122,11 @@ std::uint32_t select_rank(std::vector<std::uint32_t>& keys, std::size_t rank) {
     hi = shift - 1;
     if (hist[d] == n || hi < 0) continue;  // all keys share this digit (or the last digit): nothing to drop
     std::size_t m = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (((keys[i] >> shift) & mask) == d) keys[m++] = keys[i];
+    for (std::size_t i = 0; i < n; ++i) {  // without a branch: which keys match is as good as random
+      const std::uint32_t k = keys[i];
+      keys[m] = k;
+      m += ((k >> shift) & mask) == d;
+    }
     n = m;
   }
   return result;
@@ -389,6 +392,20 @@ Loop make_loop(const std::vector<FreeEdge>& edges, const std::uint32_t* e, std::
   return L;
 }
 
+// std::lower_bound's position among `count` sorted elements, below(k) telling whether element k is below
+// the key, with no branch on the comparisons: they are as good as random (two searches an edge).
+template <class Below>
+std::size_t lower_index(std::size_t count, Below below) {
+  if (count == 0) return 0;
+  std::size_t base = 0;
+  for (std::size_t len = count; len > 1;) {  // the answer stays within [base, base + len]
+    const std::size_t half = len / 2;
+    base += below(base + half) ? half : 0;
+    len -= half;
+  }
+  return base + below(base);
+}
+
 // Outer loops first, then holes, each group by decreasing area, ties by the point indices (a total
 // order: the result does not depend on the order the loops were traced in).
 void sort_loops(std::vector<Loop>& loops) {
@@ -413,16 +430,18 @@ std::vector<Loop> chain_loops(std::vector<FreeEdge> edges) {
   std::sort(edges.begin(), edges.end(), key_less);
   // The edge a -> b, by binary search in the sorted list (its length is the outline's, not the cloud's).
   auto find = [&](std::uint32_t a, std::uint32_t b) {
-    const auto it = std::lower_bound(edges.begin(), edges.end(), FreeEdge{a, b, 0, {}}, key_less);
-    if (it == edges.end() || it->from != a || it->to != b)
+    auto key = [](std::uint32_t from, std::uint32_t to) { return (std::uint64_t{from} << 32) | to; };
+    const std::size_t i =
+        lower_index(edges.size(), [&](std::size_t k) { return key(edges[k].from, edges[k].to) < key(a, b); });
+    if (i == edges.size() || edges[i].from != a || edges[i].to != b)
       throw OutlineError("internal error: free edge " + std::to_string(a) + " -> " + std::to_string(b) + " missing");
-    return static_cast<std::size_t>(it - edges.begin());
+    return i;
   };
   std::vector<std::uint32_t> bverts;  // the boundary vertices, for the chain position of each
   for (const FreeEdge& e : edges) bverts.push_back(e.from);
   bverts.erase(std::unique(bverts.begin(), bverts.end()), bverts.end());  // sorted already
   auto vert_slot = [&](std::uint32_t v) {
-    return static_cast<std::size_t>(std::lower_bound(bverts.begin(), bverts.end(), v) - bverts.begin());
+    return lower_index(bverts.size(), [&](std::size_t k) { return bverts[k] < v; });
   };
   std::vector<Loop> loops;
   std::vector<std::uint8_t> used(edges.size(), 0);

@@ -16,6 +16,9 @@ namespace hg::outline {
 namespace {
 
 constexpr std::uint32_t kNone = 0xffffffffu;
+// The half-edges after and before half-edge i of a triangle (by table: i is as good as random, and
+// branches on it would mispredict a third of the time).
+constexpr std::uint32_t kAfter[3] = {1, 2, 0}, kBefore[3] = {2, 0, 1};
 
 std::string fmt(double v) {
   char buf[64];
@@ -35,14 +38,19 @@ class Builder {
   const Vec2* xy_;
   std::uint32_t ghost_;
   std::uint32_t slots_ = 0;  // triangles in use (tri/twin are sized for all of them up front)
-  // The cavity, and its boundary in counter-clockwise order: half-edge j runs from boundary_from_[j] to
-  // boundary_from_[j + 1], boundary_twin_[j] is its twin outside the cavity.
+  // The cavity, and its boundary in counter-clockwise order: half-edge j runs from boundary_[j].from to
+  // boundary_[j + 1].from, boundary_[j].twin is its twin outside the cavity (one array: one pointer less
+  // to keep in a register in the cavity search).
   // Scratch arrays, grown on demand (never shrunk): cavity_ gets two more entries for the new slots.
-  std::vector<std::uint32_t> cavity_, boundary_from_, boundary_twin_, stack_;
+  struct BoundaryEdge {
+    std::uint32_t from, twin;
+  };
+  std::vector<std::uint32_t> cavity_, stack_;
+  std::vector<BoundaryEdge> boundary_;
   void grow_scratch(std::size_t need) {
     if (need <= cavity_.size()) return;
     const std::size_t size = std::max(need, 2 * cavity_.size());
-    cavity_.resize(size), boundary_from_.resize(size), boundary_twin_.resize(size), stack_.resize(size);
+    cavity_.resize(size), boundary_.resize(size), stack_.resize(size);
   }
   std::size_t cavity_size_ = 0, boundary_size_ = 0;
   std::uint32_t last_ = 0;                    // DSHI: a triangle made by the previous insertion
@@ -59,6 +67,13 @@ class Builder {
   double incircle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec2& p) const {
     static_assert(sizeof(Vec2) == 2 * sizeof(double));  // x and y consecutive: loaded as one pair
     return pred::incircle_at(&xy_[a].x, &xy_[b].x, &xy_[c].x, &p.x);
+  }
+  // Edge i of the finite triangle v: sets bit i of `beyond` when p is strictly on its far side, of `on`
+  // when p is on its line (without a branch on the sign: the walk's next step depends on it).
+  void edge_side(const std::uint32_t* v, std::uint32_t i, const Vec2& p, unsigned& beyond, unsigned& on) {
+    const double o = orient(v[i], v[kAfter[i]], p);
+    beyond |= static_cast<unsigned>(o < 0) << i;
+    on |= static_cast<unsigned>(o == 0) << i;
   }
   // p strictly between u and v, given that the three are collinear.
   bool strictly_between(std::uint32_t u, std::uint32_t v, const Vec2& p) const {
@@ -89,12 +104,10 @@ class Builder {
     ++T_.stats.incircle_tests;
     return incircle(v[0], v[1], v[2], p) > 0;
   }
-  // Conflict test of the triangle across a cavity edge, entered by its half-edge g = b -> a (so its
-  // vertices counter-clockwise are b, a, c). Needs no ghost search: only these three are compared.
-  bool conflict_across(std::uint32_t g, const Vec2& p, std::uint64_t& orients, std::uint64_t& incircles) const {
-    const std::uint32_t* tri = T_.tri.data();
-    const std::uint32_t t = g / 3, i = g - 3 * t;
-    const std::uint32_t b = tri[g], a = tri[3 * t + (i == 2 ? 0 : i + 1)], c = tri[3 * t + (i == 0 ? 2 : i - 1)];
+  // Conflict test of the triangle (b, a, c) across a cavity edge, entered by its half-edge b -> a.
+  // Needs no ghost search: only these three are compared. Counts the orientation tests (ghosts) only: the
+  // incircle tests are the rest of the visits.
+  bool conflict_across(std::uint32_t b, std::uint32_t a, std::uint32_t c, const Vec2& p, std::uint64_t& orients) const {
     if (std::max(std::max(a, b), c) == ghost_) [[unlikely]] {  // ghost_ is the largest vertex id
       const std::uint32_t u = c == ghost_ ? b : (a == ghost_ ? c : a),
                           v = c == ghost_ ? a : (a == ghost_ ? b : c);  // finite edge u -> v
@@ -102,7 +115,6 @@ class Builder {
       const double o = pred::orient2d(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
       return o > 0 || (o == 0 && strictly_between(u, v, p));
     }
-    ++incircles;
     return incircle(b, a, c, p) > 0;
   }
 
@@ -134,32 +146,26 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
       t = twin[3 * t + ge] / 3;
       continue;
     }
-    double o[3];
-    int negatives = 0, first_neg = -1, second_neg = -1;
-    bool zero = false;
+    unsigned neg = 0, zero = 0;                  // bit i: p beyond edge i / on its line
     const std::uint32_t entered = from - 3 * t;  // 0..2: the edge we came through; otherwise none
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      if (i == entered) {
-        o[i] = 1;
-        continue;
-      }
-      o[i] = orient(v[i], v[i == 2 ? 0 : i + 1], p);
-      if (o[i] < 0) {
-        (negatives++ == 0 ? first_neg : second_neg) = static_cast<int>(i);
-      } else if (o[i] == 0) {
-        zero = true;
-      }
+    if (entered < 3) {                           // p is strictly inside that one: the other two
+      edge_side(v, kAfter[entered], p, neg, zero);
+      edge_side(v, kBefore[entered], p, neg, zero);
+    } else {
+      for (std::uint32_t i = 0; i < 3; ++i) edge_side(v, i, p, neg, zero);
     }
-    if (negatives == 0) {
+    if (neg == 0) {
       if (zero) {
         for (int i = 0; i < 3; ++i)
           if (xy_[v[i]].x == p.x && xy_[v[i]].y == p.y) dup_ = v[i];
       }
       return t;
     }
+    const int first_neg = __builtin_ctz(neg);
     int cross = first_neg;
-    if (negatives == 2) {
+    if (neg & (neg - 1)) {
       // Both edges around their shared vertex s see p: the centroid ray decides.
+      const int second_neg = 31 - __builtin_clz(neg);
       int incoming = first_neg, outgoing = second_neg;  // edge ending at s, edge starting at s
       if ((first_neg + 1) % 3 != second_neg) std::swap(incoming, outgoing);
       const std::uint32_t s = v[outgoing];
@@ -201,12 +207,11 @@ void Builder::find_duplicate_by_scan(const Vec2& p) {
 void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   const std::uint32_t* tri = T_.tri.data();
   const std::uint32_t* twin = T_.twin.data();
-  std::uint64_t visits = 0, orients = 0, incircles = 0;
+  std::uint64_t orients = 0;
   // Sizes: the stack holds at most cavity + 3 half-edges, the boundary cavity + 2; checked per triangle.
   grow_scratch(64);
   std::uint32_t* cav = cavity_.data();
-  std::uint32_t* ba = boundary_from_.data();
-  std::uint32_t* bo = boundary_twin_.data();
+  BoundaryEdge* bd = boundary_.data();
   std::uint32_t* st = stack_.data();
   std::size_t nc = 0, nb = 0, ns = 0, room = cavity_.size();
   cav[nc++] = t0;
@@ -216,28 +221,29 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   while (ns > 0) {
     const std::uint32_t h = st[--ns];
     const std::uint32_t g = twin[h];
-    ++visits;
-    if (conflict_across(g, p, orients, incircles)) {
+    const std::uint32_t t = g / 3, t3 = 3 * t, i = g - t3;
+    const std::uint32_t g_after = t3 + kAfter[i], g_before = t3 + kBefore[i];
+    if (conflict_across(tri[g], tri[g_after], tri[g_before], p, orients)) {
       if (nc + 8 > room) [[unlikely]] {
         grow_scratch(nc + 8);
-        cav = cavity_.data(), ba = boundary_from_.data(), bo = boundary_twin_.data(), st = stack_.data();
+        cav = cavity_.data(), bd = boundary_.data(), st = stack_.data();
         room = cavity_.size();
       }
-      const std::uint32_t t = g / 3, i = g - 3 * t;
       cav[nc++] = t;
-      st[ns++] = 3 * t + (i == 0 ? 2 : i - 1);  // then the edge after it
-      st[ns++] = 3 * t + (i == 2 ? 0 : i + 1);  // the edge after g first
+      st[ns++] = g_before;  // then the edge after it
+      st[ns++] = g_after;   // the edge after g first
     } else {
-      ba[nb] = tri[h];
-      bo[nb++] = g;
+      bd[nb++] = {tri[h], g};
     }
   }
   cavity_size_ = nc;
   boundary_size_ = nb;
   if (count) {
+    // Every triangle pushed two edges, t0 three: 2 nc + 1 visits, each an orientation or an incircle test.
+    const std::uint64_t visits = 2 * nc + 1;
     T_.stats.cavity_visits += visits;
     T_.stats.orient_tests += orients;
-    T_.stats.incircle_tests += incircles;
+    T_.stats.incircle_tests += visits - orients;
   }
 }
 
@@ -274,7 +280,7 @@ void Builder::insert(std::uint32_t v) {
     const bool ok = (w[0] == ds_vertex_ || w[1] == ds_vertex_ || w[2] == ds_vertex_) && ghost_edge(ds_tri_) == kNone;
     if (!ok)
       for (std::size_t j = 0; j < m; ++j) {
-        const std::uint32_t a = boundary_from_[j], b = boundary_from_[j + 1 == m ? 0 : j + 1];
+        const std::uint32_t a = boundary_[j].from, b = boundary_[j + 1 == m ? 0 : j + 1].from;
         if ((a == ds_vertex_ || b == ds_vertex_) && a != ghost_ && b != ghost_) ds_tri_ = cavity_[j];
       }
   }
@@ -285,17 +291,16 @@ void Builder::insert(std::uint32_t v) {
 // start among them.
 void Builder::star_cavity(std::uint32_t v, const Vec2& p) {
   const std::size_t m = boundary_size_;  // a disk of m - 2 triangles has m boundary edges
-  // Star the cavity from p: new triangle j = (boundary_from_[j], boundary_from_[j + 1], v), in the cavity's slots and
+  // Star the cavity from p: new triangle j = (boundary_[j].from, boundary_[j + 1].from, v), in the cavity's slots and
   // two appended. Its edge 0 faces the outside, edge 1 (b -> v) is edge 2 of triangle j + 1.
   // Room is kept: the cavity holds m - 2 entries, the arrays at least m + 5 (dig_cavity): the two new slots
   // and a copy of entry 0 after the last (no wrap-around test in the loop) fit.
   std::uint32_t* cav = cavity_.data();
-  std::uint32_t* from = boundary_from_.data();
-  const std::uint32_t* out = boundary_twin_.data();
+  BoundaryEdge* bd = boundary_.data();
   cav[cavity_size_] = slots_;
   cav[cavity_size_ + 1] = slots_ + 1;
   cav[m] = cav[0];
-  from[m] = from[0];
+  bd[m] = bd[0];
   slots_ += 2;
   std::uint32_t* tri = T_.tri.data();
   std::uint32_t* twin = T_.twin.data();
@@ -311,7 +316,7 @@ void Builder::star_cavity(std::uint32_t v, const Vec2& p) {
   bool left_of_prev = false;  // the direction to the next point is left of v -> a for the previous a (finite)
   std::uint32_t t_prev = cav[m - 1];
   for (std::size_t j = 0; j < m; ++j) {
-    const std::uint32_t t = cav[j], a = from[j], b = from[j + 1], o = out[j];
+    const std::uint32_t t = cav[j], a = bd[j].from, b = bd[j + 1].from, o = bd[j].twin;
     tri[3 * t] = a;
     tri[3 * t + 1] = b;
     tri[3 * t + 2] = v;
@@ -328,7 +333,10 @@ void Builder::star_cavity(std::uint32_t v, const Vec2& p) {
       nn2[a] = std::min(nn2[a], d2);
       if (finite_new == kNone && b != ghost_) finite_new = t;
       const bool left = dx * qy - dy * qx >= 0;
-      if (left_of_prev && !left) toward = t_prev;  // triangle j - 1 = (a_{j-1}, a_j, v) holds the direction
+      // Triangle j - 1 = (a_{j-1}, a_j, v) holds the direction when it turns here; chosen by a mask, as the
+      // turn's position around v is random (a branch on it mispredicted 2.4 times a point).
+      const std::uint32_t turn = 0u - static_cast<std::uint32_t>(left_of_prev & !left);
+      toward = (t_prev & turn) | (toward & ~turn);
       left_of_prev = left;
     } else {
       left_of_prev = false;

@@ -50,7 +50,8 @@ inline double orient2d(double ax, double ay, double bx, double by, double cx, do
   const double r = (ay - cy) * (bx - cx);
   const double det = l - r;
   const double bound = kOrientBound * (std::fabs(l) + std::fabs(r));
-  if (det > bound || -det > bound) return det;
+  // One test of the magnitude: a branch on det's sign here would be as unpredictable as the caller's.
+  if (std::fabs(det) > bound) return det;
   return orient2d_exact(ax, ay, bx, by, cx, cy);
 }
 
@@ -85,7 +86,7 @@ inline double incircle_pairs(v2 A, v2 B, v2 C, v2 D) {
   const v2 abs_ab = magnitude(ab);
   const double permanent = perms[0] + perms[1] + (abs_ab[0] + abs_ab[1]) * clift;
   const double bound = kIncircleBound * permanent;
-  if (det > bound || -det > bound) return det;
+  if (std::fabs(det) > bound) return det;  // as orient2d: no branch on the sign
   return incircle_exact(A[0], A[1], B[0], B[1], C[0], C[1], D[0], D[1]);
 }
 
