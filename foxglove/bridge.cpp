@@ -261,11 +261,11 @@ Converted Bridge::convert(const std::string& channel, const uint8_t* data, std::
       // the same chunk: the buffer does not move (and fault in new pages) at every cloud.
       std::size_t need = in_place->size() + size * 3 + 64;
       if (in_place->capacity() < need) in_place->reserve(need + need / 4);
-      to_json(schema_, *type, data, size, *in_place);
+      to_json(schema_, *type, data, size, *in_place, opt_.cancel);
       c.outputs.push_back({st.topic, {}, true});
     } else if (!wanted || wanted(st.topic)) {
       std::string json = spare_buffer(size * 3 + 64);
-      to_json(schema_, *type, data, size, json);
+      to_json(schema_, *type, data, size, json, opt_.cancel);
       c.outputs.push_back({st.topic, std::move(json)});
     }
     derive(*type, data, size, wanted, c);

@@ -19,6 +19,7 @@
 
 #include <Eigen/Geometry>
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -53,6 +54,8 @@ struct BridgeOptions {
   std::optional<Eigen::Isometry3d> camera_to_base, camera_to_flange;
   std::string base_frame = cell::Frames{}.base;  // the cell's frames.base
   std::string camera_frame = "camera";           // until a plate cloud names its frame
+  // Set (by the live server when it stops): a conversion under way gives up, its error "cancelled".
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct Output {

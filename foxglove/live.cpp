@@ -53,7 +53,7 @@ class Live {
   Live(runtime::Node& node, BridgeOptions bopt, WsServerOptions sopt, std::size_t queue_messages,
        std::size_t queue_bytes, bool idle)
       : node_(node),
-        bridge_(lcmtools::Schema::embedded(), std::move(bopt)),
+        bridge_(lcmtools::Schema::embedded(), with_cancel(std::move(bopt), &cancel_)),
         server_(std::move(sopt)),
         max_messages_(queue_messages),
         max_bytes_(queue_bytes) {
@@ -67,16 +67,25 @@ class Live {
       std::lock_guard<std::mutex> lock(mu_);
       stop_ = true;
     }
+    cancel_ = true;  // a conversion at idle priority might otherwise hold up the exit for as long as the cell is busy
     cv_.notify_one();
     worker_.join();
   }
   int port() const { return server_.bound_port(); }
 
-  // LCM thread: a copy into the queue, nothing else.
+  // LCM thread: a copy into the queue, nothing else. It never waits for the conversion thread: at idle
+  // priority, preempted while it holds mu_ (a pop, well under a microsecond), that thread may not run again
+  // for as long as the cell keeps both cores busy, and this thread also runs the heartbeat. After a short
+  // spin the message is dropped, counted.
   void on_message(const lcm::ReceiveBuffer& rb, const runtime::Delivery& d) {
     Pending p{d.channel, d.recv_utime, std::string(static_cast<const char*>(rb.data), rb.data_size)};
     {
-      std::lock_guard<std::mutex> lock(mu_);
+      std::unique_lock<std::mutex> lock(mu_, std::defer_lock);
+      for (int i = 0; i < 1000 && !lock.try_lock(); ++i) std::this_thread::yield();
+      if (!lock.owns_lock()) {
+        node_.count_dropped();
+        return;
+      }
       if (p.bytes.size() >= kSmall) replace_waiting(p.channel);
       bytes_ += p.bytes.size();
       queue_.push_back(std::move(p));
@@ -147,7 +156,7 @@ class Live {
     auto wanted = [&](int t) { return p.bytes.size() < kSmall || t >= known || server_.subscribed(t); };
     Converted c = bridge_.convert(p.channel, data, p.bytes.size(), wanted);
     if (c.unknown_type) ++unknown_;
-    if (!c.error.empty()) node_.count_decode_error(p.channel, c.error);
+    if (!c.error.empty() && !cancel_) node_.count_decode_error(p.channel, c.error);
     send(std::move(c), p.recv_utime);
   }
 
@@ -172,8 +181,14 @@ class Live {
     }
   }
 
+  static BridgeOptions with_cancel(BridgeOptions o, const std::atomic<bool>* cancel) {
+    o.cancel = cancel;
+    return o;
+  }
+
   runtime::Node& node_;
-  Bridge bridge_;  // worker thread only
+  std::atomic<bool> cancel_{false};  // before bridge_, which holds its address
+  Bridge bridge_;                    // worker thread only
   WsServer server_;
   std::size_t max_messages_, max_bytes_;
   std::mutex mu_;
