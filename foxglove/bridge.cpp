@@ -429,6 +429,7 @@ void Bridge::derive(const lcmtools::Struct& type, const uint8_t* data, std::size
     hullgrind::plate_cloud_t& m = *cloud_;
     bool need_points = want(pts);
     if (!need_points && !opt_.camera_to_base && !opt_.camera_to_flange) return;
+    if (opt_.cancel && opt_.cancel->load()) throw Cancelled();  // decoding a cloud takes milliseconds
     if (!decode_generated(m, data, size)) throw DecodeError("plate_cloud_t refused by its generated class");
     if (need_points) {
       std::size_t points = std::min<std::size_t>(std::max(0, m.n), opt_.max_points ? opt_.max_points : SIZE_MAX);
