@@ -7,6 +7,7 @@
 #include <condition_variable>
 #include <cstring>
 #include <deque>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -99,7 +100,9 @@ class Live {
   }
 
   void health() {
-    WsStats st = server_.stats();
+    std::optional<WsStats> maybe = server_.try_stats();
+    if (!maybe) return;  // the conversion thread holds the server's lock: the state text of a second ago stays
+    const WsStats& st = *maybe;
     std::int64_t dropped_clients = 0;
     std::string text = std::to_string(st.clients.size()) + " clients";
     for (const WsClientStats& c : st.clients) {
