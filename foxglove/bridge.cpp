@@ -233,7 +233,7 @@ Converted Bridge::camera_transform(int64_t utime) {
 }
 
 Converted Bridge::convert(const std::string& channel, const uint8_t* data, std::size_t size,
-                          const std::function<bool(int)>& wanted) {
+                          const std::function<bool(int)>& wanted, std::string* in_place) {
   Converted c;
   int64_t fp = 0;
   for (std::size_t i = 0; i < 8 && i < size; ++i) fp = static_cast<int64_t>((static_cast<uint64_t>(fp) << 8) | data[i]);
@@ -261,9 +261,16 @@ Converted Bridge::convert(const std::string& channel, const uint8_t* data, std::
     std::size_t consumed = 0;
     schema_.decode(*type, data, size, consumed, lcmtools::DecodeOptions{false, 0});
     if (consumed != size) throw DecodeError(std::to_string(size - consumed) + " trailing bytes");
-    if (!wanted || wanted(st.topic)) {
+    if (in_place) {
+      // Room for the text's usual size, and a quarter more for the small messages before the next cloud in
+      // the same chunk: the buffer does not move (and fault in new pages) at every cloud.
+      std::size_t need = in_place->size() + size * 3 + 64;
+      if (in_place->capacity() < need) in_place->reserve(need + need / 4);
+      to_json(schema_, *type, data, size, *in_place, opt_.cancel);
+      c.outputs.push_back({st.topic, {}, true});
+    } else if (!wanted || wanted(st.topic)) {
       std::string json = spare_buffer(size * 3 + 64);
-      to_json(schema_, *type, data, size, json);
+      to_json(schema_, *type, data, size, json, opt_.cancel);
       c.outputs.push_back({st.topic, std::move(json)});
     }
     derive(*type, data, size, wanted, c);
@@ -299,7 +306,9 @@ std::string cloud_bytes(const hullgrind::plate_cloud_t& m, std::size_t step) {
   return out;
 }
 
-std::string point_cloud_json(const hullgrind::plate_cloud_t& m, std::size_t max_points) {
+// Appended to s: a recycled buffer (Bridge::spare_buffer), so that the 3 MB of text of each cloud go into
+// pages already touched.
+void point_cloud_json(const hullgrind::plate_cloud_t& m, std::size_t max_points, std::string& s) {
   std::size_t n = static_cast<std::size_t>(std::max(0, m.n));
   std::size_t step = max_points == 0 || n <= max_points ? 1 : (n + max_points - 1) / max_points;
   Json fields = Json::array();
@@ -310,13 +319,13 @@ std::string point_cloud_json(const hullgrind::plate_cloud_t& m, std::size_t max_
             {"pose", identity_pose()},
             {"point_stride", 12},
             {"fields", fields}};
-  std::string s = head.dump();
+  std::string bytes = cloud_bytes(m, step);
+  s += head.dump();
   s.pop_back();  // '}': the data goes in as text, not through a JSON value
   s += ",\"data\":\"";
-  std::string bytes = cloud_bytes(m, step);
+  s.reserve(s.size() + bytes.size() / 3 * 4 + 8);
   append_base64(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), s);
   s += "\"}";
-  return s;
 }
 
 Json outline_lines(const hullgrind::outline_t& m) {
@@ -413,8 +422,13 @@ void Bridge::derive(const lcmtools::Struct& type, const uint8_t* data, std::size
     hullgrind::plate_cloud_t& m = *cloud_;
     bool need_points = want(pts);
     if (!need_points && !opt_.camera_to_base && !opt_.camera_to_flange) return;
+    if (opt_.cancel && opt_.cancel->load()) throw Cancelled();  // decoding a cloud takes milliseconds
     if (!decode_generated(m, data, size)) throw DecodeError("plate_cloud_t refused by its generated class");
-    if (need_points) c.outputs.push_back({pts, point_cloud_json(m, opt_.max_points)});
+    if (need_points) {
+      std::size_t points = std::min<std::size_t>(std::max(0, m.n), opt_.max_points ? opt_.max_points : SIZE_MAX);
+      c.outputs.push_back({pts, spare_buffer(points * 16 + 1024)});  // 12 bytes a point as base64, the head
+      point_cloud_json(m, opt_.max_points, c.outputs.back().payload);
+    }
     if (opt_.camera_to_flange && m.flange_valid)
       base_camera = pose_of(m.flange_position, m.flange_orientation) * *opt_.camera_to_flange;
     else if (opt_.camera_to_base)

@@ -19,6 +19,7 @@
 
 #include <Eigen/Geometry>
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -53,11 +54,14 @@ struct BridgeOptions {
   std::optional<Eigen::Isometry3d> camera_to_base, camera_to_flange;
   std::string base_frame = cell::Frames{}.base;  // the cell's frames.base
   std::string camera_frame = "camera";           // until a plate cloud names its frame
+  // Set (by the live server when it stops): a conversion under way gives up, its error "cancelled".
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct Output {
-  int topic;            // index into Bridge::topics()
-  std::string payload;  // JSON text (or the raw LCM bytes for a raw channel)
+  int topic;              // index into Bridge::topics()
+  std::string payload;    // JSON text (or the raw LCM bytes for a raw channel)
+  bool in_place = false;  // the payload was appended to convert's `in_place` buffer instead (payload empty)
 };
 
 struct Converted {
@@ -77,9 +81,11 @@ class Bridge {
   const lcmtools::Schema& schema() const { return schema_; }
 
   // One LCM message. wanted(topic) says whether the payload of that topic is needed (the live server
-  // builds only what someone subscribed to; nullptr: everything). Never throws on bad bytes.
+  // builds only what someone subscribed to; nullptr: everything). Never throws on bad bytes. in_place (hg-mcap:
+  // the MCAP writer's open chunk): the JSON of the channel's own topic is appended there, as the first
+  // output, marked in_place; after an error it may hold part of a text the caller drops.
   Converted convert(const std::string& channel, const std::uint8_t* data, std::size_t size,
-                    const std::function<bool(int)>& wanted = nullptr);
+                    const std::function<bool(int)>& wanted = nullptr, std::string* in_place = nullptr);
   // The base <- camera transform of an eye-to-hand cell on /tf at utime (the live server sends it every
   // second, so a client that connects between jobs has the camera too); nothing without a calibration or
   // for an eye-in-hand cell (its camera moves: the transform comes with each cloud).

@@ -406,6 +406,7 @@ struct Encoder {
   std::size_t size;
   std::size_t pos;
   std::string& out;
+  const std::atomic<bool>* cancel;
 
   void need(std::size_t n, const std::string& field) const {
     if (n > size - pos)
@@ -472,6 +473,7 @@ struct Encoder {
     out.push_back('[');
     const uint8_t* src = d + pos;
     for (std::size_t i = 0; i < n; i += block) {
+      if (cancel && cancel->load(std::memory_order_relaxed)) throw Cancelled();
       std::size_t m = std::min(block, n - i);
       char* p = scratch;
       for (std::size_t k = 0; k < m; ++k, src += sizeof(Raw)) {
@@ -567,8 +569,9 @@ struct Encoder {
 
 }  // namespace
 
-void to_json(const Schema& schema, const Struct& s, const uint8_t* data, std::size_t size, std::string& out) {
-  Encoder enc{schema, data, size, 0, out};
+void to_json(const Schema& schema, const Struct& s, const uint8_t* data, std::size_t size, std::string& out,
+             const std::atomic<bool>* cancel) {
+  Encoder enc{schema, data, size, 0, out, cancel};
   enc.need(8, "fingerprint");
   if (static_cast<int64_t>(enc.be(8)) != schema.fingerprint(s))
     throw DecodeError("fingerprint is not that of " + s.full_name());

@@ -13,8 +13,10 @@
 // is 5 M floats, and the live server and hg-mcap both run this on every message.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 
 #include "tools/lcm_tools/lcm_schema.hpp"
@@ -28,10 +30,18 @@ using lcmtools::Struct;
 // The JSON Schema of the JSON that to_json writes for messages of type s; "title" is the full type name.
 Json json_schema(const Schema& schema, const Struct& s);
 
+// Thrown by to_json when its cancel flag is set: the live server is stopping (its conversion runs at idle
+// priority and may get no core for seconds; it gives up within a block of 1024 numbers).
+struct Cancelled : std::runtime_error {
+  Cancelled() : std::runtime_error("cancelled") {}
+};
+
 // Appends the JSON text of one whole LCM message (fingerprint + body) of type s to out. Throws
 // lcmtools::DecodeError (naming the field and byte offset) on a wrong fingerprint, truncated or lying
-// lengths, or trailing bytes; out is then left with a partial text the caller discards.
-void to_json(const Schema& schema, const Struct& s, const std::uint8_t* data, std::size_t size, std::string& out);
+// lengths, or trailing bytes, and Cancelled once *cancel is true; out is then left with a partial text the
+// caller discards.
+void to_json(const Schema& schema, const Struct& s, const std::uint8_t* data, std::size_t size, std::string& out,
+             const std::atomic<bool>* cancel = nullptr);
 
 // Standard base64 (RFC 4648, with padding), appended to out.
 void append_base64(const std::uint8_t* data, std::size_t size, std::string& out);

@@ -1,7 +1,13 @@
 #include "live.hpp"
 
+#include <pthread.h>
+#include <sched.h>
+
+#include <algorithm>
 #include <condition_variable>
+#include <cstring>
 #include <deque>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -23,6 +29,20 @@ namespace {
 // is converted only for a subscriber.
 constexpr std::size_t kSmall = 4u << 20;
 
+// The conversion thread at SCHED_IDLE (Linux, per thread; an unprivileged thread may lower itself to it):
+// it then runs only on a core no other thread of the machine wants, so turning 19 MB clouds into JSON for
+// viewers never takes a core from the outline service. What it cannot keep up with waits in the bounded
+// queue and is dropped there, counted. The LCM thread, the heartbeat and the server's thread (accepting
+// connections, writing shared payloads) stay at normal priority.
+void enter_conversion_thread(bool idle) {
+  pthread_setname_np(pthread_self(), "hg-fox-convert");  // /proc/PID/task/TID/comm: tests and top see it
+  if (!idle) return;
+  sched_param sp{};  // SCHED_IDLE has one priority, 0
+  if (int err = pthread_setschedparam(pthread_self(), SCHED_IDLE, &sp))
+    runtime::logf(runtime::Level::Warn, "cannot run the conversion at idle priority (%s): it runs at normal priority",
+                  std::strerror(err));
+}
+
 struct Pending {
   std::string channel;
   std::int64_t recv_utime;
@@ -32,29 +52,42 @@ struct Pending {
 class Live {
  public:
   Live(runtime::Node& node, BridgeOptions bopt, WsServerOptions sopt, std::size_t queue_messages,
-       std::size_t queue_bytes)
+       std::size_t queue_bytes, bool idle)
       : node_(node),
-        bridge_(lcmtools::Schema::embedded(), std::move(bopt)),
+        bridge_(lcmtools::Schema::embedded(), with_cancel(std::move(bopt), &cancel_)),
         server_(std::move(sopt)),
         max_messages_(queue_messages),
         max_bytes_(queue_bytes) {
-    worker_ = std::thread([this] { work(); });
+    worker_ = std::thread([this, idle] {
+      enter_conversion_thread(idle);
+      work();
+    });
   }
   ~Live() {
     {
       std::lock_guard<std::mutex> lock(mu_);
       stop_ = true;
     }
+    cancel_ = true;  // a conversion at idle priority might otherwise hold up the exit for as long as the cell is busy
     cv_.notify_one();
     worker_.join();
   }
   int port() const { return server_.bound_port(); }
 
-  // LCM thread: a copy into the queue, nothing else.
+  // LCM thread: a copy into the queue, nothing else. It never waits for the conversion thread: at idle
+  // priority, preempted while it holds mu_ (a pop, well under a microsecond), that thread may not run again
+  // for as long as the cell keeps both cores busy, and this thread also runs the heartbeat. After a short
+  // spin the message is dropped, counted.
   void on_message(const lcm::ReceiveBuffer& rb, const runtime::Delivery& d) {
     Pending p{d.channel, d.recv_utime, std::string(static_cast<const char*>(rb.data), rb.data_size)};
     {
-      std::lock_guard<std::mutex> lock(mu_);
+      std::unique_lock<std::mutex> lock(mu_, std::defer_lock);
+      for (int i = 0; i < 1000 && !lock.try_lock(); ++i) std::this_thread::yield();
+      if (!lock.owns_lock()) {
+        node_.count_dropped();
+        return;
+      }
+      if (p.bytes.size() >= kSmall) replace_waiting(p.channel);
       bytes_ += p.bytes.size();
       queue_.push_back(std::move(p));
       while (queue_.size() > max_messages_ || (bytes_ > max_bytes_ && queue_.size() > 1)) {
@@ -67,7 +100,9 @@ class Live {
   }
 
   void health() {
-    WsStats st = server_.stats();
+    std::optional<WsStats> maybe = server_.try_stats();
+    if (!maybe) return;  // the conversion thread holds the server's lock: the state text of a second ago stays
+    const WsStats& st = *maybe;
     std::int64_t dropped_clients = 0;
     std::string text = std::to_string(st.clients.size()) + " clients";
     for (const WsClientStats& c : st.clients) {
@@ -82,6 +117,17 @@ class Live {
   }
 
  private:
+  // A big message (a cloud) replaces the one of its channel still waiting: a viewer gets the newest cloud,
+  // not one that waited while the conversion had no core (mu_ held).
+  void replace_waiting(const std::string& channel) {
+    auto old = std::find_if(queue_.begin(), queue_.end(),
+                            [&](const Pending& q) { return q.bytes.size() >= kSmall && q.channel == channel; });
+    if (old == queue_.end()) return;
+    bytes_ -= old->bytes.size();
+    queue_.erase(old);
+    node_.count_dropped();
+  }
+
   void work() {
     auto next_tf = std::chrono::steady_clock::now();
     for (;;) {
@@ -113,7 +159,7 @@ class Live {
     auto wanted = [&](int t) { return p.bytes.size() < kSmall || t >= known || server_.subscribed(t); };
     Converted c = bridge_.convert(p.channel, data, p.bytes.size(), wanted);
     if (c.unknown_type) ++unknown_;
-    if (!c.error.empty()) node_.count_decode_error(p.channel, c.error);
+    if (!c.error.empty() && !cancel_) node_.count_decode_error(p.channel, c.error);
     send(std::move(c), p.recv_utime);
   }
 
@@ -138,8 +184,14 @@ class Live {
     }
   }
 
+  static BridgeOptions with_cancel(BridgeOptions o, const std::atomic<bool>* cancel) {
+    o.cancel = cancel;
+    return o;
+  }
+
   runtime::Node& node_;
-  Bridge bridge_;  // worker thread only
+  std::atomic<bool> cancel_{false};  // before bridge_, which holds its address
+  Bridge bridge_;                    // worker thread only
   WsServer server_;
   std::size_t max_messages_, max_bytes_;
   std::mutex mu_;
@@ -185,9 +237,11 @@ runtime::ProcessInfo process_info() {
       "<- tcp from HG_ROBOT_STATUS), /hg/log (foxglove.Log: log lines and job statuses). hg-mcap writes the same topics.\n"
       "Open ws://HOST:PORT in Foxglove or Lichtblick. No client publishing unless --client-publish: then an\n"
       "operator of --users-file (the station's users file) who logs in with HTTP Basic on the upgrade\n"
-      "(ws://USER:PASSWORD@HOST:PORT) may publish HG_JOB_REQUEST as JSON. A slow client misses frames\n"
-      "(counted per client in the heartbeat's state text); a client sending garbage is disconnected with a\n"
-      "close reason. Details: docs/foxglove.md.",
+      "(ws://USER:PASSWORD@HOST:PORT) may publish HG_JOB_REQUEST as JSON. The conversion runs at idle\n"
+      "scheduling priority (--conversion-priority): it takes no core the cell wants, and what waits too long\n"
+      "is dropped (the heartbeat's dropped). A slow client misses frames (counted per client in the\n"
+      "heartbeat's state text); a client sending garbage is disconnected with a close reason. Details:\n"
+      "docs/foxglove.md.",
       {text_param("host", "127.0.0.1", "address to listen on (loopback: the cell's traffic stays on the machine)"),
        integer_param("port", "8765", "TCP port (0: any free port, logged)", 0, 65535),
        integer_param("max-points", "200000", "foxglove.PointCloud: at most this many points (every k-th; 0 = all)", 0,
@@ -205,6 +259,10 @@ runtime::ProcessInfo process_info() {
                      1e6),
        integer_param("queue-mb", "256", "MB of LCM messages waiting for conversion before the oldest is dropped", 1,
                      1e5),
+       text_param("conversion-priority", "idle",
+                  "the conversion thread's scheduling: idle (SCHED_IDLE: only a core the cell leaves free; what "
+                  "waits too long is dropped, counted) or normal (viewers get more, the cell gets slower)",
+                  {"idle", "normal"}),
        cell::moved_to_cell({{"base-frame", "frames.base"}}).front()}};
 }
 
@@ -242,7 +300,8 @@ std::shared_ptr<void> attach(runtime::Node& node) {
   if (node.params().flag("client-publish")) enable_publishing(node, s);
   auto live = std::make_shared<Live>(node, bridge_options(node), s,
                                      static_cast<std::size_t>(node.params().integer("queue-messages")),
-                                     static_cast<std::size_t>(node.params().integer("queue-mb")) << 20);
+                                     static_cast<std::size_t>(node.params().integer("queue-mb")) << 20,
+                                     node.params().text("conversion-priority") == "idle");
   runtime::logf(runtime::Level::Info, "serving the bus on ws://%s:%d (Foxglove WebSocket protocol)", s.host.c_str(),
                 live->port());
   node.subscribe_raw(".*",

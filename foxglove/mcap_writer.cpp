@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <string_view>
 
@@ -53,17 +54,20 @@ uint32_t crc32_of(uint32_t crc, const void* data, std::size_t size) { return lib
 }  // namespace
 
 // The zstd context, made once: ZSTD_compress would allocate (and fault in) a context of several MB for
-// every chunk (LZ4F_compressFrame's state is small). The output buffer only grows: resizing a std::string
-// fills the new part, which for a chunk of a cloud would be a memset of 40 MB per chunk.
-// Level 1 with a hash table of 2^12 entries instead of level 1's 2^13: 16 kB, which stays in the L1 cache;
-// on the JSON text of a cloud's numbers (few long matches) about 10 % less CPU and 5 % smaller chunks
-// (docs/BENCHMARKS.md, "hg-mcap").
+// every chunk (LZ4F_compressFrame's state is small). The output buffer only grows and is never filled
+// first: a std::string's resize would write zeros over all of ZSTD_compressBound (the size of a cloud's
+// chunk, 36 MB) and copy the old bytes, faulting in every page of it, where the compressed chunk (6 MB)
+// touches only the pages it writes (docs/BENCHMARKS.md, "hg-mcap").
+// Level 1 with a hash table of 2^10 entries instead of level 1's 2^13: 4 kB, which stays in the L1 cache; on
+// the JSON text of a cloud's numbers (few long matches; a small table keeps the nearest ones) less CPU and
+// smaller chunks than 2^13 and 2^12 (docs/BENCHMARKS.md, "hg-mcap").
 struct McapWriter::Compressor {
   ZSTD_CCtx* zstd = ZSTD_createCCtx();
-  std::string out;
+  std::unique_ptr<char[]> out;
+  std::size_t capacity = 0;
   Compressor() {
     if (!zstd || ZSTD_isError(ZSTD_CCtx_setParameter(zstd, ZSTD_c_compressionLevel, 1)) ||
-        ZSTD_isError(ZSTD_CCtx_setParameter(zstd, ZSTD_c_hashLog, 12)))
+        ZSTD_isError(ZSTD_CCtx_setParameter(zstd, ZSTD_c_hashLog, 10)))
       throw std::runtime_error("cannot make a zstd context");
   }
   ~Compressor() { ZSTD_freeCCtx(zstd); }
@@ -72,22 +76,24 @@ struct McapWriter::Compressor {
   std::string_view compress(Compression c, const std::string& in) {
     if (c == Compression::Zstd) {
       reserve(ZSTD_compressBound(in.size()));
-      std::size_t n = ZSTD_compress2(zstd, out.data(), out.size(), in.data(), in.size());
+      std::size_t n = ZSTD_compress2(zstd, out.get(), capacity, in.data(), in.size());
       if (ZSTD_isError(n)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(n));
-      return {out.data(), n};
+      return {out.get(), n};
     }
     if (c == Compression::Lz4) {
       LZ4F_preferences_t prefs{};
       prefs.frameInfo.contentSize = in.size();
       reserve(LZ4F_compressFrameBound(in.size(), &prefs));
-      std::size_t n = LZ4F_compressFrame(out.data(), out.size(), in.data(), in.size(), &prefs);
+      std::size_t n = LZ4F_compressFrame(out.get(), capacity, in.data(), in.size(), &prefs);
       if (LZ4F_isError(n)) throw std::runtime_error(std::string("lz4: ") + LZ4F_getErrorName(n));
-      return {out.data(), n};
+      return {out.get(), n};
     }
     return in;
   }
   void reserve(std::size_t n) {
-    if (out.size() < n) out.resize(n);
+    if (capacity >= n) return;
+    out.reset(new char[n]);  // not value-initialised: no page is touched before the compressor writes it
+    capacity = n;
   }
 };
 
@@ -176,15 +182,34 @@ uint16_t McapWriter::add_channel(uint16_t schema_id, const std::string& topic, c
 
 void McapWriter::write_message(uint16_t channel, uint32_t sequence, uint64_t log_time, uint64_t publish_time,
                                const void* data, std::size_t size) {
-  if (chunk_.empty()) chunk_start_ = chunk_end_ = log_time;
-  chunk_index_[channel].emplace_back(log_time, chunk_.size());
+  begin_message(log_time, publish_time).append(static_cast<const char*>(data), size);
+  end_message(channel, sequence);
+}
+
+// The message record's head with its length, channel and sequence still zero: end_message fills them in.
+std::string& McapWriter::begin_message(uint64_t log_time, uint64_t publish_time) {
+  message_start_ = chunk_.size();
+  message_time_ = log_time;
   chunk_.push_back(static_cast<char>(kMessage));
-  put<uint64_t>(chunk_, 2 + 4 + 8 + 8 + size);
-  put<uint16_t>(chunk_, channel);
-  put<uint32_t>(chunk_, sequence);
+  put<uint64_t>(chunk_, 0);
+  put<uint16_t>(chunk_, 0);
+  put<uint32_t>(chunk_, 0);
   put<uint64_t>(chunk_, log_time);
   put<uint64_t>(chunk_, publish_time);
-  chunk_.append(static_cast<const char*>(data), size);
+  return chunk_;
+}
+
+void McapWriter::cancel_message() { chunk_.resize(message_start_); }
+
+void McapWriter::end_message(uint16_t channel, uint32_t sequence) {
+  const uint64_t log_time = message_time_;
+  std::string fields;
+  put<uint64_t>(fields, chunk_.size() - message_start_ - 9);  // the record's length: all after opcode and length
+  put<uint16_t>(fields, channel);
+  put<uint32_t>(fields, sequence);
+  std::memcpy(chunk_.data() + message_start_ + 1, fields.data(), fields.size());
+  if (message_start_ == 0) chunk_start_ = chunk_end_ = log_time;
+  chunk_index_[channel].emplace_back(log_time, message_start_);
   chunk_start_ = std::min(chunk_start_, log_time);
   chunk_end_ = std::max(chunk_end_, log_time);
   if (message_count_ == 0) start_time_ = end_time_ = log_time;

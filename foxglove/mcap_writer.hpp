@@ -43,6 +43,12 @@ class McapWriter {
   // Times in nanoseconds since the epoch.
   void write_message(std::uint16_t channel, std::uint32_t sequence, std::uint64_t log_time, std::uint64_t publish_time,
                      const void* data, std::size_t size);
+  // A message written in place: the caller appends its payload to the returned buffer (the open chunk),
+  // then ends it with its channel and sequence, or cancels it (which drops whatever was appended). A cloud's
+  // 36 MB of JSON text is then written once, not written and copied. No other message may come between.
+  std::string& begin_message(std::uint64_t log_time, std::uint64_t publish_time);
+  void end_message(std::uint16_t channel, std::uint32_t sequence);
+  void cancel_message();
   // Closes the last chunk and writes the summary and the footer. Call once.
   void finish();
 
@@ -87,6 +93,8 @@ class McapWriter {
   std::string chunk_;
   std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> chunk_index_;
   std::uint64_t chunk_start_ = 0, chunk_end_ = 0;
+  std::size_t message_start_ = 0;  // of the message begun in place
+  std::uint64_t message_time_ = 0;
 
   std::vector<ChunkIndex> chunks_;
   std::map<std::uint16_t, std::uint64_t> channel_counts_;

@@ -39,8 +39,11 @@ ToMcapStats lcmlog_to_mcap(const std::uint8_t* log, std::size_t size, std::FILE*
     if (e.utime < opt.start_utime || e.utime > opt.end_utime) continue;
     ++st.events;
     std::string channel(e.channel);
-    Converted c = bridge.convert(channel, e.data, e.size);
+    auto time = static_cast<std::uint64_t>(std::max<std::int64_t>(0, e.utime)) * 1000;
+    // The channel's own JSON goes straight into the open chunk (a cloud's text is written once, not copied).
+    Converted c = bridge.convert(channel, e.data, e.size, nullptr, &writer.begin_message(time, time));
     for (int t : c.new_topics) sink.add(bridge.topics()[t], static_cast<std::size_t>(t));
+    if (c.outputs.empty() || !c.outputs.front().in_place) writer.cancel_message();
     if (c.unknown_type) ++st.unknown;
     if (!c.error.empty()) {
       if (st.skipped.size() < 100) st.skipped.emplace_back(channel, e.number);
@@ -48,10 +51,11 @@ ToMcapStats lcmlog_to_mcap(const std::uint8_t* log, std::size_t size, std::FILE*
         st.first_decode_error = channel + " event " + std::to_string(e.number) + ": " + c.error;
       continue;
     }
-    auto time = static_cast<std::uint64_t>(std::max<std::int64_t>(0, e.utime)) * 1000;
     for (Output& o : c.outputs) {
-      writer.write_message(static_cast<std::uint16_t>(sink.channel_of[o.topic]), sink.sequence[o.topic]++, time, time,
-                           o.payload.data(), o.payload.size());
+      const auto mcap_channel = static_cast<std::uint16_t>(sink.channel_of[o.topic]);
+      if (o.in_place) writer.end_message(mcap_channel, sink.sequence[o.topic]++);
+      else
+        writer.write_message(mcap_channel, sink.sequence[o.topic]++, time, time, o.payload.data(), o.payload.size());
       ++st.per_topic[bridge.topics()[o.topic].name];
       ++st.messages;
       bridge.recycle(std::move(o.payload));

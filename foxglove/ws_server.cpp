@@ -487,8 +487,18 @@ bool WsServer::subscribed(int channel) const {
 }
 
 WsStats WsServer::stats() const {
+  std::unique_lock<std::mutex> lock(impl_->mu);
+  return stats_locked();
+}
+
+std::optional<WsStats> WsServer::try_stats() const {
+  std::unique_lock<std::mutex> lock(impl_->mu, std::try_to_lock);
+  if (!lock.owns_lock()) return std::nullopt;
+  return stats_locked();
+}
+
+WsStats WsServer::stats_locked() const {
   WsStats st;
-  std::lock_guard<std::mutex> lock(impl_->mu);
   for (const auto& s : impl_->sessions)
     st.clients.push_back(WsClientStats{s->peer, s->sent.load(), s->dropped.load(), s->subscription_count.load()});
   st.disconnected_garbage = impl_->garbage.load();

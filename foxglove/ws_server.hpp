@@ -15,6 +15,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -91,10 +92,14 @@ class WsServer {
   void publish(int channel_id, std::uint64_t timestamp_ns, std::shared_ptr<const std::string> payload);
   bool subscribed(int channel_id) const;
   WsStats stats() const;
+  // The same, or nothing when another thread holds the lock: for a caller that must not wait (the heartbeat
+  // of hg-foxglove, whose conversion thread, at idle priority, may be preempted inside subscribed()).
+  std::optional<WsStats> try_stats() const;
 
   struct Impl;
 
  private:
+  WsStats stats_locked() const;  // with impl_->mu held
   std::shared_ptr<Impl> impl_;
 };
 

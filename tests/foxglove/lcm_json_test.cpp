@@ -202,6 +202,22 @@ TEST(FoxgloveLcmJson, LongArraysComeBackElementByElement) {
   }
 }
 
+// The live server's stop: a set cancel flag ends the text of a long array with Cancelled; an unset one
+// changes nothing.
+TEST(FoxgloveLcmJson, CancelFlagStopsALongArray) {
+  Schema schema = Schema::embedded();
+  const Struct& s = *schema.find("hullgrind.plate_cloud_t");
+  Gen gen{schema, std::mt19937_64(7)};
+  gen.top_level_max = 20000;
+  std::vector<uint8_t> bytes = schema.encode(s, gen.object(s));
+  std::string plain, unset, cancelled;
+  std::atomic<bool> no{false}, yes{true};
+  hg::foxglove::to_json(schema, s, bytes.data(), bytes.size(), plain);
+  hg::foxglove::to_json(schema, s, bytes.data(), bytes.size(), unset, &no);
+  EXPECT_EQ(unset, plain);
+  EXPECT_THROW(hg::foxglove::to_json(schema, s, bytes.data(), bytes.size(), cancelled, &yes), hg::foxglove::Cancelled);
+}
+
 TEST(FoxgloveLcmJson, CutAndCorruptedBytesThrowDecodeErrorNeverCrash) {
   Schema schema = Schema::embedded();
   std::mt19937_64 rng(7);

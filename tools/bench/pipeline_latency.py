@@ -149,12 +149,14 @@ def loadavg():
         return " ".join(f.read().split()[:3])
 
 
-def start_clients(n):
-    """n Foxglove viewers on ws://127.0.0.1:8765, each subscribed to every channel once advertised."""
+def start_clients(n, idle=False):
+    """n Foxglove viewers on ws://127.0.0.1:8765, each subscribed to every channel once advertised; idle: at
+    idle scheduling priority (`chrt --idle 0`), so that they use only CPU the cell leaves free."""
     npm = os.environ.get("HG_NPM_DIR", os.path.join(SRC, "build", "npm"))
     env = dict(os.environ, NODE_PATH=os.path.join(npm, "node_modules"))
-    return [subprocess.Popen(["node", os.path.join(HERE, "foxglove_client.js")], stdout=subprocess.PIPE, text=True, env=env)
-            for _ in range(n)]
+    chrt = ["chrt", "--idle", "0"] if idle else []
+    return [subprocess.Popen(chrt + ["node", os.path.join(HERE, "foxglove_client.js")], stdout=subprocess.PIPE, text=True,
+                             env=env) for _ in range(n)]
 
 
 def stop_clients(clients):
