@@ -92,6 +92,12 @@ std::string quantity_option(const Json& options, const quantity::Quantity& q, do
 
 std::string actor_of(const Session& s) { return "operator " + s.user; }
 
+// The wall clock in microseconds, as LCM's receive times.
+std::int64_t wall_utime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
 }  // namespace
 
 HttpResponse json_error(int status, const std::string& message) {
@@ -162,7 +168,7 @@ std::string apply_options(const Json& options, const OptionLimits& limits, job_r
   return "";
 }
 
-Api::Api(ApiConfig config, std::vector<User> users, Sessions& sessions, LoginLimiter& limiter, const LiveState& live,
+Api::Api(ApiConfig config, std::vector<User> users, Sessions& sessions, LoginLimiter& limiter, LiveState& live,
          const History& history, RequestSink sink)
     : config_(std::move(config)),
       sessions_(sessions),
@@ -302,9 +308,7 @@ HttpResponse Api::logout(const HttpRequest& req) {
 }
 
 HttpResponse Api::cell() const {
-  const std::int64_t now =
-      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-          .count();
+  const std::int64_t now = wall_utime();
   Json processes = live_.processes(now), robot = live_.robot(now);
   Json faults = Json::array();
   for (const Json& p : processes)
@@ -373,7 +377,9 @@ HttpResponse Api::start_job(const Session& s, const Json& body) {
   req.part_id = body["part_id"];
   req.action = job_request_t::ACTION_START;
   req.actor = actor_of(s);
-  return send(req, 202, {{"job_id", req.job_id}, {"part_id", req.part_id}});
+  HttpResponse answer = send(req, 202, {{"job_id", req.job_id}, {"part_id", req.part_id}});
+  if (answer.status == 202) live_.on_requested(req, wall_utime());
+  return answer;
 }
 
 HttpResponse Api::job_action(const Session& s, const std::string& id, const std::string& action, const Json& body) {

@@ -75,7 +75,7 @@ bool valid_part_id(const std::string& id);
 
 class Api {
  public:
-  Api(ApiConfig config, std::vector<User> users, Sessions& sessions, LoginLimiter& limiter, const LiveState& live,
+  Api(ApiConfig config, std::vector<User> users, Sessions& sessions, LoginLimiter& limiter, LiveState& live,
       const History& history, RequestSink sink);
 
   HttpResponse handle(const HttpRequest& req);
@@ -108,7 +108,7 @@ class Api {
   std::map<std::string, User> users_;
   Sessions& sessions_;
   LoginLimiter& limiter_;
-  const LiveState& live_;
+  LiveState& live_;
   const History& history_;
   RequestSink sink_;
 };

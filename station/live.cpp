@@ -113,6 +113,11 @@ std::string state_name(int state) {
   return std::to_string(state);
 }
 
+// A job's state on the page: REQUESTED while only this station's START is known of it.
+std::string LiveState::shown_state(const JobLive& j) {
+  return j.state < 0 && j.requested ? "REQUESTED" : state_name(j.state);
+}
+
 bool state_terminal(int state) {
   switch (state) {
     case job_status_t::STATE_DONE:
@@ -372,6 +377,14 @@ double LiveState::camera_fps() const {
   return span > 0 ? double(cloud_times_.size() - 1) / span : 0;
 }
 
+void LiveState::on_requested(const hullgrind::job_request_t& r, std::int64_t utime) {
+  std::lock_guard lock(mutex_);
+  JobLive& job = job_entry(r.job_id, utime);
+  job.requested = true;
+  if (job.part_id.empty()) job.part_id = r.part_id;
+  if (job.updated_utime == 0) job.updated_utime = utime;
+}
+
 Json LiveState::job(const std::string& job_id) const {
   std::lock_guard lock(mutex_);
   auto it = jobs_.find(job_id);
@@ -382,7 +395,7 @@ Json LiveState::job(const std::string& job_id) const {
     outline = outlines_.rbegin()->second;  // no plan yet: the outline that came since the job started
   return {{"job_id", job_id},
           {"part_id", j.part_id},
-          {"state", state_name(j.state)},
+          {"state", shown_state(j)},
           {"source", j.source},
           {"first_utime", j.first_utime},
           {"updated_utime", j.updated_utime},
@@ -398,7 +411,7 @@ Json LiveState::jobs() const {
     const JobLive& j = jobs_.at(id);
     out.push_back({{"job_id", id},
                    {"part_id", j.part_id},
-                   {"state", state_name(j.state)},
+                   {"state", shown_state(j)},
                    {"source", j.source},
                    {"updated_utime", j.updated_utime},
                    {"first_utime", j.first_utime}});

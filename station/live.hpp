@@ -18,6 +18,7 @@
 
 #include "hullgrind/grind_path_t.hpp"
 #include "hullgrind/heartbeat_t.hpp"
+#include "hullgrind/job_request_t.hpp"
 #include "hullgrind/job_status_t.hpp"
 #include "hullgrind/outline_t.hpp"
 #include "hullgrind/plate_cloud_t.hpp"
@@ -86,6 +87,9 @@ class LiveState {
   std::shared_ptr<const std::string> cloud_for(const std::string& job_id) const;
   // The last state of a job as the robot bridge (else anyone) reported it; -1 when unknown.
   int job_state(const std::string& job_id) const;
+  // A START this station put on the bus: the job is known at once, as REQUESTED until a process answers,
+  // so that the page which opens it right after finds it whatever the bus's round trip takes.
+  void on_requested(const hullgrind::job_request_t& r, std::int64_t utime);
 
  private:
   struct JobLive {
@@ -93,11 +97,13 @@ class LiveState {
     std::vector<Json> statuses;  // a row per change of (source, state); the last row refreshed
     std::int64_t first_utime = 0, updated_utime = 0;
     int state = -1;
+    bool requested = false;  // started by this station (on_requested)
     std::string source;
     std::int64_t outline_seq = -1;
     Json plan;          // the latest revision
     Json plan_outline;  // the outline it was planned on (base frame)
   };
+  static std::string shown_state(const JobLive& j);
   void push_event(Json event);  // mutex held
   JobLive& job_entry(const std::string& job_id, std::int64_t utime);
 

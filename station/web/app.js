@@ -5,7 +5,7 @@ import { Scene3D } from "./scene.js";
 import { drawTop } from "./top.js";
 
 const $ = (id) => document.getElementById(id);
-const STATES = ["ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED",
+const STATES = ["REQUESTED", "ACCEPTED", "PLANNING", "PLANNED", "RUNNING", "DONE", "FAILED", "ABORTED", "REFUSED",
   "AWAITING_APPROVAL", "APPROVED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN", "interrupted"];
 const TERMINAL = new Set(["DONE", "FAILED", "ABORTED", "REFUSED", "INCOMPLETE", "REJECTED", "NEEDS_RESCAN"]);
 
@@ -209,7 +209,9 @@ function renderJob() {
   $("job-state").textContent = st;
   $("job-state").className = "state " + st;
   const last = live && live.statuses.length ? live.statuses[live.statuses.length - 1] : null;
-  $("job-message").textContent = last ? last.message : (j.record ? j.record.job.message || "" : "");
+  $("job-message").textContent = last ? last.message
+    : st === "REQUESTED" ? "started by this station; no process has answered yet"
+    : (j.record ? j.record.job.message || "" : "");
   const running = last && last.state === "RUNNING" ? last.progress : null;
   $("job-progress-bar").style.width = `${100 * (st === "DONE" ? 1 : running !== null ? running : 0)}%`;
   $("job-abort").hidden = TERMINAL.has(st);

@@ -158,6 +158,11 @@ TEST_F(Fixture, PostsNeedTheSessionsCsrfTokenAndAnOperator) {
   EXPECT_EQ(sent[0].part_id, "plate-7");
   EXPECT_EQ(sent[0].actor, "operator op");
   EXPECT_EQ(sent[0].job_id, body(ok)["job_id"]);
+  // The page opens the job right after the POST, before any process answers on the bus: it is there.
+  HttpResponse opened = call("GET", "/api/jobs/" + sent[0].job_id, "", cookie);
+  ASSERT_EQ(opened.status, 200) << opened.body;
+  EXPECT_EQ(body(opened)["live"]["state"], "REQUESTED");
+  EXPECT_EQ(body(opened)["live"]["part_id"], "plate-7");
   auto [vcookie, vcsrf] = login("vi", "vi-password");
   EXPECT_EQ(call("POST", "/api/jobs", start, vcookie, vcsrf).status, 403);
   EXPECT_EQ(call("POST", "/api/jobs/x/approve", "{}", vcookie, vcsrf).status, 403);

@@ -258,5 +258,34 @@ TEST(StationLive, ThePlansSmoothedEdgeIsKeptPerLoopAndCarriesTheUnreachedStretch
   }
 }
 
+// A START this station sent is a job of the live state at once (REQUESTED, its part), whatever the bus's round
+// trip takes; the first status from a process replaces that state, and a job nobody started here and
+// nobody reported stays unknown.
+TEST(StationLive, AStartThisStationSentIsKnownAsRequestedUntilAProcessAnswers) {
+  LiveState live(LiveOptions{});
+  hullgrind::job_request_t r{};
+  r.job_id = "st-abc";
+  r.part_id = "plate-7";
+  r.action = hullgrind::job_request_t::ACTION_START;
+  live.on_requested(r, 1000);
+  const Json j = live.job("st-abc");
+  ASSERT_TRUE(j.is_object());
+  EXPECT_EQ(j["state"], "REQUESTED");
+  EXPECT_EQ(j["part_id"], "plate-7");
+  EXPECT_TRUE(j["statuses"].empty());
+  EXPECT_EQ(live.jobs().size(), 1u);
+  EXPECT_TRUE(live.job("st-other").is_null());
+
+  hullgrind::job_status_t s{};
+  s.job_id = "st-abc";
+  s.part_id = "plate-7";
+  s.source = "hg-robot-bridge";
+  s.state = hullgrind::job_status_t::STATE_ACCEPTED;
+  live.on_status(s, 2000);
+  EXPECT_EQ(live.job("st-abc")["state"], "ACCEPTED");
+  live.on_requested(r, 3000);  // the same request again (a retried POST): the answer stays
+  EXPECT_EQ(live.job("st-abc")["state"], "ACCEPTED");
+}
+
 }  // namespace
 }  // namespace hg::station
