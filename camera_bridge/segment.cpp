@@ -414,17 +414,19 @@ double steel_centre_fraction(const PartPixels& pts, std::size_t i, const TopPlan
 }
 
 // Classifies the part pixels (PointKind). A pixel off the top plane is a mixed pixel kept as steel when it
-// borders a top pixel of its part and its depth fraction is at least SegmentParams::mixed_fraction: for a
-// footprint symmetric about the pixel's centre and cut by a straight edge, the centre lies on the steel when
-// the steel covers half the footprint or more. Where the edge faces the nadir pixel the camera also sees the
-// plate's side wall, whose pixels lie between table and top as well: there the point goes straight down
-// (a wall pixel then lands on the edge, never beyond it); elsewhere along its ray (its centre on the top).
+// borders a top pixel of its part (or a saturated one) and its depth fraction is at least
+// SegmentParams::mixed_fraction: for a footprint symmetric about the pixel's centre and cut by a straight edge, the
+// centre lies on the steel when the steel covers half the footprint or more. Where the edge faces the nadir pixel the
+// camera also sees the plate's side wall, whose pixels lie between table and top as well: there the point goes straight
+// down (a wall pixel then lands on the edge, never beyond it); elsewhere along its ray (its centre on the top).
 std::vector<std::uint8_t> classify(const cv::Mat& depth, const PartPixels& pts, const TopPlanes& top,
-                                   const Plane& table, const camera::Intrinsics& in, const SegmentParams& P) {
+                                   const Plane& table, const camera::Intrinsics& in, const SegmentParams& P,
+                                   cv::Mat top_img) {
   const std::size_t n = pts.size();
   const int W = in.width, H = in.height;
   std::vector<std::uint8_t> kind(n, kDrop);
-  cv::Mat top_img = cv::Mat::zeros(H, W, CV_8UC1);  // part + 1 of the top pixels
+  // top_img: part + 1 of the part's saturated pixels (a glint is top face too, gaps.hpp: where a ground
+  // strip's glint reaches the edge the edge pixels border no top pixel with a depth), and of the top pixels.
   for (std::size_t i = 0; i < n; ++i)
     if (top.holds(pts, i)) kind[i] = kTop, top_img.data[pts.pixel[i]] = static_cast<std::uint8_t>(pts.part[i] + 1);
   if (!(P.mixed_fraction <= 1)) return kind;
@@ -457,7 +459,7 @@ std::vector<std::uint8_t> classify(const cv::Mat& depth, const PartPixels& pts, 
 // The plate frame (origin on the largest part's top plane, u along the camera's x where possible) and
 // the in-plane coordinates of the points kept (classify()), in scan-line (gathered) order.
 void project_onto_top(const cv::Mat& depth, const PartPixels& pts, const TopPlanes& top, const Plane& table,
-                      const camera::Intrinsics& in, const SegmentParams& P, Segmentation& out) {
+                      const camera::Intrinsics& in, const SegmentParams& P, const cv::Mat& glint, Segmentation& out) {
   const Eigen::Vector3d& pn = top.normal;
   out.normal = pn;
   out.origin = top.origin;
@@ -466,7 +468,9 @@ void project_onto_top(const cv::Mat& depth, const PartPixels& pts, const TopPlan
   if (ux.norm() < 1e-6) ux = Eigen::Vector3d::UnitY() - pn.y() * pn;  // plane perpendicular to camera x
   out.u_axis = ux.normalized();
   out.v_axis = pn.cross(out.u_axis);
-  const std::vector<std::uint8_t> kind = classify(depth, pts, top, table, in, P);
+  cv::Mat glint_labels = cv::Mat::zeros(in.height, in.width, CV_8UC1);
+  out.labels.copyTo(glint_labels, glint);
+  const std::vector<std::uint8_t> kind = classify(depth, pts, top, table, in, P, std::move(glint_labels));
   const std::size_t npts = pts.size();
   out.u.reserve(npts);
   out.v.reserve(npts);
@@ -508,7 +512,8 @@ Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const S
   // Scratch images kept per thread: allocating ~6 MB afresh each frame costs page faults every time.
   thread_local cv::Mat mask, nodata, cc;
   height_band_mask(depth, ray, table, P, mask, nodata);
-  mask |= saturated_no_return(depth, intensity);  // a glint is steel at no known height (gaps.hpp)
+  const cv::Mat glint = saturated_no_return(depth, intensity);
+  mask |= glint;  // a glint is steel at no known height (gaps.hpp)
   open_and_close(mask, nodata, P);
   const Components comp = label_components(mask, cc);
   // A pixel's footprint on the table, near the optical axis.
@@ -523,7 +528,7 @@ Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const S
   TopPlanes top;
   if (!fit_top_planes(pts, out.num_parts, relabel[keep[0]] - 1, table.n, z_table, P.top_tolerance, top))
     return fail(SegmentStatus::BadFrame, "the part has too few valid depth pixels to fit its plane");
-  project_onto_top(depth, pts, top, table, in, P, out);
+  project_onto_top(depth, pts, top, table, in, P, glint, out);
   if (out.u.empty()) return fail(SegmentStatus::BadFrame, "the part mask holds no pixel on the fitted top plane");
   fill_gaps_and_assess_edge(depth, intensity, in, {table.n, table.offset, top.normal, top.offset}, P, out);
   out.status = SegmentStatus::Ok;

@@ -84,8 +84,8 @@ TEST_P(Realistic, OneOuterLoopTheTrueCutOutsTheAreaAlikeFromEveryPoseTheGrindEdg
   };
   // The outline runs through the centres of the last steel pixels, an inset that depends on the edge's angle
   // to the pixel grid (up to 0.8 % of these parts' area over the poses, and 0.3-3 % below the true area); the
-  // part's area restores it. Issue 23 §2's 0.5 % spread is printed, not asserted: knee-scallop at lsr-l
-  // stays at 0.58 %, one pose's outline a whole pixel inside along several edges (docs/BENCHMARKS-outline.md).
+  // part's area restores it. Issue 23 §2's 0.5 % spread is printed, not asserted: knee-scallop at pm806 on
+  // the table's poses stays at 0.54 %, edge pixels lost to the return weighting (docs/BENCHMARKS-outline.md).
   std::printf("%s@%s: area spread over the poses: the part's %.2f %%, the outline's %.2f %%\n", c.shape.c_str(),
               c.profile.c_str(), 100 * spread(&Accuracy::part_area), 100 * spread(&Accuracy::area));
   for (std::size_t i = 0; i < got.size(); ++i)

@@ -281,6 +281,41 @@ TEST(CameraBridgeSegment, EdgePixelsSurviveDropoutsAndMixedPixelsBesideThem) {
   EXPECT_GT(missing_top_pixels(wide).first, 10 * std::max(missing, 10));
 }
 
+// A ground strip's glint (saturated, no depth: steel, gaps.hpp) that reaches the edge leaves the edge's mixed
+// pixels beside no top pixel with a depth. They are still beside the top face and judged by their depth
+// fraction: across a band of the part, every pixel two or more pixels inside the true edge turned into a
+// glint keeps the cloud's edge pixels in that band as they were without it.
+TEST(CameraBridgeSegment, MixedEdgePixelsBesideAGlintAreJudgedAsBesideTheTopFace) {
+  SceneSpec spec = scene_preset("plate-hole-slot");
+  spec.effects.mixed_pixels = true;
+  CameraProfile prof = camera_profile("pm806");
+  prof.noise_a = prof.noise_b = prof.dropout = prof.flying_pixel_prob = 0;
+  const RenderedFrame f = render(spec, prof, 0);
+  const cv::Mat truth = f.truth_mask(), inner = cv::Mat::zeros(truth.size(), CV_8UC1);
+  cv::erode(truth, inner, cv::Mat::ones(3, 3, CV_8UC1));  // every 8-neighbour on the part
+  cv::Rect part = cv::boundingRect(truth);
+  const cv::Rect band(part.x, part.y + part.height / 3, part.width, part.height / 3);
+  cv::Mat depth = f.depth.clone(), intensity(f.depth.size(), CV_8UC1, cv::Scalar(100));
+  cv::Mat glint = cv::Mat::zeros(truth.size(), CV_8UC1);
+  inner(band).copyTo(glint(band));
+  depth.setTo(0, glint);
+  intensity.setTo(255, glint);
+  auto edge_points_in_band = [&](const cv::Mat& d, const cv::Mat& light) {
+    const Segmentation s = segment(d, f.intrinsics, SegmentParams{}, light);
+    EXPECT_EQ(s.status, SegmentStatus::Ok) << s.text;
+    int n = 0;
+    for (const std::int32_t px : s.pixel) {
+      const int r = px / truth.cols, c = px % truth.cols;
+      n += band.contains(cv::Point(c, r)) && truth.at<std::uint8_t>(r, c) && !inner.at<std::uint8_t>(r, c);
+    }
+    return n;
+  };
+  const int without = edge_points_in_band(f.depth, cv::Mat()), with = edge_points_in_band(depth, intensity);
+  std::printf("  edge points in the band: %d without the glint, %d beside it\n", without, with);
+  ASSERT_GT(without, 200);
+  EXPECT_EQ(with, without);
+}
+
 TEST(CameraBridgeSegment, BadParametersAreRejected) {
   const RenderedFrame f = render(scene_preset("empty"), camera_profile("pm806"), 0);
   SegmentParams p;
