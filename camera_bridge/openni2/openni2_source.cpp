@@ -8,12 +8,17 @@
 #include <cmath>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
+#include "runtime/log.hpp"
 #include "sim/virtual_device/virtual_properties.hpp"
 
 namespace hg::camera_bridge {
 namespace {
+
+using runtime::Level;
+using runtime::logf;
 
 using Clock = std::chrono::steady_clock;
 
@@ -59,6 +64,15 @@ std::string mode_text(const openni::VideoMode& m) {
   return s.str();
 }
 
+bool is_gray(openni::PixelFormat f) { return f == openni::PIXEL_FORMAT_GRAY8 || f == openni::PIXEL_FORMAT_GRAY16; }
+
+// One IR frame read ahead of its depth frame, kept until the depth frame of its exposure comes.
+struct IrFrame {
+  cv::Mat image;  // empty: none pending
+  int index = 0;
+  std::uint64_t device_us = 0;
+};
+
 }  // namespace
 
 struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni::OpenNI::DeviceStateChangedListener {
@@ -67,6 +81,11 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
   bool open = false;
   openni::Device device;
   openni::VideoStream stream;
+  openni::VideoStream ir_stream;  // valid while the IR stream is read
+  double ir_scale = 1;            // GRAY16: to full scale (65535 = the stream's MAX_VALUE, saturated)
+  IrFrame ir_pending;
+  bool ir_said = false;    // the log has said once why there is no intensity image
+  int unpaired = 0;        // depth frames in a row without their IR frame
   std::string device_uri;  // as OpenNI2 names the opened device
   camera::Intrinsics intrinsics;
   std::atomic<bool> lost{false};
@@ -154,6 +173,7 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
       set_intrinsics(stream.getVideoMode());
       if (recording) frames_in_recording = device.getPlaybackControl()->getNumberOfFrames(stream);
       if (stream.start() != openni::STATUS_OK) fail("cannot start the depth stream");
+      open_ir();
     } catch (...) {
       close_now();
       throw;
@@ -191,7 +211,110 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
     intrinsics = in;
   }
 
+  void say_no_ir(const std::string& why) {
+    if (ir_said) return;
+    ir_said = true;
+    logf(Level::Info, "openni2 %s: no intensity image (%s); dropout and holes are told apart by depth alone",
+         name().c_str(), why.c_str());
+  }
+
+  // The IR stream at the depth's resolution, when the device has one and options.ir allows it.
+  void open_ir() {
+    ir_pending = {};
+    unpaired = 0;
+    if (!options.ir) return say_no_ir("--openni2.ir false");
+    if (!device.hasSensor(openni::SENSOR_IR)) return say_no_ir("the device has no IR stream");
+    if (ir_stream.create(device, openni::SENSOR_IR) != openni::STATUS_OK)
+      return say_no_ir(std::string("cannot create the IR stream: ") + openni::OpenNI::getExtendedError());
+    const openni::VideoMode depth = stream.getVideoMode();
+    const auto fits = [&](const openni::VideoMode& m) {
+      return is_gray(m.getPixelFormat()) && m.getResolutionX() == depth.getResolutionX() &&
+             m.getResolutionY() == depth.getResolutionY();
+    };
+    std::optional<openni::VideoMode> mode;
+    if (fits(ir_stream.getVideoMode())) mode = ir_stream.getVideoMode();  // the device's default first
+    const auto& modes = ir_stream.getSensorInfo().getSupportedVideoModes();
+    for (int i = 0; i < modes.getSize() && !mode; ++i)
+      if (fits(modes[i])) mode = modes[i];
+    if (!mode || ir_stream.setVideoMode(*mode) != openni::STATUS_OK || ir_stream.start() != openni::STATUS_OK) {
+      ir_stream.destroy();
+      return say_no_ir(mode ? "cannot start the IR stream" : "no GRAY8/GRAY16 IR mode at the depth's resolution");
+    }
+    const int max = ir_stream.getMaxPixelValue();
+    const bool gray16 = mode->getPixelFormat() == openni::PIXEL_FORMAT_GRAY16;
+    ir_scale = gray16 && max > 0 && max < 65535 ? 65535.0 / max : 1.0;
+    logf(Level::Info, "openni2 %s: intensity image from the IR stream (%s, max value %d)", name().c_str(),
+         gray16 ? "GRAY16" : "GRAY8", max);
+  }
+
+  // Reads the next IR frame within `wait`; false when none came.
+  bool read_ir(std::chrono::milliseconds wait) {
+    openni::VideoStream* streams[] = {&ir_stream};
+    int ready = -1;
+    if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, int(std::max<std::int64_t>(wait.count(), 0))) !=
+        openni::STATUS_OK)
+      return false;
+    openni::VideoFrameRef ref;
+    if (ir_stream.readFrame(&ref) != openni::STATUS_OK) return false;
+    const int w = ref.getWidth(), h = ref.getHeight(), stride = ref.getStrideInBytes();
+    const bool gray8 = ref.getVideoMode().getPixelFormat() == openni::PIXEL_FORMAT_GRAY8;
+    const int bpp = gray8 ? 1 : 2;
+    if (w <= 0 || h <= 0 || stride < w * bpp || ref.getDataSize() < stride * (h - 1) + w * bpp) return true;
+    const cv::Mat raw(h, w, gray8 ? CV_8UC1 : CV_16UC1, const_cast<void*>(ref.getData()), stride);
+    ir_pending.index = ref.getFrameIndex();
+    ir_pending.device_us = ref.getTimestamp();
+    raw.convertTo(ir_pending.image, raw.type(), gray8 ? 1.0 : ir_scale);  // saturates at 65535
+    return true;
+  }
+
+  // Pairs the depth frame `f` (device time `device_us`) with the IR frame of the same exposure: the same
+  // frame index, or the same device time within half a frame period. An older IR frame is dropped, a newer
+  // one kept for the next depth frame. False when `f` has no IR frame (none within two frame periods, or
+  // only a newer one).
+  bool pair_ir(camera::DepthFrame& f, std::uint64_t device_us) {
+    const int fps = std::max(1, stream.getVideoMode().getFps());
+    const std::int64_t half_us = 500000 / fps;
+    const auto deadline = Clock::now() + std::chrono::milliseconds(2000 / fps + 100);
+    for (;;) {
+      if (ir_pending.image.empty()) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+        if (left.count() <= 0 || !read_ir(left)) return false;
+        if (ir_pending.image.empty()) continue;  // a malformed frame
+      }
+      const std::int64_t dt = std::int64_t(ir_pending.device_us) - std::int64_t(device_us);
+      if (ir_pending.index == f.seq || std::abs(dt) <= half_us) {
+        const bool fits = ir_pending.image.size() == f.depth.size();
+        if (fits) f.intensity = std::move(ir_pending.image);
+        ir_pending = {};
+        return fits;
+      }
+      if (dt > 0 && dt < 1000000) return false;  // a later depth frame's (a second ahead: a clock restart)
+      ir_pending = {};
+    }
+  }
+
+  // False: skip the depth frame `f`, whose IR frame was lost (OpenNI keeps a stream's latest frame only, and
+  // the two streams' frames arrive apart), so that the next frame comes with its intensity image. After
+  // kUnpairedSkipped such frames in a row, frames go without it.
+  bool attach_ir(camera::DepthFrame& f, std::uint64_t device_us) {
+    static constexpr int kUnpairedSkipped = 5;
+    if (!ir_stream.isValid() || pair_ir(f, device_us)) {
+      unpaired = 0;
+      return true;
+    }
+    if (++unpaired <= kUnpairedSkipped) return false;
+    if (unpaired == kUnpairedSkipped + 1)
+      logf(Level::Warn, "openni2 %s: %d depth frames in a row without their IR frame; frames go without intensity",
+           name().c_str(), kUnpairedSkipped);
+    return true;
+  }
+
   void close_now() {
+    if (ir_stream.isValid()) {
+      ir_stream.stop();
+      ir_stream.destroy();
+    }
+    ir_pending = {};
     if (stream.isValid()) {
       stream.stop();
       stream.destroy();
@@ -240,6 +363,7 @@ bool OpenNI2Source::is_recording() const { return impl_->recording; }
 bool OpenNI2Source::end_of_recording() const { return impl_->at_end(); }
 std::int64_t OpenNI2Source::recorded_frames() const { return impl_->frames_in_recording; }
 std::int64_t OpenNI2Source::skipped_frames() const { return impl_->skipped; }
+bool OpenNI2Source::reads_ir() const { return impl_->open && impl_->ir_stream.isValid(); }
 
 std::optional<camera::DepthFrame> OpenNI2Source::grab(std::chrono::milliseconds timeout) {
   Impl& m = *impl_;
@@ -278,6 +402,10 @@ std::optional<camera::DepthFrame> OpenNI2Source::grab(std::chrono::milliseconds 
       m.last_device_us = ts;
       f.utime = m.anchor_wall_us + std::int64_t(ts - m.anchor_device_us);
       m.last_index = f.seq;
+      if (!m.attach_ir(f, ts)) {
+        ++m.skipped;
+        continue;
+      }
       return f;
     }
     if (rc != openni::STATUS_TIME_OUT) m.fail("waiting for a frame failed");

@@ -1,6 +1,7 @@
 // The `openni2` depth source: a live OpenNI2 device (the first found, or one named by URI — including our
 // virtual device, hg-virtual://...) or an .oni recording, which OpenNI2 opens as a device with playback
-// control. Intrinsics come from the stream's fields of view and pixel format (docs/openni2.md).
+// control. Intrinsics come from the stream's fields of view and pixel format; the intensity image from the
+// device's IR stream when it has one (docs/openni2.md).
 #pragma once
 
 #include <cstdint>
@@ -19,6 +20,9 @@ struct OpenNI2Options {
   // grab() gets the next recorded frame, none dropped: OpenNI2's manual playback mode).
   double playback_speed = 1.0;
   bool loop = false;  // .oni only: start again after the last frame (else grab() returns nullopt at the end)
+  // Open the device's IR stream, when it has one, and deliver its frame paired with each depth frame as
+  // DepthFrame::intensity (GRAY8 as CV_8UC1; GRAY16 as CV_16UC1 scaled so the stream's MAX_VALUE is 65535).
+  bool ir = true;
   // Depth video mode preference; 0 / any = no preference. The first supported mode matching every given
   // field is used; none matching is a SourceError listing the device's modes.
   int width = 0, height = 0, fps = 0;
@@ -38,7 +42,9 @@ class OpenNI2Source : public camera::DepthSource {
   bool is_recording() const;             // opened an .oni file
   bool end_of_recording() const;         // .oni without loop: the last frame has been delivered
   std::int64_t recorded_frames() const;  // .oni: frames in the recording; else 0
-  std::int64_t skipped_frames() const;   // frames dropped because their size did not match their header
+  // Frames dropped: their size did not match their header, or (reading IR) their IR frame was lost.
+  std::int64_t skipped_frames() const;
+  bool reads_ir() const;  // open, with the IR stream started
 
  private:
   struct Impl;

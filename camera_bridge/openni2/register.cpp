@@ -10,12 +10,17 @@ SourceEntry openni2_source() {
           "recording (docs/openni2.md)",
           {{"uri", "", "device URI, hg-virtual://..., or an .oni file; empty: first device"},
            {"playback-speed", "1", ".oni: 1 = recorded rate; <= 0 frame by frame", false, runtime::ParamType::Number},
-           {"loop", "", ".oni: start again after the last frame", true}},
+           {"loop", "", ".oni: start again after the last frame", true},
+           {"ir", "true",
+            "read the device's IR stream, when it has one, as the intensity image that tells dropout on steel from a "
+            "hole (docs/openni2.md)",
+            false, runtime::ParamType::Flag}},
           [](const SourceContext& c) {
             OpenNI2Options o;
             o.uri = c.text("uri");
             o.playback_speed = c.number("playback-speed");
             o.loop = c.flag("loop");
+            o.ir = c.flag("ir");
             return make_openni2_source(o);
           },
           ""};

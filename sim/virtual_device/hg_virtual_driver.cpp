@@ -1,5 +1,6 @@
 // libhg-virtual.so.0: the project's own OpenNI2 driver. It serves depth frames rendered from the
-// synthetic scenes (virtual_config.hpp), so the bridge's real OpenNI2 code path runs without hardware.
+// synthetic scenes (virtual_config.hpp), and their intensity images as an IR stream where the scene renders
+// one, so the bridge's real OpenNI2 code path runs without hardware.
 // Devices are named by hg-virtual:// URIs; the driver announces one at start-up (from the environment)
 // and any other valid URI on demand (tryDevice), so Device::open("hg-virtual://...") just works.
 #include <algorithm>
@@ -53,6 +54,11 @@ OniPixelFormat pixel_format_for_unit(double unit) {
 }
 double unit_of(OniPixelFormat f) { return f == ONI_PIXEL_FORMAT_DEPTH_100_UM ? 0.0001 : 0.001; }
 
+// The IR stream's GRAY16 is 10 bits in 16, as PrimeSense and Orbbec devices send it (their MAX_VALUE is
+// 1023): the renderer's 8-bit intensity i becomes round(i * 1023 / 255), so full scale stays full scale.
+constexpr int kIrMaxValue16 = 1023;
+int bytes_per_pixel(OniPixelFormat f) { return f == ONI_PIXEL_FORMAT_GRAY8 ? 1 : 2; }
+
 class VirtualDriver;
 
 // One hg-virtual:// URI known to the driver. Lives as long as the driver (OpenNI keeps pointers to info).
@@ -66,16 +72,19 @@ struct DeviceEntry {
 
 class VirtualDevice;
 
-class DepthStream : public oni::driver::StreamBase {
+// A stream of the device: depth (ONI_SENSOR_DEPTH) or the intensity image (ONI_SENSOR_IR) of the same
+// frames. Each runs its own clock from its start; frame n of either is the device's rendered frame n.
+class VirtualStream : public oni::driver::StreamBase {
  public:
-  DepthStream(VirtualDevice& device, std::shared_ptr<const FrameRenderer> renderer, OniVideoMode mode,
-              const std::vector<OniVideoMode>& modes, bool cropping_property)
+  VirtualStream(VirtualDevice& device, std::shared_ptr<const FrameRenderer> renderer, OniSensorType sensor,
+                const std::vector<OniVideoMode>& modes, bool cropping_property)
       : device_(device),
         renderer_(std::move(renderer)),
-        mode_(mode),
+        sensor_(sensor),
+        mode_(modes.front()),
         modes_(modes),
         cropping_property_(cropping_property) {}
-  ~DepthStream() override { stop(); }
+  ~VirtualStream() override { stop(); }
 
   OniStatus start() override {
     std::lock_guard lock(mutex_);
@@ -94,7 +103,10 @@ class DepthStream : public oni::driver::StreamBase {
     if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
   }
 
-  int getRequiredFrameSize() override { return mode_.resolutionX * mode_.resolutionY * 2 + kGuardBytes; }
+  int getRequiredFrameSize() override {
+    const int image = mode_.resolutionX * mode_.resolutionY * bytes_per_pixel(mode_.pixelFormat);
+    return sensor_ == ONI_SENSOR_DEPTH ? image + kGuardBytes : image;
+  }
 
   OniBool isPropertySupported(int id) override {
     switch (id) {
@@ -120,10 +132,10 @@ class DepthStream : public oni::driver::StreamBase {
         return put(data, size, static_cast<float>(2.0 * std::atan(in.width / (2.0 * in.fx))));
       case ONI_STREAM_PROPERTY_VERTICAL_FOV:
         return put(data, size, static_cast<float>(2.0 * std::atan(in.height / (2.0 * in.fy))));
-      case ONI_STREAM_PROPERTY_MAX_VALUE: return put(data, size, kMaxDepthCount);
+      case ONI_STREAM_PROPERTY_MAX_VALUE: return put(data, size, max_value());
       case ONI_STREAM_PROPERTY_MIN_VALUE: return put(data, size, 0);
       case ONI_STREAM_PROPERTY_MIRRORING: return put(data, size, OniBool(FALSE));
-      case ONI_STREAM_PROPERTY_STRIDE: return put(data, size, mode_.resolutionX * 2);
+      case ONI_STREAM_PROPERTY_STRIDE: return put(data, size, mode_.resolutionX * bytes_per_pixel(mode_.pixelFormat));
       case ONI_STREAM_PROPERTY_CROPPING:
         if (!cropping_property_) return ONI_STATUS_NOT_SUPPORTED;
         return put(data, size, OniCropping{FALSE, 0, 0, mode_.resolutionX, mode_.resolutionY});
@@ -174,10 +186,18 @@ class DepthStream : public oni::driver::StreamBase {
     return ONI_STATUS_OK;
   }
 
+  int max_value() const {
+    if (sensor_ == ONI_SENSOR_DEPTH) return kMaxDepthCount;
+    return mode_.pixelFormat == ONI_PIXEL_FORMAT_GRAY8 ? 255 : kIrMaxValue16;
+  }
+
   void run();
+  void fill_depth(OniFrame& frame, cv::Mat counts) const;
+  void fill_ir(OniFrame& frame, const cv::Mat& intensity) const;
 
   VirtualDevice& device_;
   std::shared_ptr<const FrameRenderer> renderer_;
+  OniSensorType sensor_;
   OniVideoMode mode_;
   std::vector<OniVideoMode> modes_;
   bool cropping_property_;
@@ -197,23 +217,27 @@ class VirtualDevice : public oni::driver::DeviceBase {
     const OniPixelFormat other =
         native == ONI_PIXEL_FORMAT_DEPTH_1_MM ? ONI_PIXEL_FORMAT_DEPTH_100_UM : ONI_PIXEL_FORMAT_DEPTH_1_MM;
     modes_ = {{native, in.width, in.height, fps}, {other, in.width, in.height, fps}};  // native first: default
-    sensor_.sensorType = ONI_SENSOR_DEPTH;
-    sensor_.numSupportedVideoModes = static_cast<int>(modes_.size());
-    sensor_.pSupportedVideoModes = modes_.data();
+    // The IR image is registered to depth (the renderer's pixels); GRAY16 first, as real devices default.
+    ir_modes_ = {{ONI_PIXEL_FORMAT_GRAY16, in.width, in.height, fps},
+                 {ONI_PIXEL_FORMAT_GRAY8, in.width, in.height, fps}};
+    sensors_[0] = {ONI_SENSOR_DEPTH, static_cast<int>(modes_.size()), modes_.data()};
+    sensors_[1] = {ONI_SENSOR_IR, static_cast<int>(ir_modes_.size()), ir_modes_.data()};
+    sensor_count_ = renderer_->has_intensity() ? 2 : 1;
   }
   ~VirtualDevice() override {
     for (auto* s : streams_) delete s;
   }
 
   OniStatus getSensorInfoList(OniSensorInfo** sensors, int* count) override {
-    *sensors = &sensor_;
-    *count = 1;
+    *sensors = sensors_;
+    *count = sensor_count_;
     return ONI_STATUS_OK;
   }
 
   oni::driver::StreamBase* createStream(OniSensorType type) override {
-    if (type != ONI_SENSOR_DEPTH) return nullptr;
-    auto* s = new DepthStream(*this, renderer_, modes_.front(), modes_, entry_.config.cropping_property);
+    if (type != ONI_SENSOR_DEPTH && !(type == ONI_SENSOR_IR && sensor_count_ == 2)) return nullptr;
+    auto* s = new VirtualStream(*this, renderer_, type, type == ONI_SENSOR_DEPTH ? modes_ : ir_modes_,
+                                entry_.config.cropping_property);
     std::lock_guard lock(mutex_);
     streams_.push_back(s);
     return s;
@@ -260,15 +284,29 @@ class VirtualDevice : public oni::driver::DeviceBase {
   }
   void frame_served() { ++served_; }
 
+  // Rendered frame n, shared by the streams: rendered once, by whichever stream asks first.
+  std::shared_ptr<const FrameRenderer::Frame> frame(std::uint64_t n) {
+    std::lock_guard lock(render_mutex_);
+    for (const auto& [index, f] : rendered_)
+      if (index == n) return f;
+    auto f = std::make_shared<const FrameRenderer::Frame>(renderer_->render_frame(n));
+    rendered_.emplace_back(n, f);
+    if (rendered_.size() > 4) rendered_.erase(rendered_.begin());  // the streams run a frame or so apart
+    return f;
+  }
+
  private:
   void report_lost();
 
   VirtualDriver& driver_;
   DeviceEntry& entry_;
   std::shared_ptr<const FrameRenderer> renderer_;
-  std::vector<OniVideoMode> modes_;
-  OniSensorInfo sensor_{};
+  std::vector<OniVideoMode> modes_, ir_modes_;
+  OniSensorInfo sensors_[2]{};
+  int sensor_count_ = 1;
   std::mutex mutex_;
+  std::mutex render_mutex_;
+  std::vector<std::pair<std::uint64_t, std::shared_ptr<const FrameRenderer::Frame>>> rendered_;
   std::vector<oni::driver::StreamBase*> streams_;
   std::atomic<std::uint64_t> served_{0};
   std::atomic<bool> lost_{false};
@@ -426,11 +464,10 @@ class VirtualDriver : public oni::driver::DriverBase {
 
 void VirtualDevice::report_lost() { driver_.device_lost(entry_); }
 
-void DepthStream::run() {
+void VirtualStream::run() {
   const double fps = device_.entry().config.fps;
   const auto period = std::chrono::duration<double>(1.0 / fps);
   const auto t0 = Clock::now();
-  const camera::Intrinsics& in = renderer_->intrinsics();
   for (std::uint64_t n = 1;; ++n) {
     {
       std::unique_lock lock(mutex_);
@@ -440,53 +477,74 @@ void DepthStream::run() {
     }
     if (!device_.may_serve_frame()) return;
 
-    cv::Mat counts;
+    std::shared_ptr<const FrameRenderer::Frame> rendered;
     try {
-      counts = renderer_->render(n);
+      rendered = device_.frame(n);
     } catch (const std::exception& e) {
       device_.driver().log_error(std::string("render failed: ") + e.what());
       return;
     }
-    const OniVideoMode mode = mode_;
-    if (pixel_format_for_unit(in.depth_unit) != mode.pixelFormat) {
-      // The other unit: same metres re-counted, x10 or /10 rounded half up, clamped to the reported range.
-      const bool finer = unit_of(mode.pixelFormat) < in.depth_unit;
-      cv::Mat converted(counts.size(), CV_16UC1);
-      for (int y = 0; y < counts.rows; ++y) {
-        const auto* src = counts.ptr<std::uint16_t>(y);
-        auto* dst = converted.ptr<std::uint16_t>(y);
-        for (int x = 0; x < counts.cols; ++x) {
-          const std::uint32_t v = finer ? std::uint32_t(src[x]) * 10u : (std::uint32_t(src[x]) + 5u) / 10u;
-          dst[x] = static_cast<std::uint16_t>(std::min<std::uint32_t>(v, kLargestCount));
-        }
-      }
-      counts = converted;
-    }
-
     OniFrame* frame = getServices().acquireFrame();
     if (frame == nullptr) continue;
-    frame->sensorType = ONI_SENSOR_DEPTH;
+    const OniVideoMode mode = mode_;
+    frame->sensorType = sensor_;
     frame->frameIndex = static_cast<int>(n);
     // Device clock: microseconds since stream start at the nominal rate (deterministic, like a camera's
-    // hardware timestamp; OpenNI timestamps are not wall-clock times).
+    // hardware timestamp; OpenNI timestamps are not wall-clock times). Frame n has the same time on both.
     frame->timestamp = static_cast<uint64_t>(std::llround((n - 1) * 1e6 / fps));
     frame->videoMode = mode;
     frame->width = mode.resolutionX;
     frame->height = mode.resolutionY;
     frame->croppingEnabled = FALSE;
     frame->cropOriginX = frame->cropOriginY = 0;
-    frame->stride = mode.resolutionX * 2;
-    frame->dataSize = mode.resolutionX * mode.resolutionY * 2 + kGuardBytes;
-    char* out = static_cast<char*>(frame->data);
-    for (int y = 0; y < counts.rows; ++y) {
-      auto* row = reinterpret_cast<std::uint16_t*>(out + y * frame->stride);
-      std::memcpy(row, counts.ptr(y), frame->stride);
-      for (int x = 0; x < counts.cols; ++x) row[x] = std::min(row[x], kLargestCount);  // 65535: see above
-    }
-    std::memcpy(out + counts.rows * frame->stride, kGuardTail, kGuardBytes);
+    frame->stride = mode.resolutionX * bytes_per_pixel(mode.pixelFormat);
+    if (sensor_ == ONI_SENSOR_DEPTH) fill_depth(*frame, rendered->depth);
+    else
+      fill_ir(*frame, rendered->intensity);
     raiseNewFrame(frame);
     getServices().releaseFrame(frame);
-    device_.frame_served();
+    if (sensor_ == ONI_SENSOR_DEPTH) device_.frame_served();  // the fault injection counts depth frames
+  }
+}
+
+void VirtualStream::fill_depth(OniFrame& frame, cv::Mat counts) const {
+  const camera::Intrinsics& in = renderer_->intrinsics();
+  if (pixel_format_for_unit(in.depth_unit) != frame.videoMode.pixelFormat) {
+    // The other unit: same metres re-counted, x10 or /10 rounded half up, clamped to the reported range.
+    const bool finer = unit_of(frame.videoMode.pixelFormat) < in.depth_unit;
+    cv::Mat converted(counts.size(), CV_16UC1);
+    for (int y = 0; y < counts.rows; ++y) {
+      const auto* src = counts.ptr<std::uint16_t>(y);
+      auto* dst = converted.ptr<std::uint16_t>(y);
+      for (int x = 0; x < counts.cols; ++x) {
+        const std::uint32_t v = finer ? std::uint32_t(src[x]) * 10u : (std::uint32_t(src[x]) + 5u) / 10u;
+        dst[x] = static_cast<std::uint16_t>(std::min<std::uint32_t>(v, kLargestCount));
+      }
+    }
+    counts = converted;
+  }
+  frame.dataSize = frame.stride * counts.rows + kGuardBytes;
+  char* out = static_cast<char*>(frame.data);
+  for (int y = 0; y < counts.rows; ++y) {
+    auto* row = reinterpret_cast<std::uint16_t*>(out + y * frame.stride);
+    std::memcpy(row, counts.ptr(y), frame.stride);
+    for (int x = 0; x < counts.cols; ++x) row[x] = std::min(row[x], kLargestCount);  // 65535: see above
+  }
+  std::memcpy(out + counts.rows * frame.stride, kGuardTail, kGuardBytes);
+}
+
+void VirtualStream::fill_ir(OniFrame& frame, const cv::Mat& intensity) const {
+  frame.dataSize = frame.stride * intensity.rows;
+  char* out = static_cast<char*>(frame.data);
+  const bool gray8 = frame.videoMode.pixelFormat == ONI_PIXEL_FORMAT_GRAY8;
+  for (int y = 0; y < intensity.rows; ++y) {
+    const auto* src = intensity.ptr<std::uint8_t>(y);
+    if (gray8) {
+      std::memcpy(out + y * frame.stride, src, intensity.cols);
+      continue;
+    }
+    auto* row = reinterpret_cast<std::uint16_t*>(out + y * frame.stride);
+    for (int x = 0; x < intensity.cols; ++x) row[x] = static_cast<std::uint16_t>((src[x] * kIrMaxValue16 + 127) / 255);
   }
 }
 

@@ -133,8 +133,11 @@ FrameRenderer::FrameRenderer(const VirtualDeviceConfig& config) {
   impl_ = std::move(impl);
 }
 
-cv::Mat FrameRenderer::render(std::uint64_t frame_index) const {
-  return hg::sim::render(impl_->spec, impl_->profile, frame_index).depth;
+bool FrameRenderer::has_intensity() const { return impl_->spec.effects.intensity; }
+
+FrameRenderer::Frame FrameRenderer::render_frame(std::uint64_t frame_index) const {
+  hg::sim::RenderedFrame r = hg::sim::render(impl_->spec, impl_->profile, frame_index);
+  return {std::move(r.depth), std::move(r.intensity)};
 }
 #else
 // Stand-in until the scene renderer (hg_camera_scene) is built: a flat table 1.2 m below the camera with
@@ -152,12 +155,14 @@ FrameRenderer::FrameRenderer(const VirtualDeviceConfig& config) {
   impl_ = std::make_shared<Impl>();
 }
 
-cv::Mat FrameRenderer::render(std::uint64_t) const {
+bool FrameRenderer::has_intensity() const { return false; }
+
+FrameRenderer::Frame FrameRenderer::render_frame(std::uint64_t) const {
   const auto& in = intrinsics_;
   cv::Mat depth(in.height, in.width, CV_16UC1, cv::Scalar(std::lround(1.2 / in.depth_unit)));
   depth(cv::Rect(in.width / 4, in.height / 4, in.width / 2, in.height / 3))
       .setTo(cv::Scalar(std::lround(1.188 / in.depth_unit)));
-  return depth;
+  return {depth, cv::Mat()};
 }
 #endif
 

@@ -42,12 +42,20 @@ std::string to_uri(const VirtualDeviceConfig& config);
 std::string announced_uri_from_environment();
 
 // The frames the device serves: frame n (OpenNI frameIndex n, counted from 1) is the scene renderer's
-// render(scene, profile, n).depth, in counts of intrinsics().depth_unit.
+// render(scene, profile, n): its depth, in counts of intrinsics().depth_unit, and its intensity image.
 class FrameRenderer {
  public:
+  struct Frame {
+    cv::Mat depth;      // CV_16UC1
+    cv::Mat intensity;  // CV_8UC1, 255 = saturated; empty when !has_intensity()
+  };
   explicit FrameRenderer(const VirtualDeviceConfig& config);  // throws std::invalid_argument (unknown names)
   const camera::Intrinsics& intrinsics() const { return intrinsics_; }
-  cv::Mat render(std::uint64_t frame_index) const;  // CV_16UC1
+  // The scene renders an intensity image (its effects say so, as the realistic presets do): the device
+  // then has an IR sensor.
+  bool has_intensity() const;
+  Frame render_frame(std::uint64_t frame_index) const;
+  cv::Mat render(std::uint64_t frame_index) const { return render_frame(frame_index).depth; }  // CV_16UC1
 
  private:
   struct Impl;

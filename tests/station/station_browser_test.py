@@ -626,10 +626,12 @@ return out;"""
 
 
 class StationRescan(StationCase):
-    """A shiny part (the scene's realistic preset: specular streaks, the edge's cut faces and mixed pixels
-    lose returns) in a cell that wants 95 % of the edge seen: the outline service judges the scan POOR and
-    the job ends NEEDS_RESCAN before anything moves. The page shows the verdict and its reason as the
-    outline_t on the bus (hg-lcm-dump's decoding, not the station's) has them."""
+    """A shiny part (the scene's realistic preset through the virtual OpenNI2 device, its IR stream on) in a
+    cell that wants 95 % of the edge seen. With the intensity image the glints no longer cut the plate, but
+    about 6-7 % of its edge has no return beside it (at pm806 the perforated table is the effect that leaves
+    most edge without one: docs/BENCHMARKS-outline.md, per effect), so the outline service judges the scan
+    POOR and the job ends NEEDS_RESCAN before anything moves. The page shows the verdict and its reason as
+    the outline_t on the bus (hg-lcm-dump's decoding, not the station's) has them."""
 
     @classmethod
     def cell_file(cls, tmp):

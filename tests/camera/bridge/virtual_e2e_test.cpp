@@ -52,14 +52,29 @@ struct Bridge : hg::test::ChildProcess {
             hg::test::ChildOptions().set_env("LD_LIBRARY_PATH", HG_OPENNI2_PRIVATE_DIR)) {}
 };
 
-void expect_matches_recomputed(const hullgrind::plate_cloud_t& m, const std::string& scene,
-                               const std::string& profile) {
+// The renderer's 8-bit intensity image as docs/openni2.md says it reaches the bridge through the virtual
+// device's default IR mode: GRAY16 with 10 bits (round(i * 1023 / 255)), scaled by the source so that the
+// stream's MAX_VALUE 1023 is 65535.
+cv::Mat intensity_through_openni2(const cv::Mat& intensity8) {
+  cv::Mat ten(intensity8.size(), CV_16UC1), out;
+  for (int y = 0; y < ten.rows; ++y)
+    for (int x = 0; x < ten.cols; ++x)
+      ten.at<std::uint16_t>(y, x) = std::uint16_t(std::lround(intensity8.at<std::uint8_t>(y, x) * 1023.0 / 255.0));
+  ten.convertTo(out, CV_16UC1, 65535.0 / 1023.0);
+  return out;
+}
+
+// `with_intensity`: the bridge had the frame's intensity image (the device's IR stream).
+void expect_matches_recomputed(const hullgrind::plate_cloud_t& m, const std::string& scene, const std::string& profile,
+                               bool with_intensity = false) {
   ASSERT_EQ(m.status, +hullgrind::plate_cloud_t::STATUS_OK) << m.status_text;
   const RenderedFrame f =
       render(scene_preset(scene), camera_profile(profile), static_cast<std::uint64_t>(m.source_frame_seq));
   SegmentParams p;
   p.all_parts = true;
-  const Segmentation s = segment(f.depth, f.intrinsics, p);
+  const Segmentation s =
+      segment(f.depth, f.intrinsics, p, with_intensity ? intensity_through_openni2(f.intensity) : cv::Mat());
+  EXPECT_EQ(m.dropout_filled, s.dropout_filled) << "frame " << m.source_frame_seq;
   ASSERT_EQ(s.status, SegmentStatus::Ok);
   EXPECT_EQ(m.num_parts, s.num_parts);
   // The device reports fx through a float field of view (1e-7 relative): the same pixels, the same order,
@@ -81,6 +96,26 @@ TEST(CameraBridgeVirtualDevice, OpenNI2ToPlateCloud) {
   for (const auto& m : bus.clouds) expect_matches_recomputed(m, "three-parts", "pm806");
   EXPECT_EQ(bus.clouds[0].num_parts, 3);
   EXPECT_EQ(bridge.stop(), 0);
+}
+
+// A realistic scene's glints (saturated, no depth) are steel only with the intensity image: the bridge gets
+// it from the device's IR stream, and without it (--openni2.ir false) the cloud is the depth-only one.
+TEST(CameraBridgeVirtualDevice, TheIrStreamReachesTheSegmentation) {
+  const std::string scene = "plate-hole-slot-realistic";
+  for (const bool ir : {true, false}) {
+    Bus bus;
+    Bridge bridge("hg-virtual://" + scene + "?profile=pm806&fps=5", {"--openni2.ir", ir ? "true" : "false"});
+    ASSERT_TRUE(bus.until([&] { return !bus.clouds.empty(); })) << "no cloud through OpenNI2, ir " << ir;
+    const hullgrind::plate_cloud_t& m = bus.clouds.front();
+    expect_matches_recomputed(m, scene, "pm806", ir);
+    if (ir) {  // and the intensity image made a difference: depth alone gives another cloud
+      const RenderedFrame f = render(scene_preset(scene), camera_profile("pm806"), std::uint64_t(m.source_frame_seq));
+      SegmentParams p;
+      p.all_parts = true;
+      EXPECT_NE(m.n, static_cast<int>(segment(f.depth, f.intrinsics, p).size()));
+    }
+    EXPECT_EQ(bridge.stop(), 0);
+  }
 }
 
 TEST(CameraBridgeVirtualDevice, DeviceLossAndRecoveryThroughOpenNI2) {
