@@ -7,6 +7,7 @@
 #include <condition_variable>
 #include <cstring>
 #include <deque>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -52,8 +53,9 @@ struct Pending {
 class Live {
  public:
   Live(runtime::Node& node, BridgeOptions bopt, WsServerOptions sopt, std::size_t queue_messages,
-       std::size_t queue_bytes, bool idle)
+       std::size_t queue_bytes, bool idle, double raw_period)
       : node_(node),
+        raw_period_us_(static_cast<std::int64_t>(raw_period * 1e6)),
         bridge_(lcmtools::Schema::embedded(), with_cancel(std::move(bopt), &cancel_)),
         server_(std::move(sopt)),
         max_messages_(queue_messages),
@@ -156,11 +158,28 @@ class Live {
     const auto* data = reinterpret_cast<const std::uint8_t*>(p.bytes.data());
     // A topic this message creates is built too: nobody can have subscribed to it yet.
     const int known = static_cast<int>(bridge_.topics().size());
-    auto wanted = [&](int t) { return p.bytes.size() < kSmall || t >= known || server_.subscribed(t); };
+    auto wanted = [&](int t) {
+      if (p.bytes.size() < kSmall || t >= known) return true;
+      if (!server_.subscribed(t)) return false;
+      return bridge_.topics()[t].name != p.channel || raw_due(p.channel, p.recv_utime);  // 3-D topics: always
+    };
     Converted c = bridge_.convert(p.channel, data, p.bytes.size(), wanted);
     if (c.unknown_type) ++unknown_;
     if (!c.error.empty() && !cancel_) node_.count_decode_error(p.channel, c.error);
     send(std::move(c), p.recv_utime);
+  }
+
+  // A big message's own JSON (a 1.6 M-point cloud's every number as text, about 40 MB) at most once per
+  // raw_period_us_ per channel, skipped ones counted as dropped: it is the conversion's and the viewers' bulk,
+  // and on two cores even at idle priority its memory traffic slows the outline service (docs/foxglove.md).
+  bool raw_due(const std::string& channel, std::int64_t utime) {
+    std::int64_t& last = last_raw_[channel];
+    if (last != 0 && utime - last < raw_period_us_) {
+      node_.count_dropped();
+      return false;
+    }
+    last = utime;
+    return true;
   }
 
   void send(Converted c, std::int64_t utime) {
@@ -190,8 +209,10 @@ class Live {
   }
 
   runtime::Node& node_;
-  std::atomic<bool> cancel_{false};  // before bridge_, which holds its address
-  Bridge bridge_;                    // worker thread only
+  std::int64_t raw_period_us_;
+  std::map<std::string, std::int64_t> last_raw_;  // worker thread only: a big message's JSON sent last, by channel
+  std::atomic<bool> cancel_{false};               // before bridge_, which holds its address
+  Bridge bridge_;                                 // worker thread only
   WsServer server_;
   std::size_t max_messages_, max_bytes_;
   std::mutex mu_;
@@ -263,6 +284,10 @@ runtime::ProcessInfo process_info() {
                   "the conversion thread's scheduling: idle (SCHED_IDLE: only a core the cell leaves free; what "
                   "waits too long is dropped, counted) or normal (viewers get more, the cell gets slower)",
                   {"idle", "normal"}),
+       runtime::number_param("raw-cloud-period", "5",
+                             "seconds between two messages of 4 MB or more (plate clouds) sent on their own channel "
+                             "as JSON; their 3-D topics (/hg/plate/points) carry every one; 0: every one",
+                             0, 3600),
        cell::moved_to_cell({{"base-frame", "frames.base"}}).front()}};
 }
 
@@ -298,10 +323,10 @@ std::shared_ptr<void> attach(runtime::Node& node) {
   s.queue_frames = static_cast<std::size_t>(node.params().integer("client-queue-frames"));
   s.queue_bytes = static_cast<std::size_t>(node.params().integer("client-queue-mb")) << 20;
   if (node.params().flag("client-publish")) enable_publishing(node, s);
-  auto live = std::make_shared<Live>(node, bridge_options(node), s,
-                                     static_cast<std::size_t>(node.params().integer("queue-messages")),
-                                     static_cast<std::size_t>(node.params().integer("queue-mb")) << 20,
-                                     node.params().text("conversion-priority") == "idle");
+  auto live = std::make_shared<Live>(
+      node, bridge_options(node), s, static_cast<std::size_t>(node.params().integer("queue-messages")),
+      static_cast<std::size_t>(node.params().integer("queue-mb")) << 20,
+      node.params().text("conversion-priority") == "idle", node.params().number("raw-cloud-period"));
   runtime::logf(runtime::Level::Info, "serving the bus on ws://%s:%d (Foxglove WebSocket protocol)", s.host.c_str(),
                 live->port());
   node.subscribe_raw(".*",
