@@ -164,6 +164,7 @@ class Live {
       return bridge_.topics()[t].name != p.channel || raw_due(p.channel, p.recv_utime);  // 3-D topics: always
     };
     Converted c = bridge_.convert(p.channel, data, p.bytes.size(), wanted);
+    if (p.bytes.size() >= kSmall) note_raw_sent(p.channel, p.recv_utime, c);
     if (c.unknown_type) ++unknown_;
     if (!c.error.empty() && !cancel_) node_.count_decode_error(p.channel, c.error);
     send(std::move(c), p.recv_utime);
@@ -173,13 +174,14 @@ class Live {
   // raw_period_us_ per channel, skipped ones counted as dropped: it is the conversion's and the viewers' bulk,
   // and on two cores even at idle priority its memory traffic slows the outline service (docs/foxglove.md).
   bool raw_due(const std::string& channel, std::int64_t utime) {
-    std::int64_t& last = last_raw_[channel];
-    if (last != 0 && utime - last < raw_period_us_) {
-      node_.count_dropped();
-      return false;
-    }
-    last = utime;
-    return true;
+    auto last = last_raw_.find(channel);
+    if (last == last_raw_.end() || utime - last->second >= raw_period_us_) return true;
+    node_.count_dropped();
+    return false;
+  }
+  void note_raw_sent(const std::string& channel, std::int64_t utime, const Converted& c) {
+    for (const Output& o : c.outputs)
+      if (bridge_.topics()[o.topic].name == channel) last_raw_[channel] = utime;
   }
 
   void send(Converted c, std::int64_t utime) {
