@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """One meaning per colour: the product's C++ palette (outline_io/palette.hpp: overview.png, hg-outline's
-pictures, the Foxglove scene) is the station's (station/web/scene.js and top.js), since the station shows
-its own views and overview.png side by side. Read from both sources as written."""
+pictures, the Foxglove scene) is the station's (station/web/scene.js and top.js): the same people read the
+station's views, make run's overview.png and a Foxglove panel of the same cell. Read from both sources as
+written."""
 import os
 import re
 import unittest
