@@ -53,9 +53,10 @@ struct Pending {
 class Live {
  public:
   Live(runtime::Node& node, BridgeOptions bopt, WsServerOptions sopt, std::size_t queue_messages,
-       std::size_t queue_bytes, bool idle, double raw_period)
+       std::size_t queue_bytes, bool idle, double raw_period, double cloud_period)
       : node_(node),
         raw_period_us_(static_cast<std::int64_t>(raw_period * 1e6)),
+        cloud_period_us_(static_cast<std::int64_t>(cloud_period * 1e6)),
         bridge_(lcmtools::Schema::embedded(), with_cancel(std::move(bopt), &cancel_)),
         server_(std::move(sopt)),
         max_messages_(queue_messages),
@@ -155,6 +156,7 @@ class Live {
   }
 
   void convert(const Pending& p) {
+    if (p.bytes.size() >= kSmall && !cloud_due(p.channel, p.recv_utime)) return;
     const auto* data = reinterpret_cast<const std::uint8_t*>(p.bytes.data());
     // A topic this message creates is built too: nobody can have subscribed to it yet.
     const int known = static_cast<int>(bridge_.topics().size());
@@ -173,6 +175,18 @@ class Live {
   // A big message's own JSON (a 1.6 M-point cloud's every number as text, about 40 MB) at most once per
   // raw_period_us_ per channel, skipped ones counted as dropped: it is the conversion's and the viewers' bulk,
   // and on two cores even at idle priority its memory traffic slows the outline service (docs/foxglove.md).
+  // A big message at all (its 3-D topics too) at most once per cloud_period_us_ per channel: the camera's
+  // 5 Hz of the same plate is more than a viewer needs, and each costs a 19 MB decode beside the outline.
+  bool cloud_due(const std::string& channel, std::int64_t utime) {
+    std::int64_t& last = last_cloud_[channel];
+    if (last != 0 && utime - last < cloud_period_us_) {
+      node_.count_dropped();
+      return false;
+    }
+    last = utime;
+    return true;
+  }
+
   bool raw_due(const std::string& channel, std::int64_t utime) {
     auto last = last_raw_.find(channel);
     if (last == last_raw_.end() || utime - last->second >= raw_period_us_) return true;
@@ -211,10 +225,11 @@ class Live {
   }
 
   runtime::Node& node_;
-  std::int64_t raw_period_us_;
-  std::map<std::string, std::int64_t> last_raw_;  // worker thread only: a big message's JSON sent last, by channel
-  std::atomic<bool> cancel_{false};               // before bridge_, which holds its address
-  Bridge bridge_;                                 // worker thread only
+  std::int64_t raw_period_us_, cloud_period_us_;
+  // Worker thread only, by channel: when a big message was last converted, and its own JSON last sent.
+  std::map<std::string, std::int64_t> last_cloud_, last_raw_;
+  std::atomic<bool> cancel_{false};  // before bridge_, which holds its address
+  Bridge bridge_;                    // worker thread only
   WsServer server_;
   std::size_t max_messages_, max_bytes_;
   std::mutex mu_;
@@ -286,6 +301,10 @@ runtime::ProcessInfo process_info() {
                   "the conversion thread's scheduling: idle (SCHED_IDLE: only a core the cell leaves free; what "
                   "waits too long is dropped, counted) or normal (viewers get more, the cell gets slower)",
                   {"idle", "normal"}),
+       runtime::number_param("cloud-period", "1",
+                             "seconds between two messages of 4 MB or more (plate clouds) converted for viewers, per "
+                             "channel (their 3-D topics and JSON); the others are dropped, counted; 0: every one",
+                             0, 3600),
        runtime::number_param("raw-cloud-period", "5",
                              "seconds between two messages of 4 MB or more (plate clouds) sent on their own channel "
                              "as JSON; their 3-D topics (/hg/plate/points) carry every one; 0: every one",
@@ -325,10 +344,11 @@ std::shared_ptr<void> attach(runtime::Node& node) {
   s.queue_frames = static_cast<std::size_t>(node.params().integer("client-queue-frames"));
   s.queue_bytes = static_cast<std::size_t>(node.params().integer("client-queue-mb")) << 20;
   if (node.params().flag("client-publish")) enable_publishing(node, s);
-  auto live = std::make_shared<Live>(
-      node, bridge_options(node), s, static_cast<std::size_t>(node.params().integer("queue-messages")),
-      static_cast<std::size_t>(node.params().integer("queue-mb")) << 20,
-      node.params().text("conversion-priority") == "idle", node.params().number("raw-cloud-period"));
+  auto live = std::make_shared<Live>(node, bridge_options(node), s,
+                                     static_cast<std::size_t>(node.params().integer("queue-messages")),
+                                     static_cast<std::size_t>(node.params().integer("queue-mb")) << 20,
+                                     node.params().text("conversion-priority") == "idle",
+                                     node.params().number("raw-cloud-period"), node.params().number("cloud-period"));
   runtime::logf(runtime::Level::Info, "serving the bus on ws://%s:%d (Foxglove WebSocket protocol)", s.host.c_str(),
                 live->port());
   node.subscribe_raw(".*",
