@@ -277,7 +277,9 @@ runtime::ProcessInfo process_info() {
       "operator of --users-file (the station's users file) who logs in with HTTP Basic on the upgrade\n"
       "(ws://USER:PASSWORD@HOST:PORT) may publish HG_JOB_REQUEST as JSON. The conversion runs at idle\n"
       "scheduling priority (--conversion-priority): it takes no core the cell wants, and what waits too long\n"
-      "is dropped (the heartbeat's dropped). A slow client misses frames (counted per client in the\n"
+      "is dropped (the heartbeat's dropped); a plate cloud is converted at most once per --cloud-period and\n"
+      "sent as its own JSON at most once per --raw-cloud-period (their memory traffic slows the outline\n"
+      "service even at idle priority). A slow client misses frames (counted per client in the\n"
       "heartbeat's state text); a client sending garbage is disconnected with a close reason. Details:\n"
       "docs/foxglove.md.",
       {text_param("host", "127.0.0.1", "address to listen on (loopback: the cell's traffic stays on the machine)"),
