@@ -41,6 +41,8 @@ Json number() { return Json{{"type", "number"}}; }
 Json integer() { return Json{{"type", "integer"}}; }
 Json text() { return Json{{"type", "string"}}; }
 Json array_of(Json item) { return Json{{"type", "array"}, {"items", std::move(item)}}; }
+// A primitive list this bridge leaves empty: typed all the same, as viewers read no field without a type.
+Json unused_list() { return array_of(Json{{"type", "object"}}); }
 Json time_schema() { return object({{"sec", integer()}, {"nsec", integer()}}); }
 Json vec3() { return object({{"x", number()}, {"y", number()}, {"z", number()}}); }
 Json quat() { return object({{"x", number()}, {"y", number()}, {"z", number()}, {"w", number()}}); }
@@ -65,15 +67,16 @@ Json scene_update_schema() {
                         {"lifetime", time_schema()},
                         {"frame_locked", Json{{"type", "boolean"}}},
                         {"metadata", array_of(object({{"key", text()}, {"value", text()}}))},
-                        {"arrows", array_of(Json::object())},
-                        {"cubes", array_of(Json::object())},
-                        {"spheres", array_of(Json::object())},
-                        {"cylinders", array_of(Json::object())},
+                        {"arrows", unused_list()},
+                        {"cubes", unused_list()},
+                        {"spheres", unused_list()},
+                        {"cylinders", unused_list()},
                         {"lines", array_of(line_schema())},
-                        {"triangles", array_of(Json::object())},
-                        {"texts", array_of(Json::object())},
-                        {"models", array_of(Json::object())}});
-  return object({{"deletions", array_of(Json::object())}, {"entities", array_of(entity)}});
+                        {"triangles", unused_list()},
+                        {"texts", unused_list()},
+                        {"models", unused_list()}});
+  Json deletion = object({{"timestamp", time_schema()}, {"type", integer()}, {"id", text()}});
+  return object({{"deletions", array_of(deletion)}, {"entities", array_of(entity)}});
 }
 
 Json titled(Json s, const std::string& title) {

@@ -53,35 +53,42 @@ Json primitive_schema(Kind k) {
     case Kind::Int64: return integer_schema<int64_t>();
     case Kind::Byte: return integer_schema<uint8_t>();
     case Kind::Float:
-    case Kind::Double: return Json{{"type", Json::array({"number", "null"})}};
+    case Kind::Double: return Json{{"type", "number"}};  // NaN and Inf are written as null: JSON has neither
     case Kind::Boolean: return Json{{"type", "boolean"}};
     case Kind::String: return Json{{"type", "string"}};
     default: return Json::object();
   }
 }
 
-std::string definition_ref(const std::string& full_name) { return "#/definitions/" + full_name; }
+Json object_schema(const Schema& schema, const Struct& s);
 
-Json member_schema(const Member& m) {
-  Json item = m.kind == Kind::Struct ? Json{{"$ref", definition_ref(m.type_name)}} : primitive_schema(m.kind);
-  for (std::size_t i = m.dims.size(); i-- > 0;) {
-    const Dim& d = m.dims[i];
-    if (m.kind == Kind::Byte && i + 1 == m.dims.size()) {
-      item = Json{{"type", "string"}, {"contentEncoding", "base64"}};
-      continue;
-    }
-    Json a{{"type", "array"}, {"items", std::move(item)}};
-    if (!d.variable) a["minItems"] = a["maxItems"] = d.fixed;
-    item = std::move(a);
+// An array of any rank is one flat JSON array in row-major order (a byte array one base64 string), and a
+// nested struct is its object schema written in place: Foxglove's and Lichtblick's JSON Schema readers take
+// one "type" per field, no "$ref" and no array of arrays (Lichtblick packages/mcap-support/src/
+// parseJsonSchema.ts), and a channel whose schema they cannot read shows nothing.
+Json member_schema(const Schema& schema, const Member& m) {
+  Json item = m.kind == Kind::Struct ? object_schema(schema, *schema.find(m.type_name)) : primitive_schema(m.kind);
+  if (m.dims.empty()) return item;
+  if (m.kind == Kind::Byte) return Json{{"type", "string"}, {"contentEncoding", "base64"}};
+  Json a{{"type", "array"}, {"items", std::move(item)}};
+  bool fixed = true;
+  std::int64_t count = 1;
+  std::string shape;
+  for (const Dim& d : m.dims) {
+    fixed = fixed && !d.variable;
+    count *= d.variable ? 1 : d.fixed;
+    shape += (shape.empty() ? "" : " x ") + (d.variable ? d.var : std::to_string(d.fixed));
   }
-  return item;
+  if (fixed) a["minItems"] = a["maxItems"] = count;
+  if (m.dims.size() > 1) a["description"] = shape + " values, row-major";
+  return a;
 }
 
-Json object_schema(const Struct& s) {
+Json object_schema(const Schema& schema, const Struct& s) {
   Json props = Json::object();
   Json required = Json::array();
   for (const Member& m : s.members) {
-    props[m.name] = member_schema(m);
+    props[m.name] = member_schema(schema, m);
     required.push_back(m.name);
   }
   return Json{{"type", "object"},
@@ -91,26 +98,12 @@ Json object_schema(const Struct& s) {
               {"additionalProperties", false}};
 }
 
-// Every struct type reachable from s's members, for "definitions".
-void collect_nested(const Schema& schema, const Struct& s, std::set<std::string>& names) {
-  for (const Member& m : s.members)
-    if (m.kind == Kind::Struct && names.insert(m.type_name).second)
-      collect_nested(schema, *schema.find(m.type_name), names);
-}
-
 }  // namespace
 
 Json json_schema(const Schema& schema, const Struct& s) {
   Json out{{"$schema", "http://json-schema.org/draft-07/schema#"}};
-  Json body = object_schema(s);
+  Json body = object_schema(schema, s);
   for (auto& [k, v] : body.items()) out[k] = v;
-  std::set<std::string> nested;
-  collect_nested(schema, s, nested);
-  if (!nested.empty()) {
-    Json defs = Json::object();
-    for (const std::string& name : nested) defs[name] = object_schema(*schema.find(name));
-    out["definitions"] = std::move(defs);
-  }
   return out;
 }
 
@@ -509,9 +502,15 @@ struct Encoder {
     }
   }
 
-  void array(const Member& m, const std::vector<int64_t>& lens, std::size_t level, const std::string& field) {
-    std::size_t n = static_cast<std::size_t>(lens[level]);
-    if (m.kind == Kind::Byte && level + 1 == lens.size()) {
+  // Every element of an array of any rank, in the message's (row-major) order: one flat JSON array, a byte
+  // array one base64 string (member_schema says why).
+  void array(const Member& m, const std::vector<int64_t>& lens, const std::string& field) {
+    std::size_t fixed = fixed_size(m.kind), least = std::max<std::size_t>(fixed, 1), n = 1;
+    for (int64_t len : lens) {  // a lying length fails here, before any loop: each element takes >= 1 byte
+      if (len != 0 && n > (size - pos) / least / static_cast<std::size_t>(len)) need(size, field);
+      n *= static_cast<std::size_t>(len);
+    }
+    if (m.kind == Kind::Byte) {
       need(n, field);
       out.push_back('"');
       append_base64(d + pos, n, out);
@@ -519,22 +518,14 @@ struct Encoder {
       pos += n;
       return;
     }
-    std::size_t fixed = fixed_size(m.kind);
-    if (fixed != 0) {  // a lying length fails here, before the loop
-      std::size_t inner = fixed;
-      for (std::size_t i = level; i < lens.size(); ++i) {
-        if (lens[i] != 0 && inner > (size - pos) / static_cast<std::size_t>(lens[i])) need(size, field);
-        inner *= static_cast<std::size_t>(lens[i]);
-      }
-      need(inner, field);
-      if (level + 1 == lens.size() && fast_numbers(m.kind, n)) return;
+    if (fixed != 0) {
+      need(n * fixed, field);
+      if (fast_numbers(m.kind, n)) return;
     }
     out.push_back('[');
     for (std::size_t i = 0; i < n; ++i) {
       if (i) out.push_back(',');
-      if (level + 1 == lens.size()) element(m, field);
-      else
-        array(m, lens, level + 1, field);
+      element(m, field);
     }
     out.push_back(']');
   }
@@ -561,7 +552,7 @@ struct Encoder {
         if (len < 0) throw DecodeError("negative array length " + std::to_string(len) + " of '" + field + "'");
         lens.push_back(len);
       }
-      array(m, lens, 0, field);
+      array(m, lens, field);
     }
     out.push_back('}');
   }

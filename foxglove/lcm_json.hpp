@@ -4,11 +4,14 @@
 //
 // The mapping (JSON Schema draft-07, what ajv and Foxglove read):
 //   int8..int64 -> integer (with the type's range), byte -> integer 0..255,
-//   float, double -> number, or null for NaN/Inf (JSON has no such numbers),
-//   boolean -> boolean, string -> string (bytes that are not UTF-8 become U+FFFD),
-//   byte arrays -> the innermost dimension as one base64 string (contentEncoding base64, as Foxglove's
-//   JSON encoding writes bytes), other arrays -> arrays (fixed sizes as minItems = maxItems),
-//   nested struct -> object; every member is required and no other property is allowed.
+//   float, double -> number, or null for NaN/Inf (JSON has no such numbers; the schema says number, see
+//   below), boolean -> boolean, string -> string (bytes that are not UTF-8 become U+FFFD),
+//   byte arrays -> one base64 string (contentEncoding base64, as Foxglove's JSON encoding writes bytes),
+//   other arrays -> arrays (fixed sizes as minItems = maxItems); an array of any rank is one flat array in
+//   row-major order; nested struct -> object, its schema in place; every member is required and no other
+//   property is allowed.
+// The schema keeps to what Foxglove's and Lichtblick's JSON Schema reader takes (one "type" per field, no
+// "$ref", no array of arrays): a channel whose schema a viewer refuses shows nothing.
 // The encoder writes the text straight from the message bytes (no intermediate tree): a 1.6 M-point cloud
 // is 5 M floats, and the live server and hg-mcap both run this on every message.
 #pragma once

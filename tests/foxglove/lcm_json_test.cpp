@@ -10,9 +10,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <limits>
 #include <random>
+#include <set>
 
 #include "foxglove/lcm_json.hpp"
 
@@ -102,27 +102,35 @@ struct Gen {
   }
 };
 
-// What to_json must print for a value: NaN and Inf as null, byte arrays' innermost dimension as base64.
-Json expected(const Schema& schema, const Member& m, const Json& v, std::size_t level);
+// What to_json must print for a value: NaN and Inf as null; an array of any rank as one flat array of its
+// elements in row-major order, a byte array as one base64 string of them.
+Json expected(const Schema& schema, const Member& m, const Json& v);
 Json expected_object(const Schema& schema, const Struct& s, const Json& v) {
   Json o = Json::object();
-  for (const Member& m : s.members) o[m.name] = expected(schema, m, v.at(m.name), 0);
+  for (const Member& m : s.members) o[m.name] = expected(schema, m, v.at(m.name));
   return o;
 }
-Json expected(const Schema& schema, const Member& m, const Json& v, std::size_t level) {
-  if (level < m.dims.size()) {
-    if (m.kind == Kind::Byte && level + 1 == m.dims.size()) {
-      std::vector<uint8_t> b;
-      for (const Json& x : v) b.push_back(x.get<uint8_t>());
-      return base64_of(b);
-    }
-    Json a = Json::array();
-    for (const Json& x : v) a.push_back(expected(schema, m, x, level + 1));
-    return a;
-  }
+void flatten(const Json& v, std::size_t rank, std::vector<Json>& out) {
+  if (rank == 0) return out.push_back(v);
+  for (const Json& x : v) flatten(x, rank - 1, out);
+}
+Json expected_scalar(const Schema& schema, const Member& m, const Json& v) {
   if (m.kind == Kind::Struct) return expected_object(schema, *schema.find(m.type_name), v);
   if ((m.kind == Kind::Float || m.kind == Kind::Double) && !std::isfinite(v.get<double>())) return nullptr;
   return v;
+}
+Json expected(const Schema& schema, const Member& m, const Json& v) {
+  if (m.dims.empty()) return expected_scalar(schema, m, v);
+  std::vector<Json> elements;
+  flatten(v, m.dims.size(), elements);
+  if (m.kind == Kind::Byte) {
+    std::vector<uint8_t> b;
+    for (const Json& x : elements) b.push_back(x.get<uint8_t>());
+    return base64_of(b);
+  }
+  Json a = Json::array();
+  for (const Json& x : elements) a.push_back(expected_scalar(schema, m, x));
+  return a;
 }
 
 // Equal as the reader sees them: a float32 printed shortest ("292.35956") reads back as that float
@@ -146,15 +154,14 @@ bool same_object(const Schema& schema, const Struct& s, const Json& a, const Jso
     if (!a.contains(m.name)) return false;
     if (m.kind == Kind::Struct) {
       const Struct& t = *schema.find(m.type_name);
-      std::function<bool(const Json&, const Json&, std::size_t)> walk = [&](const Json& x, const Json& y,
-                                                                            std::size_t level) {
-        if (level == m.dims.size()) return same_object(schema, t, x, y);
-        if (!x.is_array() || x.size() != y.size()) return false;
-        for (std::size_t i = 0; i < x.size(); ++i)
-          if (!walk(x[i], y[i], level + 1)) return false;
-        return true;
-      };
-      if (!walk(a[m.name], b[m.name], 0)) return false;
+      const Json &x = a[m.name], &y = b[m.name];
+      if (m.dims.empty()) {
+        if (!same_object(schema, t, x, y)) return false;
+        continue;
+      }
+      if (!x.is_array() || x.size() != y.size()) return false;  // flat, whatever the rank
+      for (std::size_t i = 0; i < x.size(); ++i)
+        if (!same_object(schema, t, x[i], y[i])) return false;
     } else if (!same(a[m.name], b[m.name], m.kind == Kind::Float)) {
       return false;
     }
@@ -257,11 +264,41 @@ TEST(FoxgloveLcmJson, SchemaFollowsTheLcmFileMemberByMember) {
       const Member& m = s.members[i];
       EXPECT_EQ(js["required"][i], m.name);
       const Json& p = js["properties"][m.name];
-      if (m.dims.empty() && m.kind == Kind::Struct) EXPECT_EQ(p["$ref"], "#/definitions/" + m.type_name);
-      if (m.kind == Kind::Byte && m.dims.size() == 1) EXPECT_EQ(p["contentEncoding"], "base64") << m.name;
-      if (m.kind != Kind::Byte && m.dims.size() == 1) EXPECT_EQ(p["type"], "array") << m.name;
-      if (m.kind == Kind::Struct) EXPECT_TRUE(js["definitions"].contains(m.type_name));
+      if (m.dims.empty() && m.kind == Kind::Struct) EXPECT_EQ(p["title"], m.type_name) << m.name;  // in place
+      if (m.kind == Kind::Byte && !m.dims.empty()) EXPECT_EQ(p["contentEncoding"], "base64") << m.name;
+      if (m.kind != Kind::Byte && !m.dims.empty()) {
+        EXPECT_EQ(p["type"], "array") << m.name;
+        EXPECT_NE(p["items"]["type"], "array") << m.name << ": any rank is one flat array";
+      }
     }
+  }
+}
+
+// What Foxglove's and Lichtblick's JSON Schema reader takes (Lichtblick, packages/mcap-support/src/
+// parseJsonSchema.ts; tests/foxglove/viewer_schema.js checks the same on the schemas a live server and an
+// MCAP carry): one "type" per field, no "$ref", no array of arrays, no encoded strings in an array.
+void expect_viewer_readable(const Json& object, const std::string& at) {
+  ASSERT_EQ(object["type"], "object") << at;
+  static const std::set<std::string> field{"boolean", "string", "number", "integer", "object", "array"};
+  for (const auto& [name, f] : object["properties"].items()) {
+    std::string where = at + "." + name;
+    EXPECT_FALSE(f.contains("$ref")) << where;
+    ASSERT_TRUE(f["type"].is_string() && field.count(f["type"].get<std::string>())) << where << ": " << f.dump();
+    if (f["type"] == "object") expect_viewer_readable(f, where);
+    if (f["type"] != "array") continue;
+    const Json& item = f["items"];
+    ASSERT_TRUE(item["type"].is_string() && item["type"] != "array") << where << "[]: " << item.dump();
+    EXPECT_FALSE(item["type"] == "string" && item.contains("contentEncoding")) << where;
+    if (item["type"] == "object") expect_viewer_readable(item, where + "[]");
+  }
+}
+
+TEST(FoxgloveLcmJson, EverySchemaIsOneFoxgloveAndLichtblickCanRead) {
+  Schema schema = Schema::embedded();
+  for (const Struct& s : schema.structs()) {
+    Json js = hg::foxglove::json_schema(schema, s);
+    EXPECT_FALSE(js.contains("definitions")) << s.full_name();
+    expect_viewer_readable(js, s.full_name());
   }
 }
 

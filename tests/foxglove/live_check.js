@@ -3,7 +3,8 @@
 // hg-foxglove, while the test runs a job through the pipeline:
 //   - receives the advertisement of every channel, subscribes to each as it is advertised, decodes every
 //     message (JSON parsed and validated with ajv against the advertised schema, and the foxglove.* ones
-//     against @foxglove/schemas), counts raw ones;
+//     against @foxglove/schemas), counts raw ones; every advertised schema must be one Foxglove's and
+//     Lichtblick's viewers can read (viewer_schema.js);
 //   - each /hg/plate/points must give the plate's points back: as many as HG_PLATE_CLOUD's n decimated to
 //     --max-points, the same bounding box as the cloud's (u, v) on its plane;
 //   - each /hg/grind_path must show its grind_path_t's smoothed edge (scene_check.js);
@@ -22,6 +23,7 @@ const { FoxgloveClient } = require("@foxglove/ws-protocol");
 const Ajv = require("ajv");
 const foxgloveSchemas = require("@foxglove/schemas/jsonschema");
 const { checkSmoothedEdge, outlineColors } = require("./scene_check");
+const { viewerProblems } = require("./viewer_schema");
 
 const [url, resultFile, stopFile] = process.argv.slice(2);
 const maxPoints = process.argv.includes("--max-points") ? Number(process.argv[process.argv.indexOf("--max-points") + 1]) : 200000;
@@ -112,7 +114,11 @@ function main() {
   client.on("advertise", (channels) => {
     for (const ch of channels) {
       result.advertised.push({ topic: ch.topic, encoding: ch.encoding, schemaName: ch.schemaName });
-      if (ch.encoding === "json") validators.set(ch.id, ajv.compile(JSON.parse(ch.schema)));
+      if (ch.encoding === "json") {
+        const schema = JSON.parse(ch.schema);
+        for (const p of viewerProblems(schema)) result.invalid.push(`${ch.topic}: schema unreadable by viewers: ${p}`);
+        validators.set(ch.id, ajv.compile(schema));
+      }
       bySub.set(client.subscribe(ch.id), ch);
     }
     if (!ready) { ready = true; console.log("ready"); }

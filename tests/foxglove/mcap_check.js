@@ -7,7 +7,8 @@
 //   - per LCM channel exactly the events of the log(s), in order, with the events' times as log times;
 //     a raw (encoding lcm) channel carries the event's bytes unchanged;
 //   - every JSON message validates (ajv) against its channel's schema, and the foxglove.* ones also
-//     against Foxglove's own schemas (@foxglove/schemas);
+//     against Foxglove's own schemas (@foxglove/schemas); every schema is one Foxglove's and Lichtblick's
+//     viewers can read (viewer_schema.js);
 //   - the derived topics: one /hg/plate/points per plate cloud, whose packed points match the cloud (count
 //     with hg-mcap's decimation, bounding box), one /hg/outline, /hg/grind_path, /hg/log per message;
 //     each /hg/grind_path shows its path's smoothed edge (scene_check.js); a /hg/log line of a process's
@@ -25,6 +26,7 @@ const { crc32 } = require("@foxglove/crc");
 const Ajv = require("ajv");
 const foxgloveSchemas = require("@foxglove/schemas/jsonschema");
 const { checkSmoothedEdge, outlineColors } = require("./scene_check");
+const { viewerProblems } = require("./viewer_schema");
 
 const failures = [];
 function check(cond, what) {
@@ -211,7 +213,11 @@ async function main() {
     if (!check(ch.messageEncoding === "json", `${ch.topic}: encoding ${ch.messageEncoding}`)) continue;
     const schema = schemas.get(ch.schemaId);
     if (!check(schema && schema.encoding === "jsonschema", `${ch.topic}: no JSON Schema`)) continue;
-    if (!validators.has(schema.id)) validators.set(schema.id, ajv.compile(JSON.parse(Buffer.from(schema.data).toString())));
+    if (!validators.has(schema.id)) {
+      const parsed = JSON.parse(Buffer.from(schema.data).toString());
+      for (const p of viewerProblems(parsed)) check(false, `${ch.topic}: schema ${schema.name} unreadable by viewers: ${p}`);
+      validators.set(schema.id, ajv.compile(parsed));
+    }
     const json = JSON.parse(Buffer.from(m.data).toString("utf8"));
     const validate = validators.get(schema.id);
     check(validate(json), `${ch.topic}: message does not validate: ${ajv.errorsText(validate.errors)}`);

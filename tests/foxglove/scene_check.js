@@ -3,12 +3,13 @@
 // exactly the edge's points in order, in a colour that no path segment and no outline loop has.
 "use strict";
 
-// The edge's rings as the message gives them: [{loop, points: [[x, y, z], ...]}], split where edge_loop changes.
+// The edge's rings as the message gives them: [{loop, points: [[x, y, z], ...]}], split where edge_loop changes
+// (the message's edge is num_edge_points x 3 values, row-major).
 function edgeRings(path) {
   const rings = [];
   for (let i = 0; i < path.num_edge_points; ++i) {
     if (i === 0 || path.edge_loop[i] !== path.edge_loop[i - 1]) rings.push({ loop: path.edge_loop[i], points: [] });
-    rings[rings.length - 1].points.push(path.edge[i]);
+    rings[rings.length - 1].points.push(path.edge.slice(3 * i, 3 * i + 3));
   }
   return rings;
 }
