@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace hg::outline_service {
 namespace {
@@ -25,12 +26,17 @@ bool inside(const std::vector<outline::Vec2>& poly, outline::Vec2 q) {
   return in;
 }
 
-// The ring's length in the max norm, sum of max(|dx|, |dy|) over its edges.
-double max_norm_length(const std::vector<outline::Vec2>& ring) {
-  double s = 0;
-  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
-    s += std::max(std::abs(ring[i].x - ring[j].x), std::abs(ring[i].y - ring[j].y));
-  return s;
+// The lattice points on the ring (Pick's B): each edge holds gcd(|du|, |dv|) lattice steps of `spacing`
+// along the u, v axes (a chord across a staircase's notch holds one, a straight along the lattice one per
+// pixel), at least its first vertex, a point of the cloud.
+long lattice_points(const std::vector<outline::Vec2>& ring, double spacing) {
+  long b = 0;
+  for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+    const long du = std::lround(std::abs(ring[i].x - ring[j].x) / spacing);
+    const long dv = std::lround(std::abs(ring[i].y - ring[j].y) / spacing);
+    b += std::max(1L, std::gcd(du, dv));
+  }
+  return b;
 }
 
 }  // namespace
@@ -45,7 +51,9 @@ std::vector<PartPose> part_poses(const std::vector<outline::Loop>& loops, double
     // Moments about a nearby point keep the sums well conditioned.
     polygon::MomentSum sum(polygon::Vec2(outer[0].x, outer[0].y));
     sum.add(ring_of(outer));
-    double edge = max_norm_length(outer);
+    const bool lattice = spacing > 0;
+    long boundary = lattice ? lattice_points(outer, spacing) : 0;
+    int holes = 0;
     for (std::size_t j = 0; j < loops.size(); ++j) {
       if (!loops[j].hole || loops[j].points.empty()) continue;
       // A hole belongs to the smallest outer loop that contains it; holes of nested parts are rare on a
@@ -59,11 +67,13 @@ std::vector<PartPose> part_poses(const std::vector<outline::Loop>& loops, double
       if (in_smaller) continue;
       pose.holes.push_back(j);
       sum.add(ring_of(hole));
-      edge += max_norm_length(hole);
+      if (lattice) boundary += lattice_points(hole, spacing);
+      ++holes;
     }
     const polygon::AreaMoments m = sum.moments();
     if (m.area <= 0) continue;
-    pose.area = m.area + 0.5 * spacing * edge;
+    // Pick's theorem: the pixels of a polygon through lattice points number A / h^2 + B / 2 + 1 - holes.
+    pose.area = lattice ? m.area + spacing * spacing * (0.5 * double(boundary) + 1 - holes) : m.area;
     pose.centroid = {m.centroid.x(), m.centroid.y()};
     const double angle = m.principal_axis_angle();  // major axis of the area's second moments
     pose.principal_axis_angle = angle;

@@ -96,6 +96,37 @@ TEST(OutlineServiceCompute, PlateWithHoleGivesOuterLoopHoleAndPose) {
   EXPECT_NEAR(c.poses[0].principal_axis_angle, 0, 1e-6);
 }
 
+// The part's area on a pixel lattice is its pixels' area at any angle of its edges to the lattice, through
+// the alpha shape as the service runs it. Along an edge at a slope of 1/2 or 1/3 to the lattice the loop
+// bridges the staircase's notches (the triangle across a notch, circumradius 1.58 h, is under the
+// automatic R = 1.7 h), so the loop's length in the max norm does not count its lattice points: h/2 x that
+// length is half a pixel too much per notch (0.1-0.6 % of knee-scallop's area at pm806,
+// docs/BENCHMARKS-outline.md). The expectation is independent of the outline: the points counted, x h^2.
+TEST(OutlineServiceCompute, PartAreaIsItsPixelsWhateverTheEdgesSlopeToTheLattice) {
+  const double h = 0.002;
+  // A right triangle (legs 120 and 120 mm) with its right angle rounded (R30), turned by each angle: its
+  // straight edges at slopes 0, 1/2, 1/3 and in between to the lattice, its arc at every slope. (Convex, so
+  // that no chord of the loop passes over a lattice point outside it, which the area would count.)
+  for (double turn : {0.0, std::atan(0.5), std::atan(1.0 / 3), 0.3, 0.7, 1.1}) {
+    SCOPED_TRACE(turn);
+    const double c = std::cos(turn), s = std::sin(turn), a = 0.12, r = 0.03;
+    hullgrind::plate_cloud_t cloud = hg::test::plate_with_hole(0, 0, 0, 0, 0, 0, h);  // frame only
+    cloud.u.clear(), cloud.v.clear(), cloud.part.clear();
+    for (int j = -120; j <= 120; ++j)
+      for (int i = -120; i <= 120; ++i) {
+        const double x = c * i * h + s * j * h, y = -s * i * h + c * j * h;  // in the triangle's frame
+        const bool fillet = x < r && y < r && (x - r) * (x - r) + (y - r) * (y - r) > r * r;
+        if (x < 0 || y < 0 || x + y > a || fillet) continue;
+        cloud.u.push_back(float(i * h)), cloud.v.push_back(float(j * h)), cloud.part.push_back(0);
+      }
+    cloud.n = int32_t(cloud.u.size());
+    const os::Computed got = os::compute(cloud, os::ServiceOptions{});
+    ASSERT_EQ(got.outline.status, +hullgrind::outline_t::STATUS_OK) << got.outline.error_text;
+    ASSERT_EQ(got.poses.size(), 1u);
+    EXPECT_NEAR(got.poses[0].area, cloud.n * h * h, 0.5 * h * h) << cloud.n << " points";
+  }
+}
+
 TEST(OutlineServiceCompute, GapsOfMissingPixelsAreNotHoles) {
   const double p = 0.005;
   auto cloud = hg::test::plate_with_hole(0.4, 0.2, 0.1, 0.2, 0.05, 0.15, p);

@@ -67,8 +67,7 @@ TEST(OutlineServicePose, TwoPartsLargestFirstHoleAssignedToItsPart) {
 
 // Loops through the outermost pixel centres of a lattice of pitch h (the outline core's loops): the part's
 // area is its pixels' area, counted, whether its edges run along the lattice or at 45 deg to it (there the
-// loop's own area is 0.35 pixel short per pixel of edge, along it 0.5). Within one pixel: the staircase's
-// convex corners keep a quarter pixel outside each.
+// loop's own area is 0.35 pixel short per pixel of edge, along it 0.5).
 TEST(OutlineServicePose, OnAPixelLatticeTheAreaIsThePixelsAtAnyAngle) {
   const double h = 0.002;
   const int n = 41, k = 20;  // a square of n x n pixels; a diamond of the pixels with |i| + |j| <= k
