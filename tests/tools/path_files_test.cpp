@@ -63,6 +63,7 @@ Scene scene() {
   for (int k = 0; k < 3; ++k)
     o.plane_origin[k] = origin[k], o.plane_normal[k] = normal[k], o.plane_u_axis[k] = u[k], o.plane_v_axis[k] = v[k];
   o.alpha_radius = 0.0027;
+  o.compute_time = 0.25;
   o.mode = "dshi";
   o.order = "brio";
   for (std::size_t k = 0; k < s.rings.size(); ++k) {
@@ -335,6 +336,23 @@ TEST(Overview, TellsTheEndStateTruthfully) {
       EXPECT_NE(out.find("job J1: DONE - path complete"), std::string::npos) << out;
     }
   }
+}
+
+// The stages of summary.json from the log's receive times (write_job_log: request 1 ms, cloud 2 ms, outline 3 ms,
+// path 4 ms, end 5 ms) and the two compute times the messages carry: the outline service's and the planner's.
+TEST(Overview, StagesAreTheLogsTimesAndTheComputeTimesTheMessagesCarry) {
+  hullgrind::grind_path_t path = write_job_log(tmp("stages.lcmlog"));
+  const auto job = hg::overview::trace_job(hg::overview::read_run_log(tmp("stages.lcmlog")));
+  ASSERT_TRUE(job.path && job.outline && job.request && job.final_status);
+  const auto stages = hg::overview::summary_json(job)["stages"];
+  EXPECT_DOUBLE_EQ(stages["cloud_to_outline_ms"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(stages["plan_ms"].get<double>(), 1.0);  // from the outline (after the request) to the path
+  EXPECT_DOUBLE_EQ(stages["robot_run_ms"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(stages["request_to_end_ms"].get<double>(), 4.0);
+  EXPECT_DOUBLE_EQ(stages["outline_compute_ms"].get<double>(), 250.0);  // scene(): 0.25 s
+  // pp::plan timed itself.
+  ASSERT_GT(path.compute_time, 0);
+  EXPECT_DOUBLE_EQ(stages["plan_compute_ms"].get<double>(), path.compute_time * 1e3);
 }
 
 TEST(Overview, ScaleBarIsARoundLengthOfAtMostAQuarterOfThePicture) {
