@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <sstream>
@@ -353,6 +354,40 @@ TEST(Overview, StagesAreTheLogsTimesAndTheComputeTimesTheMessagesCarry) {
   // pp::plan timed itself.
   ASSERT_GT(path.compute_time, 0);
   EXPECT_DOUBLE_EQ(stages["plan_compute_ms"].get<double>(), path.compute_time * 1e3);
+}
+
+// A path recorded with another version of grind_path_t (another fingerprint) is not read as a path, and
+// hg-overview says so instead of reporting a job without one in silence.
+TEST(Overview, SaysWhenAMessageDoesNotDecode) {
+  const hullgrind::grind_path_t path = write_job_log(tmp("ok.lcmlog"));
+  {
+    lcm::LogFile log(tmp("other.lcmlog"), "w");
+    hullgrind::job_request_t req{};
+    req.job_id = "J1";
+    log_event(log, 1000, "HG_JOB_REQUEST", req);
+    std::vector<std::uint8_t> buf(std::size_t(path.getEncodedSize()));
+    path.encode(buf.data(), 0, int(buf.size()));
+    buf[0] ^= 0x5a;  // another type's fingerprint
+    lcm::LogEvent e{};
+    e.timestamp = 4000;
+    e.channel = "HG_GRIND_PATH";
+    e.datalen = std::int32_t(buf.size());
+    e.data = buf.data();
+    log.writeEvent(&e);
+  }
+  std::string out;
+  run("hg-overview " + tmp("other.lcmlog") + " --out " + tmp("other") + " --planner-config " + kPlannerConfig +
+          " --cell " + kRunCell,
+      &out);
+  EXPECT_NE(out.find("1 messages on the cloud, outline, path, request or status channel do not decode"),
+            std::string::npos)
+      << out;
+  EXPECT_FALSE(std::filesystem::exists(tmp("other") + "/path.json"));
+  ASSERT_EQ(run("hg-overview " + tmp("ok.lcmlog") + " --out " + tmp("ok") + " --planner-config " + kPlannerConfig +
+                    " --cell " + kRunCell,
+                &out),
+            0);
+  EXPECT_EQ(out.find("do not decode"), std::string::npos) << out;
 }
 
 TEST(Overview, ScaleBarIsARoundLengthOfAtMostAQuarterOfThePicture) {
