@@ -80,6 +80,7 @@ hullgrind::grind_path_t to_lcm(const PlanResult& r, const std::string& job_id, s
   g.tilt = r.params.tilt;
   g.flipped = r.params.flipped;
   g.revision = revision;
+  g.compute_time = r.seconds;
   for (const LoopCoverage& c : r.coverage) {
     hullgrind::loop_coverage_t lc{};
     lc.loop_index = std::int16_t(c.loop);

@@ -163,13 +163,18 @@ TEST_F(PathPlannerProcess, OutlineAndJobGivePathAndPlanned) {
   auto o = plate_outline(7);
   lcm.publish("HG_OUTLINE", &o);
   auto r = start("job-1");
+  const auto sent = std::chrono::steady_clock::now();
   lcm.publish("HG_JOB_REQUEST", &r);
   const auto s = final_status("job-1");
   ASSERT_TRUE(s.has_value());
   EXPECT_EQ(s->state, +hullgrind::job_status_t::STATE_PLANNED) << s->message;
   EXPECT_EQ(s->source, "hg-path-planner");
   ASSERT_TRUE(wait_for([&] { return !bus.paths.empty(); }, 2s));
+  const double request_to_path = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
   const auto& p = bus.paths.front();
+  // The planner's own compute time: some work, and within what this test waited from the request to the path.
+  EXPECT_GT(p.compute_time, 0);
+  EXPECT_LE(p.compute_time, request_to_path);
   EXPECT_EQ(p.job_id, "job-1");
   EXPECT_EQ(p.outline_seq, 7);
   EXPECT_EQ(p.frame, "robot_base");

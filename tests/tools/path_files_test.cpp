@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <sstream>
@@ -63,6 +64,7 @@ Scene scene() {
   for (int k = 0; k < 3; ++k)
     o.plane_origin[k] = origin[k], o.plane_normal[k] = normal[k], o.plane_u_axis[k] = u[k], o.plane_v_axis[k] = v[k];
   o.alpha_radius = 0.0027;
+  o.compute_time = 0.25;
   o.mode = "dshi";
   o.order = "brio";
   for (std::size_t k = 0; k < s.rings.size(); ++k) {
@@ -335,6 +337,57 @@ TEST(Overview, TellsTheEndStateTruthfully) {
       EXPECT_NE(out.find("job J1: DONE - path complete"), std::string::npos) << out;
     }
   }
+}
+
+// The stages of summary.json from the log's receive times (write_job_log: request 1 ms, cloud 2 ms, outline 3 ms,
+// path 4 ms, end 5 ms) and the two compute times the messages carry: the outline service's and the planner's.
+TEST(Overview, StagesAreTheLogsTimesAndTheComputeTimesTheMessagesCarry) {
+  hullgrind::grind_path_t path = write_job_log(tmp("stages.lcmlog"));
+  const auto job = hg::overview::trace_job(hg::overview::read_run_log(tmp("stages.lcmlog")));
+  ASSERT_TRUE(job.path && job.outline && job.request && job.final_status);
+  const auto stages = hg::overview::summary_json(job)["stages"];
+  EXPECT_DOUBLE_EQ(stages["cloud_to_outline_ms"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(stages["plan_ms"].get<double>(), 1.0);  // from the outline (after the request) to the path
+  EXPECT_DOUBLE_EQ(stages["robot_run_ms"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(stages["request_to_end_ms"].get<double>(), 4.0);
+  EXPECT_DOUBLE_EQ(stages["outline_compute_ms"].get<double>(), 250.0);  // scene(): 0.25 s
+  // pp::plan timed itself.
+  ASSERT_GT(path.compute_time, 0);
+  EXPECT_DOUBLE_EQ(stages["plan_compute_ms"].get<double>(), path.compute_time * 1e3);
+}
+
+// A path recorded with another version of grind_path_t (another fingerprint) is not read as a path, and
+// hg-overview says so instead of reporting a job without one in silence.
+TEST(Overview, SaysWhenAMessageDoesNotDecode) {
+  const hullgrind::grind_path_t path = write_job_log(tmp("ok.lcmlog"));
+  {
+    lcm::LogFile log(tmp("other.lcmlog"), "w");
+    hullgrind::job_request_t req{};
+    req.job_id = "J1";
+    log_event(log, 1000, "HG_JOB_REQUEST", req);
+    std::vector<std::uint8_t> buf(std::size_t(path.getEncodedSize()));
+    path.encode(buf.data(), 0, int(buf.size()));
+    buf[0] ^= 0x5a;  // another type's fingerprint
+    lcm::LogEvent e{};
+    e.timestamp = 4000;
+    e.channel = "HG_GRIND_PATH";
+    e.datalen = std::int32_t(buf.size());
+    e.data = buf.data();
+    log.writeEvent(&e);
+  }
+  std::string out;
+  run("hg-overview " + tmp("other.lcmlog") + " --out " + tmp("other") + " --planner-config " + kPlannerConfig +
+          " --cell " + kRunCell,
+      &out);
+  EXPECT_NE(out.find("1 messages on the cloud, outline, path, request or status channel do not decode"),
+            std::string::npos)
+      << out;
+  EXPECT_FALSE(std::filesystem::exists(tmp("other") + "/path.json"));
+  ASSERT_EQ(run("hg-overview " + tmp("ok.lcmlog") + " --out " + tmp("ok") + " --planner-config " + kPlannerConfig +
+                    " --cell " + kRunCell,
+                &out),
+            0);
+  EXPECT_EQ(out.find("do not decode"), std::string::npos) << out;
 }
 
 TEST(Overview, ScaleBarIsARoundLengthOfAtMostAQuarterOfThePicture) {

@@ -3,8 +3,8 @@
 with 1.59 M-point clouds at the camera's rate, with and without Foxglove viewers connected. Runs in a
 network namespace of its own (tests/netns.sh; re-executes itself there).
 
-  tools/bench/foxglove_bench.py [--runs 4] [--jobs 5] [--rate 5] [--clients 2] [--viewers-priority idle]
-                                [--cloud FILE] [--keep]
+  tools/bench/foxglove_bench.py [--runs 8] [--jobs 20] [--rate 5] [--clients 2] [--viewers-priority idle]
+                                [--bootstrap 2000] [--cloud FILE] [--keep]
 
 Each run is the shipped pipeline (config/pipeline.toml, its hg-foxglove included) under the supervisor,
 with hg-bench-station-feed in place of the camera bridge: hg-gen's preset high-4 (`hg-gen --preset high-4
@@ -26,11 +26,26 @@ here). The runs alternate 0 and --clients viewers (0, 2, 0, 2, ...), so both see
 
   stages = hg-overview's summary.json of each job on the recorded bus (what tools/run.sh writes as
            out/summary.json): capture_to_cloud_ms, cloud_to_outline_ms, outline_compute_ms, plan_ms,
-           robot_run_ms, request_to_end_ms. Per run the median over its jobs; per stage the median of the
-           runs with viewers / the median of the runs without (issue 25's target: <= 1.05).
+           plan_compute_ms, robot_run_ms, request_to_end_ms; and plan_delivery_ms = plan_ms - plan_compute_ms
+           per job (the request's and the path's way through the bus, beside 19 MB clouds). plan_ms is
+           lcm-logger's receive time of the path minus that of the outline or request, plan_compute_ms the
+           planner's own time (grind_path_t.compute_time). A job's sample of the outline's stages is its
+           outline's: jobs planned on one outline count it once.
+  ratio  = per stage the median of every sample of the runs with viewers / that of the runs without (issue
+           25's target: <= 1.05), with its 95 % interval from a bootstrap that draws runs and then samples
+           within each drawn run (--bootstrap rounds; the runs differ among themselves, not only their jobs),
+           and the no-viewer runs' own medians over their pooled median (the spread without viewers). The
+           verdict: "within 5 %" when the interval lies in 0.95-1.05, "not 5 % slower" when only its top is
+           <= 1.05, "over 5 % slower" when its bottom is above 1.05, "over 5 % faster (conditions differ)"
+           when its top is below 0.95, "not resolved" otherwise (more runs or jobs narrow it).
   clouds = published by the feed, recorded by lcm-logger, received by the outline service (its last
            heartbeat's `received`): a 19 MB cloud is ~13 k UDP datagrams on LCM's multicast and is sometimes
            lost; a lost one is counted and reported, not a failure (the next comes 1/rate s later).
+  cpu    = hg-foxglove's CPU time during the jobs by thread (/proc/PID/task), as a share of one core:
+           hg-fox-convert (the conversion, idle priority) and hg-foxglove (every other thread: LCM, heartbeat,
+           the WebSocket server's writes; normal priority). The runs with viewers minus those without is what
+           the viewers cost the cell's cores at normal priority in hg-foxglove (their kernel TCP work is partly
+           charged there too).
 
 The bus (95 MB/s at 5 Hz) is recorded on /dev/shm when it has room, and each run's directory is deleted
 after its figures are read (--keep keeps them). Prints a table and a JSON line. A benchmark, not a test.
@@ -57,8 +72,12 @@ from hgversion import version  # noqa: E402
 # A 16 MB plate_cloud_t arrives in ~13 k UDP fragments: a receive buffer of 4 MB (the machine's rmem_max), as
 # station_bench.py.
 LCM_URL = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"
-STAGES = ("capture_to_cloud_ms", "cloud_to_outline_ms", "outline_compute_ms", "plan_ms", "robot_run_ms",
-          "request_to_end_ms")
+STAGES = ("capture_to_cloud_ms", "cloud_to_outline_ms", "outline_compute_ms", "plan_ms", "plan_compute_ms",
+          "plan_delivery_ms", "robot_run_ms", "request_to_end_ms")
+# Stages of the job's outline: jobs that follow each other faster than the outline service planned on the same
+# outline, and count it once.
+OUTLINE_STAGES = ("capture_to_cloud_ms", "cloud_to_outline_ms", "outline_compute_ms")
+TARGET = 1.05  # issue 25: every stage within 5 % of a run without viewers
 
 
 def loadavg():
@@ -145,22 +164,71 @@ def stage_summaries(p, jobs):
         except (OSError, ValueError):
             sys.stderr.write("bench: hg-overview on %s: %s\n" % (job, res.stderr.strip()))
             continue
-        rows.append(dict(s["stages"], job=job, final=s["final_state"], points=s.get("cloud_points")))
+        row = dict(s["stages"], job=job, final=s["final_state"], points=s.get("cloud_points"))
+        if "plan_ms" in row and "plan_compute_ms" in row:
+            row["plan_delivery_ms"] = row["plan_ms"] - row["plan_compute_ms"]
+        rows.append(row)
     return rows
+
+
+def descendant(root, comm):
+    """The pid of the process named `comm` below `root` (our supervisor's hg-foxglove, not another one's)."""
+    parent, name = {}, {}
+    for d in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            with open("/proc/%s/stat" % d) as f:
+                text = f.read()
+        except (OSError, ValueError):
+            continue
+        pid = int(d)
+        name[pid] = text[text.index("(") + 1:text.rindex(")")]
+        parent[pid] = int(text[text.rindex(")") + 2:].split()[1])
+    for pid, n in name.items():
+        p = pid
+        while n == comm and p in parent and p > 1:
+            p = parent[p]
+            if p == root:
+                return pid
+    return None
+
+
+def thread_cpu(pid):
+    """CPU seconds (user + system) of a process's threads by thread name: hg-fox-convert is the conversion at
+    idle priority, hg-foxglove the rest (LCM, heartbeat, the WebSocket server's writes) at normal priority."""
+    out = {}
+    tick = os.sysconf("SC_CLK_TCK")
+    try:
+        for tid in os.listdir("/proc/%d/task" % pid):
+            with open("/proc/%d/task/%s/stat" % (pid, tid)) as f:
+                text = f.read()
+            name = text[text.index("(") + 1:text.rindex(")")]
+            fields = text[text.rindex(")") + 2:].split()
+            out[name] = out.get(name, 0) + (int(fields[11]) + int(fields[12])) / tick
+    except (OSError, ValueError):
+        pass
+    return out
+
+
+def cpu_share(before, after, seconds):
+    """Share of one core per thread name between two thread_cpu() readings."""
+    return {k: round((after.get(k, 0) - before.get(k, 0)) / seconds, 4) for k in after} if seconds > 0 else {}
 
 
 def one_run(E, args, cloud, index, n_clients):
     from pipeline_latency import start_clients, stop_clients
     p = pipeline(E, cloud, args.rate, "fox-%d-%d" % (index, n_clients))
     jobs = ["fox-%d-%02d" % (index, j) for j in range(args.jobs)]
-    load, finals, clients, received = [loadavg()], [], [], []
+    load, finals, clients, received, fox_cpu = [loadavg()], [], [], [], {}
     try:
         p.start()
         clients = start_clients(n_clients, idle=args.viewers_priority == "idle")
         time.sleep(3)  # viewers connected and subscribed, a few clouds on the bus
         load.append(loadavg())
+        fox = descendant(p.supervisor.pid, "hg-foxglove")
+        cpu0, t0 = thread_cpu(fox) if fox else {}, time.monotonic()
         for job in jobs:
             finals.append(run_job(E, p, job)["state"])
+        fox_cpu = cpu_share(cpu0, thread_cpu(fox), time.monotonic() - t0) if fox else {}
         load.append(loadavg())
     except Exception:
         print(p.diagnostics(), flush=True)
@@ -178,7 +246,7 @@ def one_run(E, args, cloud, index, n_clients):
                       if any(k in r for r in rows)},
            "job_stages": rows, "clouds_published": published(p), "clouds_recorded": len(set(seqs)),
            "clouds_received_by_outline_service": outline_got,
-           "log_mb": round(os.path.getsize(p.log) / 1e6),
+           "log_mb": round(os.path.getsize(p.log) / 1e6), "foxglove_cpu": fox_cpu,
            "viewers": [{"messages": sum(t["messages"] for t in got.values()),
                         "mb": round(sum(t["bytes"] for t in got.values()) / 1e6),
                         "plate_points": got.get("/hg/plate/points", {}).get("messages", 0),
@@ -196,20 +264,69 @@ def print_run(r):
           "service %s; log %d MB" % (r["run"], r["clients"], r["viewers_priority"], ",".join(r["finals"]), " -> ".join(r["loadavg"]),
                          top, r["clouds_recorded"], r["clouds_received_by_outline_service"], r["log_mb"]))
     print("  stages (median ms): " + ", ".join("%s %.0f" % (k[:-3], v) for k, v in r["stages"].items()))
+    print("  hg-foxglove's CPU during the jobs, share of a core by thread: " +
+          (", ".join("%s %.3f" % kv for kv in sorted(r["foxglove_cpu"].items())) or "not found"))
     for i, v in enumerate(r["viewers"]):
         print("  viewer %d: %d messages, %d MB; /hg/plate/points %d, HG_PLATE_CLOUD %d" % (
             i + 1, v["messages"], v["mb"], v["plate_points"], v["plate_clouds"]))
     sys.stdout.flush()
 
 
-def ratios(runs, n):
+def samples(run, stage):
+    """A run's values of one stage: one per job, one per outline for the outline's stages."""
+    values = [r[stage] for r in run["job_stages"] if stage in r]
+    if stage in OUTLINE_STAGES:
+        seen = {}
+        for r in run["job_stages"]:
+            if stage in r:
+                seen.setdefault(r.get("outline_compute_ms"), r[stage])
+        values = list(seen.values())
+    return values
+
+
+def pooled_median(groups):
+    return statistics.median([v for g in groups for v in g])
+
+
+def bootstrap_ratio(without, with_, rounds, rng):
+    """95 % interval of pooled median (with) / pooled median (without), resampling runs and then the samples
+    within each drawn run: the runs differ among themselves (the machine's state), and so does each run's job."""
+    def draw(groups):
+        runs = [rng.choice(groups) for _ in groups]
+        return pooled_median([[rng.choice(g) for _ in g] for g in runs])
+    ratios = sorted(draw(with_) / draw(without) for _ in range(rounds))
+    return ratios[int(0.025 * rounds)], ratios[int(0.975 * rounds) - 1]
+
+
+def verdict(lo, hi):
+    """What the ratio's interval shows about the target, both ways: faster by more than 5 % is no harm the
+    viewers did, but says that the two conditions differed in more than the viewers (the machine's load)."""
+    if lo > TARGET:
+        return "over 5 % slower"
+    if hi < 2 - TARGET:
+        return "over 5 % faster (conditions differ)"
+    if hi <= TARGET:
+        return "within 5 %" if lo >= 2 - TARGET else "not 5 % slower"
+    return "not resolved"
+
+
+def ratios(runs, n, rounds=2000, seed=1):
+    """Per stage: the pooled medians of all samples of each condition, their ratio, its bootstrap interval, and
+    the no-viewer runs' own medians over their pooled median (how far runs without viewers differ alone)."""
+    import random
+    rng = random.Random(seed)
     out = {}
     for k in STAGES:
-        without = [r["stages"][k] for r in runs if r["clients"] == 0 and k in r["stages"]]
-        with_ = [r["stages"][k] for r in runs if r["clients"] == n and k in r["stages"]]
-        if without and with_ and statistics.median(without) > 0:
-            out[k] = {"without": statistics.median(without), "with": statistics.median(with_),
-                      "ratio": statistics.median(with_) / statistics.median(without)}
+        without = [g for g in (samples(r, k) for r in runs if r["clients"] == 0) if g]
+        with_ = [g for g in (samples(r, k) for r in runs if r["clients"] == n) if g]
+        if not without or not with_ or pooled_median(without) <= 0:
+            continue
+        base = pooled_median(without)
+        lo, hi = bootstrap_ratio(without, with_, rounds, rng)
+        alone = [statistics.median(g) / base for g in without]
+        out[k] = {"without": base, "with": pooled_median(with_), "ratio": pooled_median(with_) / base,
+                  "ci95": [lo, hi], "verdict": verdict(lo, hi), "samples": [sum(map(len, without)), sum(map(len, with_))],
+                  "no_viewer_runs": [min(alone), max(alone)]}
     return out
 
 
@@ -229,11 +346,21 @@ def bench(args):
             print_run(runs[-1])
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    r = ratios(runs, args.clients)
+    r = ratios(runs, args.clients, args.bootstrap)
     print("\nhg-foxglove benchmark: %s" % " ".join(["tools/bench/foxglove_bench.py"] + sys.argv[1:]))
-    print("%-22s %12s %12s %8s" % ("stage (median of runs)", "0 viewers", "%d viewers" % args.clients, "ratio"))
+    print("pooled medians of every job (of every outline for the outline's stages) per condition; 95 % interval "
+          "of the ratio by bootstrap over runs and jobs; the no-viewer runs' own medians / their pooled median")
+    print("%-20s %9s %9s %7s %15s %13s %13s %s" % ("stage", "0 viewers", "%d viewers" % args.clients, "ratio",
+                                                "95 % interval", "samples", "0-viewer runs", "verdict"))
     for k, v in r.items():
-        print("%-22s %12.1f %12.1f %8.3f" % (k, v["without"], v["with"], v["ratio"]))
+        print("%-20s %9.2f %9.2f %7.3f %7.3f-%-7.3f %6d /%6d %6.2f-%-6.2f %s" % (
+            k, v["without"], v["with"], v["ratio"], v["ci95"][0], v["ci95"][1], v["samples"][0], v["samples"][1],
+            v["no_viewer_runs"][0], v["no_viewer_runs"][1], v["verdict"]))
+    for n in sorted({r["clients"] for r in runs}):
+        shares = [r["foxglove_cpu"] for r in runs if r["clients"] == n and r["foxglove_cpu"]]
+        names = sorted({k for c in shares for k in c})
+        print("hg-foxglove's CPU with %d viewers, share of a core (median of runs): %s" % (
+            n, ", ".join("%s %.3f" % (k, statistics.median(c.get(k, 0) for c in shares)) for k in names) or "-"))
     print(json.dumps({"command": " ".join(["tools/bench/foxglove_bench.py"] + sys.argv[1:]), "rate_hz": args.rate,
                       "viewers_priority": args.viewers_priority,
                       "runs": runs, "ratios": r}))
@@ -242,12 +369,13 @@ def bench(args):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
-    ap.add_argument("--runs", type=int, default=4, help="pipeline runs, alternating 0 and --clients viewers [4]")
-    ap.add_argument("--jobs", type=int, default=5, help="jobs per run [5]")
+    ap.add_argument("--runs", type=int, default=8, help="pipeline runs, alternating 0 and --clients viewers [8]")
+    ap.add_argument("--jobs", type=int, default=20, help="jobs per run [20]")
     ap.add_argument("--rate", type=float, default=5, help="clouds per second, the camera's rate [5: the pipeline's]")
     ap.add_argument("--clients", type=int, default=2, help="viewers in every second run [2]")
     ap.add_argument("--viewers-priority", choices=("idle", "normal"), default="idle",
                     help="the viewers' scheduling priority: idle (chrt --idle 0: as if on another computer) [idle]")
+    ap.add_argument("--bootstrap", type=int, default=2000, help="bootstrap rounds of each ratio's interval [2000]")
     ap.add_argument("--cloud", help="the cloud file (default: hg-gen's high-4, made in a temporary folder)")
     ap.add_argument("--keep", action="store_true", help="keep each run's directory (logs, run.lcmlog)")
     ap.add_argument("--version", action="version", version="foxglove_bench.py " + version())

@@ -109,6 +109,11 @@ int run(const hg::runtime::Params& p) {
       std::fprintf(stderr, "hg-overview: %s: no job request in the log (%zu events)\n", log_path.c_str(), log.events);
       return 1;
     }
+    if (log.undecodable > 0)  // e.g. a log recorded before a change to a message type: its fingerprint differs
+      std::fprintf(stderr,
+                   "hg-overview: warning: %s: %zu messages on the cloud, outline, path, request or status channel do "
+                   "not decode with this build's message types (recorded by another version?): left out\n",
+                   log_path.c_str(), log.undecodable);
     // Eye-in-hand: the outline's flange pose at capture, as the planner placed it.
     if (const std::string why = job.outline ? hg::path_planner::place_outline(job.outline->msg, planner) : "";
         !why.empty())

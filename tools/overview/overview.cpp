@@ -69,6 +69,8 @@ Json summary_json(const JobTrace& job) {
   if (job.outline) stages["outline_compute_ms"] = job.outline->msg.compute_time * 1e3;
   if (job.outline && job.path && job.request)
     stages["plan_ms"] = ms(std::max(job.outline->log_utime, job.request->log_utime), job.path->log_utime);
+  // plan_ms is a latency through the bus (the request's and the path's delivery); this is the planner's own part.
+  if (job.path) stages["plan_compute_ms"] = job.path->msg.compute_time * 1e3;
   if (job.path && job.final_status) stages["robot_run_ms"] = ms(job.path->log_utime, job.final_status->log_utime);
   if (job.request && job.final_status)
     stages["request_to_end_ms"] = ms(job.request->log_utime, job.final_status->log_utime);
