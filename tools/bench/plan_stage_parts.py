@@ -16,7 +16,6 @@ one line per job and the median, minimum and maximum of each part; reads the log
 import argparse
 import os
 import statistics
-import struct
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -24,24 +23,11 @@ sys.path.insert(0, os.path.join(HERE, ".."))
 sys.path.insert(0, HERE)
 sys.dont_write_bytecode = True  # --help and --version leave no files behind
 from hgversion import version  # noqa: E402
+from pipeline_latency import read_log  # noqa: E402
 
 PLANNER = "hg-path-planner"
 START, PLANNING, PLANNED = 0, 1, 2
 PARTS = ("plan_ms", "request_to_planning_ms", "planning_to_planned_ms", "compute_ms", "planned_to_path_ms")
-
-
-def events(path, channels):
-    with open(path, "rb") as f:
-        while True:
-            head = f.read(28)
-            if len(head) < 28:
-                return
-            _, _, utime, clen, dlen = struct.unpack(">IqqII", head)
-            channel = f.read(clen).decode(errors="replace")
-            if channel in channels:
-                yield channel, utime, f.read(dlen)
-            else:
-                f.seek(dlen, 1)
 
 
 def path_compute_time(r):
@@ -56,7 +42,7 @@ def path_compute_time(r):
 def job_times(path):
     from pipeline_latency import Reader
     jobs, outline = {}, None
-    for channel, t, data in events(path, ("HG_JOB_REQUEST", "HG_JOB_STATUS", "HG_GRIND_PATH", "HG_OUTLINE")):
+    for channel, t, data in read_log(path, ("HG_JOB_REQUEST", "HG_JOB_STATUS", "HG_GRIND_PATH", "HG_OUTLINE")):
         r = Reader(data)
         r.header()
         if channel == "HG_OUTLINE":
