@@ -205,15 +205,22 @@ template <class KeepTail>
 std::vector<FreeEdge> free_edges(const Triangulation& T, const std::vector<std::uint8_t>& inside,
                                  std::span<const Vec2> input, KeepTail keep_tail) {
   std::vector<FreeEdge> edges;
-  const std::uint32_t hcount = static_cast<std::uint32_t>(T.tri.size());
-  for (std::uint32_t h = 0; h < hcount; ++h) {
-    if (!inside[h / 3] || inside[T.twin[h] / 3] || !keep_tail(T.tri[h])) continue;
-    // The next free half-edge after h = a -> b: turn around b through the inside triangles of its fan.
-    std::uint32_t g = Triangulation::next(h);
-    while (inside[T.twin[g] / 3]) g = Triangulation::next(T.twin[g]);
-    const std::uint32_t a = T.tri[h], b = T.tri[g], c = T.tri[Triangulation::next(g)];
-    const Vec2 xy = input.empty() ? Vec2{T.xy[a].x + T.origin.x, T.xy[a].y + T.origin.y} : input[T.ids[a]];
-    edges.push_back({T.ids[a], T.ids[b], T.ids[c], xy});
+  // Found from the outside: a free half-edge is the twin of a half-edge of a triangle not inside (a ghost
+  // or a big one: a few percent of the slots), so only those slots' three twins are looked at. The edges
+  // come out in another order than a pass over all half-edges would give; chain_loops sorts them.
+  const std::size_t slots = T.slots();
+  for (std::size_t t = 0; t < slots; ++t) {
+    if (inside[t]) continue;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t h = T.twin[3 * t + k];
+      if (!inside[h / 3] || !keep_tail(T.tri[h])) continue;
+      // The next free half-edge after h = a -> b: turn around b through the inside triangles of its fan.
+      std::uint32_t g = Triangulation::next(h);
+      while (inside[T.twin[g] / 3]) g = Triangulation::next(T.twin[g]);
+      const std::uint32_t a = T.tri[h], b = T.tri[g], c = T.tri[Triangulation::next(g)];
+      const Vec2 xy = input.empty() ? Vec2{T.xy[a].x + T.origin.x, T.xy[a].y + T.origin.y} : input[T.ids[a]];
+      edges.push_back({T.ids[a], T.ids[b], T.ids[c], xy});
+    }
   }
   return edges;
 }

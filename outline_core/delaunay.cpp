@@ -47,7 +47,7 @@ class Builder {
   };
   std::vector<std::uint32_t> cavity_, stack_;
   std::vector<BoundaryEdge> boundary_;
-  void grow_scratch(std::size_t need) {
+  [[gnu::noinline]] void grow_scratch(std::size_t need) {  // rare: kept out of the cavity search's registers
     if (need <= cavity_.size()) return;
     const std::size_t size = std::max(need, 2 * cavity_.size());
     cavity_.resize(size), boundary_.resize(size), stack_.resize(size);
@@ -208,8 +208,8 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   const std::uint32_t* tri = T_.tri.data();
   const std::uint32_t* twin = T_.twin.data();
   std::uint64_t orients = 0;
-  // Sizes: the stack holds at most cavity + 3 half-edges, the boundary cavity + 2; checked per triangle.
-  grow_scratch(64);
+  // Sizes: the stack holds at most cavity + 3 half-edges, the boundary cavity + 2; checked per triangle
+  // (run() sized the arrays for 64 first, and they never shrink).
   std::uint32_t* cav = cavity_.data();
   BoundaryEdge* bd = boundary_.data();
   std::uint32_t* st = stack_.data();
