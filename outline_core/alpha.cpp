@@ -383,6 +383,33 @@ std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool 
   // 3 % or more), and so is R's: 3 classes apart decide. Near the clamped ends, all exact.
   const int cR = std::isnormal(scan.scale2) ? r2_class(R * R / scan.scale2) : 0;
   const bool usable = cR >= 4 && cR <= 250;
+  if (usable && !outer_only) {
+    // The classes decide nearly every triangle: a pass without branches (vectorised), then the exact
+    // predicate for those within 2 classes of R's or undecided (a few percent). Ghosts (class 0) are out.
+    const std::size_t slots = T.slots();
+    const std::uint8_t* rc = scan.rclass.data();
+    std::vector<std::uint8_t> inside(slots);
+    for (std::size_t t = 0; t < slots; ++t) inside[t] = (rc[t] != kGhostClass) & (rc[t] + 3 <= cR);
+    // Near R: classes cR - 2 .. cR + 2 (c - (cR - 2) < 5 as a byte; ghosts' 0 wraps far above), 16 at a time.
+    using bytes16 = std::uint8_t __attribute__((vector_size(16)));
+    using chars16 = char __attribute__((vector_size(16)));
+    const auto lo = static_cast<std::uint8_t>(cR - 2);
+    auto near_r = [&](std::uint8_t c) { return static_cast<std::uint8_t>(c - lo) < 5 || c == kUndecided; };
+    std::size_t t = 0;
+    for (; t + 16 <= slots; t += 16) {
+      bytes16 c;
+      std::memcpy(&c, rc + t, 16);
+      const bytes16 lo16 = bytes16{} + lo;
+      const chars16 near = reinterpret_cast<chars16>(((c - lo16) < 5) | (c == kUndecided));
+      for (unsigned m = static_cast<unsigned>(__builtin_ia32_pmovmskb128(near)); m != 0; m &= m - 1) {
+        const std::size_t u = t + static_cast<std::size_t>(__builtin_ctz(m));
+        inside[u] = !bigger_than(T, u, R);
+      }
+    }
+    for (; t < slots; ++t)
+      if (near_r(rc[t])) inside[t] = !bigger_than(T, t, R);
+    return inside;
+  }
   // The ghost triangles are those of kGhostClass: this pass reads the classes only, not the triangles.
   return classify_with(T, outer_only, [&](std::size_t t) {
     const int c = scan.rclass[t];
