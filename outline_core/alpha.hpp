@@ -146,22 +146,13 @@ inline std::uint8_t r2_class(double q) {
   }
   return m;
 }
-namespace pair_ops {
-using pred::v2;
-inline v2 vmin(v2 x, v2 y) { return y < x ? y : x; }  // std::min's choice, lane by lane
-inline v2 vmax(v2 x, v2 y) { return x < y ? y : x; }  // std::max's
-inline pred::v2i normal(v2 x) {                       // all ones in a lane where x is normal (std::isnormal)
-  const v2 m = pred::magnitude(x);
-  return (m >= std::numeric_limits<double>::min()) & (m <= std::numeric_limits<double>::max());
-}
-}  // namespace pair_ops
 // measure_triangle of two triangles, (p0[0], p0[1], p0[2]) and (p1[0], p1[1], p1[2]), one in each lane of
 // the same two-lane vector operations (SSE2, the x86-64 baseline): measure_triangle's operations in its
 // order on the same operands, so the same figures bit for bit at about half the instructions. The
 // triangle scan's step (scan_triangles).
 [[gnu::always_inline]] inline void measure_pair(const Vec2* const p0[3], const Vec2* const p1[3], double scale2,
                                                 TriangleMeasure& m0, TriangleMeasure& m1) {
-  using namespace pair_ops;
+  using pred::v2, pred::vmin, pred::vmax, pred::normal;
   auto load = [](const Vec2* p) -> v2 { return *reinterpret_cast<const pred::v2_unaligned*>(&p->x); };
   v2 x[3], y[3];
   for (int i = 0; i < 3; ++i) {

@@ -433,18 +433,30 @@ struct InputSummary {
   bool tiny = false;
 };
 
+// A point as an (x, y) pair of a two-lane vector.
+pred::v2 pair_of(const Vec2& p) { return *reinterpret_cast<const pred::v2_unaligned*>(&p.x); }
+
 InputSummary summarize(std::span<const Vec2> points) {
+  using pred::v2, pred::v2i;
   InputSummary s;
-  auto tiny = [](double v) { return (std::fabs(v) < 0x1p-118) & (v != 0); };
+  // x and y in the two lanes of the same operations: std::min's and std::max's choices, the sums in the
+  // same order, so the same box and sums as lane by lane.
+  v2 lo = {s.box.minx, s.box.miny}, hi = {s.box.maxx, s.box.maxy}, sum = {0, 0};
+  v2i tiny = {0, 0};
+  const v2 top = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
   for (const Vec2& p : points) {
-    if (!is_finite(p)) [[unlikely]]
+    const v2 q = pair_of(p), m = pred::magnitude(q);
+    const v2i finite = m <= top;  // false for infinities and NaN
+    if ((finite[0] & finite[1]) == 0) [[unlikely]]
       continue;
     ++s.finite;
-    s.box.minx = std::min(s.box.minx, p.x), s.box.maxx = std::max(s.box.maxx, p.x);
-    s.box.miny = std::min(s.box.miny, p.y), s.box.maxy = std::max(s.box.maxy, p.y);
-    s.sx += p.x, s.sy += p.y;
-    s.tiny |= tiny(p.x) | tiny(p.y);
+    lo = pred::vmin(lo, q), hi = pred::vmax(hi, q);
+    sum += q;
+    tiny |= (m < 0x1p-118) & (q != 0);
   }
+  s.box = {lo[0], hi[0], lo[1], hi[1]};
+  s.sx = sum[0], s.sy = sum[1];
+  s.tiny = (tiny[0] | tiny[1]) != 0;
   return s;
 }
 
@@ -505,13 +517,17 @@ Vec2 rounded_centroid(const InputSummary& s) {
 // xy[v] = points[ids[v]] - origin; false, as soon as one is found, if any of these subtractions rounded
 // (checked on the way, by the error term of each: one pass for the copy and the check).
 bool translate_exactly(std::span<const Vec2> points, Triangulation& T) {
+  using pred::v2, pred::v2i;
   const std::size_t n = T.ids.size();
-  const Vec2 o = T.origin;
+  const v2 o = pair_of(T.origin);
   T.xy.resize(n);
   for (std::size_t v = 0; v < n; ++v) {
-    const Vec2& p = points[T.ids[v]];
-    T.xy[v] = {p.x - o.x, p.y - o.y};
-    if (!(pred::difference_is_exact(p.x, o.x) & pred::difference_is_exact(p.y, o.y))) return false;
+    // pred::difference_is_exact on x and y at once (the same operations in two lanes).
+    const v2 p = pair_of(points[T.ids[v]]);
+    const v2 d = p - o, bv = p - d, av = d + bv;
+    T.xy[v] = {d[0], d[1]};
+    const v2i inexact = (p - av) + (bv - o) != 0;
+    if ((inexact[0] | inexact[1]) != 0) return false;
   }
   return true;
 }
