@@ -60,18 +60,18 @@ class Builder {
   double orient_xy(double ax, double ay, double bx, double by, double cx, double cy) const {
     return pred::orient2d(ax, ay, bx, by, cx, cy);
   }
-  double orient(std::uint32_t u, std::uint32_t v, const Vec2& p) {
-    ++T_.stats.orient_tests;
-    return orient_xy(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
-  }
   double incircle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec2& p) const {
     static_assert(sizeof(Vec2) == 2 * sizeof(double));  // x and y consecutive: loaded as one pair
     return pred::incircle_at(&xy_[a].x, &xy_[b].x, &xy_[c].x, &p.x);
   }
   // Edge i of the finite triangle v: sets bit i of `beyond` when p is strictly on its far side, of `on`
   // when p is on its line (without a branch on the sign: the walk's next step depends on it).
-  void edge_side(const std::uint32_t* v, std::uint32_t i, const Vec2& p, unsigned& beyond, unsigned& on) {
-    const double o = orient(v[i], v[kAfter[i]], p);
+  // `orients` counts the test (the walk counts in a local, added to the stats once it ends).
+  void edge_side(const std::uint32_t* v, std::uint32_t i, const Vec2& p, unsigned& beyond, unsigned& on,
+                 std::uint64_t& orients) const {
+    ++orients;
+    const std::uint32_t u = v[i], w = v[kAfter[i]];
+    const double o = orient_xy(xy_[u].x, xy_[u].y, xy_[w].x, xy_[w].y, p.x, p.y);
     beyond |= static_cast<unsigned>(o < 0) << i;
     on |= static_cast<unsigned>(o == 0) << i;
   }
@@ -83,8 +83,9 @@ class Builder {
   }
   // Ghost triangle with finite half-edge u -> v (outside on its left): in conflict when p is strictly
   // outside that hull edge, or on the edge's open segment (CGAL's rule; keeps the cavity star-shaped).
-  bool ghost_conflict(std::uint32_t u, std::uint32_t v, const Vec2& p) {
-    const double o = orient(u, v, p);
+  bool ghost_conflict(std::uint32_t u, std::uint32_t v, const Vec2& p, std::uint64_t& orients) const {
+    ++orients;
+    const double o = orient_xy(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
     return o > 0 || (o == 0 && strictly_between(u, v, p));
   }
   // Index (0..2) of the finite half-edge of a ghost triangle, kNone for a finite triangle.
@@ -100,7 +101,7 @@ class Builder {
   bool conflict(std::uint32_t t, const Vec2& p) {
     const std::uint32_t* v = &T_.tri[3 * t];
     const std::uint32_t ge = ghost_edge(t);
-    if (ge != kNone) return ghost_conflict(v[ge], v[(ge + 1) % 3], p);
+    if (ge != kNone) return ghost_conflict(v[ge], v[(ge + 1) % 3], p, T_.stats.orient_tests);
     ++T_.stats.incircle_tests;
     return incircle(v[0], v[1], v[2], p) > 0;
   }
@@ -136,12 +137,18 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
   const std::uint64_t cap = std::uint64_t{slots_} + 16;
   const std::uint32_t* tri = T_.tri.data();
   const std::uint32_t* twin = T_.twin.data();
-  for (std::uint64_t steps = 0; steps < cap; ++steps) {
-    ++T_.stats.locate_visits;
+  // The counters in locals (memory increments on every step would chain through the store buffer).
+  std::uint64_t steps = 0, orients = 0;
+  auto found = [&](std::uint32_t at) {
+    T_.stats.locate_visits += steps + 1;
+    T_.stats.orient_tests += orients;
+    return at;
+  };
+  for (; steps < cap; ++steps) {
     const std::uint32_t* v = tri + 3 * t;
     const std::uint32_t ge = ghost_edge(t);
     if (ge != kNone) {
-      if (ghost_conflict(v[ge], v[(ge + 1) % 3], p)) return t;
+      if (ghost_conflict(v[ge], v[(ge + 1) % 3], p, orients)) return found(t);
       from = kNone;  // p may be collinear with that hull edge: test all three edges of the next one
       t = twin[3 * t + ge] / 3;
       continue;
@@ -149,17 +156,17 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
     unsigned neg = 0, zero = 0;                  // bit i: p beyond edge i / on its line
     const std::uint32_t entered = from - 3 * t;  // 0..2: the edge we came through; otherwise none
     if (entered < 3) {                           // p is strictly inside that one: the other two
-      edge_side(v, kAfter[entered], p, neg, zero);
-      edge_side(v, kBefore[entered], p, neg, zero);
+      edge_side(v, kAfter[entered], p, neg, zero, orients);
+      edge_side(v, kBefore[entered], p, neg, zero, orients);
     } else {
-      for (std::uint32_t i = 0; i < 3; ++i) edge_side(v, i, p, neg, zero);
+      for (std::uint32_t i = 0; i < 3; ++i) edge_side(v, i, p, neg, zero, orients);
     }
     if (neg == 0) {
       if (zero) {
         for (int i = 0; i < 3; ++i)
           if (xy_[v[i]].x == p.x && xy_[v[i]].y == p.y) dup_ = v[i];
       }
-      return t;
+      return found(t);
     }
     const int first_neg = __builtin_ctz(neg);
     int cross = first_neg;
@@ -171,12 +178,14 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
       const std::uint32_t s = v[outgoing];
       const double cx = (xy_[v[0]].x + xy_[v[1]].x + xy_[v[2]].x) / 3.0;
       const double cy = (xy_[v[0]].y + xy_[v[1]].y + xy_[v[2]].y) / 3.0;
-      ++T_.stats.orient_tests;
+      ++orients;
       cross = pred::orient2d(cx, cy, xy_[s].x, xy_[s].y, p.x, p.y) < 0 ? incoming : outgoing;
     }
     from = twin[3 * t + cross];
     t = from / 3;
   }
+  T_.stats.locate_visits += steps;
+  T_.stats.orient_tests += orients;
   ++T_.stats.walk_fallbacks;
   return scan_for_conflict(p);
 }
