@@ -6,7 +6,6 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
-#include <optional>
 #include <string>
 
 #include "predicates.hpp"
@@ -77,14 +76,16 @@ float small_median(std::vector<float>& v) {
 double median_nn_spacing(const Triangulation& T) {
   float d2 = 0;
   if (T.nn2.size() < kCopyMedianBelow) {
-    std::vector<std::uint32_t> keys;
-    keys.reserve(T.nn2.size());
+    SlotArray keys(T.nn2.size());  // uninitialised: the first `used` are written
+    std::size_t used = 0;
     for (std::size_t v = 0; v < T.nn2.size(); ++v) {
-      std::uint32_t k;
-      if (T.vrep[v] == v && float_key(T.nn2[v], k)) keys.push_back(k);
+      std::uint32_t k = 0;
+      const bool counted = float_key(T.nn2[v], k) & (T.vrep[v] == v);
+      keys[used] = k;
+      used += counted;
     }
-    if (!keys.empty()) {
-      const std::uint32_t bits = select_rank(keys, keys.size() / 2);
+    if (used > 0) {
+      const std::uint32_t bits = select_rank(std::span(keys.data(), used), used / 2);
       std::memcpy(&d2, &bits, 4);
     }
   } else {
@@ -96,7 +97,7 @@ double median_nn_spacing(const Triangulation& T) {
   return std::sqrt(static_cast<double>(d2));
 }
 
-std::uint32_t select_rank(std::vector<std::uint32_t>& keys, std::size_t rank) {
+std::uint32_t select_rank(std::span<std::uint32_t> keys, std::size_t rank) {
   std::size_t n = keys.size();
   if (n <= 64) {
     std::nth_element(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(rank), keys.end());
@@ -114,8 +115,16 @@ std::uint32_t select_rank(std::vector<std::uint32_t>& keys, std::size_t rank) {
   for (int hi = top; hi >= 0;) {
     const int shift = std::max(hi - 7, 0);
     const std::uint32_t mask = (std::uint32_t{2} << (hi - shift)) - 1;
-    std::size_t hist[256] = {};
-    for (std::size_t i = 0; i < n; ++i) ++hist[(keys[i] >> shift) & mask];
+    // Four counter sets, summed after: keys in a row often share a digit (neighbouring triangles' areas),
+    // and one set would chain each increment on the previous one's store.
+    std::uint32_t part[4][256] = {};
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4)
+      for (std::size_t j = 0; j < 4; ++j) ++part[j][(keys[i + j] >> shift) & mask];
+    for (; i < n; ++i) ++part[0][(keys[i] >> shift) & mask];
+    std::size_t hist[256];
+    for (std::size_t b = 0; b < 256; ++b)
+      hist[b] = std::size_t{part[0][b]} + part[1][b] + part[2][b] + part[3][b];  // each part < 2^32 keys
     std::uint32_t d = 0;
     while (rank >= hist[d]) rank -= hist[d++];
     result |= d << shift;
@@ -195,42 +204,80 @@ double median_triangle_spacing(const Triangulation& T) { return scan_triangles(T
 
 TriangleScan scan_triangles(const Triangulation& T) { return scan_triangles(T, kCopyMedianBelow); }
 
+namespace {
+
+// emit(t, measure) for each finite triangle slot t of T, in slot order, two triangles at a time
+// (measure_pair). kPrefetch: the three vertices of a triangle are scattered over the coordinate array;
+// fetching those of a few triangles ahead overlaps the cache misses that otherwise dominate this pass (a
+// small cloud's coordinates stay in the cache).
+template <bool kPrefetch, class Emit>
+void measure_finite(const Triangulation& T, double scale2, Emit emit) {
+  constexpr std::size_t kAhead = 8, kNoSlot = ~std::size_t{0};
+  const std::size_t slots = T.slots();
+  const std::uint32_t* tri = T.tri.data();
+  const Vec2* xy = T.xy.data();
+  const std::uint32_t ghost = T.ghost;
+  std::size_t held = kNoSlot;  // a finite triangle waiting for a second one
+  for (std::size_t t = 0; t < slots; ++t) {
+    if constexpr (kPrefetch) {
+      if (t + kAhead < slots)
+        for (int i = 0; i < 3; ++i)
+          if (const std::uint32_t w = tri[3 * (t + kAhead) + i]; w != ghost) __builtin_prefetch(&xy[w]);
+    }
+    const std::uint32_t* v = tri + 3 * t;
+    if (std::max(std::max(v[0], v[1]), v[2]) == ghost) continue;  // the ghost is the largest vertex id
+    if (held == kNoSlot) {
+      held = t;
+      continue;
+    }
+    const std::uint32_t* u = tri + 3 * held;
+    const Vec2* p0[3] = {&xy[u[0]], &xy[u[1]], &xy[u[2]]};
+    const Vec2* p1[3] = {&xy[v[0]], &xy[v[1]], &xy[v[2]]};
+    TriangleMeasure m0, m1;
+    measure_pair(p0, p1, scale2, m0, m1);
+    emit(held, m0);
+    emit(t, m1);
+    held = kNoSlot;
+  }
+  if (held != kNoSlot) {
+    const std::uint32_t* u = tri + 3 * held;
+    emit(held, measure_triangle(xy[u[0]], xy[u[1]], xy[u[2]], scale2));
+  }
+}
+
+}  // namespace
+
 TriangleScan scan_triangles(const Triangulation& T, std::size_t histogram_from) {
   TriangleScan scan;
   scan.scale2 = class_scale(T);
   const std::size_t slots = T.slots();
   scan.rclass.assign(slots, kGhostClass);
-  // The median area's bucket: from the buckets of all areas (small clouds), or from the 2 MB histogram.
-  const bool histogram = slots >= histogram_from;
-  std::vector<std::uint32_t> buckets;
-  std::optional<AreaHistogram> median;
-  if (histogram) median.emplace();
-  else
-    buckets.reserve(slots);
-  // The three vertices of a triangle are scattered over the coordinate array: fetching those of a few
-  // triangles ahead overlaps the cache misses that otherwise dominate this pass.
-  // A small cloud's coordinates stay in the cache (kPrefetchFrom triangles: 512 KB of points): no prefetch.
-  constexpr std::size_t kAhead = 8, kPrefetchFrom = 65536;
-  const bool prefetch = slots >= kPrefetchFrom;
-  for (std::size_t t = 0; t < slots; ++t) {
-    if (prefetch && t + kAhead < slots)
-      for (int i = 0; i < 3; ++i) {
-        const std::uint32_t v = T.tri[3 * (t + kAhead) + i];
-        if (v != T.ghost) __builtin_prefetch(&T.xy[v]);
-      }
-    if (T.is_ghost(t)) continue;
-    const TriangleMeasure m =
-        measure_triangle(T.xy[T.tri[3 * t]], T.xy[T.tri[3 * t + 1]], T.xy[T.tri[3 * t + 2]], scan.scale2);
-    if (histogram) {
-      median->add(m.area);
-    } else if (std::uint32_t b; AreaHistogram::bucket_of(m.area, b)) {
-      buckets.push_back(b);
-    }
-    scan.rclass[t] = m.rclass;
+  std::uint8_t* rclass = scan.rclass.data();
+  // The median area's bucket: from the 2 MB histogram, or (small clouds) by selection among the buckets
+  // of all areas. Prefetching pays from kPrefetchFrom triangles (512 KB of points) on.
+  constexpr std::size_t kPrefetchFrom = 65536;
+  if (slots >= histogram_from) {
+    AreaHistogram median;
+    auto emit = [&](std::size_t t, const TriangleMeasure& m) {
+      median.add(m.area);
+      rclass[t] = m.rclass;
+    };
+    if (slots >= kPrefetchFrom) measure_finite<true>(T, scan.scale2, emit);
+    else
+      measure_finite<false>(T, scan.scale2, emit);
+    scan.spacing = median.spacing();
+    return scan;
   }
-  if (histogram) scan.spacing = median->spacing();
-  else if (!buckets.empty())
-    scan.spacing = AreaHistogram::spacing_of(select_rank(buckets, buckets.size() / 2));
+  SlotArray buckets(slots);  // uninitialised: the first `used` are written
+  std::size_t used = 0;
+  measure_finite<false>(T, scan.scale2, [&](std::size_t t, const TriangleMeasure& m) {
+    std::uint32_t b = 0;
+    const bool finite = AreaHistogram::bucket_of(m.area, b);
+    buckets[used] = b;
+    used += finite;
+    rclass[t] = m.rclass;
+  });
+  if (used > 0) scan.spacing = AreaHistogram::spacing_of(select_rank(std::span(buckets.data(), used), used / 2));
   return scan;
 }
 
@@ -344,6 +391,33 @@ std::vector<std::uint8_t> classify_alpha(const Triangulation& T, double R, bool 
   // 3 % or more), and so is R's: 3 classes apart decide. Near the clamped ends, all exact.
   const int cR = std::isnormal(scan.scale2) ? r2_class(R * R / scan.scale2) : 0;
   const bool usable = cR >= 4 && cR <= 250;
+  if (usable && !outer_only) {
+    // The classes decide nearly every triangle: a pass without branches (vectorised), then the exact
+    // predicate for those within 2 classes of R's or undecided (a few percent). Ghosts (class 0) are out.
+    const std::size_t slots = T.slots();
+    const std::uint8_t* rc = scan.rclass.data();
+    std::vector<std::uint8_t> inside(slots);
+    for (std::size_t t = 0; t < slots; ++t) inside[t] = (rc[t] != kGhostClass) & (rc[t] + 3 <= cR);
+    // Near R: classes cR - 2 .. cR + 2 (c - (cR - 2) < 5 as a byte; ghosts' 0 wraps far above), 16 at a time.
+    using bytes16 = std::uint8_t __attribute__((vector_size(16)));
+    using chars16 = char __attribute__((vector_size(16)));
+    const auto lo = static_cast<std::uint8_t>(cR - 2);
+    auto near_r = [&](std::uint8_t c) { return static_cast<std::uint8_t>(c - lo) < 5 || c == kUndecided; };
+    std::size_t t = 0;
+    for (; t + 16 <= slots; t += 16) {
+      bytes16 c;
+      std::memcpy(&c, rc + t, 16);
+      const bytes16 lo16 = bytes16{} + lo;
+      const chars16 near = reinterpret_cast<chars16>(((c - lo16) < 5) | (c == kUndecided));
+      for (unsigned m = static_cast<unsigned>(__builtin_ia32_pmovmskb128(near)); m != 0; m &= m - 1) {
+        const std::size_t u = t + static_cast<std::size_t>(__builtin_ctz(m));
+        inside[u] = !bigger_than(T, u, R);
+      }
+    }
+    for (; t < slots; ++t)
+      if (near_r(rc[t])) inside[t] = !bigger_than(T, t, R);
+    return inside;
+  }
   // The ghost triangles are those of kGhostClass: this pass reads the classes only, not the triangles.
   return classify_with(T, outer_only, [&](std::size_t t) {
     const int c = scan.rclass[t];

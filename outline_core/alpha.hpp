@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -127,22 +128,49 @@ inline std::uint8_t r2_class(double q) {
 // Inline: the passes over millions of triangles call it once each.
 [[gnu::always_inline]] inline TriangleMeasure measure_triangle(const Vec2& a, const Vec2& b, const Vec2& c,
                                                                double scale2) {
-  auto twice_area = [](const Vec2& p, const Vec2& q, const Vec2& pivot) {  // as orient2d computes it
-    return (p.x - pivot.x) * (q.y - pivot.y) - (p.y - pivot.y) * (q.x - pivot.x);
-  };
-  const double da = twice_area(b, c, a), db = twice_area(c, a, b), dc = twice_area(a, b, c);
-  const double mid = std::max(std::min(da, db), std::min(std::max(da, db), dc));
   const double abx = a.x - b.x, aby = a.y - b.y, bcx = b.x - c.x, bcy = b.y - c.y, cax = c.x - a.x, cay = c.y - a.y;
+  // Twice the signed area with each vertex as the pivot, as orient2d computes it: for pivot c,
+  // (a.x - c.x)(b.y - c.y) - (a.y - c.y)(b.x - c.x). Written with the edge differences above, whose
+  // negatives those are exactly (rounding is symmetric), so the same values and signs of zero come out of
+  // six differences instead of twelve.
+  const double pa = aby * cax, qa = abx * cay, pb = bcy * abx, qb = bcx * aby, pc = cay * bcx, qc = cax * bcy;
+  const double da = pa - qa, db = pb - qb, dc = pc - qc;
+  const double mid = std::max(std::min(da, db), std::min(std::max(da, db), dc));
   const double N = (abx * abx + aby * aby) * (bcx * bcx + bcy * bcy) * (cax * cax + cay * cay);
   TriangleMeasure m{std::fabs(mid) / 2, kUndecidedClass, N, dc};
-  const double errD =
-      pred::kOrientBound * (std::fabs((a.x - c.x) * (b.y - c.y)) + std::fabs((a.y - c.y) * (b.x - c.x)));
+  const double errD = pred::kOrientBound * (std::fabs(qc) + std::fabs(pc));
   const double den = 4 * (dc * dc) * scale2;
   if (std::fabs(dc) > 1e6 * errD && std::isnormal(N) && std::isnormal(den)) {
     const double q = N / den;
     if (std::isnormal(q)) m.rclass = r2_class(q);
   }
   return m;
+}
+// measure_triangle of two triangles, (p0[0], p0[1], p0[2]) and (p1[0], p1[1], p1[2]), one in each lane of
+// the same two-lane vector operations (SSE2, the x86-64 baseline): measure_triangle's operations in its
+// order on the same operands, so the same figures bit for bit at about half the instructions. The
+// triangle scan's step (scan_triangles).
+[[gnu::always_inline]] inline void measure_pair(const Vec2* const p0[3], const Vec2* const p1[3], double scale2,
+                                                TriangleMeasure& m0, TriangleMeasure& m1) {
+  using pred::v2, pred::vmin, pred::vmax, pred::normal;
+  auto load = [](const Vec2* p) -> v2 { return *reinterpret_cast<const pred::v2_unaligned*>(&p->x); };
+  v2 x[3], y[3];
+  for (int i = 0; i < 3; ++i) {
+    const v2 u = load(p0[i]), w = load(p1[i]);
+    x[i] = pred::lanes_lo(u, w), y[i] = pred::lanes_hi(u, w);
+  }
+  const v2 abx = x[0] - x[1], aby = y[0] - y[1], bcx = x[1] - x[2], bcy = y[1] - y[2], cax = x[2] - x[0],
+           cay = y[2] - y[0];
+  const v2 pa = aby * cax, qa = abx * cay, pb = bcy * abx, qb = bcx * aby, pc = cay * bcx, qc = cax * bcy;
+  const v2 da = pa - qa, db = pb - qb, dc = pc - qc;
+  const v2 area = pred::magnitude(vmax(vmin(da, db), vmin(vmax(da, db), dc))) / 2;
+  const v2 N = (abx * abx + aby * aby) * (bcx * bcx + bcy * bcy) * (cax * cax + cay * cay);
+  const v2 errD = pred::kOrientBound * (pred::magnitude(qc) + pred::magnitude(pc));
+  const v2 den = 4 * (dc * dc) * scale2;
+  const v2 q = N / den;
+  const pred::v2i decided = (pred::magnitude(dc) > 1e6 * errD) & normal(N) & normal(den) & normal(q);
+  m0 = {area[0], decided[0] != 0 ? r2_class(q[0]) : kUndecidedClass, N[0], dc[0]};
+  m1 = {area[1], decided[1] != 0 ? r2_class(q[1]) : kUndecidedClass, N[1], dc[1]};
 }
 double class_scale(const Triangulation& T);
 // The same; the median is read off an AreaHistogram from `histogram_from` triangle slots on, below
@@ -152,7 +180,7 @@ TriangleScan scan_triangles(const Triangulation& T, std::size_t histogram_from);
 // The element of rank `rank` (< keys.size()) of `keys` sorted increasingly, as std::nth_element would
 // place it; reorders `keys`. Radix selection, 8 bits per pass: a 2 KB histogram on the stack, no
 // allocation, so a small cloud's median costs microseconds.
-std::uint32_t select_rank(std::vector<std::uint32_t>& keys, std::size_t rank);
+std::uint32_t select_rank(std::span<std::uint32_t> keys, std::size_t rank);
 
 // Per vertex (by vertex id) the local spacing sqrt(2 x A_v): A_v is the median, over v and its Delaunay
 // neighbours, of each one's median incident triangle area (a median of medians, so a vertex on the rim
@@ -205,15 +233,22 @@ template <class KeepTail>
 std::vector<FreeEdge> free_edges(const Triangulation& T, const std::vector<std::uint8_t>& inside,
                                  std::span<const Vec2> input, KeepTail keep_tail) {
   std::vector<FreeEdge> edges;
-  const std::uint32_t hcount = static_cast<std::uint32_t>(T.tri.size());
-  for (std::uint32_t h = 0; h < hcount; ++h) {
-    if (!inside[h / 3] || inside[T.twin[h] / 3] || !keep_tail(T.tri[h])) continue;
-    // The next free half-edge after h = a -> b: turn around b through the inside triangles of its fan.
-    std::uint32_t g = Triangulation::next(h);
-    while (inside[T.twin[g] / 3]) g = Triangulation::next(T.twin[g]);
-    const std::uint32_t a = T.tri[h], b = T.tri[g], c = T.tri[Triangulation::next(g)];
-    const Vec2 xy = input.empty() ? Vec2{T.xy[a].x + T.origin.x, T.xy[a].y + T.origin.y} : input[T.ids[a]];
-    edges.push_back({T.ids[a], T.ids[b], T.ids[c], xy});
+  // Found from the outside: a free half-edge is the twin of a half-edge of a triangle not inside (a ghost
+  // or a big one: a few percent of the slots), so only those slots' three twins are looked at. The edges
+  // come out in another order than a pass over all half-edges would give; chain_loops sorts them.
+  const std::size_t slots = T.slots();
+  for (std::size_t t = 0; t < slots; ++t) {
+    if (inside[t]) continue;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t h = T.twin[3 * t + k];
+      if (!inside[h / 3] || !keep_tail(T.tri[h])) continue;
+      // The next free half-edge after h = a -> b: turn around b through the inside triangles of its fan.
+      std::uint32_t g = Triangulation::next(h);
+      while (inside[T.twin[g] / 3]) g = Triangulation::next(T.twin[g]);
+      const std::uint32_t a = T.tri[h], b = T.tri[g], c = T.tri[Triangulation::next(g)];
+      const Vec2 xy = input.empty() ? Vec2{T.xy[a].x + T.origin.x, T.xy[a].y + T.origin.y} : input[T.ids[a]];
+      edges.push_back({T.ids[a], T.ids[b], T.ids[c], xy});
+    }
   }
   return edges;
 }

@@ -47,7 +47,7 @@ class Builder {
   };
   std::vector<std::uint32_t> cavity_, stack_;
   std::vector<BoundaryEdge> boundary_;
-  void grow_scratch(std::size_t need) {
+  [[gnu::noinline]] void grow_scratch(std::size_t need) {  // rare: kept out of the cavity search's registers
     if (need <= cavity_.size()) return;
     const std::size_t size = std::max(need, 2 * cavity_.size());
     cavity_.resize(size), boundary_.resize(size), stack_.resize(size);
@@ -60,18 +60,18 @@ class Builder {
   double orient_xy(double ax, double ay, double bx, double by, double cx, double cy) const {
     return pred::orient2d(ax, ay, bx, by, cx, cy);
   }
-  double orient(std::uint32_t u, std::uint32_t v, const Vec2& p) {
-    ++T_.stats.orient_tests;
-    return orient_xy(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
-  }
   double incircle(std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec2& p) const {
     static_assert(sizeof(Vec2) == 2 * sizeof(double));  // x and y consecutive: loaded as one pair
     return pred::incircle_at(&xy_[a].x, &xy_[b].x, &xy_[c].x, &p.x);
   }
   // Edge i of the finite triangle v: sets bit i of `beyond` when p is strictly on its far side, of `on`
   // when p is on its line (without a branch on the sign: the walk's next step depends on it).
-  void edge_side(const std::uint32_t* v, std::uint32_t i, const Vec2& p, unsigned& beyond, unsigned& on) {
-    const double o = orient(v[i], v[kAfter[i]], p);
+  // `orients` counts the test (the walk counts in a local, added to the stats once it ends).
+  void edge_side(const std::uint32_t* v, std::uint32_t i, const Vec2& p, unsigned& beyond, unsigned& on,
+                 std::uint64_t& orients) const {
+    ++orients;
+    const std::uint32_t u = v[i], w = v[kAfter[i]];
+    const double o = orient_xy(xy_[u].x, xy_[u].y, xy_[w].x, xy_[w].y, p.x, p.y);
     beyond |= static_cast<unsigned>(o < 0) << i;
     on |= static_cast<unsigned>(o == 0) << i;
   }
@@ -83,8 +83,9 @@ class Builder {
   }
   // Ghost triangle with finite half-edge u -> v (outside on its left): in conflict when p is strictly
   // outside that hull edge, or on the edge's open segment (CGAL's rule; keeps the cavity star-shaped).
-  bool ghost_conflict(std::uint32_t u, std::uint32_t v, const Vec2& p) {
-    const double o = orient(u, v, p);
+  bool ghost_conflict(std::uint32_t u, std::uint32_t v, const Vec2& p, std::uint64_t& orients) const {
+    ++orients;
+    const double o = orient_xy(xy_[u].x, xy_[u].y, xy_[v].x, xy_[v].y, p.x, p.y);
     return o > 0 || (o == 0 && strictly_between(u, v, p));
   }
   // Index (0..2) of the finite half-edge of a ghost triangle, kNone for a finite triangle.
@@ -100,7 +101,7 @@ class Builder {
   bool conflict(std::uint32_t t, const Vec2& p) {
     const std::uint32_t* v = &T_.tri[3 * t];
     const std::uint32_t ge = ghost_edge(t);
-    if (ge != kNone) return ghost_conflict(v[ge], v[(ge + 1) % 3], p);
+    if (ge != kNone) return ghost_conflict(v[ge], v[(ge + 1) % 3], p, T_.stats.orient_tests);
     ++T_.stats.incircle_tests;
     return incircle(v[0], v[1], v[2], p) > 0;
   }
@@ -136,12 +137,18 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
   const std::uint64_t cap = std::uint64_t{slots_} + 16;
   const std::uint32_t* tri = T_.tri.data();
   const std::uint32_t* twin = T_.twin.data();
-  for (std::uint64_t steps = 0; steps < cap; ++steps) {
-    ++T_.stats.locate_visits;
+  // The counters in locals (memory increments on every step would chain through the store buffer).
+  std::uint64_t steps = 0, orients = 0;
+  auto found = [&](std::uint32_t at) {
+    T_.stats.locate_visits += steps + 1;
+    T_.stats.orient_tests += orients;
+    return at;
+  };
+  for (; steps < cap; ++steps) {
     const std::uint32_t* v = tri + 3 * t;
     const std::uint32_t ge = ghost_edge(t);
     if (ge != kNone) {
-      if (ghost_conflict(v[ge], v[(ge + 1) % 3], p)) return t;
+      if (ghost_conflict(v[ge], v[(ge + 1) % 3], p, orients)) return found(t);
       from = kNone;  // p may be collinear with that hull edge: test all three edges of the next one
       t = twin[3 * t + ge] / 3;
       continue;
@@ -149,17 +156,17 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
     unsigned neg = 0, zero = 0;                  // bit i: p beyond edge i / on its line
     const std::uint32_t entered = from - 3 * t;  // 0..2: the edge we came through; otherwise none
     if (entered < 3) {                           // p is strictly inside that one: the other two
-      edge_side(v, kAfter[entered], p, neg, zero);
-      edge_side(v, kBefore[entered], p, neg, zero);
+      edge_side(v, kAfter[entered], p, neg, zero, orients);
+      edge_side(v, kBefore[entered], p, neg, zero, orients);
     } else {
-      for (std::uint32_t i = 0; i < 3; ++i) edge_side(v, i, p, neg, zero);
+      for (std::uint32_t i = 0; i < 3; ++i) edge_side(v, i, p, neg, zero, orients);
     }
     if (neg == 0) {
       if (zero) {
         for (int i = 0; i < 3; ++i)
           if (xy_[v[i]].x == p.x && xy_[v[i]].y == p.y) dup_ = v[i];
       }
-      return t;
+      return found(t);
     }
     const int first_neg = __builtin_ctz(neg);
     int cross = first_neg;
@@ -171,12 +178,14 @@ std::uint32_t Builder::walk(std::uint32_t t, const Vec2& p) {
       const std::uint32_t s = v[outgoing];
       const double cx = (xy_[v[0]].x + xy_[v[1]].x + xy_[v[2]].x) / 3.0;
       const double cy = (xy_[v[0]].y + xy_[v[1]].y + xy_[v[2]].y) / 3.0;
-      ++T_.stats.orient_tests;
+      ++orients;
       cross = pred::orient2d(cx, cy, xy_[s].x, xy_[s].y, p.x, p.y) < 0 ? incoming : outgoing;
     }
     from = twin[3 * t + cross];
     t = from / 3;
   }
+  T_.stats.locate_visits += steps;
+  T_.stats.orient_tests += orients;
   ++T_.stats.walk_fallbacks;
   return scan_for_conflict(p);
 }
@@ -208,8 +217,8 @@ void Builder::dig_cavity(std::uint32_t t0, const Vec2& p, bool count) {
   const std::uint32_t* tri = T_.tri.data();
   const std::uint32_t* twin = T_.twin.data();
   std::uint64_t orients = 0;
-  // Sizes: the stack holds at most cavity + 3 half-edges, the boundary cavity + 2; checked per triangle.
-  grow_scratch(64);
+  // Sizes: the stack holds at most cavity + 3 half-edges, the boundary cavity + 2; checked per triangle
+  // (run() sized the arrays for 64 first, and they never shrink).
   std::uint32_t* cav = cavity_.data();
   BoundaryEdge* bd = boundary_.data();
   std::uint32_t* st = stack_.data();
@@ -433,18 +442,30 @@ struct InputSummary {
   bool tiny = false;
 };
 
+// A point as an (x, y) pair of a two-lane vector.
+pred::v2 pair_of(const Vec2& p) { return *reinterpret_cast<const pred::v2_unaligned*>(&p.x); }
+
 InputSummary summarize(std::span<const Vec2> points) {
+  using pred::v2, pred::v2i;
   InputSummary s;
-  auto tiny = [](double v) { return (std::fabs(v) < 0x1p-118) & (v != 0); };
+  // x and y in the two lanes of the same operations: std::min's and std::max's choices, the sums in the
+  // same order, so the same box and sums as lane by lane.
+  v2 lo = {s.box.minx, s.box.miny}, hi = {s.box.maxx, s.box.maxy}, sum = {0, 0};
+  v2i tiny = {0, 0};
+  const v2 top = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
   for (const Vec2& p : points) {
-    if (!is_finite(p)) [[unlikely]]
+    const v2 q = pair_of(p), m = pred::magnitude(q);
+    const v2i finite = m <= top;  // false for infinities and NaN
+    if ((finite[0] & finite[1]) == 0) [[unlikely]]
       continue;
     ++s.finite;
-    s.box.minx = std::min(s.box.minx, p.x), s.box.maxx = std::max(s.box.maxx, p.x);
-    s.box.miny = std::min(s.box.miny, p.y), s.box.maxy = std::max(s.box.maxy, p.y);
-    s.sx += p.x, s.sy += p.y;
-    s.tiny |= tiny(p.x) | tiny(p.y);
+    lo = pred::vmin(lo, q), hi = pred::vmax(hi, q);
+    sum += q;
+    tiny |= (m < 0x1p-118) & (q != 0);
   }
+  s.box = {lo[0], hi[0], lo[1], hi[1]};
+  s.sx = sum[0], s.sy = sum[1];
+  s.tiny = (tiny[0] | tiny[1]) != 0;
   return s;
 }
 
@@ -505,13 +526,17 @@ Vec2 rounded_centroid(const InputSummary& s) {
 // xy[v] = points[ids[v]] - origin; false, as soon as one is found, if any of these subtractions rounded
 // (checked on the way, by the error term of each: one pass for the copy and the check).
 bool translate_exactly(std::span<const Vec2> points, Triangulation& T) {
+  using pred::v2, pred::v2i;
   const std::size_t n = T.ids.size();
-  const Vec2 o = T.origin;
+  const v2 o = pair_of(T.origin);
   T.xy.resize(n);
   for (std::size_t v = 0; v < n; ++v) {
-    const Vec2& p = points[T.ids[v]];
-    T.xy[v] = {p.x - o.x, p.y - o.y};
-    if (!(pred::difference_is_exact(p.x, o.x) & pred::difference_is_exact(p.y, o.y))) return false;
+    // pred::difference_is_exact on x and y at once (the same operations in two lanes).
+    const v2 p = pair_of(points[T.ids[v]]);
+    const v2 d = p - o, bv = p - d, av = d + bv;
+    T.xy[v] = {d[0], d[1]};
+    const v2i inexact = (p - av) + (bv - o) != 0;
+    if ((inexact[0] | inexact[1]) != 0) return false;
   }
   return true;
 }

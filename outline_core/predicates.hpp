@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 namespace hg::outline::pred {
 
@@ -64,6 +65,12 @@ inline v2 swapped(v2 u) { return __builtin_shufflevector(u, u, 1, 0); }
 inline v2 magnitude(v2 u) {  // |u| per lane: the sign bits cleared
   const v2i keep = {0x7fffffffffffffffLL, 0x7fffffffffffffffLL};
   return reinterpret_cast<v2>(reinterpret_cast<v2i>(u) & keep);
+}
+inline v2 vmin(v2 x, v2 y) { return y < x ? y : x; }  // std::min's choice, lane by lane
+inline v2 vmax(v2 x, v2 y) { return x < y ? y : x; }  // std::max's
+inline v2i normal(v2 x) {                             // all ones in a lane where x is normal (std::isnormal)
+  const v2 m = magnitude(x);
+  return (m >= std::numeric_limits<double>::min()) & (m <= std::numeric_limits<double>::max());
 }
 
 // > 0: d strictly inside the circle through a, b, c (a, b, c counter-clockwise); < 0 outside; 0 on it.

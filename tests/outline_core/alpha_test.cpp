@@ -2,6 +2,8 @@
 // independent reconstruction of the free edges from an exact (GMP) circumradius classification.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstring>
 #include <map>
 #include <set>
 
@@ -403,6 +405,78 @@ TEST(OutlineAlpha, CircumradiusClassesGiveTheSameDecisionsAsThePredicateAlone) {
         SCOPED_TRACE("cloud " + std::to_string(k) + " R " + std::to_string(R));
         EXPECT_EQ(classify_alpha(T, R, outer_only, scan), classify_alpha(T, R, outer_only));
       }
+  }
+}
+
+TEST(OutlineAlpha, TriangleMeasuresAreThoseOfTheThreePivotFormulaInEveryPass) {
+  // measure_triangle and scan_triangles (two triangles a step) against the formulas written out here:
+  // twice the signed area with each vertex as orient2d's pivot, the middle one halved; N the product of
+  // the squared edge lengths; the class of N / (4 D^2 scale2) where D (pivot c) is far above its rounding
+  // bound. Bit for bit (signs of zero included), on grids (exact ties, zero differences), noise, and full
+  // precision far from the origin at tiny and large scales.
+  auto bits = [](double v) {
+    std::uint64_t b;
+    std::memcpy(&b, &v, 8);
+    return b;
+  };
+  auto twice_area = [](const Vec2& p, const Vec2& q, const Vec2& pivot) {
+    return (p.x - pivot.x) * (q.y - pivot.y) - (p.y - pivot.y) * (q.x - pivot.x);
+  };
+  const std::vector<std::vector<Vec2>> clouds{grid_cloud(40, 30), grid_cloud(50, 40, 2.0, {3, -7}, 0.2, 9),
+                                              random_cloud(3001, 5, 100), random_cloud(2000, 6, 1e-7, {1e6, -2e6}),
+                                              random_cloud(1500, 7, 1e9, {-3e12, 5e11})};
+  for (std::size_t k = 0; k < clouds.size(); ++k) {
+    const Triangulation T = triangulate(clouds[k], Mode::DSHI, Order::Brio);
+    const double scale2 = class_scale(T);
+    const TriangleScan by_selection = scan_triangles(T), by_histogram = scan_triangles(T, 0);
+    std::vector<std::pair<std::size_t, TriangleMeasure>> expected;  // finite slot, its figures
+    for (std::size_t t = 0; t < T.slots(); ++t) {
+      if (T.is_ghost(t)) continue;
+      const Vec2 &a = T.xy[T.tri[3 * t]], &b = T.xy[T.tri[3 * t + 1]], &c = T.xy[T.tri[3 * t + 2]];
+      const double da = twice_area(b, c, a), db = twice_area(c, a, b), dc = twice_area(a, b, c);
+      const double area = std::fabs(std::max(std::min(da, db), std::min(std::max(da, db), dc))) / 2;
+      const double N = ((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y)) *
+                       ((b.x - c.x) * (b.x - c.x) + (b.y - c.y) * (b.y - c.y)) *
+                       ((c.x - a.x) * (c.x - a.x) + (c.y - a.y) * (c.y - a.y));
+      const double errD =
+          pred::kOrientBound * (std::fabs((a.x - c.x) * (b.y - c.y)) + std::fabs((a.y - c.y) * (b.x - c.x)));
+      const double den = 4 * (dc * dc) * scale2;
+      std::uint8_t rclass = kUndecidedClass;
+      if (std::fabs(dc) > 1e6 * errD && std::isnormal(N) && std::isnormal(den) && std::isnormal(N / den))
+        rclass = r2_class(N / den);
+      expected.push_back({t, {area, rclass, N, dc}});
+    }
+    auto points = [&](std::size_t t) {
+      return std::array<const Vec2*, 3>{&T.xy[T.tri[3 * t]], &T.xy[T.tri[3 * t + 1]], &T.xy[T.tri[3 * t + 2]]};
+    };
+    auto expect_same = [&](const TriangleMeasure& m, const TriangleMeasure& e, const char* what, std::size_t t) {
+      SCOPED_TRACE(std::string(what) + ", cloud " + std::to_string(k) + ", triangle " + std::to_string(t));
+      EXPECT_EQ(bits(m.area), bits(e.area));
+      EXPECT_EQ(bits(m.N), bits(e.N));
+      EXPECT_EQ(bits(m.D), bits(e.D));
+      EXPECT_EQ(m.rclass, e.rclass);
+    };
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      const auto& [t, e] = expected[i];
+      const auto p = points(t);
+      expect_same(measure_triangle(*p[0], *p[1], *p[2], scale2), e, "one", t);
+      EXPECT_EQ(by_selection.rclass[t], e.rclass) << "cloud " << k << " triangle " << t;
+      EXPECT_EQ(by_histogram.rclass[t], e.rclass) << "cloud " << k << " triangle " << t;
+      // Two at a time: with the next finite triangle (each in either lane), and with itself.
+      const auto& [u, f] = expected[(i + 1) % expected.size()];
+      const auto q = points(u);
+      TriangleMeasure m0, m1;
+      measure_pair(p.data(), q.data(), scale2, m0, m1);
+      expect_same(m0, e, "pair, lane 0", t);
+      expect_same(m1, f, "pair, lane 1", u);
+      measure_pair(q.data(), p.data(), scale2, m0, m1);
+      expect_same(m1, e, "pair, lane 1", t);
+      measure_pair(p.data(), p.data(), scale2, m0, m1);
+      expect_same(m0, e, "pair with itself", t);
+    }
+    if (::testing::Test::HasFailure()) return;
+    const std::size_t checked = expected.size();
+    EXPECT_GT(checked, clouds[k].size());  // about two triangles a point
   }
 }
 
