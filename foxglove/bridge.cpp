@@ -25,6 +25,10 @@ const char* kPoints = "/hg/plate/points";
 const char* kOutline = "/hg/outline";
 const char* kPath = "/hg/grind_path";
 const char* kTf = "/tf";
+// The camera's transform has a topic of its own: a viewer opening a recording at some time takes the last
+// message of each topic before it, and on /tf that is the robot's TCP, so the camera (and the cloud in its
+// frame) would be missing until the next cloud.
+const char* kTfCamera = "/tf/camera";
 const char* kLog = "/hg/log";
 
 // ---- schemas of the well-known messages (the fields this bridge fills) ----
@@ -230,7 +234,7 @@ int Bridge::well_known(const std::string& name, const std::string& schema_name, 
 Converted Bridge::camera_transform(int64_t utime) {
   Converted c;
   if (!opt_.camera_to_base || opt_.camera_to_flange) return c;
-  int tf = well_known(kTf, "foxglove.FrameTransform", c);
+  int tf = well_known(kTfCamera, "foxglove.FrameTransform", c);
   c.outputs.push_back({tf, transform_json(utime, opt_.base_frame, opt_.camera_frame, *opt_.camera_to_base).dump()});
   return c;
 }
@@ -437,7 +441,7 @@ void Bridge::derive(const lcmtools::Struct& type, const uint8_t* data, std::size
     else if (opt_.camera_to_base)
       base_camera = *opt_.camera_to_base;
     opt_.camera_frame = m.header.frame_id;
-    int tf = base_camera ? well_known(kTf, "foxglove.FrameTransform", c) : -1;
+    int tf = base_camera ? well_known(kTfCamera, "foxglove.FrameTransform", c) : -1;
     if (base_camera && want(tf))
       c.outputs.push_back(
           {tf, transform_json(m.header.utime, opt_.base_frame, m.header.frame_id, *base_camera).dump()});

@@ -12,9 +12,10 @@
 //                                                  per outline loop of the edge the tool grinds
 //       /hg/log            foxglove.Log            the processes' log lines (HG_LOG) and HG_JOB_STATUS as
 //                                                  log lines
-//       /tf                foxglove.FrameTransform base <- camera (the cell's calibration; eye-in-hand:
+//       /tf/camera         foxglove.FrameTransform base <- camera (the cell's calibration; eye-in-hand:
 //                                                  with the flange pose of the capture) with every plate
-//                                                  cloud, base <- tcp with every HG_ROBOT_STATUS
+//                                                  cloud
+//       /tf                foxglove.FrameTransform base <- tcp with every HG_ROBOT_STATUS
 #pragma once
 
 #include <Eigen/Geometry>
@@ -86,7 +87,7 @@ class Bridge {
   // output, marked in_place; after an error it may hold part of a text the caller drops.
   Converted convert(const std::string& channel, const std::uint8_t* data, std::size_t size,
                     const std::function<bool(int)>& wanted = nullptr, std::string* in_place = nullptr);
-  // The base <- camera transform of an eye-to-hand cell on /tf at utime (the live server sends it every
+  // The base <- camera transform of an eye-to-hand cell on /tf/camera at utime (the live server sends it every
   // second, so a client that connects between jobs has the camera too); nothing without a calibration or
   // for an eye-in-hand cell (its camera moves: the transform comes with each cloud).
   Converted camera_transform(std::int64_t utime);

@@ -194,7 +194,8 @@ async function main() {
 
   const lcmTopics = new Set(events.map((e) => e.channel));
   const perTopic = new Map();
-  let ev = 0, lastCloud = null, lastPath = null, lastLogSource = null, validated = 0, lastType = null, cameraTfs = 0;
+  let ev = 0, lastCloud = null, lastPath = null, lastLogSource = null, validated = 0, lastType = null, cameraTfs = 0,
+      lastStatus = null;
   for (const m of messages) {
     const ch = channels.get(m.channelId);
     perTopic.set(ch.topic, (perTopic.get(ch.topic) || 0) + 1);
@@ -226,14 +227,22 @@ async function main() {
     ++validated;
     if (lcmTopics.has(ch.topic)) lastType = schema.name;
     // base <- camera comes with each plate cloud, its parent the cell's frames.base (hg-mcap --cell).
-    if (ch.topic === "/tf" && lastType === "hullgrind.plate_cloud_t") {
+    // The robot's TCP alone on /tf: the camera on a topic of its own, so that the last message of each topic
+    // before any time places both (what a viewer shows when it opens the file there).
+    if (ch.topic === "/tf") {
+      const parent = (lastStatus && lastStatus.header.frame_id) || baseFrame;  // the status's frame, else the base
+      check(json.parent_frame_id === parent && json.child_frame_id === "tcp",
+            `/tf: ${json.parent_frame_id} <- ${json.child_frame_id}, expected ${parent} <- tcp`);
+    }
+    if (ch.topic === "/tf/camera" && lastType === "hullgrind.plate_cloud_t") {
       check(json.parent_frame_id === baseFrame && json.child_frame_id === lastCloud.header.frame_id,
-            `/tf of a plate cloud: ${json.parent_frame_id} <- ${json.child_frame_id}, expected ${baseFrame} <- ` +
+            `/tf/camera of a plate cloud: ${json.parent_frame_id} <- ${json.child_frame_id}, expected ${baseFrame} <- ` +
             lastCloud.header.frame_id);
       ++cameraTfs;
     }
     if (schema.name === "hullgrind.plate_cloud_t") lastCloud = json;
     if (schema.name === "hullgrind.grind_path_t") lastPath = json;
+    if (schema.name === "hullgrind.robot_status_t") lastStatus = json;
     if (schema.name === "hullgrind.job_status_t" || schema.name === "hullgrind.log_line_t")
       lastLogSource = { type: schema.name, json };
     checkDerived(ch.topic, json, lastCloud, maxPoints, lastPath, lastLogSource);
@@ -254,10 +263,11 @@ async function main() {
     const n = types.reduce((sum, type) => sum + typeCount(type), 0);
     check((perTopic.get(topic) || 0) === n, `${topic}: ${perTopic.get(topic) || 0} messages, ${n} ${types.join(" + ")}`);
   }
-  const tfWant = typeCount("hullgrind.robot_status_t") + (expectTf ? typeCount("hullgrind.plate_cloud_t") : 0);
+  const tfWant = typeCount("hullgrind.robot_status_t");
   check((perTopic.get("/tf") || 0) === tfWant, `/tf: ${perTopic.get("/tf") || 0} transforms, expected ${tfWant}`);
-  check(cameraTfs === (expectTf ? typeCount("hullgrind.plate_cloud_t") : 0), `/tf: ${cameraTfs} camera transforms`);
-  for (const t of perTopic.keys()) check(lcmTopics.has(t) || t in derived || t === "/tf", `unexpected topic ${t}`);
+  check((perTopic.get("/tf/camera") || 0) === cameraTfs, `/tf/camera: messages that are no plate cloud's camera`);
+  check(cameraTfs === (expectTf ? typeCount("hullgrind.plate_cloud_t") : 0), `/tf/camera: ${cameraTfs} camera transforms`);
+  for (const t of perTopic.keys()) check(lcmTopics.has(t) || t in derived || t === "/tf" || t === "/tf/camera", `unexpected topic ${t}`);
 
   const summary = [...perTopic].map(([t, n]) => `${t} ${n}`).join(", ");
   if (failures.length) {
