@@ -32,15 +32,16 @@ std::vector<Param> mcap_params() {
 }
 
 void usage(std::FILE* f, const hg::runtime::Params& params) {
-  std::fprintf(f,
-               "usage: hg-mcap IN.lcmlog -o OUT.mcap [options]\n"
-               "Writes an LCM log as MCAP for Foxglove and Lichtblick: every channel a topic with the JSON Schema\n"
-               "generated from the .lcm files (encoding json), plus the 3-D picture in Foxglove's schemas\n"
-               "(/hg/plate/points, /hg/outline, /hg/grind_path, /tf/camera, /tf); log times are the log's event times; chunked\n"
-               "with message indexes and the summary section (docs/foxglove.md). A corrupt log event is counted,\n"
-               "reported and skipped; a message of an unknown type is written raw (encoding lcm).\n"
-               "Exit status: 0 written, 1 failed to write, 2 bad command line or input (not an LCM log).\n\n"
-               "options:\n");
+  std::fprintf(
+      f,
+      "usage: hg-mcap IN.lcmlog -o OUT.mcap [options]\n"
+      "Writes an LCM log as MCAP for Foxglove and Lichtblick: every channel a topic with the JSON Schema\n"
+      "generated from the .lcm files (encoding json), plus the 3-D picture in Foxglove's schemas\n"
+      "(/hg/plate/points, /hg/outline, /hg/grind_path, /tf/camera, /tf); log times are the log's event times; chunked\n"
+      "with message indexes and the summary section (docs/foxglove.md). A corrupt log event is counted,\n"
+      "reported and skipped; a message of an unknown type is written raw (encoding lcm).\n"
+      "Exit status: 0 written, 1 failed to write, 2 bad command line or input (not an LCM log).\n\n"
+      "options:\n");
   params.print_options(f);
   std::fprintf(f, "  --help, --help-markdown, --version this text, the options as a Markdown table, the version\n");
 }
