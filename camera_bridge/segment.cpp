@@ -355,19 +355,19 @@ struct TopPlanes {
   }
 };
 
-// Each part's bow (TopPlanes::bow): least squares on every 3rd of its top pixels (thousands: the bow comes
+// Each part's bow (TopPlanes::bow): least squares on every 8th of its top pixels (thousands: the bow comes
 // out to a few micrometres through the depth's noise and quantization); none for a part with fewer than 60.
+// The coordinates' origin is the part's first pixel (any point of the part keeps the sums well conditioned).
 void fit_top_bows(const PartPixels& pts, int K, TopPlanes& top) {
-  std::vector<PlaneSums> sums(K);
-  for (std::size_t i = 0; i < pts.size(); ++i) sums[pts.part[i]].add(pts.point(i));
   top.e1 = top.normal.unitOrthogonal(), top.e2 = top.normal.cross(top.e1);
   top.centre.assign(K, Eigen::Vector3d::Zero());
-  for (int k = 0; k < K; ++k)
-    if (sums[k].n >= 1) top.centre[k] = sums[k].centroid();
+  std::vector<bool> seen(K, false);
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (!seen[pts.part[i]]) seen[pts.part[i]] = true, top.centre[pts.part[i]] = pts.point(i);
   std::vector<Eigen::Matrix<double, 6, 6>> ata(K, Eigen::Matrix<double, 6, 6>::Zero());
   std::vector<Eigen::Matrix<double, 6, 1>> atb(K, Eigen::Matrix<double, 6, 1>::Zero());
   std::vector<int> used(K, 0);
-  for (std::size_t i = 0; i < pts.size(); i += 3) {
+  for (std::size_t i = 0; i < pts.size(); i += 8) {
     if (!top.holds(pts, i)) continue;
     const int k = pts.part[i];
     const Eigen::Vector3d p = pts.point(i);
