@@ -336,10 +336,48 @@ struct TopPlanes {
   std::vector<double> offset;
   double tol = std::numeric_limits<double>::infinity();
   Eigen::Vector3d origin;  // the largest part's centroid on its plane
+  // Per part, the top face's height off its plane as a quadratic in the in-plane coordinates (x, y along
+  // e1, e2 about centre[k]): bow[k] . (1, x, y, x^2, xy, y^2). Zero for a flat plate; a bowed one
+  // (docs/scene.md, warp) has its edge off the plane by its bow there.
+  std::vector<Eigen::Matrix<double, 6, 1>> bow;
+  std::vector<Eigen::Vector3d> centre;
+  Eigen::Vector3d e1, e2;
   bool holds(const PartPixels& pts, std::size_t i) const {
     return std::abs(normal.dot(pts.point(i)) - offset[pts.part[i]]) <= tol;
   }
+  Eigen::Matrix<double, 6, 1> monomials(int k, const Eigen::Vector3d& p) const {
+    const double x = e1.dot(p - centre[k]), y = e2.dot(p - centre[k]);
+    return (Eigen::Matrix<double, 6, 1>() << 1, x, y, x * x, x * y, y * y).finished();
+  }
+  // The top face's offset along the normal at (above or below) point p of part k.
+  double offset_at(int k, const Eigen::Vector3d& p) const {
+    return offset[k] + (bow.empty() ? 0.0 : bow[k].dot(monomials(k, p)));
+  }
 };
+
+// Each part's bow (TopPlanes::bow): least squares on every 8th of its top pixels (thousands: the bow comes
+// out to a few micrometres through the depth's noise and quantization); none for a part with fewer than 60.
+// The coordinates' origin is the part's first pixel (any point of the part keeps the sums well conditioned).
+void fit_top_bows(const PartPixels& pts, int K, TopPlanes& top) {
+  top.e1 = top.normal.unitOrthogonal(), top.e2 = top.normal.cross(top.e1);
+  top.centre.assign(K, Eigen::Vector3d::Zero());
+  std::vector<bool> seen(K, false);
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (!seen[pts.part[i]]) seen[pts.part[i]] = true, top.centre[pts.part[i]] = pts.point(i);
+  std::vector<Eigen::Matrix<double, 6, 6>> ata(K, Eigen::Matrix<double, 6, 6>::Zero());
+  std::vector<Eigen::Matrix<double, 6, 1>> atb(K, Eigen::Matrix<double, 6, 1>::Zero());
+  std::vector<int> used(K, 0);
+  for (std::size_t i = 0; i < pts.size(); i += 8) {
+    if (!top.holds(pts, i)) continue;
+    const int k = pts.part[i];
+    const Eigen::Vector3d p = pts.point(i);
+    const Eigen::Matrix<double, 6, 1> m = top.monomials(k, p);
+    ata[k].noalias() += m * m.transpose(), atb[k] += m * (top.normal.dot(p) - top.offset[k]), ++used[k];
+  }
+  top.bow.assign(K, Eigen::Matrix<double, 6, 1>::Zero());
+  for (int k = 0; k < K; ++k)
+    if (used[k] >= 60) top.bow[k] = ata[k].ldlt().solve(atb[k]);
+}
 
 // Fitted on the part pixels, then refitted twice without the pixels far from it (mixed edge pixels,
 // side walls), whose residuals are one-sided and would tilt the plane. Sums in double about a reference
@@ -383,9 +421,10 @@ enum PointKind : std::uint8_t { kDrop = 0, kTop = 1, kMixedSight = 2, kMixedDown
 // Depth fraction of a pixel between table and top along its own ray: 0 on the table, 1 on the top plane.
 // A pixel whose footprint straddles the edge reports the return-weighted mean depth of both (docs/cameras.md,
 // "Mixed pixels at the edge"), so the fraction is the steel's share of its footprint's return.
-double depth_fraction(const PartPixels& pts, std::size_t i, const TopPlanes& top, const Plane& table) {
+// `o`: the top face's offset along the top normal beside the pixel (local_top_offset()).
+double depth_fraction(const PartPixels& pts, std::size_t i, const TopPlanes& top, double o, const Plane& table) {
   const Eigen::Vector3d p = pts.point(i), d = p / p.z();
-  const double z_top = top.offset[pts.part[i]] / top.normal.dot(d), z_table = table.offset / table.n.dot(d);
+  const double z_top = o / top.normal.dot(d), z_table = table.offset / table.n.dot(d);
   return (z_table - p.z()) / (z_table - z_top);
 }
 
@@ -402,10 +441,10 @@ Eigen::Vector2d nadir_pixel(const camera::Intrinsics& in, const Eigen::Vector3d&
 // between the edge's outward normal and the direction to the nadir), first the side wall: seen from the
 // camera it reaches W = t tan(theta) cos_wall beyond the edge, its depth falling linearly from top to table,
 // so that half of the footprint (L = half its width) shows the fraction 1 - L / 2W (W >= L) or W / 2L.
-double steel_centre_fraction(const PartPixels& pts, std::size_t i, const TopPlanes& top, const Plane& table,
+double steel_centre_fraction(const PartPixels& pts, std::size_t i, const TopPlanes& top, double o, const Plane& table,
                              const camera::Intrinsics& in, double cos_wall, const SegmentParams& P) {
   if (!(cos_wall > 0)) return P.mixed_fraction;
-  const double o = top.offset[pts.part[i]], t = o - table.offset;
+  const double t = o - table.offset;
   const Eigen::Vector3d p = pts.point(i), T = p * (o / top.normal.dot(p));  // its ray on the top plane
   const double tan_theta = (T - o * top.normal).norm() / std::abs(o);
   const double wall = t * tan_theta * cos_wall, half = 0.5 * P.footprint_pixels * T.z() / in.fx;
@@ -419,12 +458,14 @@ double steel_centre_fraction(const PartPixels& pts, std::size_t i, const TopPlan
 // centre lies on the steel when the steel covers half the footprint or more. Where the edge faces the nadir pixel the
 // camera also sees the plate's side wall, whose pixels lie between table and top as well: there the point goes straight
 // down (a wall pixel then lands on the edge, never beyond it); elsewhere along its ray (its centre on the top).
+// `local`: for each point kept as a mixed pixel, the top face's offset there (TopPlanes::offset_at()).
 std::vector<std::uint8_t> classify(const cv::Mat& depth, const PartPixels& pts, const TopPlanes& top,
                                    const Plane& table, const camera::Intrinsics& in, const SegmentParams& P,
-                                   cv::Mat top_img) {
+                                   cv::Mat top_img, std::vector<double>& local) {
   const std::size_t n = pts.size();
   const int W = in.width, H = in.height;
   std::vector<std::uint8_t> kind(n, kDrop);
+  local.assign(n, 0.0);
   // top_img: part + 1 of the part's saturated pixels (a glint is top face too, gaps.hpp: where a ground
   // strip's glint reaches the edge the edge pixels border no top pixel with a depth), and of the top pixels.
   for (std::size_t i = 0; i < n; ++i)
@@ -448,10 +489,12 @@ std::vector<std::uint8_t> classify(const cv::Mat& depth, const PartPixels& pts, 
     kind[i] = kDrop;
     const Eigen::Vector2d to_nadir = (nadir - Eigen::Vector2d(c, r)).normalized();
     const double cos_wall = -inward.normalized().dot(to_nadir);  // > 0: the edge faces the nadir
-    const double f = depth_fraction(pts, i, top, table);
-    if (!(f >= steel_centre_fraction(pts, i, top, table, in, cos_wall, P))) continue;
-    if (!on_plane && !(f <= 1.0 + top.tol / std::max(1e-3, top.offset[pts.part[i]] - table.offset))) continue;
+    const double o = top.offset_at(pts.part[i], pts.point(i));
+    const double f = depth_fraction(pts, i, top, o, table);
+    if (!(f >= steel_centre_fraction(pts, i, top, o, table, in, cos_wall, P))) continue;
+    if (!on_plane && !(f <= 1.0 + top.tol / std::max(1e-3, o - table.offset))) continue;
     kind[i] = (cos_wall > 0 ? kMixedDown : kMixedSight) | (on_plane ? 0 : kSawTable);
+    local[i] = o;
   }
   return kind;
 }
@@ -470,7 +513,8 @@ void project_onto_top(const cv::Mat& depth, const PartPixels& pts, const TopPlan
   out.v_axis = pn.cross(out.u_axis);
   cv::Mat glint_labels = cv::Mat::zeros(in.height, in.width, CV_8UC1);
   out.labels.copyTo(glint_labels, glint);
-  const std::vector<std::uint8_t> kind = classify(depth, pts, top, table, in, P, std::move(glint_labels));
+  std::vector<double> local;
+  const std::vector<std::uint8_t> kind = classify(depth, pts, top, table, in, P, std::move(glint_labels), local);
   const std::size_t npts = pts.size();
   out.u.reserve(npts);
   out.v.reserve(npts);
@@ -480,7 +524,7 @@ void project_onto_top(const cv::Mat& depth, const PartPixels& pts, const TopPlan
   for (std::size_t i = 0; i < npts; ++i) {
     if (kind[i] == kDrop) continue;
     Eigen::Vector3d p = pts.point(i);
-    if ((kind[i] & 3) == kMixedSight) p *= top.offset[pts.part[i]] / pn.dot(p);  // where its ray meets the top
+    if ((kind[i] & 3) == kMixedSight) p *= local[i] / pn.dot(p);  // where its ray meets the top beside it
     if (kind[i] & kSawTable) out.mixed.data[pts.pixel[i]] = 255;
     const Eigen::Vector3d q = p - out.origin;  // orthogonal projection = in-plane coordinates
     out.u.push_back(static_cast<float>(q.dot(out.u_axis)));
@@ -528,6 +572,7 @@ Segmentation segment(const cv::Mat& depth, const camera::Intrinsics& in, const S
   TopPlanes top;
   if (!fit_top_planes(pts, out.num_parts, relabel[keep[0]] - 1, table.n, z_table, P.top_tolerance, top))
     return fail(SegmentStatus::BadFrame, "the part has too few valid depth pixels to fit its plane");
+  fit_top_bows(pts, out.num_parts, top);
   project_onto_top(depth, pts, top, table, in, P, glint, out);
   if (out.u.empty()) return fail(SegmentStatus::BadFrame, "the part mask holds no pixel on the fitted top plane");
   fill_gaps_and_assess_edge(depth, intensity, in, {table.n, table.offset, top.normal, top.offset}, P, out);

@@ -28,6 +28,7 @@ struct GrindAccuracy {
   int loops_planned = 0;    // loops ground (every loop the outline has, when every cut-out is planned)
   double unreached = 0;     // m of edge beyond the tool's reach
   double rms = 0, max = 0;  // the smoothed edge to the true edge (max: symmetric Hausdorff), metres
+  Eigen::Vector2d worst = Eigen::Vector2d::Zero();  // where `max` is (table frame, on the edge it was measured from)
 };
 
 // The simulated cell's table in its robot's base frame: its camera_to_base is calibrated for the pm806
@@ -38,9 +39,10 @@ inline Eigen::Isometry3d base_from_table(const path_planner::PlannerConfig& sim_
 }
 
 // `config`: make_run_planner()'s, with camera_to_base calibrated for the frame's camera (`table_to_base`:
-// base_from_table() of it).
+// base_from_table() of it). `points`: when given, the grind edge's points measured (table frame).
 inline GrindAccuracy grind_edge(const hullgrind::outline_t& o, const sim::RenderedFrame& f,
-                                const path_planner::PlannerConfig& config, const Eigen::Isometry3d& table_to_base) {
+                                const path_planner::PlannerConfig& config, const Eigen::Isometry3d& table_to_base,
+                                std::vector<Eigen::Vector2d>* points = nullptr) {
   path_planner::PlannerConfig cfg = config;
   cfg.camera_to_base = table_to_base * f.camera_from_table.inverse();
   GrindAccuracy g;
@@ -59,13 +61,16 @@ inline GrindAccuracy grind_edge(const hullgrind::outline_t& o, const sim::Render
       ring.push_back((table_from_base * (r.plate_to_base * Eigen::Vector3d(p.x(), p.y(), 0))).head<2>());
     for (const auto& p : densified(ring, 5e-4)) {
       const double d = rings_dist(p, truth_rings);
-      sq += d * d, ++n, g.max = std::max(g.max, d);
+      sq += d * d, ++n;
+      if (points) points->push_back(p);
+      if (d > g.max) g.max = d, g.worst = p;
     }
     got.push_back(ring);
   }
   g.rms = n ? std::sqrt(sq / n) : 0;
   for (const Ring2& t : truth_rings)
-    for (const auto& p : densified(t, 5e-4)) g.max = std::max(g.max, rings_dist(p, got));
+    for (const auto& p : densified(t, 5e-4))
+      if (const double d = rings_dist(p, got); d > g.max) g.max = d, g.worst = p;
   return g;
 }
 

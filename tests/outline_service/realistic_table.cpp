@@ -129,14 +129,30 @@ void run_poses(int n, const std::vector<std::string>& profiles, const std::vecto
         if (verbose)
           std::fprintf(
               stderr,
-              "%s@%s pose %d: area %+.2f %% (part's %+.2f %%), edge RMS %.2f mm, grind RMS %.2f max %.2f mm%s, edge in "
-              "dropout %.1f %%, gap %.1f mm%s\n",
+              "%s@%s pose %d: area %+.2f %% (part's %+.2f %%), edge RMS %.2f mm, grind RMS %.2f max %.2f mm at table "
+              "(%.1f, %.1f) mm%s, edge in dropout %.1f %%, gap %.1f mm%s\n",
               shape.c_str(), profile.c_str(), i, 100 * a.area_error(), 100 * a.part_area_error(), 1e3 * a.rms,
-              1e3 * g.rms, 1e3 * g.max, g.planned ? "" : " (not planned)", 100 * a.edge_dropout, 1e3 * a.largest_gap,
+              1e3 * g.rms, 1e3 * g.max, 1e3 * g.worst.x(), 1e3 * g.worst.y(), g.planned ? "" : " (not planned)",
+              100 * a.edge_dropout, 1e3 * a.largest_gap,
               a.quality == hullgrind::outline_t::QUALITY_POOR ? " POOR" : "");
       }
       print_row(shape, profile, w);
     }
+}
+
+// Where a scan's grind edge is farthest from the true edge: the point (table frame), its distance from the
+// part's bounding-box centre (the bow's centre) and the bow's height there for sagitta `warp`.
+void print_worst(const std::string& what, const Accuracy& a, const GrindAccuracy& g, const hg::sim::RenderedFrame& f,
+                 double warp) {
+  const auto& outer = f.part_polygons.at(0).outer;
+  Eigen::Vector2d lo = outer.front(), hi = lo;
+  for (const auto& q : outer) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  const double r = (g.worst - 0.5 * (lo + hi)).norm();
+  std::fprintf(stderr,
+               "%s: outline RMS %.2f max %.2f mm; grind RMS %.2f max %.2f mm at (%.1f, %.1f) mm, %.0f mm from the "
+               "centre, bow %.2f mm\n",
+               what.c_str(), 1e3 * a.rms, 1e3 * a.max, 1e3 * g.rms, 1e3 * g.max, 1e3 * g.worst.x(), 1e3 * g.worst.y(),
+               1e3 * r, 1e3 * 4 * warp * r * r);
 }
 
 // Each effect of realistic_effects() alone, at the realistic preset's values, one pose per part.
@@ -171,7 +187,9 @@ void run_effects(int n, const std::vector<std::string>& profiles, const std::vec
           const Scan s = scan(f, hg::camera_bridge::SegmentParams{}, shipped_rules(), f.intensity);
           Accuracy a = measure(s, f);
           a.hole_areas.clear();  // the parts differ: no hole spread over them
-          add(w, a, grind_edge(s.outline, f, planner, table_to_base));
+          const GrindAccuracy g = grind_edge(s.outline, f, planner, table_to_base);
+          add(w, a, g);
+          if (verbose) print_worst(shape + "@" + profile + " " + effect, a, g, f, spec.effects.warp);
         }
       }
       w.area_min = w.area_max = w.part_min = w.part_max = 0;  // nor an area spread

@@ -62,7 +62,8 @@ std::vector<Accuracy> scans_of(const Case& c, const hg::path_planner::PlannerCon
     const GrindAccuracy g = grind_edge(s.outline, f, *planner, table_to_base);
     EXPECT_TRUE(g.planned) << what(c, poses, i) << ": " << g.reason;
     EXPECT_EQ(g.loops_planned, got.back().outer + got.back().holes) << what(c, poses, i) << ": every loop ground";
-    std::printf("%s: grind edge RMS %.2f mm, max %.2f mm\n", what(c, poses, i).c_str(), 1e3 * g.rms, 1e3 * g.max);
+    std::printf("%s: grind edge RMS %.2f mm, max %.2f mm at table (%.1f, %.1f) mm\n", what(c, poses, i).c_str(),
+                1e3 * g.rms, 1e3 * g.max, 1e3 * g.worst.x(), 1e3 * g.worst.y());
     EXPECT_LE(g.rms, 0.3e-3) << what(c, poses, i) << ": grind edge RMS to the true edge";
     EXPECT_LE(g.max, 1.0e-3) << what(c, poses, i) << ": grind edge's Hausdorff distance to the true edge";
     EXPECT_NE(got.back().quality, +hullgrind::outline_t::QUALITY_POOR)
