@@ -45,17 +45,36 @@ struct DelaunayStats {
   std::uint64_t search_cost() const { return locate_visits + cavity_visits; }
 };
 
+// The large blocks of triangle slots, kept between outlines (kept_blocks.cpp): an outline of 1.59 M points
+// takes 76 MB of them, and on fresh memory every outline faults them in again (23 k page faults, 13 % of its
+// time). A process that computes one outline after another (the outline service, hg-bench) reuses them.
+void* take_kept_block(std::size_t bytes);
+void give_kept_block(void* p, std::size_t bytes) noexcept;
+
 // An allocator whose vectors leave new elements uninitialised (resize would zero them): the triangle
 // arrays are written slot by slot as the insertion uses them, and the kernel zeroes fresh pages anyway,
-// so zeroing them first was one more pass over 24 bytes a point.
-template <class E>
+// so zeroing them first was one more pass over 24 bytes a point. Kept: the memory comes from and goes back
+// to the kept blocks.
+template <class E, bool Kept = false>
 struct NoInitAllocator {
   using value_type = E;
+  template <class U>
+  struct rebind {
+    using other = NoInitAllocator<U, Kept>;
+  };
   NoInitAllocator() = default;
   template <class U>
-  NoInitAllocator(const NoInitAllocator<U>&) noexcept {}
-  E* allocate(std::size_t n) { return std::allocator<E>().allocate(n); }
-  void deallocate(E* p, std::size_t n) noexcept { std::allocator<E>().deallocate(p, n); }
+  NoInitAllocator(const NoInitAllocator<U, Kept>&) noexcept {}
+  E* allocate(std::size_t n) {
+    if constexpr (Kept) return static_cast<E*>(take_kept_block(n * sizeof(E)));
+    else
+      return std::allocator<E>().allocate(n);
+  }
+  void deallocate(E* p, std::size_t n) noexcept {
+    if constexpr (Kept) give_kept_block(p, n * sizeof(E));
+    else
+      std::allocator<E>().deallocate(p, n);
+  }
   template <class U>
   void construct(U* p) noexcept {
     ::new (static_cast<void*>(p)) U;
@@ -65,12 +84,14 @@ struct NoInitAllocator {
     ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
   }
   template <class U>
-  bool operator==(const NoInitAllocator<U>&) const noexcept {
+  bool operator==(const NoInitAllocator<U, Kept>&) const noexcept {
     return true;
   }
 };
-// Triangle slots: tri and twin (only the slots in use are ever read).
+// Scratch arrays written before they are read.
 using SlotArray = std::vector<std::uint32_t, NoInitAllocator<std::uint32_t>>;
+// Triangle slots: tri and twin (only the slots in use are ever read), on kept blocks.
+using TriangleSlots = std::vector<std::uint32_t, NoInitAllocator<std::uint32_t, true>>;
 
 struct Triangulation {
   Vec2 origin;                     // the translation: xy[v] = input[ids[v]] - origin, exactly (often 0)
@@ -80,8 +101,8 @@ struct Triangulation {
   std::uint32_t ghost = 0;         // the vertex at infinity (= xy.size())
   // Triangle t has vertices tri[3t], tri[3t+1], tri[3t+2], counter-clockwise for finite triangles.
   // Half-edge h = 3t+i runs from tri[h] to tri[next(h)]; twin[h] is the same edge in the neighbour.
-  SlotArray tri;
-  SlotArray twin;
+  TriangleSlots tri;
+  TriangleSlots twin;
   // vrep[v] = v for an inserted vertex; for a merged duplicate, the vertex it was merged into (whose
   // input index is the smallest of the equal points: the order is stable).
   std::vector<std::uint32_t> vrep;
