@@ -51,6 +51,7 @@ void give_kept_block(void* p, std::size_t bytes) noexcept {
   Blocks& b = blocks();
   std::lock_guard<std::mutex> lock(b.mu);
   auto it = std::find_if(b.out.begin(), b.out.end(), [&](const Block& k) { return k.p == p; });
+  if (it == b.out.end()) return ::operator delete(p);  // not one of ours: cannot happen, never a crash
   b.kept.push_back(*it);
   b.out.erase(it);
   if (b.kept.size() > kKept) {
