@@ -3,6 +3,7 @@
 // hg-overview draws the path with the calibration the run used. The recorded run is made here: a job's
 // cloud, outline, path (planned with a camera pose that overrides the config's) and statuses in an LCM log.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 
 #include <cmath>
@@ -354,6 +355,69 @@ TEST(Overview, StagesAreTheLogsTimesAndTheComputeTimesTheMessagesCarry) {
   // pp::plan timed itself.
   ASSERT_GT(path.compute_time, 0);
   EXPECT_DOUBLE_EQ(stages["plan_compute_ms"].get<double>(), path.compute_time * 1e3);
+}
+
+// A run whose camera sent `count` clouds of `points` points (seq 0, 1, ...; cloud k's u from k), the job's
+// outline on cloud 17 logged after the last of them, then one more cloud with seq 17 (a restarted camera reuses
+// seqs): not the outline's, which was logged before it.
+void write_clouds_log(const std::string& file, int count, int points) {
+  const Scene s = scene();
+  const pp::PlanResult r = pp::plan(s.input, {}, planner_config(kRunCamera), std::nullopt);
+  ASSERT_TRUE(r.ok) << r.reason;
+  auto cloud = [points](std::int64_t seq, float shift) {
+    hullgrind::plate_cloud_t c{};
+    c.header.seq = seq;
+    c.header.utime = 100 + seq;
+    for (int i = 0; i < points; ++i) c.u.push_back(shift + float(i)), c.v.push_back(-float(i)), c.part.push_back(0);
+    c.n = points;
+    c.num_parts = 1;
+    return c;
+  };
+  lcm::LogFile log(file, "w");
+  hullgrind::job_request_t req{};
+  req.job_id = "J1";
+  req.action = hullgrind::job_request_t::ACTION_START;
+  log_event(log, 1000, "HG_JOB_REQUEST", req);
+  for (int seq = 0; seq < count; ++seq) log_event(log, 2000 + seq, "HG_PLATE_CLOUD", cloud(seq, float(seq)));
+  hullgrind::outline_t outline = s.outline;
+  outline.cloud_seq = 17;
+  log_event(log, 2000 + count, "HG_OUTLINE", outline);
+  log_event(log, 3000 + count, "HG_PLATE_CLOUD", cloud(17, 1e6f));
+  log_event(log, 4000 + count, "HG_GRIND_PATH", pp::to_lcm(r, "J1", outline.header.seq, "robot_base", 4000));
+}
+
+// The job's cloud is read again from where the log holds it: the right one, its points as written.
+TEST(Overview, ReadsTheJobsCloudAgainFromTheLog) {
+  write_clouds_log(tmp("clouds.lcmlog"), 30, 50);
+  const auto run = hg::overview::read_run_log(tmp("clouds.lcmlog"));
+  EXPECT_EQ(run.clouds.size(), 31u);
+  const auto job = hg::overview::trace_job(run);
+  ASSERT_TRUE(job.cloud && job.outline && job.path);
+  EXPECT_EQ(job.cloud->log_utime, 2017);
+  EXPECT_EQ(job.cloud->msg.header.seq, 17);
+  EXPECT_EQ(job.cloud->msg.header.utime, 117);
+  ASSERT_EQ(job.cloud->msg.n, 50);
+  EXPECT_EQ(job.cloud->msg.u[0], 17.0f);
+  EXPECT_EQ(job.cloud->msg.u[49], 66.0f);
+  EXPECT_EQ(job.cloud->msg.v[49], -49.0f);
+}
+
+// A long run's log holds more clouds than memory (5 Hz of 19 MB clouds is 95 MB a second): hg-overview keeps
+// one cloud, not the log's. Here 300 MB of clouds, and the tool's peak RSS below a third of that.
+TEST(Overview, KeepsOneCloudOfALongRun) {
+  write_clouds_log(tmp("long.lcmlog"), 100, 300000);
+  const auto bytes = std::filesystem::file_size(tmp("long.lcmlog"));
+  ASSERT_GT(bytes, 300e6);
+  std::string out;
+  ASSERT_EQ(run("hg-overview " + tmp("long.lcmlog") + " --out " + tmp("long") + " --planner-config " + kPlannerConfig +
+                    " --cell " + kRunCell,
+                &out),
+            1)  // no end state in this log
+      << out;
+  rusage use{};
+  ASSERT_EQ(getrusage(RUSAGE_CHILDREN, &use), 0);
+  EXPECT_LT(double(use.ru_maxrss) * 1024, double(bytes) / 3) << "peak RSS " << use.ru_maxrss << " KB";
+  EXPECT_EQ(nlohmann::json::parse(slurp(tmp("long") + "/summary.json"))["cloud_points"], 300000);
 }
 
 // A path recorded with another version of grind_path_t (another fingerprint) is not read as a path, and

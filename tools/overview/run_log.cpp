@@ -3,6 +3,7 @@
 #include "jobs/job_ledger.hpp"
 #include "runtime/channels.hpp"
 
+#include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 
@@ -23,6 +24,25 @@ bool decode(const lcm::LogEvent* e, std::vector<Logged<T>>& into) {
   return true;
 }
 
+// A cloud is decoded whole (so that one that does not decode is counted as before) but kept as its header
+// and offset: the log may hold more clouds than memory.
+bool decode_cloud(const lcm::LogEvent* e, std::int64_t offset, std::vector<Logged<CloudRef>>& into) {
+  std::vector<Logged<hullgrind::plate_cloud_t>> one;
+  if (!decode(e, one)) return false;
+  into.push_back({CloudRef{one[0].msg.header, offset}, e->timestamp});
+  return true;
+}
+
+// The cloud whose event starts at `offset` of the log file; nullopt if it cannot be read again.
+std::optional<Logged<hullgrind::plate_cloud_t>> read_cloud(const std::string& path, std::int64_t offset) {
+  lcm::LogFile file(path, "r");
+  std::vector<Logged<hullgrind::plate_cloud_t>> one;
+  if (!file.good() || fseeko(file.getFilePtr(), offset, SEEK_SET) != 0) return std::nullopt;
+  const lcm::LogEvent* e = file.readNextEvent();
+  if (!e || !decode(e, one)) return std::nullopt;
+  return std::move(one[0]);
+}
+
 // A status that ends the job: the robot bridge's DONE, any other terminal state from anyone (as the recorder
 // and tools/run.sh read it).
 bool ends_job(const hullgrind::job_status_t& s) {
@@ -36,10 +56,12 @@ RunLog read_run_log(const std::string& path) {
   lcm::LogFile file(path, "r");
   if (!file.good()) throw std::runtime_error(path + ": cannot open the LCM log");
   RunLog log;
-  while (const lcm::LogEvent* e = file.readNextEvent()) {
+  log.path = path;
+  for (std::int64_t offset = ftello(file.getFilePtr()); const lcm::LogEvent* e = file.readNextEvent();
+       offset = ftello(file.getFilePtr())) {
     ++log.events;
     bool ok = true;
-    if (e->channel == channels::kPlateCloud) ok = decode(e, log.clouds);
+    if (e->channel == channels::kPlateCloud) ok = decode_cloud(e, offset, log.clouds);
     else if (e->channel == channels::kOutline)
       ok = decode(e, log.outlines);
     else if (e->channel == channels::kGrindPath)
@@ -68,9 +90,11 @@ JobTrace trace_job(const RunLog& log, const std::string& job_id) {
   if (t.path)
     for (const auto& o : log.outlines)
       if (o.msg.header.seq == t.path->msg.outline_seq && o.log_utime <= t.path->log_utime) t.outline = o;
+  const Logged<CloudRef>* cloud = nullptr;
   if (t.outline)
     for (const auto& c : log.clouds)
-      if (c.msg.header.seq == t.outline->msg.cloud_seq && c.log_utime <= t.outline->log_utime) t.cloud = c;
+      if (c.msg.header.seq == t.outline->msg.cloud_seq && c.log_utime <= t.outline->log_utime) cloud = &c;
+  if (cloud) t.cloud = read_cloud(log.path, cloud->msg.offset);
   for (const auto& s : log.statuses)
     if (s.msg.job_id == t.job_id) {
       t.statuses.push_back(s);

@@ -21,8 +21,16 @@ struct Logged {
   std::int64_t log_utime = 0;  // when lcm-logger received it
 };
 
+// A plate cloud's header and where its event starts in the log. A long run's log holds thousands of clouds
+// of up to tens of MB each, and a job needs one of them: trace_job reads that one again.
+struct CloudRef {
+  hullgrind::header_t header;
+  std::int64_t offset = 0;  // byte offset of the event in the log file
+};
+
 struct RunLog {
-  std::vector<Logged<hullgrind::plate_cloud_t>> clouds;
+  std::string path;
+  std::vector<Logged<CloudRef>> clouds;  // every cloud that decodes, by header
   std::vector<Logged<hullgrind::outline_t>> outlines;
   std::vector<Logged<hullgrind::grind_path_t>> paths;
   std::vector<Logged<hullgrind::job_request_t>> requests;
@@ -34,7 +42,8 @@ struct RunLog {
 RunLog read_run_log(const std::string& path);
 
 // The messages that made one job: its request, the path, the outline it was planned on, the cloud that
-// outline came from, and the job's statuses. Empty job_id: the last START request in the log.
+// outline came from (read again from the log file), and the job's statuses. Empty job_id: the last START
+// request in the log.
 struct JobTrace {
   std::string job_id;
   std::optional<Logged<hullgrind::job_request_t>> request;
