@@ -33,8 +33,9 @@ constexpr std::size_t kSmall = 4u << 20;
 // The conversion thread at SCHED_IDLE (Linux, per thread; an unprivileged thread may lower itself to it):
 // it then runs only on a core no other thread of the machine wants, so turning 19 MB clouds into JSON for
 // viewers never takes a core from the outline service. What it cannot keep up with waits in the bounded
-// queue and is dropped there, counted. The LCM thread, the heartbeat and the server's thread (accepting
-// connections, writing shared payloads) stay at normal priority.
+// queue and is dropped there, counted. The LCM thread and the heartbeat stay at normal priority, the
+// server's thread (accepting connections, writing shared payloads) at normal policy with a nice value
+// (server-nice).
 void enter_conversion_thread(bool idle) {
   pthread_setname_np(pthread_self(), "hg-fox-convert");  // /proc/PID/task/TID/comm: tests and top see it
   if (!idle) return;
@@ -303,6 +304,10 @@ runtime::ProcessInfo process_info() {
                   "the conversion thread's scheduling: idle (SCHED_IDLE: only a core the cell leaves free; what "
                   "waits too long is dropped, counted) or normal (viewers get more, the cell gets slower)",
                   {"idle", "normal"}),
+       integer_param("server-nice", "10",
+                     "the nice value of the WebSocket server's thread (its writes to viewers): above the cell's 0, "
+                     "so that under load a viewer's frames wait and are dropped, not the cell's work; 0: as the cell",
+                     0, 19),
        runtime::number_param("cloud-period", "1",
                              "seconds between two messages of 4 MB or more (plate clouds) converted for viewers, per "
                              "channel (their 3-D topics and JSON); the others are dropped, counted; 0: every one",
@@ -345,6 +350,7 @@ std::shared_ptr<void> attach(runtime::Node& node) {
   s.max_connections = static_cast<int>(4 * s.max_clients);  // room for upgrades being read and 503s being sent
   s.queue_frames = static_cast<std::size_t>(node.params().integer("client-queue-frames"));
   s.queue_bytes = static_cast<std::size_t>(node.params().integer("client-queue-mb")) << 20;
+  s.thread_nice = static_cast<int>(node.params().integer("server-nice"));
   if (node.params().flag("client-publish")) enable_publishing(node, s);
   auto live = std::make_shared<Live>(node, bridge_options(node), s,
                                      static_cast<std::size_t>(node.params().integer("queue-messages")),

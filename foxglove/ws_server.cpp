@@ -9,9 +9,16 @@
 #include <nlohmann/json.hpp>
 
 #include "runtime/listener.hpp"
+#include "runtime/log.hpp"
+
+#include <pthread.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <deque>
 #include <map>
 #include <set>
@@ -426,8 +433,18 @@ void WsServer::Impl::on_accept(tcp::socket sock) {
   s->start();
 }
 
+// Names the server's thread (top and /proc/PID/task/TID/comm show it) and sets its nice value (Linux: per
+// thread; an unprivileged thread may raise its own).
+void enter_server_thread(int nice) {
+  pthread_setname_np(pthread_self(), "hg-fox-server");
+  if (nice != 0 && setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), nice) != 0)
+    runtime::logf(runtime::Level::Warn, "cannot set the server thread's nice value to %d (%s)", nice,
+                  std::strerror(errno));
+}
+
 WsServer::WsServer(WsServerOptions options) : impl_(std::make_shared<Impl>(std::move(options))) {
   impl_->session_id = static_cast<std::uint64_t>(std::chrono::system_clock::now().time_since_epoch().count());
+  net::post(impl_->ioc, [nice = impl_->opt.thread_nice] { enter_server_thread(nice); });
   impl_->listener.start([impl = impl_.get()](tcp::socket sock) { impl->on_accept(std::move(sock)); });
 }
 

@@ -50,6 +50,9 @@ struct WsServerOptions {
   std::size_t queue_frames = 256;          // per client
   std::size_t queue_bytes = 64u << 20;     // per client
   std::size_t max_client_message = 65536;  // a client's frame larger than this is garbage
+  // The nice value of the server's thread (its writes to viewers): above the cell's 0, under load a viewer's
+  // frames wait (and are dropped, counted) rather than the cell's processes. 0: the process's own.
+  int thread_nice = 0;
   // Client publishing: off without on_publish. Both are called on the server's thread. identify gets the
   // upgrade request's Authorization header ("" if none) and the peer's address.
   std::function<WsIdentity(const std::string& authorization, const std::string& peer)> identify;

@@ -1,7 +1,9 @@
-"""hg-foxglove's conversion runs at idle scheduling priority (docs/foxglove.md, "What is dropped, when"),
-read from outside: the scheduling policy of each of its threads in /proc/PID/task/TID/stat (field 41,
-`policy`; SCHED_OTHER 0, SCHED_IDLE 5 in linux/sched.h), the thread named by its comm. By default the
-conversion thread, and only it, is SCHED_IDLE; with --conversion-priority normal no thread is. Either way a
+"""hg-foxglove's conversion runs at idle scheduling priority and its WebSocket server's thread at a nice value
+above the cell's (docs/foxglove.md, "What is dropped, when"), read from outside: the scheduling policy and
+nice value of each of its threads in /proc/PID/task/TID/stat (field 41, `policy`: SCHED_OTHER 0, SCHED_IDLE 5
+in linux/sched.h; field 19, `nice`), the thread named by its comm. By default the conversion thread, and only
+it, is SCHED_IDLE, and the server's thread, and only it, has nice 10 (--server-nice); with
+--conversion-priority normal --server-nice 0 every thread is SCHED_OTHER at nice 0. Either way a
 viewer (@foxglove/ws-protocol's client, priority_check.js) on this otherwise idle process still receives and
 decodes the messages sent on LCM with hg-lcm-send: the last one kept for a late subscriber and one sent
 while it is subscribed. No timing is asserted. Runs in its own network namespace."""
@@ -19,8 +21,8 @@ PORT = 8765
 SCHED_OTHER, SCHED_IDLE = 0, 5
 
 
-def thread_policies(pid):
-    """{tid: (comm, policy)} of a process's threads."""
+def thread_policies(pid, field=41):
+    """{tid: (comm, policy)} of a process's threads (field=19: (comm, nice))."""
     out = {}
     task = "/proc/%d/task" % pid
     for tid in os.listdir(task):
@@ -28,7 +30,7 @@ def thread_policies(pid):
             stat = f.read()
         comm = stat[stat.index("(") + 1:stat.rindex(")")]
         fields = stat[stat.rindex(")") + 2:].split()  # from field 3, state
-        out[int(tid)] = (comm, int(fields[41 - 3]))
+        out[int(tid)] = (comm, int(fields[field - 3]))
     return out
 
 
@@ -85,13 +87,17 @@ class FoxglovePriority(unittest.TestCase):
                 self.assertEqual(policy, SCHED_OTHER, threads)
         self.assertEqual(threads[fox.pid][1], SCHED_OTHER, "the main thread (LCM, heartbeat)")
         self.assertGreaterEqual(len(threads), 3, "main, conversion and server threads: %s" % threads)
+        nice = thread_policies(fox.pid, 19)
+        self.assertEqual(sorted((comm, n) for comm, n in nice.values() if n != 0), [("hg-fox-server", 10)], nice)
 
     def test_conversion_normal_when_asked(self):
-        fox = self.serve(["--conversion-priority", "normal"])
+        fox = self.serve(["--conversion-priority", "normal", "--server-nice", "0"])
         self.viewer_receives("normal")
         threads = thread_policies(fox.pid)
         self.assertIn("hg-fox-convert", [comm for comm, _ in threads.values()], threads)
+        self.assertIn("hg-fox-server", [comm for comm, _ in threads.values()], threads)
         self.assertEqual({policy for _, policy in threads.values()}, {SCHED_OTHER}, threads)
+        self.assertEqual({n for _, n in thread_policies(fox.pid, 19).values()}, {0})
 
 
 if __name__ == "__main__":
