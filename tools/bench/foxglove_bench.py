@@ -3,17 +3,21 @@
 with 1.59 M-point clouds at the camera's rate, with and without Foxglove viewers connected. Runs in a
 network namespace of its own (tests/netns.sh; re-executes itself there).
 
-  tools/bench/foxglove_bench.py [--runs 8] [--jobs 20] [--rate 5] [--clients 2] [--viewers-priority idle]
-                                [--bootstrap 2000] [--cloud FILE] [--keep]
+  tools/bench/foxglove_bench.py [--runs 16] [--block-seconds 30] [--settle 3] [--rate 5] [--clients 2]
+                                [--robot-time-scale 1000] [--viewers-priority idle] [--bootstrap 2000]
+                                [--cloud FILE] [--keep]
 
 Each run is the shipped pipeline (config/pipeline.toml, its hg-foxglove included) under the supervisor,
 with hg-bench-station-feed in place of the camera bridge: hg-gen's preset high-4 (`hg-gen --preset high-4
 --noise 0.0000122 --jagged --seed 7`: 1,591,654 points, a 19 MB plate_cloud_t) published --rate times a
-second from the start, as a free-running camera. The run's viewers (tools/bench/foxglove_client.js:
-@foxglove/ws-protocol's client from build/npm, subscribed to every channel hg-foxglove advertises, the
-full-size clouds included) connect before the first job; then --jobs jobs one after another, each to its
-end (the simulated cell approves a plan that reaches every edge; one that waits for an operator is approved
-here). The runs alternate 0 and --clients viewers (0, 2, 0, 2, ...), so both see the same machine.
+second from the start, as a free-running camera. A run holds two blocks, one without viewers and one with
+--clients of them, the order alternating from run to run (0 then 2, 2 then 0, ...), so that both conditions
+see the same processes, the same machine and the same moment. A block: the viewers (tools/bench/
+foxglove_client.js: @foxglove/ws-protocol's client from build/npm, subscribed to every channel hg-foxglove
+advertises, the full-size clouds included) connect, or the last block's leave; --settle seconds; then jobs
+one after another, each to its end, for --block-seconds (the simulated cell approves a plan that reaches
+every edge; one that waits for an operator is approved here; the robot --robot-time-scale times faster than
+real time, so that a block holds many jobs, each a sample of the planner's stages).
 
   viewers  = in a cell a viewer (Foxglove, Lichtblick) runs on the engineer's own computer, not on the
            cell's; here the viewers are node processes on the same 2-core machine, each reading and parsing
@@ -24,31 +28,32 @@ here). The runs alternate 0 and --clients viewers (0, 2, 0, 2, ...), so both see
            sender) and the memory bandwidth they share. --viewers-priority normal: viewers on the cell's
            machine competing at normal priority (a worst case, not the issue's).
 
-  stages = hg-overview's summary.json of each job on the recorded bus (what tools/run.sh writes as
-           out/summary.json): capture_to_cloud_ms, cloud_to_outline_ms, outline_compute_ms, plan_ms,
-           plan_compute_ms, robot_run_ms, request_to_end_ms; and plan_delivery_ms = plan_ms - plan_compute_ms
-           per job (the request's and the path's way through the bus, beside 19 MB clouds). plan_ms is
-           lcm-logger's receive time of the path minus that of the outline or request, plan_compute_ms the
-           planner's own time (grind_path_t.compute_time). A job's sample of the outline's stages is its
-           outline's: jobs planned on one outline count it once.
-  ratio  = per stage the median of every sample of the runs with viewers / that of the runs without (issue
-           25's target: <= 1.05), with its 95 % interval from a bootstrap that draws runs and then samples
-           within each drawn run (--bootstrap rounds; the runs differ among themselves, not only their jobs),
-           and the no-viewer runs' own medians over their pooled median (the spread without viewers). The
-           verdict: "within 5 %" when the interval lies in 0.95-1.05, "not 5 % slower" when only its top is
-           <= 1.05, "over 5 % slower" when its bottom is above 1.05, "over 5 % faster (conditions differ)"
-           when its top is below 0.95, "not resolved" otherwise (more runs or jobs narrow it).
+  stages = those of hg-overview's summary.json (what tools/run.sh writes as out/summary.json), read back
+           from the recorded bus: capture_to_cloud_ms, cloud_to_outline_ms, outline_compute_ms (the outline's
+           stages), plan_ms, plan_compute_ms, robot_run_ms, request_to_end_ms, and plan_delivery_ms = plan_ms -
+           plan_compute_ms per job (the request's and the path's way through the bus, beside 19 MB clouds).
+           The outline service works on every cloud it can take, job or not: the outline's stages are
+           sampled on every cloud and outline logged during the block (a job's own is one of them); the
+           others once per job. The bus is decoded here, by hand (the fields needed, as lcmtypes/*.lcm lay
+           them out); one job's stages a run are compared with hg-overview's summary.json, and a difference
+           of more than 1 us stops the benchmark.
+  ratio  = per stage the median of every sample of the blocks with viewers / that of the blocks without
+           (issue 25's target: <= 1.05), with its 95 % interval from a bootstrap that draws blocks and then
+           samples within each drawn block (--bootstrap rounds; blocks differ among themselves, not only
+           their samples), and the no-viewer blocks' own medians over their pooled median (the spread without
+           viewers). The verdict: "within 5 %" when the interval lies in 0.95-1.05, "not 5 % slower" when only
+           its top is <= 1.05, "over 5 % slower" when its bottom is above 1.05, "over 5 % faster (conditions
+           differ)" when its top is below 0.95, "not resolved" otherwise (more runs or longer blocks narrow it).
   clouds = published by the feed, recorded by lcm-logger, received by the outline service (its last
-           heartbeat's `received`): a 19 MB cloud is ~13 k UDP datagrams on LCM's multicast and is sometimes
-           lost; a lost one is counted and reported, not a failure (the next comes 1/rate s later).
-  cpu    = hg-foxglove's CPU time during the jobs by thread (/proc/PID/task), as a share of one core:
-           hg-fox-convert (the conversion, idle priority) and hg-foxglove (every other thread: LCM, heartbeat,
-           the WebSocket server's writes; normal priority). The runs with viewers minus those without is what
-           the viewers cost the cell's cores at normal priority in hg-foxglove (their kernel TCP work is partly
-           charged there too).
+           heartbeat's `received`) in the whole run: a 19 MB cloud is ~13 k UDP datagrams on LCM's multicast and
+           is sometimes lost; a lost one is counted and reported, not a failure (the next comes 1/rate s later).
+  cpu    = hg-foxglove's CPU time during the block by thread (/proc/PID/task), as a share of one core:
+           hg-fox-convert (the conversion, idle priority), hg-fox-server (the WebSocket server's writes, nice
+           server-nice) and hg-foxglove (LCM, heartbeat; normal priority).
 
-The bus (95 MB/s at 5 Hz) is recorded on /dev/shm when it has room, and each run's directory is deleted
-after its figures are read (--keep keeps them). Prints a table and a JSON line. A benchmark, not a test.
+The bus (95 MB/s at 5 Hz, about 7 GB a run) is recorded on /dev/shm when it has room, and each run's
+directory is deleted after its figures are read (--keep keeps them). Prints each block, a table and a JSON
+line. A benchmark, not a test.
 """
 
 import argparse
@@ -74,8 +79,8 @@ from hgversion import version  # noqa: E402
 LCM_URL = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"
 STAGES = ("capture_to_cloud_ms", "cloud_to_outline_ms", "outline_compute_ms", "plan_ms", "plan_compute_ms",
           "plan_delivery_ms", "robot_run_ms", "request_to_end_ms")
-# Stages of the job's outline: jobs that follow each other faster than the outline service planned on the same
-# outline, and count it once.
+# The outline's stages: the outline service works on every cloud it can take, job or not, so each cloud and outline
+# on the bus is a sample of them (a job's own is one of those).
 OUTLINE_STAGES = ("capture_to_cloud_ms", "cloud_to_outline_ms", "outline_compute_ms")
 TARGET = 1.05  # issue 25: every stage within 5 % of a run without viewers
 
@@ -85,12 +90,13 @@ def loadavg():
         return " ".join(f.read().split()[:3])
 
 
-def pipeline(E, cloud, rate, name):
-    """The shipped pipeline with the feed as its camera (at `rate`), the robot 100x faster than real time."""
+def pipeline(E, cloud, rate, robot_time_scale, name):
+    """The shipped pipeline with the feed as its camera (at `rate`), the simulated robot `robot_time_scale` times
+    faster than real time."""
     import tomllib
     p = E.Pipeline(name, lcm_url=LCM_URL, without=("camera",),
                    extra_args={"planner": ["--small-hole", "skip", "--outline-timeout", "60"],
-                               "robot": ["--sim-time-scale", "100", "--path-timeout", "240"]})
+                               "robot": ["--sim-time-scale", str(robot_time_scale)]})
     with open(p.toml, "rb") as f:
         mine = tomllib.load(f)
     cam = {"name": "camera", "command": [E.bin_path("hg-bench-station-feed"), "--cloud", cloud, "--rate", str(rate)],
@@ -113,62 +119,192 @@ def run_job(E, p, job):
     return p.wait_final(job, 300)
 
 
-def log_clouds(path):
-    """Plate cloud seqs in the LCM log and the outline service's last heartbeat `received` count."""
-    seqs, received = [], None
+# ---- the recorded bus: the LCM log's events and the few fields the stages need, decoded by hand in the order
+# lcmtypes/*.lcm lays them out (hg-overview's summary.json of sampled jobs checks the decoding, check_jobs) ----
+SYNC = 0xEDA1DA01
+WANTED = ("HG_PLATE_CLOUD", "HG_OUTLINE", "HG_GRIND_PATH", "HG_JOB_REQUEST", "HG_JOB_STATUS", "HG_HEARTBEAT")
+FINAL_STATES = (4, 5, 6, 7, 10, 11, 12)  # job_status_t: DONE FAILED ABORTED REFUSED INCOMPLETE REJECTED NEEDS_RESCAN
+DONE = 4
+
+
+def log_events(path):
+    """(channel, log utime, data) of the wanted channels; of a plate cloud only its header's seq and utime."""
     with open(path, "rb") as f:
         while True:
             head = f.read(28)
             if len(head) < 28:
-                break
-            _, _, _, clen, dlen = struct.unpack(">IqqII", head)
+                return
+            sync, _, utime, clen, dlen = struct.unpack(">IqqII", head)
+            if sync != SYNC:
+                raise ValueError("%s: lost the LCM log's sync at byte %d" % (path, f.tell() - 28))
             channel = f.read(clen).decode(errors="replace")
             if channel == "HG_PLATE_CLOUD":
-                seqs.append(struct.unpack(">q", f.read(16)[8:16])[0])
-                f.seek(dlen - 16, 1)
-            elif channel == "HG_HEARTBEAT":
-                received = outline_received(f.read(dlen), received)
+                data = f.read(24)
+                f.seek(dlen - 24, 1)
+            elif channel in WANTED:
+                data = f.read(dlen)
             else:
                 f.seek(dlen, 1)
-    return seqs, received
+                continue
+            yield channel, utime, data
 
 
-def outline_received(data, previous):
-    from pipeline_latency import Reader
-    r = Reader(data)
-    r.header()
-    if r.string() != "hg-outline-service":
-        return previous
-    r.int32(), r.int8(), r.string(), r.double()
-    return r.int64()
+def skip_loops(r):
+    """outline_t's loops (outline_loop_t: hole, n, u[n], v[n], area, perimeter)."""
+    for _ in range(r.int32()):
+        r.int8()
+        n = r.int32()
+        r.i += 16 * n + 16
 
 
+def outline_fields(r):
+    """outline_t after its header: cloud_seq and compute_time (seconds)."""
+    cloud_seq = r.int64()
+    r.i += 13 * 8 + 1 + 7 * 8  # plane (4 x 3 doubles), thickness, flange_valid, flange pose
+    r.int8(), r.string(), r.double()  # status, error_text, alpha_radius
+    skip_loops(r)
+    r.int32(), r.int32(), r.int32(), r.string(), r.string(), r.int32(), r.int64()
+    r.double(), r.double(), r.double()  # time_triangulate, time_alpha, time_loops
+    return cloud_seq, r.double()
+
+
+def path_fields(r):
+    """grind_path_t after its header: job_id, outline_seq, compute_time (seconds)."""
+    job, outline_seq = r.string(), r.int64()
+    r.string()
+    n = r.int32()
+    r.i += n * (3 * 8 + 4 * 8 + 8 + 1 + 2) + 8 + 8 + 1 + 4  # waypoints, tool_radius, tilt, flipped, revision
+    return job, outline_seq, r.double()
+
+
+class Bus:
+    """What the stages need of a recorded run, by channel."""
+
+    def __init__(self):
+        self.clouds, self.outlines, self.paths, self.requests, self.statuses = [], [], {}, {}, {}
+        self.outline_service_received = None
+
+    def add(self, channel, log, data):
+        from pipeline_latency import Reader
+        r = Reader(data)
+        seq, utime, _ = r.header() if channel != "HG_PLATE_CLOUD" else (r.int64(), r.int64(), None)
+        if channel == "HG_PLATE_CLOUD":
+            self.clouds.append((seq, utime, log))
+        elif channel == "HG_OUTLINE":
+            self.outlines.append((seq, log) + outline_fields(r))
+        elif channel == "HG_GRIND_PATH":
+            job, outline_seq, compute = path_fields(r)
+            self.paths[job] = (outline_seq, log, compute)  # the last one, as hg-overview takes it
+        elif channel == "HG_JOB_REQUEST":
+            job, _, action = r.string(), r.string(), r.int8()
+            if action == 0:  # ACTION_START
+                self.requests[job] = log
+        elif channel == "HG_JOB_STATUS":
+            job, _, source, state = r.string(), r.string(), r.string(), r.int8()
+            r.double(), r.string()
+            self.statuses.setdefault(job, []).append((state, source, r.int8() != 0, log))
+        elif channel == "HG_HEARTBEAT" and r.string() == "hg-outline-service":
+            r.int32(), r.int8(), r.string(), r.double()
+            self.outline_service_received = r.int64()
+
+
+def read_bus(path):
+    bus = Bus()
+    for channel, log, data in log_events(path):
+        bus.add(channel, log, data)
+    return bus
+
+
+def final_status_time(statuses):
+    """The log time of the job's end as hg-overview takes it: the robot bridge's DONE or any other terminal state,
+    the first one said; an answer (to a repeat or a QUERY) only when nothing else ended the job."""
+    end = None
+    for state, source, answer, log in statuses:
+        ends = (state == DONE and source == "hg-robot-bridge") or (state in FINAL_STATES and state != DONE)
+        if ends and not (end and not end[1]) and (not end or not answer):
+            end = (log, answer)
+    return end[0] if end else None
+
+
+def last_before(items, key, limit):
+    """The last (seq, ..., log) item with seq == key logged at or before limit."""
+    found = None
+    for it in items:
+        if it[0] == key and it[-1] <= limit:
+            found = it
+    return found
+
+
+def ms(a, b):
+    return (b - a) * 1e-3
+
+
+def job_stages(bus, job):
+    """A job's stages as hg-overview's summary.json gives them (tools/overview/overview.cpp summary_json), and
+    plan_delivery_ms = plan_ms - plan_compute_ms."""
+    s, request, end = {}, bus.requests.get(job), final_status_time(bus.statuses.get(job, []))
+    path = bus.paths.get(job)
+    outline = last_before([(o[0], o[2], o[3], o[1]) for o in bus.outlines], path[0], path[1]) if path else None
+    cloud = last_before([(c[0], c[1], c[2]) for c in bus.clouds], outline[1], outline[3]) if outline else None
+    if cloud:
+        s["capture_to_cloud_ms"] = ms(cloud[1], cloud[2])
+        s["cloud_to_outline_ms"] = ms(cloud[2], outline[3])
+    if outline:
+        s["outline_compute_ms"] = outline[2] * 1e3
+    if outline and path and request is not None:
+        s["plan_ms"] = ms(max(outline[3], request), path[1])
+    if path:
+        s["plan_compute_ms"] = path[2] * 1e3
+    if path and end is not None:
+        s["robot_run_ms"] = ms(path[1], end)
+    if request is not None and end is not None:
+        s["request_to_end_ms"] = ms(request, end)
+    if "plan_ms" in s:
+        s["plan_delivery_ms"] = s["plan_ms"] - s["plan_compute_ms"]
+    return s
+
+
+def bus_stages(bus, t0, t1):
+    """The outline's stages of every cloud and outline logged between t0 and t1 (log utimes): the same
+    quantities as a job's, sampled on every cloud the outline service worked on, not only the jobs' own."""
+    clouds = {}
+    for seq, utime, log in bus.clouds:
+        clouds.setdefault(seq, []).append((utime, log))
+    out = {"capture_to_cloud_ms": [ms(u, l) for _, u, l in bus.clouds if t0 <= l <= t1],
+           "cloud_to_outline_ms": [], "outline_compute_ms": []}
+    for seq, log, cloud_seq, compute in bus.outlines:
+        if not t0 <= log <= t1:
+            continue
+        out["outline_compute_ms"].append(compute * 1e3)
+        before = [l for _, l in clouds.get(cloud_seq, []) if l <= log]
+        if before:
+            out["cloud_to_outline_ms"].append(ms(before[-1], log))
+    return out
+
+
+def check_jobs(E, p, bus, jobs):
+    """hg-overview's summary.json stages of these jobs against this decoding: the same to 1 us, or the bench stops."""
+    for job in jobs:
+        out_dir = os.path.join(p.dir, "overview", job)
+        res = p.overview(job, out_dir)
+        with open(os.path.join(out_dir, "summary.json")) as f:
+            theirs = json.load(f)["stages"]
+        mine = job_stages(bus, job)
+        for k, v in theirs.items():
+            if k not in mine or abs(mine[k] - v) > 1e-3:
+                raise RuntimeError("bench: %s of job %s: hg-overview %s, this decoding %s (%s)" % (
+                    k, job, v, mine.get(k), res.stderr.strip()))
+
+
+# ---- blocks: a pipeline run holds one block without viewers and one with them, in the order given ----
 def published(p):
     """The feed's own count ("published N clouds", its last line when it stops)."""
-    text = p.read(os.path.join(p.dir, "logs", "camera.log")) if os.path.exists(
-        os.path.join(p.dir, "logs", "camera.log")) else ""
+    path = os.path.join(p.dir, "logs", "camera.log")
+    text = p.read(path) if os.path.exists(path) else ""
     for line in reversed(text.splitlines()):
         if line.startswith("published ") and line.endswith(" clouds"):
             return int(line.split()[1])
     return None
-
-
-def stage_summaries(p, jobs):
-    rows = []
-    for job in jobs:
-        out_dir = os.path.join(p.dir, "overview", job)
-        res = p.overview(job, out_dir)
-        try:
-            with open(os.path.join(out_dir, "summary.json")) as f:
-                s = json.load(f)
-        except (OSError, ValueError):
-            sys.stderr.write("bench: hg-overview on %s: %s\n" % (job, res.stderr.strip()))
-            continue
-        row = dict(s["stages"], job=job, final=s["final_state"], points=s.get("cloud_points"))
-        if "plan_ms" in row and "plan_compute_ms" in row:
-            row["plan_delivery_ms"] = row["plan_ms"] - row["plan_compute_ms"]
-        rows.append(row)
-    return rows
 
 
 def descendant(root, comm):
@@ -214,86 +350,98 @@ def cpu_share(before, after, seconds):
     return {k: round((after.get(k, 0) - before.get(k, 0)) / seconds, 4) for k in after} if seconds > 0 else {}
 
 
-def one_run(E, args, cloud, index, n_clients):
+def run_block(E, args, p, fox, tag, n_clients):
+    """Connects n_clients viewers, lets them settle, sends jobs for --block-seconds, disconnects them."""
     from pipeline_latency import start_clients, stop_clients
-    p = pipeline(E, cloud, args.rate, "fox-%d-%d" % (index, n_clients))
-    jobs = ["fox-%d-%02d" % (index, j) for j in range(args.jobs)]
-    load, finals, clients, received, fox_cpu = [loadavg()], [], [], [], {}
+    clients, received = start_clients(n_clients, idle=args.viewers_priority == "idle"), []
+    try:
+        time.sleep(args.settle)  # viewers connected and subscribed; a block without them: the last ones gone
+        b = {"clients": n_clients, "loadavg": [loadavg()], "jobs": [], "finals": []}
+        cpu0, t0, w0 = thread_cpu(fox) if fox else {}, time.monotonic(), time.time()
+        while time.monotonic() - t0 < args.block_seconds:
+            b["jobs"].append("%s-%03d" % (tag, len(b["jobs"])))
+            b["finals"].append(run_job(E, p, b["jobs"][-1])["state"])
+        b["window"] = [int(w0 * 1e6), int(time.time() * 1e6)]
+        b["foxglove_cpu"] = cpu_share(cpu0, thread_cpu(fox), time.monotonic() - t0) if fox else {}
+        b["loadavg"].append(loadavg())
+    finally:
+        received = stop_clients(clients)
+    b["viewers"] = [{"messages": sum(t["messages"] for t in got.values()),
+                     "mb": round(sum(t["bytes"] for t in got.values()) / 1e6),
+                     "plate_points": got.get("/hg/plate/points", {}).get("messages", 0),
+                     "plate_clouds": got.get("HG_PLATE_CLOUD", {}).get("messages", 0)} for got in received]
+    return b
+
+
+def block_samples(bus, b):
+    """The block's samples: the outline's stages of every cloud and outline in its window, the others per job."""
+    s = bus_stages(bus, *b["window"])
+    rows = [job_stages(bus, job) for job in b["jobs"]]
+    for k in STAGES:
+        if k not in OUTLINE_STAGES:
+            s[k] = [r[k] for r in rows if k in r]
+    return s
+
+
+def one_run(E, args, cloud, index, order):
+    """One pipeline run: its blocks (viewer counts in `order`), their samples read back from the recorded bus."""
+    p = pipeline(E, cloud, args.rate, args.robot_time_scale, "fox-%d" % index)
+    blocks = []
     try:
         p.start()
-        clients = start_clients(n_clients, idle=args.viewers_priority == "idle")
-        time.sleep(3)  # viewers connected and subscribed, a few clouds on the bus
-        load.append(loadavg())
         fox = descendant(p.supervisor.pid, "hg-foxglove")
-        cpu0, t0 = thread_cpu(fox) if fox else {}, time.monotonic()
-        for job in jobs:
-            finals.append(run_job(E, p, job)["state"])
-        fox_cpu = cpu_share(cpu0, thread_cpu(fox), time.monotonic() - t0) if fox else {}
-        load.append(loadavg())
+        for k, n in enumerate(order):
+            blocks.append(run_block(E, args, p, fox, "fox-%d-%d" % (index, k), n))
     except Exception:
         print(p.diagnostics(), flush=True)
         raise
     finally:
-        received = stop_clients(clients)
         p.stop()
         for f in p.files:
             f.close()
-    rows = stage_summaries(p, jobs)
-    seqs, outline_got = log_clouds(p.log)
-    res = {"run": index + 1, "clients": n_clients, "viewers_priority": args.viewers_priority, "jobs": len(jobs),
-           "finals": finals, "loadavg": load,
-           "stages": {k: statistics.median([r[k] for r in rows if k in r]) for k in STAGES
-                      if any(k in r for r in rows)},
-           "job_stages": rows, "clouds_published": published(p), "clouds_recorded": len(set(seqs)),
-           "clouds_received_by_outline_service": outline_got,
-           "log_mb": round(os.path.getsize(p.log) / 1e6), "foxglove_cpu": fox_cpu,
-           "viewers": [{"messages": sum(t["messages"] for t in got.values()),
-                        "mb": round(sum(t["bytes"] for t in got.values()) / 1e6),
-                        "plate_points": got.get("/hg/plate/points", {}).get("messages", 0),
-                        "plate_clouds": got.get("HG_PLATE_CLOUD", {}).get("messages", 0)} for got in received]}
+    bus = read_bus(p.log)
+    check = blocks[index % len(blocks)]["jobs"]
+    check_jobs(E, p, bus, check[len(check) // 2:len(check) // 2 + 1])
+    run = {"run": index + 1, "clouds_published": published(p), "clouds_recorded": len({c[0] for c in bus.clouds}),
+           "clouds_received_by_outline_service": bus.outline_service_received,
+           "log_mb": round(os.path.getsize(p.log) / 1e6)}
+    for b in blocks:
+        b.update(run, samples=block_samples(bus, b))
     if args.keep:
         print("run directory: " + p.dir, flush=True)
     else:
         shutil.rmtree(p.dir, ignore_errors=True)
-    return res
+    return blocks
 
 
-def print_run(r):
-    top = r["clouds_published"]
-    print("run %d, %d viewers (%s priority): %s; load %s; clouds published %s, recorded %d, received by the outline "
-          "service %s; log %d MB" % (r["run"], r["clients"], r["viewers_priority"], ",".join(r["finals"]), " -> ".join(r["loadavg"]),
-                         top, r["clouds_recorded"], r["clouds_received_by_outline_service"], r["log_mb"]))
-    print("  stages (median ms): " + ", ".join("%s %.0f" % (k[:-3], v) for k, v in r["stages"].items()))
-    print("  hg-foxglove's CPU during the jobs, share of a core by thread: " +
-          (", ".join("%s %.3f" % kv for kv in sorted(r["foxglove_cpu"].items())) or "not found"))
-    for i, v in enumerate(r["viewers"]):
+def print_block(b):
+    print("run %d, %d viewers (%s priority): %d jobs (%s); load %s; clouds published %s, recorded %d, received by "
+          "the outline service %s; log %d MB" % (
+              b["run"], b["clients"], b["viewers_priority"], len(b["jobs"]),
+              ", ".join("%s %d" % (s, b["finals"].count(s)) for s in sorted(set(b["finals"]))),
+              " -> ".join(b["loadavg"]), b["clouds_published"], b["clouds_recorded"],
+              b["clouds_received_by_outline_service"], b["log_mb"]))
+    print("  stages (median ms, samples): " + ", ".join(
+        "%s %.1f (%d)" % (k[:-3], statistics.median(v), len(v)) for k, v in b["samples"].items() if v))
+    print("  hg-foxglove's CPU during the block, share of a core by thread: " +
+          (", ".join("%s %.3f" % kv for kv in sorted(b["foxglove_cpu"].items())) or "not found"))
+    for i, v in enumerate(b["viewers"]):
         print("  viewer %d: %d messages, %d MB; /hg/plate/points %d, HG_PLATE_CLOUD %d" % (
             i + 1, v["messages"], v["mb"], v["plate_points"], v["plate_clouds"]))
     sys.stdout.flush()
 
 
-def samples(run, stage):
-    """A run's values of one stage: one per job, one per outline for the outline's stages."""
-    values = [r[stage] for r in run["job_stages"] if stage in r]
-    if stage in OUTLINE_STAGES:
-        seen = {}
-        for r in run["job_stages"]:
-            if stage in r:
-                seen.setdefault(r.get("outline_compute_ms"), r[stage])
-        values = list(seen.values())
-    return values
-
-
+# ---- the ratio of each stage, its interval and the verdict ----
 def pooled_median(groups):
     return statistics.median([v for g in groups for v in g])
 
 
 def bootstrap_ratio(without, with_, rounds, rng):
-    """95 % interval of pooled median (with) / pooled median (without), resampling runs and then the samples
-    within each drawn run: the runs differ among themselves (the machine's state), and so does each run's job."""
+    """95 % interval of pooled median (with) / pooled median (without), resampling blocks and then the samples
+    within each drawn block: blocks differ among themselves (the machine's state), and so does each sample."""
     def draw(groups):
-        runs = [rng.choice(groups) for _ in groups]
-        return pooled_median([[rng.choice(g) for _ in g] for g in runs])
+        blocks = [rng.choice(groups) for _ in groups]
+        return pooled_median([[rng.choice(g) for _ in g] for g in blocks])
     ratios = sorted(draw(with_) / draw(without) for _ in range(rounds))
     return ratios[int(0.025 * rounds)], ratios[int(0.975 * rounds) - 1]
 
@@ -310,15 +458,15 @@ def verdict(lo, hi):
     return "not resolved"
 
 
-def ratios(runs, n, rounds=2000, seed=1):
+def ratios(blocks, n, rounds=2000, seed=1):
     """Per stage: the pooled medians of all samples of each condition, their ratio, its bootstrap interval, and
-    the no-viewer runs' own medians over their pooled median (how far runs without viewers differ alone)."""
+    the no-viewer blocks' own medians over their pooled median (how far blocks without viewers differ alone)."""
     import random
     rng = random.Random(seed)
     out = {}
     for k in STAGES:
-        without = [g for g in (samples(r, k) for r in runs if r["clients"] == 0) if g]
-        with_ = [g for g in (samples(r, k) for r in runs if r["clients"] == n) if g]
+        without = [b["samples"][k] for b in blocks if b["clients"] == 0 and b["samples"].get(k)]
+        with_ = [b["samples"][k] for b in blocks if b["clients"] == n and b["samples"].get(k)]
         if not without or not with_ or pooled_median(without) <= 0:
             continue
         base = pooled_median(without)
@@ -326,8 +474,21 @@ def ratios(runs, n, rounds=2000, seed=1):
         alone = [statistics.median(g) / base for g in without]
         out[k] = {"without": base, "with": pooled_median(with_), "ratio": pooled_median(with_) / base,
                   "ci95": [lo, hi], "verdict": verdict(lo, hi), "samples": [sum(map(len, without)), sum(map(len, with_))],
-                  "no_viewer_runs": [min(alone), max(alone)]}
+                  "no_viewer_blocks": [min(alone), max(alone)]}
     return out
+
+
+def print_ratios(args, r):
+    print("\nhg-foxglove benchmark: %s" % " ".join(["tools/bench/foxglove_bench.py"] + sys.argv[1:]))
+    print("pooled medians per condition (every cloud and outline for the outline's stages, every job for the "
+          "others); 95 % interval of the ratio by bootstrap over blocks and samples; the no-viewer blocks' own "
+          "medians / their pooled median")
+    print("%-20s %9s %9s %7s %15s %15s %13s %s" % ("stage", "0 viewers", "%d viewers" % args.clients, "ratio",
+                                                "95 % interval", "samples", "0-viewer blocks", "verdict"))
+    for k, v in r.items():
+        print("%-20s %9.2f %9.2f %7.3f %7.3f-%-7.3f %6d /%6d %6.2f-%-6.2f %s" % (
+            k, v["without"], v["with"], v["ratio"], v["ci95"][0], v["ci95"][1], v["samples"][0], v["samples"][1],
+            v["no_viewer_blocks"][0], v["no_viewer_blocks"][1], v["verdict"]))
 
 
 def bench(args):
@@ -335,44 +496,45 @@ def bench(args):
     import e2e_pipeline as E
     from station_bench import make_cloud
     shm = "/dev/shm"
-    if os.path.isdir(shm) and shutil.disk_usage(shm).free > 8e9:
+    if os.path.isdir(shm) and shutil.disk_usage(shm).free > 12e9:
         tempfile.tempdir = shm  # the recorded bus: 95 MB/s at 5 Hz
     tmp = tempfile.mkdtemp(prefix="hg-foxglove-bench-")
+    blocks = []
     try:
         cloud = args.cloud or make_cloud(E, tmp)
-        runs = []
         for i in range(args.runs):
-            runs.append(one_run(E, args, cloud, i, 0 if i % 2 == 0 else args.clients))
-            print_run(runs[-1])
+            order = (0, args.clients) if i % 2 == 0 else (args.clients, 0)
+            for b in one_run(E, args, cloud, i, order):
+                b["viewers_priority"] = args.viewers_priority
+                blocks.append(b)
+                print_block(b)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    r = ratios(runs, args.clients, args.bootstrap)
-    print("\nhg-foxglove benchmark: %s" % " ".join(["tools/bench/foxglove_bench.py"] + sys.argv[1:]))
-    print("pooled medians of every job (of every outline for the outline's stages) per condition; 95 % interval "
-          "of the ratio by bootstrap over runs and jobs; the no-viewer runs' own medians / their pooled median")
-    print("%-20s %9s %9s %7s %15s %13s %13s %s" % ("stage", "0 viewers", "%d viewers" % args.clients, "ratio",
-                                                "95 % interval", "samples", "0-viewer runs", "verdict"))
-    for k, v in r.items():
-        print("%-20s %9.2f %9.2f %7.3f %7.3f-%-7.3f %6d /%6d %6.2f-%-6.2f %s" % (
-            k, v["without"], v["with"], v["ratio"], v["ci95"][0], v["ci95"][1], v["samples"][0], v["samples"][1],
-            v["no_viewer_runs"][0], v["no_viewer_runs"][1], v["verdict"]))
-    for n in sorted({r["clients"] for r in runs}):
-        shares = [r["foxglove_cpu"] for r in runs if r["clients"] == n and r["foxglove_cpu"]]
+    r = ratios(blocks, args.clients, args.bootstrap)
+    print_ratios(args, r)
+    for n in sorted({b["clients"] for b in blocks}):
+        shares = [b["foxglove_cpu"] for b in blocks if b["clients"] == n and b["foxglove_cpu"]]
         names = sorted({k for c in shares for k in c})
-        print("hg-foxglove's CPU with %d viewers, share of a core (median of runs): %s" % (
+        print("hg-foxglove's CPU with %d viewers, share of a core (median of blocks): %s" % (
             n, ", ".join("%s %.3f" % (k, statistics.median(c.get(k, 0) for c in shares)) for k in names) or "-"))
+    for b in blocks:
+        b["samples"] = {k: [round(x, 3) for x in v] for k, v in b["samples"].items()}
     print(json.dumps({"command": " ".join(["tools/bench/foxglove_bench.py"] + sys.argv[1:]), "rate_hz": args.rate,
-                      "viewers_priority": args.viewers_priority,
-                      "runs": runs, "ratios": r}))
+                      "viewers_priority": args.viewers_priority, "blocks": blocks, "ratios": r}))
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
-    ap.add_argument("--runs", type=int, default=8, help="pipeline runs, alternating 0 and --clients viewers [8]")
-    ap.add_argument("--jobs", type=int, default=20, help="jobs per run [20]")
+    ap.add_argument("--runs", type=int, default=16,
+                    help="pipeline runs, each a block without viewers and one with them, in turn first [16]")
+    ap.add_argument("--block-seconds", type=float, default=30, help="seconds of jobs in each block [30]")
+    ap.add_argument("--settle", type=float, default=3,
+                    help="seconds between connecting (or disconnecting) the viewers and the block's first job [3]")
     ap.add_argument("--rate", type=float, default=5, help="clouds per second, the camera's rate [5: the pipeline's]")
-    ap.add_argument("--clients", type=int, default=2, help="viewers in every second run [2]")
+    ap.add_argument("--clients", type=int, default=2, help="viewers in the blocks with viewers [2]")
+    ap.add_argument("--robot-time-scale", type=float, default=1000,
+                    help="the simulated robot's speed-up (more jobs, so more plans, a block) [1000]")
     ap.add_argument("--viewers-priority", choices=("idle", "normal"), default="idle",
                     help="the viewers' scheduling priority: idle (chrt --idle 0: as if on another computer) [idle]")
     ap.add_argument("--bootstrap", type=int, default=2000, help="bootstrap rounds of each ratio's interval [2000]")
