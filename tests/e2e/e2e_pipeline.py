@@ -281,17 +281,22 @@ class Pipeline:
             raise RuntimeError("hg-lcm-send failed: " + out.stderr)
 
     def statuses(self, job_id=None):
-        out = []
-        with open(self.status_file) as f:
+        """Every status the dump has written so far (of job_id), in order. The file only grows while the dump
+        runs: the lines read before are kept, so that polling a long run reads each line once."""
+        cache = self.__dict__.setdefault("_statuses", {"file": None, "offset": 0, "all": []})
+        if cache["file"] != self.status_file or os.path.getsize(self.status_file) < cache["offset"]:
+            cache.update(file=self.status_file, offset=0, all=[])  # another file, or written anew by start()
+        with open(self.status_file, "rb") as f:
+            f.seek(cache["offset"])
             for line in f:
-                if not line.endswith("\n"):
+                if not line.endswith(b"\n"):
                     break
+                cache["offset"] += len(line)
                 m = json.loads(line).get("msg", {})
-                if job_id is None or m.get("job_id") == job_id:
-                    out.append({"source": m["source"], "state": STATES[m["state"]] if 0 <= m["state"] < len(STATES) else str(m["state"]),
-                                "progress": m["progress"], "message": m["message"], "job_id": m.get("job_id"),
-                                "answer": bool(m.get("answer", False))})
-        return out
+                cache["all"].append({"source": m["source"], "state": STATES[m["state"]] if 0 <= m["state"] < len(STATES) else str(m["state"]),
+                                     "progress": m["progress"], "message": m["message"], "job_id": m.get("job_id"),
+                                     "answer": bool(m.get("answer", False))})
+        return [s for s in cache["all"] if job_id is None or s["job_id"] == job_id]
 
     def wait_status(self, job_id, pred, timeout, what):
         """The first status of job_id for which pred(status) holds."""
