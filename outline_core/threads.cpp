@@ -697,16 +697,24 @@ void restore_points(const std::vector<Strip>& strips, std::size_t count, std::ve
     for (std::uint32_t v = 0; v < s.T.xy.size(); ++v) points[s.T.ids[v]] = s.at(v);
 }
 
-// The box of the finite points, and their count.
+// The box of the finite points, and their count. x and y in the two lanes of the same operations (as
+// the one-thread path's input summary): std::min's and std::max's choices, so the same box as lane by lane.
 static Box finite_box(std::span<const Vec2> points, std::size_t& finite) {
-  double minx = std::numeric_limits<double>::infinity(), maxx = -minx, miny = minx, maxy = -minx;
-  finite = 0;
-  for (const Vec2& p : points)
-    if (std::isfinite(p.x) && std::isfinite(p.y)) {
-      ++finite;
-      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
-    }
-  return {minx, maxx, miny, maxy};
+  using pred::v2, pred::v2i;
+  const double inf = std::numeric_limits<double>::infinity();
+  const v2 top = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+  v2 lo = {inf, inf}, hi = {-inf, -inf};
+  std::size_t count = 0;
+  for (const Vec2& p : points) {
+    const v2 q = *reinterpret_cast<const pred::v2_unaligned*>(&p.x);
+    const v2i ok = pred::magnitude(q) <= top;  // false for infinities and NaN
+    if ((ok[0] & ok[1]) == 0) [[unlikely]]
+      continue;
+    ++count;
+    lo = pred::vmin(lo, q), hi = pred::vmax(hi, q);
+  }
+  finite = count;
+  return {lo[0], hi[0], lo[1], hi[1]};
 }
 
 bool run_threaded(std::span<const Vec2> points, const Options& options, int nstrips, Result& res,
