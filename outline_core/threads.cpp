@@ -685,9 +685,13 @@ int strips_for(const Options& options, std::size_t points) {
 }
 
 // Gives the allocator's free pages back to the system. Called when every strip has made its insertion
-// order: the order's temporaries (17 bytes a point) were freed inside the allocator's heaps, one per
-// thread, where the triangles' larger arrays do not fit; without this those pages stay resident at the
-// peak (measured: +6 MB RSS on 1.59 M points with 2 threads, heap peak unchanged).
+// order and the consumed input is released (compute_outline(std::vector&&), the one-shot path whose peak
+// is hg-outline's): the order's temporaries (17 bytes a point) were freed inside the allocator's heaps,
+// one per thread, where the triangles' larger arrays do not fit; without this those pages stay resident
+// at the peak (measured: +6 MB RSS on 1.59 M points with 2 threads, heap peak unchanged). A caller that
+// keeps its points (a span: the outline service, hg-bench) holds more than that anyway, and its next
+// outline's order reuses those pages: trimming there cost 2-3 ms of waiting at the first meeting and the
+// page faults of taking them back (docs/BENCHMARKS-core.md, "A second core").
 void return_free_memory() noexcept {
 #ifdef __GLIBC__
   malloc_trim(0);
@@ -786,8 +790,8 @@ bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const 
       if (owned && std::all_of(strips.begin(), strips.end(), [](const Strip& s) { return s.translated; })) {
         std::vector<Vec2>().swap(*owned);
         released = true;
+        return_free_memory();
       }
-      return_free_memory();
     } else if (phase == 2) {
       nn_hi = nn_top_bucket(strips).first;
     }
