@@ -105,22 +105,13 @@ struct Strip {
     std::array<std::uint32_t, 3> ids;
   };
   std::vector<Untrusted> untrusted;
-  // The owned vertices in square cells (counting sort), for those checks: counted in the nearest-neighbour
-  // pass (grid_owned, count_owned), placed after the survey (index_owned).
-  double cx0 = 0, cy0 = 0, cell = 1, per_cell = 1;
+  // The owned vertices in square cells (counting sort), for those checks.
+  double cx0 = 0, cy0 = 0, cell = 1;
   std::size_t nx = 0, ny = 0;
   std::vector<std::uint32_t> cell_start;
   std::vector<std::uint32_t> cell_vertex;  // vertex ids of T
 
   bool owns_x(double x) const { return lo <= x && x < hi; }
-  // The cell of an owned point. By the reciprocal of the cell's size, not two divisions a vertex and pass:
-  // a vertex within a rounding error of a cell's side may land in the next cell, which empty_of's slack
-  // (1e-9 of a cell beyond the disk) covers, as it covers the rounding of a division.
-  std::size_t cell_of(const Vec2& p) const {
-    const std::size_t i = std::min(nx - 1, static_cast<std::size_t>((p.x - cx0) * per_cell));
-    const std::size_t j = std::min(ny - 1, static_cast<std::size_t>((p.y - cy0) * per_cell));
-    return j * nx + i;
-  }
   Vec2 at(std::uint32_t v) const { return {T.xy[v].x + T.origin.x, T.xy[v].y + T.origin.y}; }  // exact
   // Calls f(v) for each owned distinct vertex v.
   template <class F>
@@ -178,7 +169,6 @@ bool disk_inside(const Circle& k, double zlo, double zhi) {
 struct Split {
   std::vector<double> bounds;
   double margin = 0;
-  Box box;  // of the finite points
   double zone_lo(std::size_t i) const {
     return i == 0 ? -std::numeric_limits<double>::infinity() : bounds[i - 1] - margin;
   }
@@ -316,34 +306,6 @@ std::pair<std::uint32_t, std::size_t> nn_top_bucket(const std::vector<Strip>& st
   return {hi, rank};
 }
 
-// The check cells' grid, of size `cell` over the strip's owned x range within the box (no pass to find
-// the owned vertices' own range), with no vertex counted yet.
-void grid_owned(Strip& s, double cell, const Box& box) {
-  const double x0 = std::max(s.lo, box.minx), x1 = std::min(s.hi, box.maxx), miny = box.miny, maxy = box.maxy;
-  if (!(x1 >= x0)) return;
-  s.cx0 = x0, s.cy0 = miny, s.cell = cell, s.per_cell = 1 / cell;
-  s.nx = static_cast<std::size_t>((x1 - x0) / cell) + 1, s.ny = static_cast<std::size_t>((maxy - miny) / cell) + 1;
-  s.cell_start.assign(s.nx * s.ny + 1, 0);
-}
-
-// One pass over the strip's owned vertices: the first radix histogram of the distinct ones' nearest-
-// neighbour distances, their count, and every owned vertex's check cell counted (the cells' first pass).
-void count_owned(Strip& s, double margin) {
-  const Triangulation& T = s.T;
-  const double m2 = 0.99 * margin * margin;
-  const bool cells = !s.cell_start.empty();
-  for (std::uint32_t v = 0; v < T.xy.size(); ++v) {
-    const Vec2 p = s.at(v);
-    if (!s.owns_x(p.x)) continue;
-    if (cells) ++s.cell_start[s.cell_of(p) + 1];
-    if (T.vrep[v] != v) continue;
-    // The nearest neighbour is within M, hence in the zone: this strip measured it.
-    if (!(static_cast<double>(T.nn2[v]) < m2)) s.ok = false;
-    ++s.distinct;
-    if (std::isfinite(T.nn2[v])) ++s.nn_top[float_bits(T.nn2[v]) >> 16];
-  }
-}
-
 // The strip's triangulation of its zone's points, and the survey of its owned triangles and vertices.
 // Meets the other strips at both phases of `meet` (or leaves), whatever happens.
 void survey_strip(std::span<const Vec2> points, const Options& options, const Split& split, Strip& s,
@@ -381,8 +343,13 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
     throw;
   }
   const Triangulation& T = s.T;
-  grid_owned(s, margin / 2, split.box);
-  count_owned(s, margin);
+  const double m2 = 0.99 * margin * margin;
+  s.for_owned([&](std::uint32_t v) {
+    // The nearest neighbour is within M, hence in the zone: this strip measured it.
+    if (!(static_cast<double>(T.nn2[v]) < m2)) s.ok = false;
+    ++s.distinct;
+    if (std::isfinite(T.nn2[v])) ++s.nn_top[float_bits(T.nn2[v]) >> 16];
+  });
   lap.to(s.cost.nn);
   pass();
   lap.to(s.cost.wait_nn);
@@ -409,16 +376,33 @@ void survey_strip(std::span<const Vec2> points, const Options& options, const Sp
   lap.to(s.cost.survey);
 }
 
-// The strip's owned vertices in their cells (the counting sort's second pass; count_owned made the
-// first). Merged duplicates are indexed too (T.vrep is gone by now; a duplicate's circle test is its
-// representative's).
-void index_owned(Strip& s) {
-  if (s.cell_start.empty()) return;
+// The strip's owned vertices in cells of size `cell` over the box (counting sort). Merged duplicates
+// are indexed too (T.vrep is gone by now; a duplicate's circle test is its representative's).
+void index_owned(Strip& s, double cell, const Box& box) {
+  auto for_owned = [&](auto f) {
+    for (std::uint32_t v = 0; v < s.T.xy.size(); ++v)
+      if (s.owns_x(s.at(v).x)) f(v);
+  };
+  // The owned x range within the box (no pass to find the owned vertices' own range).
+  const double x0 = std::max(s.lo, box.minx), x1 = std::min(s.hi, box.maxx), miny = box.miny, maxy = box.maxy;
+  if (!(x1 >= x0)) return;
+  s.cx0 = x0, s.cy0 = miny, s.cell = cell;
+  s.nx = static_cast<std::size_t>((x1 - x0) / cell) + 1, s.ny = static_cast<std::size_t>((maxy - miny) / cell) + 1;
+  // By the reciprocal: two divisions a vertex and pass made most of this stage's time. A vertex within a
+  // rounding error of a cell's side may land in the cell next to it; empty_of's slack (1e-9 of a cell
+  // beyond the disk) covers that, as it covers the rounding of a division.
+  const double per_cell = 1 / cell;
+  auto cell_of = [&](const Vec2& p) {
+    const std::size_t i = std::min(s.nx - 1, static_cast<std::size_t>((p.x - x0) * per_cell));
+    const std::size_t j = std::min(s.ny - 1, static_cast<std::size_t>((p.y - miny) * per_cell));
+    return j * s.nx + i;
+  };
+  s.cell_start.assign(s.nx * s.ny + 1, 0);
+  for_owned([&](std::uint32_t v) { ++s.cell_start[cell_of(s.at(v)) + 1]; });
   for (std::size_t c = 0; c + 1 < s.cell_start.size(); ++c) s.cell_start[c + 1] += s.cell_start[c];
   s.cell_vertex.resize(s.cell_start.back());
   std::vector<std::uint32_t> fill(s.cell_start.begin(), s.cell_start.end() - 1);
-  for (std::uint32_t v = 0; v < s.T.xy.size(); ++v)
-    if (const Vec2 p = s.at(v); s.owns_x(p.x)) s.cell_vertex[fill[s.cell_of(p)]++] = v;
+  for_owned([&](std::uint32_t v) { s.cell_vertex[fill[cell_of(s.at(v))]++] = v; });
 }
 
 // No point of strip j strictly inside the circle of the counter-clockwise triangle u (exact incircle;
@@ -623,7 +607,7 @@ double merged_nn_median(const std::vector<Strip>& strips) {
 }
 
 // The global figures from the surveys into res and survey; false if the split is unsafe.
-bool merge_surveys(std::vector<Strip>& strips, const Options& options, const Split& split, Result& res,
+bool merge_surveys(std::vector<Strip>& strips, const Options& options, const Split& split, const Box& box, Result& res,
                    StripSurvey& survey) {
   const double margin = split.margin;
   std::vector<VertexRef> hull;
@@ -635,7 +619,7 @@ bool merge_surveys(std::vector<Strip>& strips, const Options& options, const Spl
   lap.to(survey.profile.merge);
   auto cells = [&](std::size_t i) {
     Lap l;
-    index_owned(strips[i]);
+    index_owned(strips[i], margin / 2, box);
     l.to(strips[i].cost.cells);
   };
   auto check = [&](std::size_t i) {
@@ -789,7 +773,7 @@ bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const 
   // 1e9 margins: the rounding of x - M is then far below the 0.25 % of M they leave.
   if (std::max(std::fabs(box.minx), std::fabs(box.maxx)) > 1e9 * margin) return false;
   std::vector<Strip> strips = make_strips(bounds);
-  const Split split{bounds, margin, box};
+  const Split split{bounds, margin};
   StripSurvey survey;
   survey.margin = margin;
   survey.boundaries = bounds;
@@ -822,7 +806,7 @@ bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const 
       for_each_strip(strips.size(), [&](std::size_t i) { survey_strip(points, options, split, strips[i], meet); });
   const auto t1 = Clock::now();
   std::vector<FreeEdge> edges;
-  if (!surveyed || !merge_surveys(strips, options, split, res, survey) ||
+  if (!surveyed || !merge_surveys(strips, options, split, box, res, survey) ||
       !merged_free_edges(strips, res.alpha_radius, res, edges))
     return fail();
   const auto t2 = Clock::now();
