@@ -28,9 +28,8 @@ struct StageCost {
 };
 // A strip's stages in the order they run (docs/outline-core-threads.md, "How it works"): its zone's index
 // list, the insertion order and translated copy, the meeting when every strip holds its points, the
-// insertion, the nearest-neighbour histogram (with the check cells' counts), the second meeting, the survey
-// of its triangles, then (after the merge starts) the check cells (placing the vertices), the untrusted
-// triangles' checks and the free edges.
+// insertion, the nearest-neighbour histogram, the second meeting, the survey of its triangles, then (after
+// the merge starts) the check cells, the untrusted triangles' checks and the free edges.
 struct StripProfile {
   StageCost zone, order, wait_points, insert, nn, wait_nn, survey, cells, check, edges;
 };
