@@ -541,16 +541,22 @@ bool translate_exactly(std::span<const Vec2> points, Triangulation& T) {
   return true;
 }
 
+// The same for the given (finite) points, in the two lanes as summarize: the same figures as lane by lane.
 InputSummary summarize_subset(std::span<const Vec2> points, std::span<const std::uint32_t> subset) {
+  using pred::v2, pred::v2i;
   InputSummary s;
+  v2 lo = {s.box.minx, s.box.miny}, hi = {s.box.maxx, s.box.maxy}, sum = {0, 0};
+  v2i tiny = {0, 0};
   for (std::uint32_t i : subset) {
-    const Vec2& p = points[i];
-    ++s.finite;
-    s.box.minx = std::min(s.box.minx, p.x), s.box.maxx = std::max(s.box.maxx, p.x);
-    s.box.miny = std::min(s.box.miny, p.y), s.box.maxy = std::max(s.box.maxy, p.y);
-    s.sx += p.x, s.sy += p.y;
-    s.tiny |= (std::fabs(p.x) < 0x1p-118 && p.x != 0) || (std::fabs(p.y) < 0x1p-118 && p.y != 0);
+    const v2 q = pair_of(points[i]);
+    lo = pred::vmin(lo, q), hi = pred::vmax(hi, q);
+    sum += q;
+    tiny |= (pred::magnitude(q) < 0x1p-118) & (q != 0);
   }
+  s.finite = subset.size();
+  s.box = {lo[0], hi[0], lo[1], hi[1]};
+  s.sx = sum[0], s.sy = sum[1];
+  s.tiny = (tiny[0] | tiny[1]) != 0;
   return s;
 }
 

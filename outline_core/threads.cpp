@@ -388,9 +388,13 @@ void index_owned(Strip& s, double cell, const Box& box) {
   if (!(x1 >= x0)) return;
   s.cx0 = x0, s.cy0 = miny, s.cell = cell;
   s.nx = static_cast<std::size_t>((x1 - x0) / cell) + 1, s.ny = static_cast<std::size_t>((maxy - miny) / cell) + 1;
+  // By the reciprocal: two divisions a vertex and pass made most of this stage's time. A vertex within a
+  // rounding error of a cell's side may land in the cell next to it; empty_of's slack (1e-9 of a cell
+  // beyond the disk) covers that, as it covers the rounding of a division.
+  const double per_cell = 1 / cell;
   auto cell_of = [&](const Vec2& p) {
-    const std::size_t i = std::min(s.nx - 1, static_cast<std::size_t>((p.x - x0) / cell));
-    const std::size_t j = std::min(s.ny - 1, static_cast<std::size_t>((p.y - miny) / cell));
+    const std::size_t i = std::min(s.nx - 1, static_cast<std::size_t>((p.x - x0) * per_cell));
+    const std::size_t j = std::min(s.ny - 1, static_cast<std::size_t>((p.y - miny) * per_cell));
     return j * s.nx + i;
   };
   s.cell_start.assign(s.nx * s.ny + 1, 0);
@@ -407,7 +411,7 @@ bool empty_of(const Strip::Untrusted& u, const Strip& j) {
   if (j.cell_start.empty()) return true;
   const Circle k = circle_of(u.a, u.b, u.c);
   if (!std::isfinite(k.r)) return false;
-  const double r = k.r * (1 + 1e-6) + 1e-9 * j.cell;
+  const double r = k.r * (1 + 1e-6) + 1e-9 * j.cell, r2 = r * r * (1 + 1e-9);
   const long i0 = std::max(0L, static_cast<long>(std::floor((k.ox - r - j.cx0) / j.cell)));
   const long i1 = std::min(static_cast<long>(j.nx) - 1, static_cast<long>(std::floor((k.ox + r - j.cx0) / j.cell)));
   const long j0 = std::max(0L, static_cast<long>(std::floor((k.oy - r - j.cy0) / j.cell)));
@@ -421,6 +425,8 @@ bool empty_of(const Strip::Untrusted& u, const Strip& j) {
       const std::size_t c = static_cast<std::size_t>(cj) * j.nx + static_cast<std::size_t>(ci);
       for (std::uint32_t q = j.cell_start[c]; q < j.cell_start[c + 1]; ++q) {
         const Vec2 p = j.at(j.cell_vertex[q]);
+        // Clearly outside (an accurate circle is within 1e-7 of its radius, r 1e-6 beyond it): no exact test.
+        if (k.accurate && (p.x - k.ox) * (p.x - k.ox) + (p.y - k.oy) * (p.y - k.oy) > r2) continue;
         if (pred::incircle(u.a.x, u.a.y, u.b.x, u.b.y, u.c.x, u.c.y, p.x, p.y) > 0) return false;
       }
     }
@@ -679,9 +685,13 @@ int strips_for(const Options& options, std::size_t points) {
 }
 
 // Gives the allocator's free pages back to the system. Called when every strip has made its insertion
-// order: the order's temporaries (17 bytes a point) were freed inside the allocator's heaps, one per
-// thread, where the triangles' larger arrays do not fit; without this those pages stay resident at the
-// peak (measured: +6 MB RSS on 1.59 M points with 2 threads, heap peak unchanged).
+// order and the consumed input is released (compute_outline(std::vector&&), the one-shot path whose peak
+// is hg-outline's): the order's temporaries (17 bytes a point) were freed inside the allocator's heaps,
+// one per thread, where the triangles' larger arrays do not fit; without this those pages stay resident
+// at the peak (measured: +6 MB RSS on 1.59 M points with 2 threads, heap peak unchanged). A caller that
+// keeps its points (a span: the outline service, hg-bench) holds more than that anyway, and its next
+// outline's order reuses those pages: trimming there cost 2-3 ms of waiting at the first meeting and the
+// page faults of taking them back (docs/BENCHMARKS-core.md, "A second core").
 void return_free_memory() noexcept {
 #ifdef __GLIBC__
   malloc_trim(0);
@@ -697,16 +707,24 @@ void restore_points(const std::vector<Strip>& strips, std::size_t count, std::ve
     for (std::uint32_t v = 0; v < s.T.xy.size(); ++v) points[s.T.ids[v]] = s.at(v);
 }
 
-// The box of the finite points, and their count.
+// The box of the finite points, and their count. x and y in the two lanes of the same operations (as
+// the one-thread path's input summary): std::min's and std::max's choices, so the same box as lane by lane.
 static Box finite_box(std::span<const Vec2> points, std::size_t& finite) {
-  double minx = std::numeric_limits<double>::infinity(), maxx = -minx, miny = minx, maxy = -minx;
-  finite = 0;
-  for (const Vec2& p : points)
-    if (std::isfinite(p.x) && std::isfinite(p.y)) {
-      ++finite;
-      minx = std::min(minx, p.x), maxx = std::max(maxx, p.x), miny = std::min(miny, p.y), maxy = std::max(maxy, p.y);
-    }
-  return {minx, maxx, miny, maxy};
+  using pred::v2, pred::v2i;
+  const double inf = std::numeric_limits<double>::infinity();
+  const v2 top = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+  v2 lo = {inf, inf}, hi = {-inf, -inf};
+  std::size_t count = 0;
+  for (const Vec2& p : points) {
+    const v2 q = *reinterpret_cast<const pred::v2_unaligned*>(&p.x);
+    const v2i ok = pred::magnitude(q) <= top;  // false for infinities and NaN
+    if ((ok[0] & ok[1]) == 0) [[unlikely]]
+      continue;
+    ++count;
+    lo = pred::vmin(lo, q), hi = pred::vmax(hi, q);
+  }
+  finite = count;
+  return {lo[0], hi[0], lo[1], hi[1]};
 }
 
 bool run_threaded(std::span<const Vec2> points, const Options& options, int nstrips, Result& res,
@@ -772,8 +790,8 @@ bool run_threaded(std::span<const Vec2> points, std::vector<Vec2>* owned, const 
       if (owned && std::all_of(strips.begin(), strips.end(), [](const Strip& s) { return s.translated; })) {
         std::vector<Vec2>().swap(*owned);
         released = true;
+        return_free_memory();
       }
-      return_free_memory();
     } else if (phase == 2) {
       nn_hi = nn_top_bucket(strips).first;
     }
