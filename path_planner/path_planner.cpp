@@ -237,9 +237,11 @@ class Planner {
   // A copy as first published (its header.seq too, which Node::publish would renumber): receivers can tell it
   // is the same message.
   void resend(const hullgrind::grind_path_t& g) {
-    if (node_.lcm().publish(channels::kGrindPath, &g) == 0) ++node_.counters().published;
-    else
+    if (node_.lcm().publish(channels::kGrindPath, &g) != 0) {
       logf(Level::Error, "publish on %s failed", channels::kGrindPath);
+      return;
+    }
+    ++node_.counters().published;
   }
 
   void plan_now() {
