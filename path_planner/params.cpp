@@ -13,6 +13,7 @@ using runtime::Param;
 
 std::vector<Param> planner_params() {
   using runtime::flag_param;
+  using runtime::integer_param;
   using runtime::number_param;
   using runtime::numbers_param;
   using runtime::text_param;
@@ -77,6 +78,14 @@ std::vector<Param> planner_params() {
           0),
       number_param("outline-timeout", "10.0", "hg-path-planner: a job with no outline after this long fails, s", 0, inf,
                    open),
+      number_param("path-resend-period", "0.5",
+                   "hg-path-planner: a path the robot bridge has not acknowledged is published again after this "
+                   "long, s (checked every 0.1 s)",
+                   0.1),
+      integer_param("path-resends", "20",
+                    "hg-path-planner: copies of an unacknowledged path at most (then a warning; the robot bridge's "
+                    "path-timeout ends the job); 0 = never re-sent",
+                    0, 1000),
   };
   for (Param& p : moved_planner_keys()) params.push_back(std::move(p));
   return params;

@@ -12,6 +12,7 @@
 #include "hullgrind/job_status_t.hpp"
 #include "hullgrind/outline_t.hpp"
 #include "hullgrind/robot_status_t.hpp"
+#include "path_planner/delivery.hpp"
 #include "path_planner/io.hpp"
 #include "runtime/channels.hpp"
 #include "jobs/job_ledger.hpp"
@@ -30,22 +31,25 @@ runtime::ProcessInfo process_info() {
   return {
       "hg-path-planner",
       "Outline (HG_OUTLINE) + job request (HG_JOB_REQUEST) -> grind path in the robot's base frame (HG_GRIND_PATH).",
-      "Subscribes HG_OUTLINE, HG_JOB_REQUEST and HG_ROBOT_STATUS. On a job request with action START it\n"
-      "reports PLANNING on HG_JOB_STATUS, plans on the latest outline if it is fresh (outline-max-age) or else\n"
-      "on the next one, publishes grind_path_t on HG_GRIND_PATH and then PLANNED, or FAILED with the reason\n"
-      "(outline with an error status, bad outline, hole too small for the tool, validation). Zero-valued job\n"
-      "parameters take the configured defaults below. The cell file (--cell, docs/cell.md) gives the\n"
-      "camera-to-base calibration, the tool (a job's default tool_radius and tilt), the limits every path\n"
-      "is validated against and home; a value given here that contradicts it stops the start (exit 2), a job\n"
-      "asking for more (a speed above max-speed, a tool larger than the cell's) is FAILED. The path starts at\n"
-      "the loop point nearest to the robot's TCP (HG_ROBOT_STATUS) or to the cell's home until it is heard.\n"
-      "The path (revision 1) carries the coverage of every outline loop and every stretch it leaves unground\n"
-      "(small-hole skip: a skipped hole is such a stretch; the robot bridge then waits for an operator's\n"
-      "approval). REPLAN, while the robot bridge holds the job AWAITING_APPROVAL: planned again on the same\n"
-      "outline with the REPLAN's parameters, published as the next revision. A job id is planned once:\n"
-      "a repeated START (or an ABORT) of a job id already seen is answered with the job's state while the\n"
-      "planner holds or ended it (PLANNING, FAILED, ABORTED, REFUSED) and changes nothing; once PLANNED the\n"
-      "robot bridge answers. QUERY: the last status of each job held (answer=true). See docs/path_planner.md.",
+      "Subscribes HG_OUTLINE, HG_JOB_REQUEST, HG_JOB_STATUS (the robot bridge's word on its paths) and\n"
+      "HG_ROBOT_STATUS. On a job request with action START it reports PLANNING on HG_JOB_STATUS, plans on the\n"
+      "latest outline if it is fresh (outline-max-age) or else on the next one, reports PLANNED and publishes\n"
+      "grind_path_t on HG_GRIND_PATH, or FAILED with the reason (outline with an error status, bad outline,\n"
+      "hole too small for the tool, validation). Zero-valued job parameters take the configured defaults below.\n"
+      "The cell file (--cell, docs/cell.md) gives the camera-to-base calibration, the tool (a job's default\n"
+      "tool_radius and tilt), the limits every path is validated against and home; a value given here that\n"
+      "contradicts it stops the start (exit 2), a job asking for more (a speed above max-speed, a tool larger\n"
+      "than the cell's) is FAILED. The path starts at the loop point nearest to the robot's TCP\n"
+      "(HG_ROBOT_STATUS) or to the cell's home until it is heard. The path (revision 1) carries the coverage of\n"
+      "every outline loop and every stretch it leaves unground (small-hole skip: a skipped hole is such a\n"
+      "stretch; the robot bridge then waits for an operator's approval). REPLAN, while the robot bridge holds\n"
+      "the job AWAITING_APPROVAL: planned again on the same outline with the REPLAN's parameters, published as\n"
+      "the next revision. A path (each revision) the robot bridge has not acknowledged (a status of the job\n"
+      "from it with that revision, or the job's end) is published again, identical, every path-resend-period,\n"
+      "at most path-resends times: the bus may lose it. A job id is planned once: a repeated START (or an\n"
+      "ABORT) of a job id already seen is answered with the job's state while the planner holds or ended it\n"
+      "(PLANNING, FAILED, ABORTED, REFUSED) and changes nothing; once PLANNED the robot bridge answers. QUERY:\n"
+      "the last status of each job held (answer=true). See docs/path_planner.md.",
       std::move(params)};
 }
 
@@ -76,7 +80,10 @@ constexpr std::size_t kJobsKept = 32;  // outlines kept for REPLAN, newest jobs
 
 class Planner {
  public:
-  Planner(runtime::Node& node) : node_(node), cfg_(config_from(lookup_from(node))) {
+  Planner(runtime::Node& node)
+      : node_(node),
+        cfg_(config_from(lookup_from(node))),
+        delivery_(node.params().number("path-resend-period"), int(node.params().integer("path-resends"))) {
     max_age_ = node.params().number("outline-max-age");
     timeout_ = node.params().number("outline-timeout");
     jobs_dir_ = node.params().text("jobs-dir");
@@ -114,6 +121,7 @@ class Planner {
 
   // The robot bridge's word on a job planned here: REPLAN is allowed while it holds the plan for approval.
   void on_status(const hullgrind::job_status_t& s, const runtime::Delivery&) {
+    delivery_.heard(s);  // answers too: "ignored: it is ..." says the bridge has the path
     if (s.answer || s.source == node_.name()) return;
     auto it = jobs_.find(s.job_id);
     if (it != jobs_.end()) it->second.awaiting = s.state == hullgrind::job_status_t::STATE_AWAITING_APPROVAL;
@@ -131,6 +139,7 @@ class Planner {
              "no outline received within " + std::to_string(timeout_) + " s");
       pending_.reset();
     }
+    delivery_.resend_due(runtime::now_utime(), [this](const hullgrind::grind_path_t& g) { resend(g); });
   }
 
  private:
@@ -221,7 +230,18 @@ class Planner {
     const std::string msg = planned_message(r, revision);
     status(req, hullgrind::job_status_t::STATE_PLANNED, 1, msg, true, &g);
     node_.publish(channels::kGrindPath, g);
+    delivery_.published(g, runtime::now_utime());
     logf(Level::Info, "job '%s': %s", req.job_id.c_str(), msg.c_str());
+  }
+
+  // A copy as first published (its header.seq too, which Node::publish would renumber): receivers can tell it
+  // is the same message.
+  void resend(const hullgrind::grind_path_t& g) {
+    if (node_.lcm().publish(channels::kGrindPath, &g) != 0) {
+      logf(Level::Error, "publish on %s failed", channels::kGrindPath);
+      return;
+    }
+    ++node_.counters().published;
   }
 
   void plan_now() {
@@ -285,6 +305,7 @@ class Planner {
   jobs::JobLedger ledger_;  // every job id seen, with the planner's last word on it
   std::map<std::string, Planned> jobs_;
   std::deque<std::string> order_;  // of jobs_, oldest first
+  PathDelivery delivery_;          // the published paths until the robot bridge acknowledges them
 };
 
 }  // namespace

@@ -40,7 +40,8 @@ inline constexpr Channel kTable[] = {
      "area centroid and principal axis, holes subtracted"},
     {kGrindPath, "grind_path_t", "path_planner", "robot_bridge, dds_gateway, job_recorder, station",
      "waypoints in the robot base frame with speed and segment kind, the coverage of every loop, the unreached "
-     "stretches and the smoothed edge the tool grinds"},
+     "stretches and the smoothed edge the tool grinds; published again, identical (same `header.seq`), until the "
+     "robot bridge acknowledges it (docs/path_planner.md, \"Path delivery\")"},
     {kJobRequest, "job_request_t",
      "operator (`hg-lcm-send job`, hg-station), dds_gateway, hg-foxglove (a client's publish, `--client-publish`), "
      "job_recorder (QUERY at start), hg-calibrate (capture --trigger: a START that makes a `--trigger job` camera "

@@ -99,13 +99,10 @@ class PathPlannerProcess : public testing::Test {
     if (planner.started()) {
       ASSERT_EQ(planner.stop(), 0);
     }
-    std::vector<std::string> cmd = {std::string(HG_BIN_DIR) + "/hg-path-planner",
-                                    "--log-level",
-                                    "warn",
-                                    "--outline-max-age",
-                                    "30",
-                                    "--cell",
-                                    hg::test::shipped_cell()};
+    std::vector<std::string> cmd = {std::string(HG_BIN_DIR) + "/hg-path-planner", "--log-level", "warn",
+                                    "--outline-max-age", "30", "--cell", hg::test::shipped_cell(),
+                                    // no robot bridge acknowledges a path here: no copies (resend_test.cpp)
+                                    "--path-resends", "0"};
     cmd.insert(cmd.end(), extra.begin(), extra.end());
     bus.beats.clear();
     planner = hg::test::ChildProcess(cmd);

@@ -273,6 +273,42 @@ TEST(RobotBridgeApproval, ANewRevisionReplacesTheHeldPlan) {
     EXPECT_FALSE(r.tcp_position[0] > 0.495 && r.tcp_position[0] < 0.525 && r.tcp_position[2] < 0.1 + 1e-6);
 }
 
+// The planner publishes a path again until the bridge acknowledges it (docs/path_planner.md, "Path delivery"):
+// the first copy the bridge sees is taken (the ones before lost on the bus); every later copy is answered
+// (answer = true) with the job's state and the revision held, so it acknowledges, and never runs twice.
+TEST(RobotBridgeApproval, CopiesOfAPathAreAnsweredWithTheRevisionHeldAndNeverRun) {
+  Harness h({}, operator_cfg());
+  h.send("c", job_request_t::ACTION_START);
+  const grind_path_t p = loops_path("c", kThree);
+  h.path(p);
+  ASSERT_EQ(h.last().state, +job_status_t::STATE_AWAITING_APPROVAL) << h.last().message;
+  EXPECT_FALSE(h.last().answer);
+  h.path(p);
+  EXPECT_TRUE(h.last().answer);
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_AWAITING_APPROVAL);
+  EXPECT_EQ(h.last().plan_revision, 1);
+  EXPECT_NE(h.last().message.find("ignored: it is AWAITING_APPROVAL"), std::string::npos) << h.last().message;
+  EXPECT_EQ(count_state(h, "c", job_status_t::STATE_AWAITING_APPROVAL), 1);
+  h.send(approval("c", "fay", {}, 1));
+  h.tick(10);
+  h.path(p);
+  EXPECT_TRUE(h.last().answer);
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_RUNNING);
+  EXPECT_EQ(h.last().plan_revision, 1);
+  ASSERT_TRUE(h.run_until("c", job_status_t::STATE_DONE));
+  h.path(p);  // after the end: the end, a terminal state
+  EXPECT_TRUE(h.last().answer);
+  EXPECT_EQ(h.last().state, +job_status_t::STATE_DONE);
+  int runs = 0;
+  for (std::size_t i = 0; i < h.robot.size(); ++i)
+    runs += h.robot[i].mode == robot_status_t::MODE_RUNNING &&
+            (i == 0 || h.robot[i - 1].mode != robot_status_t::MODE_RUNNING);
+  EXPECT_EQ(runs, 1);
+  EXPECT_EQ(states_of(h, "c"),
+            (std::vector<int>{job_status_t::STATE_ACCEPTED, job_status_t::STATE_AWAITING_APPROVAL,
+                              job_status_t::STATE_APPROVED, job_status_t::STATE_RUNNING, job_status_t::STATE_DONE}));
+}
+
 TEST(RobotBridgeApproval, QueryAnswersTheLastStatusOfEveryJobHeld) {
   Harness h({}, operator_cfg());
   h.send("q1", job_request_t::ACTION_START);

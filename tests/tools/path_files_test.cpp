@@ -104,7 +104,9 @@ void log_event(lcm::LogFile& log, std::int64_t utime, const std::string& channel
 
 // A recorded job J1 planned with kRunCamera; returns the path message as it is in the log. `end`: the robot
 // bridge's last word on it (DONE; INCOMPLETE with hole 1 unground), followed by a QUERY's DONE answer.
-hullgrind::grind_path_t write_job_log(const std::string& file, std::int8_t end = hullgrind::job_status_t::STATE_DONE) {
+// With `copy_at`: the planner's copy of the path (the same message) logged then as well.
+hullgrind::grind_path_t write_job_log(const std::string& file, std::int8_t end = hullgrind::job_status_t::STATE_DONE,
+                                      std::int64_t copy_at = 0) {
   const Scene s = scene();
   const pp::PlanResult r = pp::plan(s.input, {}, planner_config(kRunCamera), std::nullopt);
   EXPECT_TRUE(r.ok) << r.reason;
@@ -124,6 +126,7 @@ hullgrind::grind_path_t write_job_log(const std::string& file, std::int8_t end =
   log_event(log, 2000, "HG_PLATE_CLOUD", cloud);
   log_event(log, 3000, "HG_OUTLINE", s.outline);
   log_event(log, 4000, "HG_GRIND_PATH", path);
+  if (copy_at) log_event(log, copy_at, "HG_GRIND_PATH", path);
   hullgrind::job_status_t done{};
   done.job_id = "J1";
   done.source = "hg-robot-bridge";
@@ -418,6 +421,18 @@ TEST(Overview, KeepsOneCloudOfALongRun) {
   ASSERT_EQ(getrusage(RUSAGE_CHILDREN, &use), 0);
   EXPECT_LT(double(use.ru_maxrss) * 1024, double(bytes) / 3) << "peak RSS " << use.ru_maxrss << " KB";
   EXPECT_EQ(nlohmann::json::parse(slurp(tmp("long") + "/summary.json"))["cloud_points"], 300000);
+}
+
+// A copy of the path (the planner publishes one again until the robot bridge acknowledges it) is the same path:
+// the plan still took 1 ms to the path's first arrival, and the run 1 ms from there.
+TEST(Overview, ACopyOfThePathKeepsTheTimeItFirstCame) {
+  write_job_log(tmp("copy.lcmlog"), hullgrind::job_status_t::STATE_DONE, 4500);
+  const auto job = hg::overview::trace_job(hg::overview::read_run_log(tmp("copy.lcmlog")));
+  ASSERT_TRUE(job.path && job.outline && job.request && job.final_status);
+  EXPECT_EQ(job.path->log_utime, 4000);
+  const auto stages = hg::overview::summary_json(job)["stages"];
+  EXPECT_DOUBLE_EQ(stages["plan_ms"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(stages["robot_run_ms"].get<double>(), 1.0);
 }
 
 // A path recorded with another version of grind_path_t (another fingerprint) is not read as a path, and

@@ -50,6 +50,13 @@ bool ends_job(const hullgrind::job_status_t& s) {
          (jobs::job_state_final(s.state) && s.state != hullgrind::job_status_t::STATE_DONE);
 }
 
+// The planner's copy of a path the robot bridge had not acknowledged (docs/path_planner.md, "Path delivery"):
+// the same message, header.seq included; a second planning of the job has its own compute time.
+bool same_path(const hullgrind::grind_path_t& a, const hullgrind::grind_path_t& b) {
+  return a.header.seq == b.header.seq && a.header.utime == b.header.utime && a.revision == b.revision &&
+         a.compute_time == b.compute_time;
+}
+
 }  // namespace
 
 RunLog read_run_log(const std::string& path) {
@@ -85,7 +92,8 @@ JobTrace trace_job(const RunLog& log, const std::string& job_id) {
     }
   if (t.job_id.empty()) return t;
   for (const auto& p : log.paths)
-    if (p.msg.job_id == t.job_id) t.path = p;  // the last one, if a restart planned it twice
+    // The last plan, if a restart planned it twice; a copy keeps the time the path first came.
+    if (p.msg.job_id == t.job_id && !(t.path && same_path(t.path->msg, p.msg))) t.path = p;
   // The outline the path was planned on: the last one with that seq logged before the path.
   if (t.path)
     for (const auto& o : log.outlines)
