@@ -169,12 +169,12 @@ def outline_fields(r):
 
 
 def path_fields(r):
-    """grind_path_t after its header: job_id, outline_seq, compute_time (seconds)."""
+    """grind_path_t after its header: job_id, outline_seq, revision, compute_time (seconds)."""
     job, outline_seq = r.string(), r.int64()
     r.string()
     n = r.int32()
-    r.i += n * (3 * 8 + 4 * 8 + 8 + 1 + 2) + 8 + 8 + 1 + 4  # waypoints, tool_radius, tilt, flipped, revision
-    return job, outline_seq, r.double()
+    r.i += n * (3 * 8 + 4 * 8 + 8 + 1 + 2) + 8 + 8 + 1  # waypoints, tool_radius, tilt, flipped
+    return job, outline_seq, r.int32(), r.double()
 
 
 class Bus:
@@ -183,6 +183,7 @@ class Bus:
     def __init__(self):
         self.clouds, self.outlines, self.paths, self.requests, self.statuses = [], [], {}, {}, {}
         self.outline_service_received = None
+        self.path_copies = 0  # paths the planner published again (the robot bridge had not acknowledged them)
 
     def add(self, channel, log, data):
         from pipeline_latency import Reader
@@ -193,8 +194,14 @@ class Bus:
         elif channel == "HG_OUTLINE":
             self.outlines.append((seq, log) + outline_fields(r))
         elif channel == "HG_GRIND_PATH":
-            job, outline_seq, compute = path_fields(r)
-            self.paths[job] = (outline_seq, log, compute)  # the last one, as hg-overview takes it
+            job, outline_seq, revision, compute = path_fields(r)
+            # As hg-overview: the last plan of the job, but a copy (the planner publishes a path again until the
+            # robot bridge acknowledges it: the same seq, utime, revision and compute time) keeps the first's time.
+            key = (seq, utime, revision, compute)
+            if job not in self.paths or self.paths[job][3] != key:
+                self.paths[job] = (outline_seq, log, compute, key)
+            else:
+                self.path_copies += 1
         elif channel == "HG_JOB_REQUEST":
             job, _, action = r.string(), r.string(), r.int8()
             if action == 0:  # ACTION_START
@@ -403,7 +410,7 @@ def one_run(E, args, cloud, index, order):
     check = blocks[index % len(blocks)]["jobs"]
     check_jobs(E, p, bus, check[len(check) // 2:len(check) // 2 + 1])
     run = {"run": index + 1, "clouds_published": published(p), "clouds_recorded": len({c[0] for c in bus.clouds}),
-           "clouds_received_by_outline_service": bus.outline_service_received,
+           "clouds_received_by_outline_service": bus.outline_service_received, "path_copies": bus.path_copies,
            "log_mb": round(os.path.getsize(p.log) / 1e6)}
     for b in blocks:
         b.update(run, samples=block_samples(bus, b))
@@ -416,11 +423,11 @@ def one_run(E, args, cloud, index, order):
 
 def print_block(b):
     print("run %d, %d viewers (%s priority): %d jobs (%s); load %s; clouds published %s, recorded %d, received by "
-          "the outline service %s; log %d MB" % (
+          "the outline service %s; paths published again %d; log %d MB" % (
               b["run"], b["clients"], b["viewers_priority"], len(b["jobs"]),
               ", ".join("%s %d" % (s, b["finals"].count(s)) for s in sorted(set(b["finals"]))),
               " -> ".join(b["loadavg"]), b["clouds_published"], b["clouds_recorded"],
-              b["clouds_received_by_outline_service"], b["log_mb"]))
+              b["clouds_received_by_outline_service"], b["path_copies"], b["log_mb"]))
     print("  stages (median ms, samples): " + ", ".join(
         "%s %.1f (%d)" % (k[:-3], statistics.median(v), len(v)) for k, v in b["samples"].items() if v))
     print("  hg-foxglove's CPU during the block, share of a core by thread: " +
