@@ -5,7 +5,7 @@ network namespace of its own (tests/netns.sh; re-executes itself there).
 
   tools/bench/foxglove_bench.py [--runs 16] [--block-seconds 30] [--settle 3] [--rate 5] [--clients 2]
                                 [--robot-time-scale 1000] [--viewers-priority idle] [--bootstrap 2000]
-                                [--cloud FILE] [--keep]
+                                [--foxglove-arg ARG ...] [--cloud FILE] [--keep]
 
 Each run is the shipped pipeline (config/pipeline.toml, its hg-foxglove included) under the supervisor,
 with hg-bench-station-feed in place of the camera bridge: hg-gen's preset high-4 (`hg-gen --preset high-4
@@ -90,12 +90,13 @@ def loadavg():
         return " ".join(f.read().split()[:3])
 
 
-def pipeline(E, cloud, rate, robot_time_scale, name):
+def pipeline(E, cloud, rate, robot_time_scale, name, foxglove_args=()):
     """The shipped pipeline with the feed as its camera (at `rate`), the simulated robot `robot_time_scale` times
     faster than real time."""
     import tomllib
     p = E.Pipeline(name, lcm_url=LCM_URL, without=("camera",),
-                   extra_args={"planner": ["--small-hole", "skip", "--outline-timeout", "60"],
+                   extra_args={"foxglove": list(foxglove_args),
+                               "planner": ["--small-hole", "skip", "--outline-timeout", "60"],
                                "robot": ["--sim-time-scale", str(robot_time_scale)]})
     with open(p.toml, "rb") as f:
         mine = tomllib.load(f)
@@ -392,7 +393,7 @@ def block_samples(bus, b):
 
 def one_run(E, args, cloud, index, order):
     """One pipeline run: its blocks (viewer counts in `order`), their samples read back from the recorded bus."""
-    p = pipeline(E, cloud, args.rate, args.robot_time_scale, "fox-%d" % index)
+    p = pipeline(E, cloud, args.rate, args.robot_time_scale, "fox-%d" % index, args.foxglove_arg)
     blocks = []
     try:
         p.start()
@@ -544,6 +545,8 @@ def main():
                     help="the simulated robot's speed-up (more jobs, so more plans, a block) [1000]")
     ap.add_argument("--viewers-priority", choices=("idle", "normal"), default="idle",
                     help="the viewers' scheduling priority: idle (chrt --idle 0: as if on another computer) [idle]")
+    ap.add_argument("--foxglove-arg", action="append", default=[],
+                    help="an argument added to hg-foxglove's command line (repeat; e.g. --foxglove-arg=--server-nice=0)")
     ap.add_argument("--bootstrap", type=int, default=2000, help="bootstrap rounds of each ratio's interval [2000]")
     ap.add_argument("--cloud", help="the cloud file (default: hg-gen's high-4, made in a temporary folder)")
     ap.add_argument("--keep", action="store_true", help="keep each run's directory (logs, run.lcmlog)")
