@@ -23,6 +23,7 @@
 #include "runtime/node.hpp"
 #include "tests/common/cell_file.hpp"
 #include "tests/common/child_process.hpp"
+#include "tests/path_planner/camera_plane.hpp"
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
@@ -62,13 +63,7 @@ hullgrind::outline_loop_t loop(bool hole, std::vector<std::pair<double, double>>
 // 0.3 x 0.2 plate seen from a camera looking down (normal toward the camera), 1.19 m away, with a
 // 60 x 40 mm cut-out.
 hullgrind::outline_t plate_outline(std::int64_t seq) {
-  hullgrind::outline_t o{};
-  o.header.seq = seq;
-  o.header.frame_id = "camera";
-  const double origin[3] = {0, 0, 1.19}, n[3] = {0, 0, -1}, u[3] = {1, 0, 0}, v[3] = {0, -1, 0};
-  for (int k = 0; k < 3; ++k)
-    o.plane_origin[k] = origin[k], o.plane_normal[k] = n[k], o.plane_u_axis[k] = u[k], o.plane_v_axis[k] = v[k];
-  o.status = hullgrind::outline_t::STATUS_OK;
+  hullgrind::outline_t o = hg::path_planner::test::outline_in_camera_plane(seq);
   o.loops.push_back(loop(false, {{0, 0}, {0.3, 0}, {0.3, 0.2}, {0, 0.2}}));
   // 60 x 40 mm cut-out with R8 corner fillets (every 22.5 deg): a round tool cannot reach into sharp ones.
   o.loops.push_back(

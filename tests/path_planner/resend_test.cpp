@@ -23,6 +23,7 @@
 #include "hullgrind/outline_t.hpp"
 #include "tests/common/cell_file.hpp"
 #include "tests/common/child_process.hpp"
+#include "tests/path_planner/camera_plane.hpp"
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
@@ -135,13 +136,7 @@ struct Bus {
 
 // A 0.3 x 0.2 m plate seen from the camera 1.19 m above it (as in process_test.cpp).
 hullgrind::outline_t plate_outline(std::int64_t seq) {
-  hullgrind::outline_t o{};
-  o.header.seq = seq;
-  o.header.frame_id = "camera";
-  const double origin[3] = {0, 0, 1.19}, n[3] = {0, 0, -1}, u[3] = {1, 0, 0}, v[3] = {0, -1, 0};
-  for (int k = 0; k < 3; ++k)
-    o.plane_origin[k] = origin[k], o.plane_normal[k] = n[k], o.plane_u_axis[k] = u[k], o.plane_v_axis[k] = v[k];
-  o.status = hullgrind::outline_t::STATUS_OK;
+  hullgrind::outline_t o = hg::path_planner::test::outline_in_camera_plane(seq);
   hullgrind::outline_loop_t l{};
   l.u = {0, 0.3, 0.3, 0};
   l.v = {0, 0, 0.2, 0.2};
