@@ -435,7 +435,7 @@ void WsServer::Impl::on_accept(tcp::socket sock) {
 
 // Names the server's thread (top and /proc/PID/task/TID/comm show it) and sets its nice value (Linux: per
 // thread; an unprivileged thread may raise its own).
-void enter_server_thread(int nice) {
+static void enter_server_thread(int nice) {
   pthread_setname_np(pthread_self(), "hg-fox-server");
   if (nice != 0 && setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), nice) != 0)
     runtime::logf(runtime::Level::Warn, "cannot set the server thread's nice value to %d (%s)", nice,

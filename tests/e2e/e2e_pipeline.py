@@ -123,6 +123,7 @@ class Pipeline:
         self.procs = []  # our helper processes (recorder, status dump), stopped in reverse order
         self.supervisor = None
         self.status_file = os.path.join(self.dir, "job_status.jsonl")
+        self._statuses = {"file": None, "offset": 0, "all": []}  # what statuses() has read of it
         self.log = os.path.join(self.dir, "run.lcmlog")
         self.keep = keep if keep is not None else os.environ.get("HG_E2E_KEEP") == "1"
         self.toml = os.path.join(self.dir, "pipeline.toml")
@@ -283,7 +284,7 @@ class Pipeline:
     def statuses(self, job_id=None):
         """Every status the dump has written so far (of job_id), in order. The file only grows while the dump
         runs: the lines read before are kept, so that polling a long run reads each line once."""
-        cache = self.__dict__.setdefault("_statuses", {"file": None, "offset": 0, "all": []})
+        cache = self._statuses
         if cache["file"] != self.status_file or os.path.getsize(self.status_file) < cache["offset"]:
             cache.update(file=self.status_file, offset=0, all=[])  # another file, or written anew by start()
         with open(self.status_file, "rb") as f:

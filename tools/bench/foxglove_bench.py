@@ -295,6 +295,9 @@ def check_jobs(E, p, bus, jobs):
     for job in jobs:
         out_dir = os.path.join(p.dir, "overview", job)
         res = p.overview(job, out_dir)
+        if not os.path.exists(os.path.join(out_dir, "summary.json")):
+            raise RuntimeError("bench: hg-overview wrote no summary of job %s (exit %d): %s" % (
+                job, res.returncode, res.stderr.strip()))
         with open(os.path.join(out_dir, "summary.json")) as f:
             theirs = json.load(f)["stages"]
         mine = job_stages(bus, job)
