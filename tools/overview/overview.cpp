@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <opencv2/imgcodecs.hpp>
@@ -134,7 +135,7 @@ struct Canvas {
   Eigen::Vector2d lo, hi;
   double scale = 1;
   int width = 1400, height = 0;
-  static constexpr int margin = 40, legend = 230;  // the scale bar and up to 8 caption lines
+  static constexpr int margin = 40, legend = 252;  // the scale bar and up to 9 caption lines
   explicit Canvas(const std::vector<Eigen::Vector2d>& pts) {
     lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::max());
     hi = -lo;
@@ -225,9 +226,11 @@ std::vector<std::string> caption(const JobTrace& job, const PlatePath& path, std
       std::snprintf(buf, sizeof buf, "edge out of the tool's reach (red, the planner's coverage check): none");
     lines.push_back(buf);
   }
+  // The stages wrap at the caption's width (125 characters, as the lines above are cut): all of them are read.
   std::string t = "stages:";
   for (auto& [k, v] : s["stages"].items()) {
     std::snprintf(buf, sizeof buf, " %s %.1f", k.c_str(), v.get<double>());
+    if (t.size() + std::strlen(buf) > 125) lines.push_back(t), t = "       ";
     t += buf;
   }
   lines.push_back(t);
