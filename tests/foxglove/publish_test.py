@@ -5,6 +5,7 @@ request of the test's job, from the operator (actor "operator NAME", whatever th
 file is made with hg-station-user, the station's own tool. Runs in its own network namespace."""
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -26,6 +27,7 @@ def add_user(users, name, role, password):
 class FoxglovePublish(unittest.TestCase):
     def test_only_an_operator_publishes_a_job_request(self):
         tmp = tempfile.mkdtemp(prefix="hg-fox-publish-")
+        self.addCleanup(shutil.rmtree, tmp, True)
         users = os.path.join(tmp, "users")
         add_user(users, "op1", "operator", "op-secret-1")
         add_user(users, "view1", "viewer", "view-secret-1")
