@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <unistd.h>
+
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <sstream>
@@ -56,9 +59,15 @@ hullgrind::plate_cloud_t big_cloud(int seq) {
 }  // namespace
 
 TEST(ToolsSpy, DecodesAOneMegabyteCloudHeadless) {
-  const std::string dir = testing::TempDir();
+  // A folder of this process's own: /tmp is shared with other tests and earlier runs, and an old spy.out
+  // would answer the wait below before this spy has written a line.
+  const std::string dir = testing::TempDir() + "hg-spy-test-" + std::to_string(getpid());
+  std::filesystem::create_directories(dir);
+  // A display with neither a lock nor a socket: a socket left by an Xvfb that died would pass the wait for
+  // this one's.
   int display = 90;
-  while (exists("/tmp/.X" + std::to_string(display) + "-lock")) ++display;
+  while (exists("/tmp/.X" + std::to_string(display) + "-lock") || exists("/tmp/.X11-unix/X" + std::to_string(display)))
+    ++display;
   const std::string d = ":" + std::to_string(display);
   hg::test::ChildProcess xvfb(
       {"Xvfb", d, "-screen", "0", "1024x768x24", "-nolisten", "tcp"},
@@ -90,4 +99,5 @@ TEST(ToolsSpy, DecodesAOneMegabyteCloudHeadless) {
   ASSERT_TRUE(code.has_value()) << "the spy did not finish: " << slurp(out);
   EXPECT_EQ(*code, 0) << slurp(out) << slurp(dir + "/spy.err");
   EXPECT_NE(slurp(out).find("decoded as hullgrind.plate_cloud_t, n = 100000"), std::string::npos) << slurp(out);
+  if (!HasFailure()) std::filesystem::remove_all(dir);  // kept when something failed, to read
 }
