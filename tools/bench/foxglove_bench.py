@@ -16,7 +16,7 @@ without viewers and one with --clients of them, in turn (0 2 0 2 0 2 in one run,
 that the two blocks of a pair see the same processes, the same machine and the same half minute: the
 machine's speed drifts over minutes, and a pair's two blocks drift together. A block: the viewers (tools/bench/
 foxglove_client.js: @foxglove/ws-protocol's client from build/npm, subscribed to every channel hg-foxglove
-advertises, the full-size clouds included) connect, or the last block's leave; --settle seconds; then jobs
+advertises, the full-size clouds included, but those --viewer-exclude matches) connect, or the last block's leave; --settle seconds; then jobs
 one after another, each to its end, for --block-seconds (the simulated cell approves a plan that reaches
 every edge; one that waits for an operator is approved here; the robot --robot-time-scale times faster than
 real time, so that a block holds many jobs, each a sample of the planner's stages).
@@ -45,9 +45,9 @@ real time, so that a block holds many jobs, each a sample of the planner's stage
            and then samples within each block of a drawn pair (--bootstrap rounds; pairs differ among
            themselves, not only their samples, and the two blocks of a pair are drawn together because they
            share their minute), and the no-viewer blocks' own medians over their pooled median (the spread
-           without viewers). The verdict: "within 5 %" when the interval lies in 0.95-1.05, "not 5 % slower" when only
-           its top is <= 1.05, "over 5 % slower" when its bottom is above 1.05, "over 5 % faster (conditions
-           differ)" when its top is below 0.95, "not resolved" otherwise (more runs narrow it).
+           without viewers). The verdict: "within 5 %" when the interval lies in 0.95-1.05, "not 5 % slower"
+           when only its top is <= 1.05, "over 5 % slower" when its bottom is above 1.05, "over 5 % faster
+           (conditions differ)" when its top is below 0.95, "not resolved" otherwise (more runs narrow it).
   clouds = published by the feed, recorded by lcm-logger, received by the outline service (its last
            heartbeat's `received`) in the whole run: a 19 MB cloud is ~13 k UDP datagrams on LCM's multicast and
            is sometimes lost; a lost one is counted and reported, not a failure (the next comes 1/rate s later).
@@ -347,7 +347,8 @@ def descendant(root, comm):
 
 def thread_cpu(pid):
     """CPU seconds (user + system) of a process's threads by thread name: hg-fox-convert is the conversion at
-    idle priority, hg-foxglove the rest (LCM, heartbeat, the WebSocket server's writes) at normal priority."""
+    idle priority, hg-fox-server the WebSocket server's writes (nice server-nice), hg-foxglove the rest (LCM,
+    heartbeat) at normal priority."""
     out = {}
     tick = os.sysconf("SC_CLK_TCK")
     try:
@@ -433,8 +434,8 @@ def one_run(E, args, cloud, index, order):
 
 
 def print_block(b):
-    print("run %d, pair %s, %d viewers (%s priority): %d jobs (%s); load %s; clouds published %s, recorded %d, received by "
-          "the outline service %s; paths published again %d; log %d MB" % (
+    print("run %d, pair %s, %d viewers (%s priority): %d jobs (%s); load %s; clouds published %s, recorded %d, "
+          "received by the outline service %s; paths published again %d; log %d MB" % (
               b["run"], b["pair"], b["clients"], b["viewers_priority"], len(b["jobs"]),
               ", ".join("%s %d" % (s, b["finals"].count(s)) for s in sorted(set(b["finals"]))),
               " -> ".join(b["loadavg"]), b["clouds_published"], b["clouds_recorded"],
@@ -500,8 +501,8 @@ def ratios(blocks, n, rounds=2000, seed=1):
         lo, hi = bootstrap_ratio(pairs, rounds, rng)
         alone = [statistics.median(g) / base for g in without]
         out[k] = {"without": base, "with": pooled_median(with_), "ratio": pooled_median(with_) / base,
-                  "ci95": [lo, hi],
-                  "verdict": verdict(lo, hi) if k not in NOT_JUDGED else "(a part of plan)", "samples": [sum(map(len, without)), sum(map(len, with_))],
+                  "ci95": [lo, hi], "verdict": verdict(lo, hi) if k not in NOT_JUDGED else "(a part of plan)",
+                  "samples": [sum(map(len, without)), sum(map(len, with_))],
                   "pairs": len(pairs), "no_viewer_blocks": [min(alone), max(alone)]}
     return out
 
@@ -573,7 +574,8 @@ def main():
     ap.add_argument("--viewers-priority", choices=("idle", "normal"), default="idle",
                     help="the viewers' scheduling priority: idle (chrt --idle 0: as if on another computer) [idle]")
     ap.add_argument("--foxglove-arg", action="append", default=[],
-                    help="an argument added to hg-foxglove's command line (repeat; e.g. --foxglove-arg=--server-nice=0)")
+                    help="an argument added to hg-foxglove's command line (repeat; e.g. "
+                         "--foxglove-arg=--server-nice=0)")
     ap.add_argument("--bootstrap", type=int, default=2000, help="bootstrap rounds of each ratio's interval [2000]")
     ap.add_argument("--cloud", help="the cloud file (default: hg-gen's high-4, made in a temporary folder)")
     ap.add_argument("--viewer-exclude", metavar="REGEX",
