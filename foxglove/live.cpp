@@ -83,6 +83,7 @@ class Live {
   // for as long as the cell keeps both cores busy, and this thread also runs the heartbeat. After a short
   // spin the message is dropped, counted.
   void on_message(const lcm::ReceiveBuffer& rb, const runtime::Delivery& d) {
+    if (rb.data_size >= kSmall && !cloud_due(d.channel, d.recv_utime)) return;  // before the 19 MB copy
     Pending p{d.channel, d.recv_utime, std::string(static_cast<const char*>(rb.data), rb.data_size)};
     {
       std::unique_lock<std::mutex> lock(mu_, std::defer_lock);
@@ -157,7 +158,6 @@ class Live {
   }
 
   void convert(const Pending& p) {
-    if (p.bytes.size() >= kSmall && !cloud_due(p.channel, p.recv_utime)) return;
     const auto* data = reinterpret_cast<const std::uint8_t*>(p.bytes.data());
     // A topic this message creates is built too: nobody can have subscribed to it yet.
     const int known = static_cast<int>(bridge_.topics().size());
@@ -173,11 +173,8 @@ class Live {
     send(std::move(c), p.recv_utime);
   }
 
-  // A big message's own JSON (a 1.6 M-point cloud's every number as text, about 40 MB) at most once per
-  // raw_period_us_ per channel, skipped ones counted as dropped: it is the conversion's and the viewers' bulk,
-  // and on two cores even at idle priority its memory traffic slows the outline service (docs/foxglove.md).
-  // A big message at all (its 3-D topics too) at most once per cloud_period_us_ per channel: the camera's
-  // 5 Hz of the same plate is more than a viewer needs, and each costs a 19 MB decode beside the outline.
+  // LCM thread. A big message at all (its 3-D topics too) at most once per cloud_period_us_ per channel: the
+  // camera's 5 Hz of the same plate is more than a viewer needs, and each costs a 19 MB copy and decode.
   bool cloud_due(const std::string& channel, std::int64_t utime) {
     std::int64_t& last = last_cloud_[channel];
     if (last != 0 && utime - last < cloud_period_us_) {
@@ -188,6 +185,9 @@ class Live {
     return true;
   }
 
+  // A big message's own JSON (a 1.6 M-point cloud's every number as text, about 40 MB) at most once per
+  // raw_period_us_ per channel, skipped ones counted as dropped: it is the conversion's and the viewers' bulk,
+  // and on two cores even at idle priority its memory traffic slows the outline service (docs/foxglove.md).
   bool raw_due(const std::string& channel, std::int64_t utime) {
     auto last = last_raw_.find(channel);
     if (last == last_raw_.end() || utime - last->second >= raw_period_us_) return true;
@@ -227,7 +227,7 @@ class Live {
 
   runtime::Node& node_;
   std::int64_t raw_period_us_, cloud_period_us_;
-  // Worker thread only, by channel: when a big message was last converted, and its own JSON last sent.
+  // By channel: when a big message was last let into the queue (LCM thread), its own JSON last sent (worker).
   std::map<std::string, std::int64_t> last_cloud_, last_raw_;
   std::atomic<bool> cancel_{false};  // before bridge_, which holds its address
   Bridge bridge_;                    // worker thread only
@@ -277,8 +277,9 @@ runtime::ProcessInfo process_info() {
       "Open ws://HOST:PORT in Foxglove or Lichtblick. No client publishing unless --client-publish: then an\n"
       "operator of --users-file (the station's users file) who logs in with HTTP Basic on the upgrade\n"
       "(ws://USER:PASSWORD@HOST:PORT) may publish HG_JOB_REQUEST as JSON. The conversion runs at idle\n"
-      "scheduling priority (--conversion-priority): it takes no core the cell wants, and what waits too long\n"
-      "is dropped (the heartbeat's dropped); a plate cloud is converted at most once per --cloud-period and\n"
+      "scheduling priority (--conversion-priority), the process at nice 19 in the shipped pipelines (their\n"
+      "nice = 19, docs/RUNNING.md): it takes no core the cell wants, and what waits too long is dropped (the\n"
+      "heartbeat's dropped); a plate cloud is converted at most once per --cloud-period and\n"
       "sent as its own JSON at most once per --raw-cloud-period (their memory traffic slows the outline\n"
       "service even at idle priority). A slow client misses frames (counted per client in the\n"
       "heartbeat's state text); a client sending garbage is disconnected with a close reason. Details:\n"
@@ -305,7 +306,8 @@ runtime::ProcessInfo process_info() {
                   "waits too long is dropped, counted) or normal (viewers get more, the cell gets slower)",
                   {"idle", "normal"}),
        integer_param("server-nice", "10",
-                     "the nice value of the WebSocket server's thread (its writes to viewers): above the cell's 0, "
+                     "the nice value of the WebSocket server's thread (its writes to viewers; the process's if that "
+                     "is higher): above the cell's 0, "
                      "so that under load a viewer's frames wait and are dropped, not the cell's work; 0: as the cell",
                      0, 19),
        runtime::number_param("cloud-period", "1",

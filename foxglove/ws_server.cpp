@@ -433,11 +433,15 @@ void WsServer::Impl::on_accept(tcp::socket sock) {
   s->start();
 }
 
-// Names the server's thread (top and /proc/PID/task/TID/comm show it) and sets its nice value (Linux: per
-// thread; an unprivileged thread may raise its own).
+// Names the server's thread (top and /proc/PID/task/TID/comm show it) and raises its nice value to `nice`
+// (Linux: per thread; an unprivileged thread may raise its own). Never lowers it: a process started at a
+// higher one (the supervisor's nice) keeps the server there.
 static void enter_server_thread(int nice) {
   pthread_setname_np(pthread_self(), "hg-fox-server");
-  if (nice != 0 && setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), nice) != 0)
+  const auto tid = static_cast<id_t>(gettid());
+  errno = 0;
+  const int now = getpriority(PRIO_PROCESS, tid);
+  if (errno == 0 && nice > now && setpriority(PRIO_PROCESS, tid, nice) != 0)
     runtime::logf(runtime::Level::Warn, "cannot set the server thread's nice value to %d (%s)", nice,
                   std::strerror(errno));
 }

@@ -47,6 +47,7 @@ class FoxgloveLive(unittest.TestCase):
             client = subprocess.Popen(["node", os.path.join(HERE, "live_check.js"), "ws://127.0.0.1:8765", result_file,
                                        stop], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=NODE_ENV)
             self.assertEqual(client.stdout.readline().strip(), "ready")
+            self.check_priority(p)
             time.sleep(9)  # the probes (about 5 s), then the job
             p.send("fox-live-1", extra=["--grind-speed", "0.01"])
             # Any end: what the client must see is what the bus carried (the log), whatever the job's fate.
@@ -68,6 +69,19 @@ class FoxgloveLive(unittest.TestCase):
                 client.kill()
                 client.wait()
             p.cleanup(failed=not ok)
+
+    def check_priority(self, p):
+        """The shipped pipeline gives hg-foxglove nice 19, and its session's scheduling group too, the cell's
+        processes 0 (docs/RUNNING.md, Priority): the kernel's own view in /proc."""
+        st = p.status()
+        for name, want in (("foxglove", 19), ("outline", 0), ("planner", 0)):
+            with open("/proc/%d/stat" % st[name]["pid"]) as f:
+                stat = f.read()
+            self.assertEqual(int(stat[stat.rindex(")") + 2:].split()[19 - 3]), want, name)  # field 19: nice
+            group = "/proc/%d/autogroup" % st[name]["pid"]
+            if os.path.exists(group):
+                with open(group) as f:
+                    self.assertTrue(f.read().strip().endswith(" nice %d" % want), name)
 
     def check(self, r, in_log, skipped):
         """skipped: channel -> events hg-mcap could not decode (a process that sent garbage): the server

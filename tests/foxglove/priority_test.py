@@ -3,7 +3,8 @@ above the cell's (docs/foxglove.md, "What is dropped, when"), read from outside:
 nice value of each of its threads in /proc/PID/task/TID/stat (field 41, `policy`: SCHED_OTHER 0, SCHED_IDLE 5
 in linux/sched.h; field 19, `nice`), the thread named by its comm. By default the conversion thread, and only
 it, is SCHED_IDLE, and the server's thread, and only it, has nice 10 (--server-nice); with
---conversion-priority normal --server-nice 0 every thread is SCHED_OTHER at nice 0. Either way a
+--conversion-priority normal --server-nice 0 every thread is SCHED_OTHER at nice 0; started at nice 19 (the
+supervisor's nice, the shipped pipelines'), every thread stays at 19. Each time a
 viewer (@foxglove/ws-protocol's client, priority_check.js) on this otherwise idle process still receives and
 decodes the messages sent on LCM with hg-lcm-send: the last one kept for a late subscriber and one sent
 while it is subscribed. No timing is asserted. Runs in its own network namespace."""
@@ -40,8 +41,8 @@ def send_query(job_id):
 
 
 class FoxglovePriority(unittest.TestCase):
-    def serve(self, extra):
-        fox = subprocess.Popen([os.path.join(BIN, "hg-foxglove"), "--port", str(PORT)] + extra,
+    def serve(self, extra, prefix=()):
+        fox = subprocess.Popen(list(prefix) + [os.path.join(BIN, "hg-foxglove"), "--port", str(PORT)] + extra,
                                stderr=subprocess.PIPE, text=True)
         self.addCleanup(lambda: (fox.terminate(), fox.wait(10)))
         for line in fox.stderr:
@@ -89,6 +90,15 @@ class FoxglovePriority(unittest.TestCase):
         self.assertGreaterEqual(len(threads), 3, "main, conversion and server threads: %s" % threads)
         nice = thread_policies(fox.pid, 19)
         self.assertEqual(sorted((comm, n) for comm, n in nice.values() if n != 0), [("hg-fox-server", 10)], nice)
+
+    def test_a_process_started_at_nice_19_keeps_every_thread_there(self):
+        """The supervisor's nice = 19 (the shipped pipelines'): --server-nice 10 must not raise the server's
+        thread above the rest of the process."""
+        fox = self.serve([], prefix=["nice", "-n", "19"])
+        self.viewer_receives("nice19")
+        self.assertEqual({n for _, n in thread_policies(fox.pid, 19).values()}, {19})
+        idle = [comm for comm, policy in thread_policies(fox.pid).values() if policy == SCHED_IDLE]
+        self.assertEqual(idle, ["hg-fox-convert"])
 
     def test_conversion_normal_when_asked(self):
         fox = self.serve(["--conversion-priority", "normal", "--server-nice", "0"])

@@ -136,6 +136,24 @@ class TestLifecycle(SupervisorCase):
         self.assertEqual(st["once"]["last_exit"], 1)
         self.stop(sup)
 
+    def test_nice_lowers_the_process_and_its_session_group(self):
+        """nice = 19: the kernel reports nice 19 for the process and, where it groups sessions (autogroup), for
+        its session's group; a process without the key stays at 0 in a session of its own."""
+        loop = ["/bin/sh", "-c", "while :; do sleep 0.05; done"]
+        sup = self.start(self.pipeline([{"name": "viewer-server", "command": loop, "nice": 19},
+                                        {"name": "cell", "command": loop}]))
+        st = self.wait_for(lambda st: all(r["state"] == "running" and r["pid"] for r in st.values()), what="both running")
+        pids = {name: st[name]["pid"] for name in ("viewer-server", "cell")}
+        self.assertNotEqual(os.getsid(pids["viewer-server"]), os.getsid(pids["cell"]))
+        for name, want in (("viewer-server", 19), ("cell", 0)):
+            with open("/proc/%d/stat" % pids[name]) as f:
+                stat = f.read()
+            self.assertEqual(int(stat[stat.rindex(")") + 2:].split()[19 - 3]), want, name)  # field 19: nice
+            if os.path.exists("/proc/%d/autogroup" % pids[name]):
+                with open("/proc/%d/autogroup" % pids[name]) as f:
+                    self.assertRegex(f.read(), r"^/autogroup-\d+ nice %d$" % want, name)
+        self.stop(sup)
+
     def test_log_rotation(self):
         # About 350 kB of output: even when a loaded machine lets the pipe fill so that every read takes a
         # whole 64 KiB, that is more than three rotations, so both backups must exist.
@@ -215,6 +233,9 @@ class TestPipelineFile(SupervisorCase):
             ('[[process]]\nname = "x"\ncommand = ["a", 3]\n', "command must be a non-empty list of strings"),
             ('supervisor = 3\n' + proc, "key 'supervisor' must be a table"),
             ('process = [1, 2]\n', "process 0: key 'process' must be a list of tables"),
+            (proc + 'nice = "low"\n', "process 0: key 'nice' must be an integer"),
+            (proc + 'nice = 20\n', "process 'x': nice must be 0 to 19"),
+            (proc + 'nice = -1\n', "process 'x': nice must be 0 to 19"),
         ]
         for text, expected in cases:
             with self.subTest(expected=expected):

@@ -24,8 +24,9 @@ real time, so that a block holds many jobs, each a sample of the planner's stage
   viewers  = in a cell a viewer (Foxglove, Lichtblick) runs on the engineer's own computer, not on the
            cell's; here the viewers are node processes on the same 2-core machine, each reading and parsing
            every message it gets (19 MB clouds as JSON). So by default they run at idle
-           scheduling priority (`chrt --idle 0`, --viewers-priority idle): they get only CPU the cell leaves
-           free, as a remote viewer takes none of it, and what they cost is not counted against hg-foxglove.
+           scheduling priority (`chrt --idle 0`, --viewers-priority idle) in a session whose scheduling
+           group has nice 19 (docs/RUNNING.md, Priority): they get only CPU the cell leaves free, as a
+           remote viewer takes none of it, and what they cost is not counted against hg-foxglove.
            What stays on the cell is hg-foxglove's work, the kernel's loopback TCP (charged partly to the
            sender) and the memory bandwidth they share. --viewers-priority normal: viewers on the cell's
            machine competing at normal priority (a worst case, not the issue's).
@@ -572,7 +573,8 @@ def main():
     ap.add_argument("--robot-time-scale", type=float, default=1000,
                     help="the simulated robot's speed-up (more jobs, so more plans, a block) [1000]")
     ap.add_argument("--viewers-priority", choices=("idle", "normal"), default="idle",
-                    help="the viewers' scheduling priority: idle (chrt --idle 0: as if on another computer) [idle]")
+                    help="the viewers' scheduling priority: idle (chrt --idle 0 in a session of nice 19: as if on "
+                         "another computer) [idle]")
     ap.add_argument("--foxglove-arg", action="append", default=[],
                     help="an argument added to hg-foxglove's command line (repeat; e.g. "
                          "--foxglove-arg=--server-nice=0)")
