@@ -314,7 +314,7 @@ runtime::ProcessInfo process_info() {
                              "seconds between two messages of 4 MB or more (plate clouds) converted for viewers, per "
                              "channel (their 3-D topics and JSON); the others are dropped, counted; 0: every one",
                              0, 3600),
-       runtime::number_param("raw-cloud-period", "5",
+       runtime::number_param("raw-cloud-period", "30",
                              "seconds between two messages of 4 MB or more (plate clouds) sent on their own channel "
                              "as JSON; their 3-D topics (/hg/plate/points) carry every one; 0: every one",
                              0, 3600),

@@ -5,6 +5,8 @@
 # viewers (tools/bench/foxglove_client.js under `chrt --idle 0`, subscribed to everything); meanwhile
 # hg-outline (the outline core, 2 threads, normal priority) runs 4 times on the same cloud and its own compute
 # time is printed. Rows: conversion idle without viewers, idle with 2, normal with 2; ROUNDS rounds.
+# Every process here shares the script's session, so thread priorities act across them; under the
+# supervisor each process has a session of its own (docs/RUNNING.md, Priority).
 #   tools/bench/foxglove_outline_check.sh [ROUNDS]   (default 2; env HG_BIN_DIR, HG_NPM_DIR)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
