@@ -62,7 +62,8 @@ def table(counts, seconds, hz, top, name):
     share = {k: (counts[without][k] / seconds[without] / hz, counts[with_][k] / seconds[with_] / hz) for k in keys}
     rows = sorted(keys, key=lambda k: share[k][1] - share[k][0])
     print("%-70s %9s %9s %8s" % (name, "%d viewers" % without, "%d viewers" % with_, "change"))
-    for k in rows[::-1][:top] + rows[:min(top, 5)][::-1]:
+    shown = rows[::-1][:top] + (rows[:5][::-1] if len(rows) > top + 5 else rows[:max(0, len(rows) - top)][::-1])
+    for k in shown:  # the largest rises, then the largest falls, each row once
         label = k if isinstance(k, str) else "%s %s (%s)" % k
         print("%-70s %9.3f %9.3f %+8.3f" % (label[:70], share[k][0], share[k][1], share[k][1] - share[k][0]))
     return share
