@@ -10,6 +10,7 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "runtime/log.hpp"
 #include "sim/virtual_device/virtual_properties.hpp"
@@ -92,6 +93,7 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
   std::string lost_reason;
   std::int64_t frames_in_recording = 0;
   std::int64_t last_index = 0;
+  bool played_through = false;  // without loop: a frame of the player's next pass came (its last was dropped)
   std::int64_t skipped = 0;
   bool have_anchor = false;
   std::uint64_t anchor_device_us = 0, last_device_us = 0;
@@ -156,11 +158,9 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
     openni::OpenNI::addDeviceStateChangedListener(this);
     try {
       if (recording) {
-        openni::PlaybackControl* playback = device.getPlaybackControl();
         // Speed <= 0: OpenNI's manual mode (-1), where the player hands over one frame each time a reader
         // waits for one, so a slow reader never loses frames.
-        playback->setSpeed(options.playback_speed > 0 ? float(options.playback_speed) : -1.0f);
-        playback->setRepeatEnabled(options.loop);
+        device.getPlaybackControl()->setSpeed(options.playback_speed > 0 ? float(options.playback_speed) : -1.0f);
       }
       if (!device.hasSensor(openni::SENSOR_DEPTH)) fail("the device has no depth sensor");
       if (stream.create(device, openni::SENSOR_DEPTH) != openni::STATUS_OK) fail("cannot create the depth stream");
@@ -171,7 +171,7 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
                         current.getResolutionY() == mode.getResolutionY() && current.getFps() == mode.getFps();
       if (!same && stream.setVideoMode(mode) != openni::STATUS_OK) fail("cannot set video mode " + mode_text(mode));
       set_intrinsics(stream.getVideoMode());
-      if (recording) frames_in_recording = device.getPlaybackControl()->getNumberOfFrames(stream);
+      if (recording) prepare_playback();
       if (stream.start() != openni::STATUS_OK) fail("cannot start the depth stream");
       open_ir();
     } catch (...) {
@@ -179,9 +179,32 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
       throw;
     }
     last_index = 0;
+    played_through = false;
     have_anchor = false;
     open = true;
   }
+
+  // A recording's depth stream: refused when OpenNI2's player would drop all its frames (docs/openni2.md,
+  // "Why the DummyDevice recording played back no frames").
+  void prepare_playback() {
+    OniCropping cropping{};
+    int size = sizeof cropping;
+    if (stream.getProperty(ONI_STREAM_PROPERTY_CROPPING, &cropping, &size) != openni::STATUS_OK)
+      fail(
+          "the recording's depth stream has no cropping property, so OpenNI2's file player drops every frame "
+          "(recorded from a driver that does not report ONI_STREAM_PROPERTY_CROPPING; docs/openni2.md)");
+    frames_in_recording = device.getPlaybackControl()->getNumberOfFrames(stream);
+    if (frames_in_recording <= 0) fail("the recording holds no depth frames");
+    device.getPlaybackControl()->setRepeatEnabled(true);  // park_player
+  }
+
+  // OpenNI2's player thread walks its device's stream list without a lock before every frame; destroying a
+  // stream during a walk crashes it (docs/openni2.md, "Closing a playback"). At the end of a file that does
+  // not repeat it closes the file and walks without pause, so the player always repeats (prepare_playback)
+  // and this source ends a recording without loop itself (at_end). Parked, in manual mode, the player waits
+  // at its next frame for a reader's trigger, walking the list only under the lock, once in 2 s; this
+  // source triggers nothing after the end.
+  void park_player() { device.getPlaybackControl()->setSpeed(-1.0f); }
 
   void set_intrinsics(const openni::VideoMode& mode) {
     camera::Intrinsics in;
@@ -310,6 +333,10 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
   }
 
   void close_now() {
+    if (recording && device.isValid()) {
+      park_player();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));  // time to get there on a busy machine
+    }
     if (ir_stream.isValid()) {
       ir_stream.stop();
       ir_stream.destroy();
@@ -328,7 +355,8 @@ struct OpenNI2Source::Impl : openni::OpenNI::DeviceDisconnectedListener, openni:
   }
 
   bool at_end() const {
-    return recording && !options.loop && frames_in_recording > 0 && last_index >= frames_in_recording;
+    return recording && !options.loop &&
+           (played_through || (frames_in_recording > 0 && last_index >= frames_in_recording));
   }
 };
 
@@ -368,10 +396,13 @@ bool OpenNI2Source::reads_ir() const { return impl_->open && impl_->ir_stream.is
 std::optional<camera::DepthFrame> OpenNI2Source::grab(std::chrono::milliseconds timeout) {
   Impl& m = *impl_;
   if (!m.open) throw camera::SourceError("openni2 " + m.name() + ": grab() on a closed source");
-  if (m.at_end()) return std::nullopt;
   const auto deadline = Clock::now() + timeout;
   openni::VideoFrameRef ref;
   for (;;) {
+    if (m.at_end()) {
+      m.park_player();
+      return std::nullopt;
+    }
     if (m.lost)
       throw camera::SourceError("openni2 " + m.name() + ": device '" + m.device_uri + "' lost (disconnected)");
     // Wait in short slices so that a disconnection is noticed soon even with a long timeout.
@@ -382,6 +413,11 @@ std::optional<camera::DepthFrame> OpenNI2Source::grab(std::chrono::milliseconds 
     const openni::Status rc = openni::OpenNI::waitForAnyStream(streams, 1, &ready, slice);
     if (rc == openni::STATUS_OK) {
       if (m.stream.readFrame(&ref) != openni::STATUS_OK) m.fail("reading a frame failed");
+      if (m.recording && !m.options.loop && ref.getFrameIndex() <= m.last_index) {
+        m.played_through = true;  // the player repeats (park_player); this source does not
+        continue;
+      }
+      m.last_index = ref.getFrameIndex();  // a malformed last frame ends a recording too
       const int w = ref.getWidth(), h = ref.getHeight(), stride = ref.getStrideInBytes();
       if (w <= 0 || h <= 0 || stride < w * 2 || ref.getDataSize() < stride * (h - 1) + w * 2) {
         ++m.skipped;  // a frame whose data does not fit its own header: never read past it
@@ -401,11 +437,11 @@ std::optional<camera::DepthFrame> OpenNI2Source::grab(std::chrono::milliseconds 
       }
       m.last_device_us = ts;
       f.utime = m.anchor_wall_us + std::int64_t(ts - m.anchor_device_us);
-      m.last_index = f.seq;
       if (!m.attach_ir(f, ts)) {
         ++m.skipped;
         continue;
       }
+      if (m.at_end()) m.park_player();
       return f;
     }
     if (rc != openni::STATUS_TIME_OUT) m.fail("waiting for a frame failed");
