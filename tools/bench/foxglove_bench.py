@@ -7,6 +7,7 @@ network namespace of its own (tests/netns.sh; re-executes itself there).
                                 [--clients 2] [--robot-time-scale 1000] [--viewers-priority idle]
                                 [--bootstrap 2000] [--foxglove-arg ARG ...] [--viewer-exclude REGEX]
                                 [--cloud FILE] [--json FILE] [--keep]
+  tools/bench/foxglove_bench.py --pool FILE [FILE ...] [--bootstrap 2000]
 
 Each run is the shipped pipeline (config/pipeline.toml, its hg-foxglove included) under the supervisor,
 with hg-bench-station-feed in place of the camera bridge: hg-gen's preset high-4 (`hg-gen --preset high-4
@@ -558,6 +559,21 @@ def bench(args):
             f.write(line + "\n")
 
 
+def pool(args):
+    """The ratios over the blocks of several --json files (runs of one build at different times): a pair stays
+    within its file."""
+    blocks = []
+    for i, path in enumerate(args.pool):
+        with open(path) as f:
+            d = json.load(f)
+        print("%s: %s" % (path, d["command"]))
+        for b in d["blocks"]:
+            b["pair"] = "%d:%s" % (i, b["pair"])
+            blocks.append(b)
+    args.clients = max(b["clients"] for b in blocks)
+    print_ratios(args, ratios(blocks, args.clients, args.bootstrap))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
@@ -584,8 +600,12 @@ def main():
                     help="the viewers do not subscribe to the topics this matches (a diagnosis: which topics cost)")
     ap.add_argument("--json", help="also write the JSON line (every block's samples, the ratios) to this file")
     ap.add_argument("--keep", action="store_true", help="keep each run's directory (logs, run.lcmlog)")
+    ap.add_argument("--pool", nargs="+", metavar="FILE",
+                    help="run nothing: the ratios over the blocks of these --json files (runs of one build)")
     ap.add_argument("--version", action="version", version="foxglove_bench.py " + version())
     args = ap.parse_args()
+    if args.pool:
+        return pool(args)
     if os.environ.get("HG_IN_NETNS") != "1":
         os.execv(os.path.join(SRC, "tests", "netns.sh"),
                  [os.path.join(SRC, "tests", "netns.sh"), "/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
