@@ -7,6 +7,7 @@ calibration, offset by the tool radius."""
 import json
 import math
 import os
+import shutil
 import sys
 import tempfile
 import time
@@ -46,6 +47,7 @@ def corner_points(ring, within):
 class ReplayCameraLog(unittest.TestCase):
     def test_replayed_clouds_give_paths_matching_the_ground_truth(self):
         tmp = tempfile.mkdtemp(prefix="hg-replay-")
+        self.addCleanup(shutil.rmtree, tmp, True)
         truth = E.scene_truth("three-parts", "pm806", os.path.join(tmp, "truth.json"))
         cam = truth["camera"]
         pitch = (cam["mount_height"] - max(p["thickness"] for p in truth["parts"])) / cam["fx"]

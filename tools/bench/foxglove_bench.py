@@ -17,10 +17,11 @@ without viewers and one with --clients of them, in turn (0 2 0 2 0 2 in one run,
 that the two blocks of a pair see the same processes, the same machine and the same half minute: the
 machine's speed drifts over minutes, and a pair's two blocks drift together. A block: the viewers (tools/bench/
 foxglove_client.js: @foxglove/ws-protocol's client from build/npm, subscribed to every channel hg-foxglove
-advertises, the full-size clouds included, but those --viewer-exclude matches) connect, or the last block's leave; --settle seconds; then jobs
-one after another, each to its end, for --block-seconds (the simulated cell approves a plan that reaches
-every edge; one that waits for an operator is approved here; the robot --robot-time-scale times faster than
-real time, so that a block holds many jobs, each a sample of the planner's stages).
+advertises, the full-size clouds included, but those --viewer-exclude matches) connect, or the last block's
+leave; --settle seconds; then jobs one after another, each to its end, for --block-seconds (the simulated
+cell approves a plan that reaches every edge; one that waits for an operator is approved here; the robot
+--robot-time-scale times faster than real time, so that a block holds many jobs, each a sample of the
+planner's stages).
 
   viewers  = in a cell a viewer (Foxglove, Lichtblick) runs on the engineer's own computer, not on the
            cell's; here the viewers are node processes on the same 2-core machine, each reading and parsing
@@ -55,7 +56,9 @@ real time, so that a block holds many jobs, each a sample of the planner's stage
            is sometimes lost; a lost one is counted and reported, not a failure (the next comes 1/rate s later).
   cpu    = hg-foxglove's CPU time during the block by thread (/proc/PID/task), as a share of one core:
            hg-fox-convert (the conversion, idle priority), hg-fox-server (the WebSocket server's writes, nice
-           server-nice) and hg-foxglove (LCM, heartbeat; normal priority).
+           server-nice) and hg-foxglove (LCM, heartbeat; normal priority). And the whole machine's busy
+           cores during the block (/proc/stat: every process and the kernel's interrupts), with viewers minus
+           without per pair: what the viewers and their server add, wherever it runs.
 
 The bus (95 MB/s at 5 Hz, about 8 GB a run) is recorded on /dev/shm when it has room, and each run's
 directory is deleted after its figures are read (--keep keeps them). Prints each block, a table and a JSON
@@ -370,6 +373,13 @@ def cpu_share(before, after, seconds):
     return {k: round((after.get(k, 0) - before.get(k, 0)) / seconds, 4) for k in after} if seconds > 0 else {}
 
 
+def machine_busy():
+    """CPU seconds the whole machine has been busy (/proc/stat: user, nice, system, irq, softirq, steal)."""
+    with open("/proc/stat") as f:
+        t = [int(x) for x in f.readline().split()[1:]]
+    return sum(t[i] for i in (0, 1, 2, 5, 6, 7)) / os.sysconf("SC_CLK_TCK")
+
+
 def run_block(E, args, p, fox, tag, n_clients, pair):
     """Connects n_clients viewers, lets them settle, sends jobs for --block-seconds, disconnects them."""
     from pipeline_latency import start_clients, stop_clients
@@ -377,12 +387,13 @@ def run_block(E, args, p, fox, tag, n_clients, pair):
     try:
         time.sleep(args.settle)  # viewers connected and subscribed; a block without them: the last ones gone
         b = {"clients": n_clients, "pair": pair, "loadavg": [loadavg()], "jobs": [], "finals": []}
-        cpu0, t0, w0 = thread_cpu(fox) if fox else {}, time.monotonic(), time.time()
+        cpu0, busy0, t0, w0 = thread_cpu(fox) if fox else {}, machine_busy(), time.monotonic(), time.time()
         while time.monotonic() - t0 < args.block_seconds:
             b["jobs"].append("%s-%03d" % (tag, len(b["jobs"])))
             b["finals"].append(run_job(E, p, b["jobs"][-1])["state"])
         b["window"] = [int(w0 * 1e6), int(time.time() * 1e6)]
         b["foxglove_cpu"] = cpu_share(cpu0, thread_cpu(fox), time.monotonic() - t0) if fox else {}
+        b["machine_busy"] = round((machine_busy() - busy0) / (time.monotonic() - t0), 3)  # cores
         b["loadavg"].append(loadavg())
     finally:
         received = stop_clients(clients)
@@ -445,7 +456,8 @@ def print_block(b):
     print("  stages (median ms, samples): " + ", ".join(
         "%s %.1f (%d)" % (k[:-3], statistics.median(v), len(v)) for k, v in b["samples"].items() if v))
     print("  hg-foxglove's CPU during the block, share of a core by thread: " +
-          (", ".join("%s %.3f" % kv for kv in sorted(b["foxglove_cpu"].items())) or "not found"))
+          (", ".join("%s %.3f" % kv for kv in sorted(b["foxglove_cpu"].items())) or "not found") +
+          "; the machine busy %.3f cores" % b.get("machine_busy", float("nan")))
     for i, v in enumerate(b["viewers"]):
         print("  viewer %d: %d messages, %d MB; /hg/plate/points %d, HG_PLATE_CLOUD %d" % (
             i + 1, v["messages"], v["mb"], v["plate_points"], v["plate_clouds"]))
@@ -549,6 +561,7 @@ def bench(args):
         names = sorted({k for c in shares for k in c})
         print("hg-foxglove's CPU with %d viewers, share of a core (median of blocks): %s" % (
             n, ", ".join("%s %.3f" % (k, statistics.median(c.get(k, 0) for c in shares)) for k in names) or "-"))
+    print_busy(blocks)
     for b in blocks:
         b["samples"] = {k: [round(x, 3) for x in v] for k, v in b["samples"].items()}
     line = json.dumps({"command": " ".join(["tools/bench/foxglove_bench.py"] + sys.argv[1:]), "rate_hz": args.rate,
@@ -557,6 +570,20 @@ def bench(args):
     if args.json:
         with open(args.json, "w") as f:
             f.write(line + "\n")
+
+
+def print_busy(blocks):
+    """The machine's busy cores by condition (median of blocks), and the pairs' median difference."""
+    by_pair = {}
+    for b in blocks:
+        if "machine_busy" in b:
+            by_pair.setdefault(b["pair"], {})[b["clients"]] = b["machine_busy"]
+    diffs = [max(v.items())[1] - min(v.items())[1] for v in by_pair.values() if len(v) == 2]
+    if diffs:
+        print("the machine busy, cores (median of blocks): %s; with viewers minus without, median of %d pairs: "
+              "%+.3f" % (", ".join("%d viewers %.3f" % (n, statistics.median(v[n] for v in by_pair.values() if n in v))
+                                   for n in sorted({n for v in by_pair.values() for n in v})), len(diffs),
+                         statistics.median(diffs)))
 
 
 def pool(args):
@@ -572,6 +599,7 @@ def pool(args):
             blocks.append(b)
     args.clients = max(b["clients"] for b in blocks)
     print_ratios(args, ratios(blocks, args.clients, args.bootstrap))
+    print_busy(blocks)
 
 
 def main():
