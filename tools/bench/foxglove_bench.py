@@ -578,12 +578,13 @@ def print_busy(blocks):
     for b in blocks:
         if "machine_busy" in b:
             by_pair.setdefault(b["pair"], {})[b["clients"]] = b["machine_busy"]
-    diffs = [max(v.items())[1] - min(v.items())[1] for v in by_pair.values() if len(v) == 2]
-    if diffs:
-        print("the machine busy, cores (median of blocks): %s; with viewers minus without, median of %d pairs: "
-              "%+.3f" % (", ".join("%d viewers %.3f" % (n, statistics.median(v[n] for v in by_pair.values() if n in v))
-                                   for n in sorted({n for v in by_pair.values() for n in v})), len(diffs),
-                         statistics.median(diffs)))
+    diffs = [v[max(v)] - v[min(v)] for v in by_pair.values() if len(v) == 2]  # with viewers minus without
+    if not diffs:
+        return
+    medians = ", ".join("%d viewers %.3f" % (n, statistics.median(v[n] for v in by_pair.values() if n in v))
+                        for n in sorted({n for v in by_pair.values() for n in v}))
+    print("the machine busy, cores (median of blocks): %s; with viewers minus without, median of %d pairs: %+.3f"
+          % (medians, len(diffs), statistics.median(diffs)))
 
 
 def pool(args):
