@@ -1,7 +1,7 @@
 // foxglove/ws_server on real sockets (a network namespace of its own), with Boost.Beast's WebSocket client:
 // a client that subscribes and then stops reading gets frames dropped and counted while publish() keeps
 // returning (the bus is never blocked, the queue stays bounded); a client that sends garbage is closed with
-// 1008 and a reason; the subprotocol is negotiated.
+// 1008 and a reason; the subprotocol is negotiated; a message is one frame, however big.
 #include <gtest/gtest.h>
 
 #include <utility>  // before Boost 1.74's asio (std::exchange under C++20)
@@ -12,7 +12,10 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cstdint>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "foxglove/ws_server.hpp"
 
@@ -99,6 +102,68 @@ TEST(FoxgloveWsServer, GarbageIsClosedWithAReasonAndSdkSubprotocolIsAccepted) {
     EXPECT_FALSE(std::string(c.ws.reason().reason.c_str()).empty()) << garbage;
   }
   EXPECT_EQ(server.stats().disconnected_garbage, 3u);
+}
+
+// A frame's header as RFC 6455 5.2 lays it out, read straight off the socket (a WebSocket library would join
+// the frames of a message and hide how many there were); its payload is read and dropped.
+struct Frame {
+  bool fin = false;
+  int opcode = 0;
+  std::uint64_t length = 0;
+};
+
+Frame read_frame(tcp::socket& s) {
+  unsigned char h[2];
+  net::read(s, net::buffer(h));
+  Frame f{(h[0] & 0x80) != 0, h[0] & 0x0F, h[1] & 0x7Fu};
+  const int extra = f.length == 126 ? 2 : f.length == 127 ? 8 : 0;
+  if (extra) {
+    unsigned char x[8];
+    net::read(s, net::buffer(x, extra));
+    f.length = 0;
+    for (int i = 0; i < extra; ++i) f.length = (f.length << 8) | x[i];
+  }
+  std::vector<char> payload(f.length);
+  net::read(s, net::buffer(payload));
+  return f;
+}
+
+TEST(FoxgloveWsServer, EveryMessageIsOneFrameHoweverBig) {
+  WsServer server(options());
+  std::vector<hg::foxglove::WsChannel> channels;
+  for (int id = 1; id <= 100; ++id)  // an advertisement of about 10 KB
+    channels.push_back({id, "/topic/" + std::to_string(id), "json", "hullgrind.some_type_t", "{}", "jsonschema"});
+  server.advertise(channels);
+  net::io_context ioc;
+  tcp::socket s(ioc);
+  tcp::resolver r(ioc);
+  net::connect(s, r.resolve("127.0.0.1", std::to_string(server.bound_port())));
+  net::write(s, net::buffer(
+                    std::string("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\n"
+                                "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+                                "Sec-WebSocket-Version: 13\r\nSec-WebSocket-Protocol: foxglove.websocket.v1\r\n\r\n")));
+  std::string head;
+  for (char c; head.size() < 4 || head.compare(head.size() - 4, 4, "\r\n\r\n") != 0;) {
+    net::read(s, net::buffer(&c, 1));  // a byte at a time: nothing of the first frame is read here
+    head += c;
+  }
+  ASSERT_EQ(head.rfind("HTTP/1.1 101", 0), 0u) << head;
+  const Frame info = read_frame(s), advert = read_frame(s);
+  EXPECT_TRUE(info.fin && info.opcode == 1);
+  EXPECT_TRUE(advert.fin && advert.opcode == 1) << "the advertisement came in more than one frame";
+  EXPECT_GT(advert.length, 4096u);
+  // subscribe, masked as a client must (RFC 6455 5.3); the mask 0 leaves the text as it is
+  const std::string sub = R"({"op":"subscribe","subscriptions":[{"id":1,"channelId":7}]})";
+  std::string frame = {static_cast<char>(0x81), static_cast<char>(0x80 | sub.size()), 0, 0, 0, 0};
+  ASSERT_LT(sub.size(), 126u);
+  net::write(s, net::buffer(frame + sub));
+  for (int i = 0; i < 100 && !server.subscribed(7); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(server.subscribed(7));
+  server.publish(7, 1, std::make_shared<const std::string>(1u << 20, 'a'));
+  const Frame data = read_frame(s);
+  EXPECT_EQ(data.opcode, 2);
+  EXPECT_TRUE(data.fin) << "1 MiB came in more than one frame";
+  EXPECT_EQ(data.length, 13u + (1u << 20));
 }
 
 TEST(FoxgloveWsServer, NoFoxgloveSubprotocolIsRefused) {

@@ -5,8 +5,8 @@ network namespace of its own (tests/netns.sh; re-executes itself there).
 
   tools/bench/foxglove_bench.py [--runs 16] [--pairs 3] [--block-seconds 10] [--settle 3] [--rate 5]
                                 [--clients 2] [--robot-time-scale 1000] [--viewers-priority idle]
-                                [--bootstrap 2000] [--foxglove-arg ARG ...] [--viewer-exclude REGEX]
-                                [--cloud FILE] [--json FILE] [--keep]
+                                [--viewer foxglove|sink] [--bootstrap 2000] [--foxglove-arg ARG ...]
+                                [--viewer-exclude REGEX] [--cloud FILE] [--json FILE] [--keep]
   tools/bench/foxglove_bench.py --pool FILE [FILE ...] [--bootstrap 2000]
 
 Each run is the shipped pipeline (config/pipeline.toml, its hg-foxglove included) under the supervisor,
@@ -31,7 +31,10 @@ planner's stages).
            remote viewer takes none of it, and what they cost is not counted against hg-foxglove.
            What stays on the cell is hg-foxglove's work, the kernel's loopback TCP (charged partly to the
            sender) and the memory bandwidth they share. --viewers-priority normal: viewers on the cell's
-           machine competing at normal priority (a worst case, not the issue's).
+           machine competing at normal priority (a worst case, not the issue's). --viewer sink: instead of
+           node, tools/bench/foxglove_sink.py, a client of the same protocol that subscribes alike and only
+           reads its socket (1 MiB reads, nothing parsed but frame headers): what a viewer on another computer
+           leaves on the cell, its TCP connection, with the receive's copies on top.
 
   stages = those of hg-overview's summary.json (what tools/run.sh writes as out/summary.json), read back
            from the recorded bus: capture_to_cloud_ms, cloud_to_outline_ms, outline_compute_ms (the outline's
@@ -58,7 +61,10 @@ planner's stages).
            hg-fox-convert (the conversion, idle priority), hg-fox-server (the WebSocket server's writes, nice
            server-nice) and hg-foxglove (LCM, heartbeat; normal priority). And the whole machine's busy
            cores during the block (/proc/stat: every process and the kernel's interrupts), with viewers minus
-           without per pair: what the viewers and their server add, wherever it runs.
+           without per pair: what the viewers and their server add, wherever it runs; the machine's context
+           switches and the interrupts one core sends the other to wake a thread or run a function there
+           (/proc/interrupts RES, CAL); and the outline service's user and system CPU and minor page faults
+           (/proc/PID/stat, its ended threads included).
 
 The bus (95 MB/s at 5 Hz, about 8 GB a run) is recorded on /dev/shm when it has room, and each run's
 directory is deleted after its figures are read (--keep keeps them). Prints each block, a table and a JSON
@@ -368,32 +374,68 @@ def thread_cpu(pid):
     return out
 
 
+def process_cpu(pid):
+    """A whole process's user and system CPU seconds and minor page faults (/proc/PID/stat: its threads that
+    have ended included, such as the outline's strip threads)."""
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            text = f.read()
+    except OSError:
+        return {}
+    fields = text[text.rindex(")") + 2:].split()
+    tick = os.sysconf("SC_CLK_TCK")
+    return {"user": int(fields[11]) / tick, "sys": int(fields[12]) / tick, "minflt": int(fields[7])}
+
+
 def cpu_share(before, after, seconds):
     """Share of one core per thread name between two thread_cpu() readings."""
     return {k: round((after.get(k, 0) - before.get(k, 0)) / seconds, 4) for k in after} if seconds > 0 else {}
 
 
-def machine_busy():
-    """CPU seconds the whole machine has been busy (/proc/stat: user, nice, system, irq, softirq, steal)."""
+def machine_counters():
+    """The whole machine's counters: CPU seconds busy (/proc/stat: user, nice, system, irq, softirq, steal),
+    context switches, and the interrupts one core sends another to wake a thread or run a function there
+    (/proc/interrupts RES and CAL, all cores): each costs the core it lands on, whatever that core runs."""
+    c = {}
     with open("/proc/stat") as f:
-        t = [int(x) for x in f.readline().split()[1:]]
-    return sum(t[i] for i in (0, 1, 2, 5, 6, 7)) / os.sysconf("SC_CLK_TCK")
+        for line in f:
+            w = line.split()
+            if w[0] == "cpu":
+                c["busy"] = sum(int(w[1 + i]) for i in (0, 1, 2, 5, 6, 7)) / os.sysconf("SC_CLK_TCK")
+            elif w[0] == "ctxt":
+                c["ctxt"] = int(w[1])
+    with open("/proc/interrupts") as f:
+        for line in f:
+            w = line.split()
+            if w and w[0] in ("RES:", "CAL:"):
+                c[w[0][:-1].lower()] = sum(int(x) for x in w[1:] if x.isdigit())
+    return c
 
 
-def run_block(E, args, p, fox, tag, n_clients, pair):
+COUNTER_RATES = (("ctxt", "context switches"), ("res", "rescheduling interrupts"), ("cal", "function call interrupts"))
+
+
+def run_block(E, args, p, fox, outline, tag, n_clients, pair):
     """Connects n_clients viewers, lets them settle, sends jobs for --block-seconds, disconnects them."""
     from pipeline_latency import start_clients, stop_clients
-    clients, received = start_clients(n_clients, idle=args.viewers_priority == "idle"), []
+    clients, received = start_clients(n_clients, idle=args.viewers_priority == "idle", viewer=args.viewer), []
     try:
         time.sleep(args.settle)  # viewers connected and subscribed; a block without them: the last ones gone
         b = {"clients": n_clients, "pair": pair, "loadavg": [loadavg()], "jobs": [], "finals": []}
-        cpu0, busy0, t0, w0 = thread_cpu(fox) if fox else {}, machine_busy(), time.monotonic(), time.time()
+        cpu0, m0, t0, w0 = thread_cpu(fox) if fox else {}, machine_counters(), time.monotonic(), time.time()
+        o0 = process_cpu(outline) if outline else {}
         while time.monotonic() - t0 < args.block_seconds:
             b["jobs"].append("%s-%03d" % (tag, len(b["jobs"])))
             b["finals"].append(run_job(E, p, b["jobs"][-1])["state"])
         b["window"] = [int(w0 * 1e6), int(time.time() * 1e6)]
         b["foxglove_cpu"] = cpu_share(cpu0, thread_cpu(fox), time.monotonic() - t0) if fox else {}
-        b["machine_busy"] = round((machine_busy() - busy0) / (time.monotonic() - t0), 3)  # cores
+        m1, seconds = machine_counters(), time.monotonic() - t0
+        o1 = process_cpu(outline) if outline else {}
+        b["outline_service"] = {k: round((o1[k] - o0[k]) / seconds, 4) for k in o1 if k in o0}
+        b["machine_busy"] = round((m1["busy"] - m0["busy"]) / seconds, 3)  # cores
+        for k, _ in COUNTER_RATES:
+            if k in m0 and k in m1:
+                b[k + "_per_s"] = round((m1[k] - m0[k]) / seconds)
         b["loadavg"].append(loadavg())
     finally:
         received = stop_clients(clients)
@@ -422,8 +464,10 @@ def one_run(E, args, cloud, index, order):
     try:
         p.start()
         fox = descendant(p.supervisor.pid, "hg-foxglove")
+        outline = descendant(p.supervisor.pid, "hg-outline-serv")  # the kernel keeps 15 characters of a name
         for k, n in enumerate(order):
-            blocks.append(run_block(E, args, p, fox, "fox-%d-%d" % (index, k), n, "%d-%d" % (index + 1, k // 2)))
+            blocks.append(run_block(E, args, p, fox, outline, "fox-%d-%d" % (index, k), n,
+                                    "%d-%d" % (index + 1, k // 2)))
     except Exception:
         print(p.diagnostics(), flush=True)
         raise
@@ -457,7 +501,12 @@ def print_block(b):
         "%s %.1f (%d)" % (k[:-3], statistics.median(v), len(v)) for k, v in b["samples"].items() if v))
     print("  hg-foxglove's CPU during the block, share of a core by thread: " +
           (", ".join("%s %.3f" % kv for kv in sorted(b["foxglove_cpu"].items())) or "not found") +
-          "; the machine busy %.3f cores" % b.get("machine_busy", float("nan")))
+          "; the machine busy %.3f cores" % b.get("machine_busy", float("nan")) +
+          "".join(", %d %s/s" % (b[k + "_per_s"], name) for k, name in COUNTER_RATES if k + "_per_s" in b))
+    o = b.get("outline_service")
+    if o:
+        print("  the outline service: user %.3f, system %.3f cores, %d minor page faults/s" % (
+            o["user"], o["sys"], o["minflt"]))
     for i, v in enumerate(b["viewers"]):
         print("  viewer %d: %d messages, %d MB; /hg/plate/points %d, HG_PLATE_CLOUD %d" % (
             i + 1, v["messages"], v["mb"], v["plate_points"], v["plate_clouds"]))
@@ -565,7 +614,8 @@ def bench(args):
     for b in blocks:
         b["samples"] = {k: [round(x, 3) for x in v] for k, v in b["samples"].items()}
     line = json.dumps({"command": " ".join(["tools/bench/foxglove_bench.py"] + sys.argv[1:]), "rate_hz": args.rate,
-                       "viewers_priority": args.viewers_priority, "blocks": blocks, "ratios": r})
+                       "viewers_priority": args.viewers_priority, "viewer": args.viewer, "blocks": blocks,
+                       "ratios": r})
     print(line)
     if args.json:
         with open(args.json, "w") as f:
@@ -573,18 +623,31 @@ def bench(args):
 
 
 def print_busy(blocks):
-    """The machine's busy cores by condition (median of blocks), and the pairs' median difference."""
+    """The machine's busy cores and its counters' rates by condition (median of blocks), and the pairs' median
+    difference."""
+    print_machine(blocks, "machine_busy", "the machine busy, cores", "%.3f", "%+.3f")
+    for k, name in COUNTER_RATES:
+        print_machine(blocks, k + "_per_s", name + " a second", "%.0f", "%+.0f")
+    for k, what, fmt in (("user", "cores in user mode", "%.3f"), ("sys", "cores in the kernel", "%.3f"),
+                         ("minflt", "minor page faults a second", "%.0f")):
+        for b in blocks:
+            if k in b.get("outline_service", {}):
+                b["outline_" + k] = b["outline_service"][k]
+        print_machine(blocks, "outline_" + k, "the outline service's " + what, fmt, "%+" + fmt[1:])
+
+
+def print_machine(blocks, key, what, fmt, diff_fmt):
     by_pair = {}
     for b in blocks:
-        if "machine_busy" in b:
-            by_pair.setdefault(b["pair"], {})[b["clients"]] = b["machine_busy"]
+        if key in b:
+            by_pair.setdefault(b["pair"], {})[b["clients"]] = b[key]
     diffs = [v[max(v)] - v[min(v)] for v in by_pair.values() if len(v) == 2]  # with viewers minus without
     if not diffs:
         return
-    medians = ", ".join("%d viewers %.3f" % (n, statistics.median(v[n] for v in by_pair.values() if n in v))
+    medians = ", ".join(("%d viewers " + fmt) % (n, statistics.median(v[n] for v in by_pair.values() if n in v))
                         for n in sorted({n for v in by_pair.values() for n in v}))
-    print("the machine busy, cores (median of blocks): %s; with viewers minus without, median of %d pairs: %+.3f"
-          % (medians, len(diffs), statistics.median(diffs)))
+    print(("%s (median of blocks): %s; with viewers minus without, median of %d pairs: " + diff_fmt)
+          % (what, medians, len(diffs), statistics.median(diffs)))
 
 
 def pool(args):
@@ -617,6 +680,9 @@ def main():
     ap.add_argument("--clients", type=int, default=2, help="viewers in the blocks with viewers [2]")
     ap.add_argument("--robot-time-scale", type=float, default=1000,
                     help="the simulated robot's speed-up (more jobs, so more plans, a block) [1000]")
+    ap.add_argument("--viewer", choices=("foxglove", "sink"), default="foxglove",
+                    help="foxglove: @foxglove/ws-protocol's client on node (foxglove_client.js); sink: a client that "
+                    "only reads its socket, as a viewer on another computer costs the cell (foxglove_sink.py)")
     ap.add_argument("--viewers-priority", choices=("idle", "normal"), default="idle",
                     help="the viewers' scheduling priority: idle (chrt --idle 0 in a session of nice 19: as if on "
                          "another computer) [idle]")

@@ -161,14 +161,17 @@ def idle_session():
         pass  # no autogroups: SCHED_IDLE alone is idle
 
 
-def start_clients(n, idle=False):
+def start_clients(n, idle=False, viewer="foxglove"):
     """n Foxglove viewers on ws://127.0.0.1:8765, each subscribed to every channel once advertised; idle: at
     idle scheduling priority (`chrt --idle 0`) in a session of nice 19, so that they use only CPU the cell
-    leaves free, as if on another computer."""
+    leaves free, as if on another computer. viewer: "foxglove" is @foxglove/ws-protocol's client on node
+    (foxglove_client.js), "sink" a client that only reads its socket (foxglove_sink.py)."""
     npm = os.environ.get("HG_NPM_DIR", os.path.join(SRC, "build", "npm"))
     env = dict(os.environ, NODE_PATH=os.path.join(npm, "node_modules"))
     chrt = ["chrt", "--idle", "0"] if idle else []
-    return [subprocess.Popen(chrt + ["node", os.path.join(HERE, "foxglove_client.js")], stdout=subprocess.PIPE, text=True,
+    command = ([sys.executable, os.path.join(HERE, "foxglove_sink.py")] if viewer == "sink" else
+               ["node", os.path.join(HERE, "foxglove_client.js")])
+    return [subprocess.Popen(chrt + command, stdout=subprocess.PIPE, text=True,
                              env=env, preexec_fn=idle_session if idle else None) for _ in range(n)]
 
 
