@@ -177,7 +177,7 @@ struct Session : std::enable_shared_from_this<Session> {
     }));
     ws.read_message_max(srv.opt.max_client_message);
     // One frame a message, written in one go: Beast's default cuts a message into 4 KB frames, each its own
-    // write (800 sends and receiver wakeups for a 3 MB point cloud). Control frames wait for the message.
+    // write (800 for a 3 MB point cloud). Control frames wait for the message.
     ws.auto_fragment(false);
     ws.async_accept(req, [self = shared_from_this()](beast::error_code e) { self->on_accept(e); });
   }
